@@ -1,0 +1,188 @@
+//! What the data say about a fit.
+//!
+//! - Residuals e = b − A θ (input work minus identified dissipated work, per window),
+//!   the relative residual ‖e‖/‖b‖, and the residual bias: mean(e)/mean(|b|) with the
+//!   counts of positive and negative residuals. A model that misses a mechanism leaves
+//!   residuals of one sign (the paper's one-mode string fit is "negatively biased").
+//! - Conditioning of the column-scaled regressor A_s (unit-norm columns): its singular
+//!   values, κ = σ_1/σ_p, and the numerical rank (σ_i > tol·σ_1). κ near 1 means the
+//!   columns are nearly orthogonal; κ ≫ 1 means some combination of coefficients is
+//!   barely determined by the data.
+//! - Standard errors from the residual variance when there is redundancy: with F the
+//!   coefficients not held at a bound, s² = ‖e‖²/(m − |F|) and
+//!   Cov(θ_F) = s² (A_Fᵀ A_F)⁻¹ = s² S⁻¹ V Σ⁻² Vᵀ S⁻¹ from the SVD of the scaled A_F;
+//!   the correlation matrix follows. Coefficients held at a bound get none.
+
+use faer::Mat;
+use serde::{Deserialize, Serialize};
+
+use crate::fit::Fit;
+use crate::fit::scaling::Scaling;
+use crate::regressor::Regressor;
+
+/// Mean signed residual relative to the mean |b|, and the sign counts.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ResidualBias {
+    /// mean(e) / mean(|b|).
+    pub relative_mean: f64,
+    /// Residuals > 0 (input work exceeds identified dissipation).
+    pub positive: usize,
+    /// Residuals < 0.
+    pub negative: usize,
+}
+
+/// Correlation between the free coefficients.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Correlation {
+    /// Coefficient names, in matrix order.
+    pub names: Vec<String>,
+    /// Row-major correlation matrix.
+    pub matrix: Vec<Vec<f64>>,
+}
+
+/// Diagnostics of one fit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Diagnostics {
+    /// e = b − A θ.
+    pub residuals: Vec<f64>,
+    /// ‖e‖ / ‖b‖.
+    pub relative_residual: f64,
+    /// Bias of the residuals.
+    pub residual_bias: ResidualBias,
+    /// Singular values of the column-scaled regressor, descending.
+    pub singular_values: Vec<f64>,
+    /// σ_1/σ_p; infinite when the regressor is rank deficient.
+    pub condition_number: f64,
+    /// Numerical rank.
+    pub rank: usize,
+    /// Standard error per coefficient (None when not estimable).
+    pub std_errors: Vec<Option<f64>>,
+    /// Correlation of the free coefficients, when standard errors exist.
+    pub correlation: Option<Correlation>,
+}
+
+/// Computes the diagnostics of `fit` on `regressor`.
+pub fn diagnose(regressor: &Regressor, fit: &Fit, rank_tolerance: f64) -> Diagnostics {
+    let a = regressor.matrix();
+    let b = regressor.rhs();
+    let (m, p) = a.shape();
+    let theta = Mat::from_fn(p, 1, |j, _| fit.coefficients[j]);
+    let fitted = a * &theta;
+    let residuals: Vec<f64> = (0..m).map(|i| b[i] - fitted[(i, 0)]).collect();
+    let norm = |x: &[f64]| x.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let b_norm = norm(b);
+    let relative_residual = if b_norm > 0.0 {
+        norm(&residuals) / b_norm
+    } else {
+        norm(&residuals)
+    };
+    let mean_abs_b = b.iter().map(|v| v.abs()).sum::<f64>() / m.max(1) as f64;
+    let mean_e = residuals.iter().sum::<f64>() / m.max(1) as f64;
+    let residual_bias = ResidualBias {
+        relative_mean: if mean_abs_b > 0.0 {
+            mean_e / mean_abs_b
+        } else {
+            mean_e
+        },
+        positive: residuals.iter().filter(|e| **e > 0.0).count(),
+        negative: residuals.iter().filter(|e| **e < 0.0).count(),
+    };
+
+    let scaling = Scaling::of(a, b);
+    let singular_values = scaling.matrix(a).singular_values().unwrap_or_default();
+    let (rank, condition_number) = rank_and_condition(&singular_values, rank_tolerance);
+
+    let free: Vec<usize> = (0..p)
+        .filter(|j| !fit.active.iter().any(|c| c.name == regressor.columns()[*j]))
+        .collect();
+    let (std_errors, correlation) = covariance(
+        a,
+        &scaling,
+        &residuals,
+        &free,
+        rank_tolerance,
+        regressor.columns(),
+    )
+    .map(|(se, corr)| (se, Some(corr)))
+    .unwrap_or((vec![None; p], None));
+    Diagnostics {
+        residuals,
+        relative_residual,
+        residual_bias,
+        singular_values,
+        condition_number,
+        rank,
+        std_errors,
+        correlation,
+    }
+}
+
+fn rank_and_condition(s: &[f64], tolerance: f64) -> (usize, f64) {
+    let Some(&largest) = s.first() else {
+        return (0, f64::INFINITY);
+    };
+    let rank = s
+        .iter()
+        .filter(|v| **v > tolerance * largest && **v > 0.0)
+        .count();
+    let condition = if rank == s.len() {
+        largest / s[s.len() - 1]
+    } else {
+        f64::INFINITY
+    };
+    (rank, condition)
+}
+
+type Covariance = (Vec<Option<f64>>, Correlation);
+
+/// Standard errors and correlation of the free coefficients, when m > |F| and the
+/// free columns have full rank.
+fn covariance(
+    a: &Mat<f64>,
+    scaling: &Scaling,
+    residuals: &[f64],
+    free: &[usize],
+    rank_tolerance: f64,
+    names: &[String],
+) -> Option<Covariance> {
+    let m = a.nrows();
+    let f = free.len();
+    if f == 0 || m <= f {
+        return None;
+    }
+    let a_free = Mat::from_fn(m, f, |i, k| a[(i, free[k])] / scaling.columns[free[k]]);
+    let svd = a_free.thin_svd().ok()?;
+    let (s, v) = (svd.S().column_vector(), svd.V());
+    let (rank, _) = rank_and_condition(&(0..f).map(|i| s[i]).collect::<Vec<_>>(), rank_tolerance);
+    if rank < f {
+        return None;
+    }
+    let variance = residuals.iter().map(|e| e * e).sum::<f64>() / (m - f) as f64;
+    // Cov(θ_F) = s² S⁻¹ V Σ⁻² Vᵀ S⁻¹
+    let cov = Mat::from_fn(f, f, |j, k| {
+        let sum: f64 = (0..f).map(|i| v[(j, i)] * v[(k, i)] / (s[i] * s[i])).sum();
+        variance * sum / (scaling.columns[free[j]] * scaling.columns[free[k]])
+    });
+    let mut std_errors = vec![None; a.ncols()];
+    for (k, &j) in free.iter().enumerate() {
+        std_errors[j] = Some(cov[(k, k)].max(0.0).sqrt());
+    }
+    let matrix = (0..f)
+        .map(|j| {
+            (0..f)
+                .map(|k| {
+                    let denom = (cov[(j, j)] * cov[(k, k)]).sqrt();
+                    if denom > 0.0 {
+                        cov[(j, k)] / denom
+                    } else if j == k {
+                        1.0
+                    } else {
+                        0.0
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    let names = free.iter().map(|&j| names[j].clone()).collect();
+    Some((std_errors, Correlation { names, matrix }))
+}

@@ -1,0 +1,175 @@
+//! Typed errors. Every variant carries the data that explains it: the field, the
+//! offending value, and what was expected. The library never panics on bad input and
+//! never returns a number it could not compute honestly.
+
+use thiserror::Error;
+
+/// Result alias used throughout dampid.
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// Everything that can go wrong between records and a fit report.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum Error {
+    /// A value that must be finite is NaN or infinite.
+    #[error("{what} has a non-finite value {value} at row {row}, column {column}")]
+    NonFinite {
+        /// Which array or field.
+        what: String,
+        /// Row (sample) index, 0-based.
+        row: usize,
+        /// Column (DOF or channel) index, 0-based.
+        column: usize,
+        /// The offending value.
+        value: f64,
+    },
+
+    /// Two sizes that must agree do not.
+    #[error("{what}: expected {expected}, found {found}")]
+    DimensionMismatch {
+        /// What was being compared (e.g. "rows of velocities vs displacements").
+        what: String,
+        /// The size required.
+        expected: usize,
+        /// The size given.
+        found: usize,
+    },
+
+    /// A scalar parameter is outside its valid range.
+    #[error("invalid {name} = {value}: {reason}")]
+    InvalidParameter {
+        /// The parameter's name (e.g. "step", "period", "exponent").
+        name: String,
+        /// The value given.
+        value: f64,
+        /// Why it is rejected.
+        reason: String,
+    },
+
+    /// A record holds fewer samples than the requested windows need.
+    #[error(
+        "record '{record}' is too short: the windows need {needed} samples, it has {available}"
+    )]
+    RecordTooShort {
+        /// The record's label.
+        record: String,
+        /// Samples needed.
+        needed: usize,
+        /// Samples present.
+        available: usize,
+    },
+
+    /// Fewer equations (windows) than free coefficients.
+    #[error(
+        "too few equations: {equations} windows for {coefficients} free coefficients; add records (amplitudes, frequencies, forcing points) or windows"
+    )]
+    TooFewEquations {
+        /// Rows of the regressor.
+        equations: usize,
+        /// Free (not fixed) coefficients.
+        coefficients: usize,
+    },
+
+    /// A DOF index is out of range for the record or system.
+    #[error("{what} refers to DOF {dof} (0-based), but there are only {dofs} DOFs")]
+    DofOutOfRange {
+        /// Which element, force or term.
+        what: String,
+        /// The offending index.
+        dof: usize,
+        /// Number of DOFs available.
+        dofs: usize,
+    },
+
+    /// The model has no terms, or no records were given.
+    #[error("nothing to identify: {what} is empty")]
+    Empty {
+        /// What is empty ("model", "records").
+        what: String,
+    },
+
+    /// Two coefficients share a name.
+    #[error("coefficient name '{name}' is used twice")]
+    DuplicateCoefficient {
+        /// The repeated name.
+        name: String,
+    },
+
+    /// A constraint names a coefficient the model does not have.
+    #[error("unknown coefficient '{name}'; the model has: {known}")]
+    UnknownCoefficient {
+        /// The name given.
+        name: String,
+        /// Comma-separated list of valid names.
+        known: String,
+    },
+
+    /// A lower bound exceeds an upper bound, or a fixed value violates its bounds.
+    #[error("infeasible bounds for '{name}': lower {lower} > upper {upper}")]
+    InfeasibleBounds {
+        /// The coefficient.
+        name: String,
+        /// Lower bound.
+        lower: f64,
+        /// Upper bound.
+        upper: f64,
+    },
+
+    /// Velocities were requested from the record but it has none.
+    #[error("record '{record}' has no measured velocities; choose an estimated velocity source")]
+    MissingVelocities {
+        /// The record's label.
+        record: String,
+    },
+
+    /// A numerical step failed (a singular mass matrix, a failed decomposition).
+    #[error("numerical failure in {stage}: {detail}")]
+    Numerical {
+        /// Which stage failed.
+        stage: String,
+        /// What happened.
+        detail: String,
+    },
+
+    /// The constrained solver rejected the problem before solving (set-up error).
+    #[error("constrained solver set-up failed: {detail}")]
+    SolverSetup {
+        /// The solver's message.
+        detail: String,
+    },
+}
+
+impl Error {
+    pub(crate) fn invalid(name: &str, value: f64, reason: &str) -> Self {
+        Error::InvalidParameter {
+            name: name.to_string(),
+            value,
+            reason: reason.to_string(),
+        }
+    }
+
+    pub(crate) fn mismatch(what: impl Into<String>, expected: usize, found: usize) -> Self {
+        Error::DimensionMismatch {
+            what: what.into(),
+            expected,
+            found,
+        }
+    }
+}
+
+/// Checks that every entry of a column-major matrix is finite.
+pub(crate) fn check_finite(what: &str, m: faer::MatRef<'_, f64>) -> Result<()> {
+    for j in 0..m.ncols() {
+        for i in 0..m.nrows() {
+            let value = m[(i, j)];
+            if !value.is_finite() {
+                return Err(Error::NonFinite {
+                    what: what.to_string(),
+                    row: i,
+                    column: j,
+                    value,
+                });
+            }
+        }
+    }
+    Ok(())
+}

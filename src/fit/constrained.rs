@@ -1,0 +1,323 @@
+//! Constrained least squares through clarabel:
+//!
+//!   min ½‖A θ − b‖²  subject to  l ≤ θ ≤ u  (θ_i = v_i for fixed coefficients).
+//!
+//! Set-up. The column-scaled problem is first reduced by a thin QR, A_s = Q R, so that
+//! ‖A_s θ_s − b_s‖² = ‖R θ_s − Qᵀ b_s‖² + const, and then posed in lifted form,
+//!
+//!   min ½‖r‖²  s.t.  R θ_s − r = Qᵀ b_s,  bounds on θ_s,
+//!
+//! which never forms AᵀA (whose conditioning is the square of A's).
+//!
+//! Polish. An interior-point solution sits a little inside the bounds (a coefficient
+//! whose true value is 0 comes out near 1e-9 rather than 0). The polish step takes the
+//! bounds the solution touches as active, solves the equality-constrained least-squares
+//! problem on the free coefficients exactly, and keeps that solution only if it is
+//! feasible and satisfies the KKT sign conditions (gradient gᵢ = [Rᵀ(Rθ − c)]ᵢ ≥ 0 at
+//! a lower bound, ≤ 0 at an upper bound). Otherwise the solver's point is kept.
+
+use clarabel::algebra::CscMatrix;
+use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
+use faer::Mat;
+
+use crate::error::{Error, Result};
+use crate::fit::constraints::{Constraints, Interval};
+use crate::fit::least_squares::solve_subset;
+use crate::fit::scaling::Scaling;
+use crate::fit::{
+    ActiveConstraint, BoundSide, Fit, FitMethod, FitStatus, SolverInfo, SolverSettings,
+};
+use crate::regressor::Regressor;
+
+/// Distance (in scaled units, where coefficients are of order one) within which a
+/// solution is taken to touch a bound.
+const ACTIVE_TOLERANCE: f64 = 1e-6;
+
+/// Least squares under `constraints`, solved by clarabel.
+pub fn constrained(
+    regressor: &Regressor,
+    constraints: &Constraints,
+    settings: &SolverSettings,
+) -> Result<Fit> {
+    settings.validate()?;
+    let names = regressor.columns();
+    let intervals = constraints.resolve(names)?;
+    let a = regressor.matrix();
+    let (m, p) = a.shape();
+    let free_count = intervals.iter().filter(|iv| !iv.is_fixed()).count();
+    if m < free_count {
+        return Err(Error::TooFewEquations {
+            equations: m,
+            coefficients: free_count,
+        });
+    }
+    let scaling = Scaling::of(a, regressor.rhs());
+    let a_s = scaling.matrix(a);
+    let b_s = scaling.rhs(regressor.rhs());
+    let scaled: Vec<Interval> = intervals
+        .iter()
+        .enumerate()
+        .map(|(j, iv)| Interval {
+            lower: scaling.scale(j, iv.lower),
+            upper: scaling.scale(j, iv.upper),
+        })
+        .collect();
+
+    // Reduce by QR when there are more equations than coefficients.
+    let (r, c) = if m > p {
+        let qr = a_s.qr();
+        let r = qr.thin_R().to_owned();
+        let c = qr.compute_thin_Q().transpose() * &b_s;
+        (r, c)
+    } else {
+        (a_s, b_s)
+    };
+
+    let (x, status, iterations) = solve_lifted(&r, &c, &scaled, settings)?;
+    let mut theta_s: Vec<f64> = x
+        .iter()
+        .zip(&scaled)
+        .map(|(t, iv)| t.clamp(iv.lower, iv.upper))
+        .collect();
+
+    let mut polished = false;
+    if settings.polish
+        && matches!(status, FitStatus::Solved | FitStatus::AlmostSolved)
+        && let Some(better) = polish(&r, &c, &scaled, &theta_s)
+    {
+        theta_s = better;
+        polished = true;
+    }
+
+    let active = scaled
+        .iter()
+        .zip(&theta_s)
+        .enumerate()
+        .filter_map(|(j, (iv, t))| {
+            side_touched(*t, iv).map(|side| ActiveConstraint {
+                name: names[j].clone(),
+                side,
+                value: if side == BoundSide::Lower {
+                    intervals[j].lower
+                } else {
+                    intervals[j].upper
+                },
+            })
+        })
+        .collect();
+
+    let mut coefficients = scaling.unscale(&theta_s);
+    // Put coefficients that touch a bound exactly on it (unscaling may round).
+    for (j, (coef, iv)) in coefficients.iter_mut().zip(&intervals).enumerate() {
+        match side_touched(theta_s[j], &scaled[j]) {
+            Some(BoundSide::Lower) | Some(BoundSide::Fixed) => *coef = iv.lower,
+            Some(BoundSide::Upper) => *coef = iv.upper,
+            None => {}
+        }
+    }
+    Ok(Fit {
+        coefficients,
+        status,
+        method: FitMethod::Constrained,
+        active,
+        solver: Some(SolverInfo {
+            iterations,
+            polished,
+        }),
+    })
+}
+
+/// Which bound (if any) the scaled value `t` touches.
+fn side_touched(t: f64, iv: &Interval) -> Option<BoundSide> {
+    if iv.is_fixed() {
+        Some(BoundSide::Fixed)
+    } else if (t - iv.lower).abs() <= ACTIVE_TOLERANCE * iv.lower.abs().max(1.0) {
+        Some(BoundSide::Lower)
+    } else if (t - iv.upper).abs() <= ACTIVE_TOLERANCE * iv.upper.abs().max(1.0) {
+        Some(BoundSide::Upper)
+    } else {
+        None
+    }
+}
+
+/// Clarabel on min ½‖r‖² s.t. Rθ − r = c, bounds. Returns θ, status and iterations.
+fn solve_lifted(
+    r: &Mat<f64>,
+    c: &Mat<f64>,
+    bounds: &[Interval],
+    settings: &SolverSettings,
+) -> Result<(Vec<f64>, FitStatus, u32)> {
+    let (q, p) = r.shape();
+    let n = p + q;
+    // P = diag(0_p, I_q), upper triangular.
+    let p_mat =
+        CscMatrix::new_from_triplets(n, n, (p..n).collect(), (p..n).collect(), vec![1.0; q]);
+    let (mut rows, mut cols, mut vals, mut rhs) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    // Equalities R θ − r = c.
+    for i in 0..q {
+        for j in 0..p {
+            let value = r[(i, j)];
+            if value != 0.0 {
+                rows.push(i);
+                cols.push(j);
+                vals.push(value);
+            }
+        }
+        rows.push(i);
+        cols.push(p + i);
+        vals.push(-1.0);
+        rhs.push(c[(i, 0)]);
+    }
+    let mut row = q;
+    for (j, iv) in bounds.iter().enumerate() {
+        if iv.is_fixed() {
+            rows.push(row);
+            cols.push(j);
+            vals.push(1.0);
+            rhs.push(iv.lower);
+            row += 1;
+        }
+    }
+    let zero_rows = row;
+    for (j, iv) in bounds.iter().enumerate() {
+        if iv.is_fixed() {
+            continue;
+        }
+        if iv.lower.is_finite() {
+            rows.push(row);
+            cols.push(j);
+            vals.push(-1.0);
+            rhs.push(-iv.lower);
+            row += 1;
+        }
+        if iv.upper.is_finite() {
+            rows.push(row);
+            cols.push(j);
+            vals.push(1.0);
+            rhs.push(iv.upper);
+            row += 1;
+        }
+    }
+    let a_mat = CscMatrix::new_from_triplets(row, n, rows, cols, vals);
+    let mut cones = vec![SupportedConeT::ZeroConeT(zero_rows)];
+    if row > zero_rows {
+        cones.push(SupportedConeT::NonnegativeConeT(row - zero_rows));
+    }
+    let clarabel_settings = DefaultSettings {
+        max_iter: settings.max_iterations,
+        verbose: false,
+        tol_gap_abs: settings.tolerance,
+        tol_gap_rel: settings.tolerance,
+        tol_feas: settings.tolerance,
+        tol_ktratio: settings.tolerance.sqrt().min(1e-6),
+        ..DefaultSettings::default()
+    };
+    let mut solver = DefaultSolver::new(
+        &p_mat,
+        &vec![0.0; n],
+        &a_mat,
+        &rhs,
+        &cones,
+        clarabel_settings,
+    )
+    .map_err(|e| Error::SolverSetup {
+        detail: format!("{e}"),
+    })?;
+    solver.solve();
+    let status = match solver.solution.status {
+        SolverStatus::Solved => FitStatus::Solved,
+        SolverStatus::AlmostSolved => FitStatus::AlmostSolved,
+        SolverStatus::PrimalInfeasible
+        | SolverStatus::AlmostPrimalInfeasible
+        | SolverStatus::DualInfeasible
+        | SolverStatus::AlmostDualInfeasible => FitStatus::Infeasible,
+        SolverStatus::MaxIterations => FitStatus::MaxIterations,
+        SolverStatus::MaxTime => FitStatus::MaxTime,
+        SolverStatus::InsufficientProgress => FitStatus::InsufficientProgress,
+        SolverStatus::NumericalError
+        | SolverStatus::Unsolved
+        | SolverStatus::CallbackTerminated => FitStatus::NumericalError,
+    };
+    let theta = solver.solution.x[..p].to_vec();
+    Ok((theta, status, solver.solution.iterations))
+}
+
+/// The active-set polish described in the module docs.
+fn polish(r: &Mat<f64>, c: &Mat<f64>, bounds: &[Interval], start: &[f64]) -> Option<Vec<f64>> {
+    let p = start.len();
+    let mut side: Vec<Option<BoundSide>> = start
+        .iter()
+        .zip(bounds)
+        .map(|(t, iv)| side_touched(*t, iv))
+        .collect();
+    let bound_value = |j: usize, s: BoundSide| {
+        if s == BoundSide::Upper {
+            bounds[j].upper
+        } else {
+            bounds[j].lower
+        }
+    };
+    let mut theta = start.to_vec();
+    for _ in 0..=p {
+        for j in 0..p {
+            if let Some(s) = side[j] {
+                theta[j] = bound_value(j, s);
+            }
+        }
+        let free: Vec<usize> = (0..p).filter(|&j| side[j].is_none()).collect();
+        if !free.is_empty() {
+            // c' = c − R_A θ_A
+            let mut rhs = c.clone();
+            for j in (0..p).filter(|&j| side[j].is_some()) {
+                for i in 0..r.nrows() {
+                    rhs[(i, 0)] -= r[(i, j)] * theta[j];
+                }
+            }
+            let theta_free = solve_subset(r, &rhs, &free);
+            for (k, &j) in free.iter().enumerate() {
+                theta[j] = theta_free[(k, 0)];
+            }
+        }
+        // Add the most violated free coefficient to the active set, if any.
+        let worst = free
+            .iter()
+            .map(|&j| {
+                let below = bounds[j].lower - theta[j];
+                let above = theta[j] - bounds[j].upper;
+                (
+                    j,
+                    below.max(above),
+                    if below > above {
+                        BoundSide::Lower
+                    } else {
+                        BoundSide::Upper
+                    },
+                )
+            })
+            .filter(|(_, violation, _)| *violation > 0.0)
+            .max_by(|a, b| a.1.total_cmp(&b.1));
+        match worst {
+            Some((j, _, s)) => side[j] = Some(s),
+            None => break,
+        }
+    }
+    if theta
+        .iter()
+        .zip(bounds)
+        .any(|(t, iv)| *t < iv.lower || *t > iv.upper || !t.is_finite())
+    {
+        return None;
+    }
+    // KKT sign check on the gradient g = Rᵀ(Rθ − c).
+    let theta_col = Mat::from_fn(p, 1, |j, _| theta[j]);
+    let residual = r * &theta_col - c;
+    let gradient = r.transpose() * &residual;
+    let scale = (r.transpose() * c).norm_max().max(1.0);
+    let tolerance = 1e-8 * scale;
+    let kkt_ok = (0..p).all(|j| match side[j] {
+        Some(BoundSide::Lower) => gradient[(j, 0)] >= -tolerance,
+        Some(BoundSide::Upper) => gradient[(j, 0)] <= tolerance,
+        _ => true,
+    });
+    kkt_ok.then_some(theta)
+}

@@ -1,0 +1,186 @@
+//! Fitting the regressor: plain least squares ([`least_squares`]) or least squares
+//! under physical constraints through clarabel ([`constrained`]). [`solve`] picks the
+//! one the settings call for. A solver's status is data: a fit that did not converge
+//! says so in [`Fit::status`], and the report carries it.
+
+mod constrained;
+mod constraints;
+mod least_squares;
+pub(crate) mod scaling;
+
+pub use constrained::constrained;
+pub use constraints::{Bound, Constraints, Fixed};
+pub use least_squares::least_squares;
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::regressor::Regressor;
+
+/// How the fit ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FitStatus {
+    /// Converged to the requested tolerance.
+    Solved,
+    /// Converged to a reduced tolerance: numbers usable, with care.
+    AlmostSolved,
+    /// The constraints cannot be met together.
+    Infeasible,
+    /// The iteration limit was reached: numbers are not a solution.
+    MaxIterations,
+    /// The time limit was reached: numbers are not a solution.
+    MaxTime,
+    /// The solver stopped making progress.
+    InsufficientProgress,
+    /// The solver failed numerically.
+    NumericalError,
+}
+
+impl FitStatus {
+    /// True when the coefficients are a solution (possibly of reduced accuracy).
+    pub fn is_usable(&self) -> bool {
+        matches!(self, FitStatus::Solved | FitStatus::AlmostSolved)
+    }
+}
+
+/// Which method produced the fit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FitMethod {
+    /// Plain least squares (SVD).
+    LeastSquares,
+    /// Constrained least squares (clarabel, with polish).
+    Constrained,
+}
+
+/// Which side of its interval a coefficient sits on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BoundSide {
+    /// At its lower bound (0 for nonnegativity).
+    Lower,
+    /// At its upper bound.
+    Upper,
+    /// Held at a fixed value.
+    Fixed,
+}
+
+/// A constraint the solution touches.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ActiveConstraint {
+    /// Coefficient name.
+    pub name: String,
+    /// Which bound.
+    pub side: BoundSide,
+    /// The bound's value.
+    pub value: f64,
+}
+
+/// What the constrained solver reports.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct SolverInfo {
+    /// Interior-point iterations.
+    pub iterations: u32,
+    /// Whether the active-set polish replaced the interior-point solution.
+    pub polished: bool,
+}
+
+/// A fitted coefficient vector and how it was obtained.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fit {
+    /// θ, in the regressor's column order.
+    pub coefficients: Vec<f64>,
+    /// How the fit ended.
+    pub status: FitStatus,
+    /// Which method.
+    pub method: FitMethod,
+    /// Constraints the solution touches.
+    pub active: Vec<ActiveConstraint>,
+    /// Constrained solver details.
+    pub solver: Option<SolverInfo>,
+}
+
+/// Settings of the constrained solver.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SolverSettings {
+    /// Gap and feasibility tolerance given to clarabel (default 1e-10).
+    pub tolerance: f64,
+    /// Iteration limit (default 200).
+    pub max_iterations: u32,
+    /// Run the active-set polish (default true).
+    pub polish: bool,
+}
+
+impl Default for SolverSettings {
+    fn default() -> Self {
+        SolverSettings {
+            tolerance: 1e-10,
+            max_iterations: 200,
+            polish: true,
+        }
+    }
+}
+
+impl SolverSettings {
+    /// Rejects tolerances outside (0, 1e-2] and a zero iteration limit.
+    pub fn validate(&self) -> Result<()> {
+        if !(self.tolerance > 0.0 && self.tolerance <= 1e-2) {
+            return Err(Error::invalid(
+                "solver tolerance",
+                self.tolerance,
+                "must be in (0, 1e-2]",
+            ));
+        }
+        if self.max_iterations == 0 {
+            return Err(Error::invalid("max_iterations", 0.0, "must be at least 1"));
+        }
+        Ok(())
+    }
+}
+
+/// Settings of a fit.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FitSettings {
+    /// Constraints; none gives plain least squares.
+    pub constraints: Constraints,
+    /// Constrained-solver settings.
+    pub solver: SolverSettings,
+    /// Singular values below `rank_tolerance · σ_1` of the column-scaled regressor
+    /// count as zero (default 1e-10).
+    pub rank_tolerance: f64,
+}
+
+impl Default for FitSettings {
+    fn default() -> Self {
+        FitSettings {
+            constraints: Constraints::default(),
+            solver: SolverSettings::default(),
+            rank_tolerance: 1e-10,
+        }
+    }
+}
+
+impl FitSettings {
+    /// Checks the settings themselves.
+    pub fn validate(&self) -> Result<()> {
+        if !(self.rank_tolerance > 0.0 && self.rank_tolerance < 1.0) {
+            return Err(Error::invalid(
+                "rank_tolerance",
+                self.rank_tolerance,
+                "must be in (0, 1)",
+            ));
+        }
+        self.solver.validate()
+    }
+}
+
+/// Least squares when there are no constraints, clarabel otherwise.
+pub fn solve(regressor: &Regressor, settings: &FitSettings) -> Result<Fit> {
+    settings.validate()?;
+    if settings.constraints.is_empty() {
+        least_squares(regressor, settings.rank_tolerance)
+    } else {
+        constrained(regressor, &settings.constraints, &settings.solver)
+    }
+}

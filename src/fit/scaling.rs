@@ -1,0 +1,54 @@
+//! Column scaling. The fit works on A_s = A S⁻¹ and b_s = b/β with S = diag(‖A_j‖₂)
+//! and β = ‖b‖₂, so that every column and the right-hand side have unit norm and the
+//! scaled coefficients θ_s = S θ / β are of order one. Conditioning is reported on A_s:
+//! it measures how well the data separate the coefficients, not their units.
+//! An all-zero column keeps scale 1 (and shows as a zero singular value).
+
+use faer::Mat;
+
+/// Column norms and the right-hand side norm.
+#[derive(Debug, Clone)]
+pub(crate) struct Scaling {
+    pub columns: Vec<f64>,
+    pub rhs: f64,
+}
+
+impl Scaling {
+    pub fn of(a: &Mat<f64>, b: &[f64]) -> Self {
+        let columns = (0..a.ncols())
+            .map(|j| {
+                let norm = a.col(j).norm_l2();
+                if norm > 0.0 { norm } else { 1.0 }
+            })
+            .collect();
+        let rhs = b.iter().map(|v| v * v).sum::<f64>().sqrt();
+        Scaling {
+            columns,
+            rhs: if rhs > 0.0 { rhs } else { 1.0 },
+        }
+    }
+
+    /// A_s = A S⁻¹.
+    pub fn matrix(&self, a: &Mat<f64>) -> Mat<f64> {
+        Mat::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)] / self.columns[j])
+    }
+
+    /// b_s = b / β, as a column.
+    pub fn rhs(&self, b: &[f64]) -> Mat<f64> {
+        Mat::from_fn(b.len(), 1, |i, _| b[i] / self.rhs)
+    }
+
+    /// θ from θ_s.
+    pub fn unscale(&self, theta_s: &[f64]) -> Vec<f64> {
+        theta_s
+            .iter()
+            .zip(&self.columns)
+            .map(|(t, s)| t * self.rhs / s)
+            .collect()
+    }
+
+    /// θ_s from θ.
+    pub fn scale(&self, j: usize, theta: f64) -> f64 {
+        theta * self.columns[j] / self.rhs
+    }
+}

@@ -1,0 +1,33 @@
+//! The one-call entry point: records → regressor → fit → diagnostics → report.
+
+use serde::{Deserialize, Serialize};
+
+use crate::diagnostics::diagnose;
+use crate::error::Result;
+use crate::fit::{FitSettings, solve};
+use crate::model::DampingModel;
+use crate::record::Record;
+use crate::regressor::{Regressor, RegressorSettings};
+use crate::report::FitReport;
+
+/// Settings for [`identify`].
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct IdentifySettings {
+    /// Windows, quadrature and velocity source.
+    pub regressor: RegressorSettings,
+    /// Constraints and solver settings.
+    pub fit: FitSettings,
+}
+
+/// Identifies the coefficients of `model` from `records`.
+pub fn identify(
+    model: &DampingModel,
+    records: &[Record],
+    settings: &IdentifySettings,
+) -> Result<FitReport> {
+    settings.fit.validate()?;
+    let regressor = Regressor::build(model, records, &settings.regressor)?;
+    let fit = solve(&regressor, &settings.fit)?;
+    let diagnostics = diagnose(&regressor, &fit, settings.fit.rank_tolerance);
+    Ok(FitReport::new(&regressor, fit, diagnostics))
+}

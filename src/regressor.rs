@@ -1,0 +1,207 @@
+//! The regressor A θ = b. Row r is one window of one record; column k is one
+//! coefficient. With weights w_i of the quadrature rule over the window's samples:
+//!
+//!   A_rk = Σ_i w_i v(t_i)ᵀ f_k(x(t_i), v(t_i))   (dissipated work per unit θ_k)
+//!   b_r  = Σ_i w_i v(t_i)ᵀ r(t_i)                (input work)
+//!
+//! Mass and stiffness never appear: over whole periods of a periodic motion their
+//! stored energy returns to its start.
+
+use faer::Mat;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::model::DampingModel;
+use crate::quadrature::Quadrature;
+use crate::record::Record;
+use crate::terms::WindowSamples;
+use crate::velocity::VelocitySource;
+use crate::window::{Window, WindowSpec};
+
+/// How records become equations.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct RegressorSettings {
+    /// How records are cut into windows of whole periods.
+    pub windows: WindowSpec,
+    /// The quadrature rule for window integrals.
+    pub quadrature: Quadrature,
+    /// Where velocities come from.
+    pub velocity: VelocitySource,
+}
+
+/// Where a row came from.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RowLabel {
+    /// The record's label.
+    pub record: String,
+    /// The record's index in the list given.
+    pub record_index: usize,
+    /// The window's index within its record.
+    pub window: usize,
+    /// Time of the window's first sample.
+    pub start_time: f64,
+    /// Whole periods in the window.
+    pub cycles: usize,
+}
+
+/// The regressor A (equations × coefficients), right-hand side b, and their labels.
+#[derive(Debug, Clone)]
+pub struct Regressor {
+    matrix: Mat<f64>,
+    rhs: Vec<f64>,
+    columns: Vec<String>,
+    rows: Vec<RowLabel>,
+}
+
+impl Regressor {
+    /// Builds one row per window of every record.
+    pub fn build(
+        model: &DampingModel,
+        records: &[Record],
+        settings: &RegressorSettings,
+    ) -> Result<Self> {
+        if records.is_empty() {
+            return Err(Error::Empty {
+                what: "record list".into(),
+            });
+        }
+        for record in records {
+            model.validate(record.dofs())?;
+        }
+        let mut windows: Vec<Window> = Vec::new();
+        for (index, record) in records.iter().enumerate() {
+            windows.extend(
+                settings
+                    .windows
+                    .windows(record, index, settings.quadrature)?,
+            );
+        }
+        let columns = model.coefficient_names();
+        let rows: Vec<(Vec<f64>, f64)> = windows
+            .par_iter()
+            .map(|w| window_row(model, &records[w.record], w, settings))
+            .collect::<Result<_>>()?;
+        let matrix = Mat::from_fn(rows.len(), columns.len(), |r, k| rows[r].0[k]);
+        let rhs = rows.iter().map(|(_, b)| *b).collect();
+        let labels = windows
+            .iter()
+            .map(|w| {
+                let record = &records[w.record];
+                RowLabel {
+                    record: record.label().to_string(),
+                    record_index: w.record,
+                    window: w.index,
+                    start_time: record.start_time() + w.start as f64 * record.step(),
+                    cycles: w.cycles,
+                }
+            })
+            .collect();
+        Self::from_parts(matrix, rhs, columns, labels)
+    }
+
+    /// A regressor from its parts (for research use and tests); validates shapes and
+    /// finiteness.
+    pub fn from_parts(
+        matrix: Mat<f64>,
+        rhs: Vec<f64>,
+        columns: Vec<String>,
+        rows: Vec<RowLabel>,
+    ) -> Result<Self> {
+        if matrix.nrows() != rhs.len() {
+            return Err(Error::mismatch(
+                "regressor rows vs right-hand side",
+                matrix.nrows(),
+                rhs.len(),
+            ));
+        }
+        if matrix.ncols() != columns.len() {
+            return Err(Error::mismatch(
+                "regressor columns vs coefficient names",
+                columns.len(),
+                matrix.ncols(),
+            ));
+        }
+        if rows.len() != rhs.len() {
+            return Err(Error::mismatch(
+                "row labels vs regressor rows",
+                rhs.len(),
+                rows.len(),
+            ));
+        }
+        for (r, value) in rhs.iter().enumerate() {
+            if !value.is_finite() {
+                return Err(Error::NonFinite {
+                    what: "input work b".into(),
+                    row: r,
+                    column: 0,
+                    value: *value,
+                });
+            }
+        }
+        for k in 0..matrix.ncols() {
+            for r in 0..matrix.nrows() {
+                let value = matrix[(r, k)];
+                if !value.is_finite() {
+                    return Err(Error::NonFinite {
+                        what: format!("regressor column '{}'", columns[k]),
+                        row: r,
+                        column: k,
+                        value,
+                    });
+                }
+            }
+        }
+        Ok(Regressor {
+            matrix,
+            rhs,
+            columns,
+            rows,
+        })
+    }
+
+    /// A (equations × coefficients).
+    pub fn matrix(&self) -> &Mat<f64> {
+        &self.matrix
+    }
+    /// b, the input work per window.
+    pub fn rhs(&self) -> &[f64] {
+        &self.rhs
+    }
+    /// Coefficient names, one per column.
+    pub fn columns(&self) -> &[String] {
+        &self.columns
+    }
+    /// Row labels, one per equation.
+    pub fn rows(&self) -> &[RowLabel] {
+        &self.rows
+    }
+    /// Number of equations.
+    pub fn equations(&self) -> usize {
+        self.rhs.len()
+    }
+}
+
+/// One row: every term's columns and the input work for window `w`.
+fn window_row(
+    model: &DampingModel,
+    record: &Record,
+    w: &Window,
+    settings: &RegressorSettings,
+) -> Result<(Vec<f64>, f64)> {
+    let weights = settings
+        .quadrature
+        .weights(w.span, record.step(), record.period())?;
+    let count = weights.len();
+    let v = settings
+        .velocity
+        .window_velocities(record, w.start, count)?;
+    let x = record.displacements().subrows(w.start, count);
+    let samples = WindowSamples::new(x, v.as_ref(), &weights);
+    let mut row = vec![0.0; model.coefficient_count()];
+    for (term, range) in model.term_columns() {
+        term.accumulate(&samples, &mut row[range]);
+    }
+    let input = record.forcing().work(w.start, v.as_ref(), &weights);
+    Ok((row, input))
+}

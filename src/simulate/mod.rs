@@ -1,0 +1,330 @@
+//! The simulator, a leaf that produces records (identification never needs it):
+//!
+//!   M x'' + Q_d(x, x') + K x + f_c(x) = r(t),
+//!
+//! with the damping Q_d from the term library and given true coefficients, conservative
+//! nonlinear forces f_c (e.g. a cubic spring), and harmonic forcing on chosen DOFs,
+//! r_i(t) = a cos(ωt + φ). Integrated from rest by classic RK4 with `substeps` steps per
+//! recorded sample; `transient_steps` samples are dropped, then `recorded_steps`
+//! samples of x, x' and the force channels are recorded.
+
+mod rk4;
+
+use std::fmt;
+use std::sync::Arc;
+
+use faer::Mat;
+use faer::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result, check_finite};
+use crate::model::DampingModel;
+use crate::record::{Forcing, Record, RecordParts};
+use rk4::Rk4;
+
+/// `f(x, out)`: adds a conservative force f_c(x) to `out`.
+pub type ConservativeFn = dyn Fn(&[f64], &mut [f64]) + Send + Sync;
+
+/// A conservative force f_c(x) on the left-hand side of the equations of motion.
+#[derive(Clone)]
+pub enum ConservativeForce {
+    /// A grounded cubic spring, f_c,dof = k x_dof³.
+    Cubic {
+        /// The DOF (0-based).
+        dof: usize,
+        /// Coefficient k.
+        coefficient: f64,
+    },
+    /// Any conservative force: `f(x, out)` adds f_c(x) to `out`. It must be the
+    /// gradient of a potential for the energy balance to hold.
+    Custom(Arc<ConservativeFn>),
+}
+
+impl fmt::Debug for ConservativeForce {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ConservativeForce::Cubic { dof, coefficient } => {
+                write!(f, "Cubic {{ dof: {dof}, coefficient: {coefficient} }}")
+            }
+            ConservativeForce::Custom(_) => write!(f, "Custom(..)"),
+        }
+    }
+}
+
+/// A harmonic force a cos(ωt + φ) on one DOF.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct HarmonicForce {
+    /// The DOF (0-based).
+    pub dof: usize,
+    /// Amplitude a.
+    pub amplitude: f64,
+    /// Angular frequency ω (rad per unit time).
+    pub frequency: f64,
+    /// Phase φ (rad).
+    pub phase: f64,
+}
+
+/// The system to simulate.
+#[derive(Debug, Clone)]
+pub struct System {
+    /// Mass matrix M (n × n, invertible).
+    pub mass: Mat<f64>,
+    /// Stiffness matrix K (n × n).
+    pub stiffness: Mat<f64>,
+    /// The damping model.
+    pub damping: DampingModel,
+    /// Its true coefficients, in the model's coefficient order.
+    pub damping_coefficients: Vec<f64>,
+    /// Conservative nonlinear forces.
+    pub conservative: Vec<ConservativeForce>,
+    /// Harmonic forces, all at one frequency (the record's period is 2π/ω).
+    pub forcing: Vec<HarmonicForce>,
+}
+
+/// Integration and recording settings.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SimSettings {
+    /// Recording step h.
+    pub step: f64,
+    /// RK4 steps per recorded step (≥ 1).
+    pub substeps: usize,
+    /// Recorded steps dropped as transient.
+    pub transient_steps: usize,
+    /// Recorded steps kept.
+    pub recorded_steps: usize,
+}
+
+impl Default for SimSettings {
+    /// The paper's settings: h = 0.1, 1000 transient steps, 200 recorded steps.
+    fn default() -> Self {
+        SimSettings {
+            step: 0.1,
+            substeps: 1,
+            transient_steps: 1000,
+            recorded_steps: 200,
+        }
+    }
+}
+
+impl SimSettings {
+    /// Checks the settings themselves.
+    pub fn validate(&self) -> Result<()> {
+        if !(self.step.is_finite() && self.step > 0.0) {
+            return Err(Error::invalid(
+                "step",
+                self.step,
+                "must be finite and positive",
+            ));
+        }
+        if self.substeps == 0 {
+            return Err(Error::invalid("substeps", 0.0, "must be at least 1"));
+        }
+        if self.recorded_steps < 3 {
+            return Err(Error::invalid(
+                "recorded_steps",
+                self.recorded_steps as f64,
+                "must be at least 3",
+            ));
+        }
+        Ok(())
+    }
+}
+
+impl System {
+    /// Number of DOFs.
+    pub fn dofs(&self) -> usize {
+        self.mass.nrows()
+    }
+
+    fn validate(&self) -> Result<()> {
+        let n = self.dofs();
+        if n == 0 {
+            return Err(Error::Empty {
+                what: "mass matrix".into(),
+            });
+        }
+        for (what, m) in [("mass", &self.mass), ("stiffness", &self.stiffness)] {
+            if m.nrows() != n || m.ncols() != n {
+                let found = if m.nrows() != n { m.nrows() } else { m.ncols() };
+                return Err(Error::mismatch(
+                    format!("{what} matrix size vs DOFs"),
+                    n,
+                    found,
+                ));
+            }
+            check_finite(what, m.as_ref())?;
+        }
+        self.damping.validate(n)?;
+        if self.damping_coefficients.len() != self.damping.coefficient_count() {
+            return Err(Error::mismatch(
+                "true damping coefficients vs model coefficients",
+                self.damping.coefficient_count(),
+                self.damping_coefficients.len(),
+            ));
+        }
+        for (k, c) in self.damping_coefficients.iter().enumerate() {
+            if !c.is_finite() {
+                return Err(Error::invalid(
+                    &format!("damping coefficient {k}"),
+                    *c,
+                    "must be finite",
+                ));
+            }
+        }
+        for c in &self.conservative {
+            if let ConservativeForce::Cubic { dof, coefficient } = c {
+                if *dof >= n {
+                    return Err(Error::DofOutOfRange {
+                        what: "cubic spring".into(),
+                        dof: *dof,
+                        dofs: n,
+                    });
+                }
+                if !coefficient.is_finite() {
+                    return Err(Error::invalid(
+                        "cubic spring coefficient",
+                        *coefficient,
+                        "must be finite",
+                    ));
+                }
+            }
+        }
+        let Some(first) = self.forcing.first() else {
+            return Err(Error::Empty {
+                what: "forcing".into(),
+            });
+        };
+        for f in &self.forcing {
+            if f.dof >= n {
+                return Err(Error::DofOutOfRange {
+                    what: "harmonic force".into(),
+                    dof: f.dof,
+                    dofs: n,
+                });
+            }
+            if !(f.frequency.is_finite() && f.frequency > 0.0) {
+                return Err(Error::invalid(
+                    "forcing frequency",
+                    f.frequency,
+                    "must be finite and positive",
+                ));
+            }
+            if f.frequency != first.frequency {
+                return Err(Error::invalid(
+                    "forcing frequency",
+                    f.frequency,
+                    &format!(
+                        "all forces must share one frequency (the first is {})",
+                        first.frequency
+                    ),
+                ));
+            }
+            if !(f.amplitude.is_finite() && f.phase.is_finite()) {
+                return Err(Error::invalid(
+                    "forcing amplitude or phase",
+                    f.amplitude,
+                    "must be finite",
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The applied force r(t) (length n).
+    fn applied(&self, t: f64, out: &mut [f64]) {
+        out.fill(0.0);
+        for f in &self.forcing {
+            out[f.dof] += f.amplitude * (f.frequency * t + f.phase).cos();
+        }
+    }
+}
+
+/// Simulates `system` and records its steady state.
+pub fn simulate(system: &System, settings: &SimSettings) -> Result<Record> {
+    settings.validate()?;
+    system.validate()?;
+    let n = system.dofs();
+    let lu = system.mass.partial_piv_lu();
+    let mass_inverse = lu.solve(Mat::<f64>::identity(n, n));
+    if mass_inverse
+        .col_iter()
+        .any(|c| c.iter().any(|v| !v.is_finite()))
+    {
+        return Err(Error::Numerical {
+            stage: "simulation".into(),
+            detail: "the mass matrix is singular".into(),
+        });
+    }
+    let h = settings.step / settings.substeps as f64;
+    let mut rk = Rk4::new(2 * n);
+    let mut state = vec![0.0; 2 * n];
+    let mut force = vec![0.0; n];
+    let mut net = vec![0.0; n];
+    let mut damping = vec![0.0; n];
+    let mut conservative = vec![0.0; n];
+    let mut derivative = |t: f64, y: &[f64], out: &mut [f64]| {
+        let (x, v) = y.split_at(n);
+        system.applied(t, &mut force);
+        // net = r − Q_d − K x − f_c
+        damping.fill(0.0);
+        system
+            .damping
+            .add_damping_force(&system.damping_coefficients, x, v, &mut damping);
+        conservative.fill(0.0);
+        for c in &system.conservative {
+            match c {
+                ConservativeForce::Cubic { dof, coefficient } => {
+                    conservative[*dof] += coefficient * x[*dof].powi(3)
+                }
+                ConservativeForce::Custom(f) => f(x, &mut conservative),
+            }
+        }
+        for i in 0..n {
+            let kx: f64 = (0..n).map(|j| system.stiffness[(i, j)] * x[j]).sum();
+            net[i] = force[i] - damping[i] - kx - conservative[i];
+        }
+        out[..n].copy_from_slice(v);
+        for i in 0..n {
+            out[n + i] = (0..n).map(|j| mass_inverse[(i, j)] * net[j]).sum();
+        }
+    };
+    let total = settings.transient_steps + settings.recorded_steps;
+    let recorded = settings.recorded_steps;
+    let mut x = Mat::<f64>::zeros(recorded, n);
+    let mut v = Mat::<f64>::zeros(recorded, n);
+    let mut signals = Mat::<f64>::zeros(recorded, system.forcing.len());
+    let mut t = 0.0;
+    for step in 0..total {
+        if step >= settings.transient_steps {
+            let row = step - settings.transient_steps;
+            for i in 0..n {
+                x[(row, i)] = state[i];
+                v[(row, i)] = state[n + i];
+            }
+            let t_sample = step as f64 * settings.step;
+            for (k, f) in system.forcing.iter().enumerate() {
+                signals[(row, k)] = f.amplitude * (f.frequency * t_sample + f.phase).cos();
+            }
+        }
+        for sub in 0..settings.substeps {
+            t = step as f64 * settings.step + sub as f64 * h;
+            rk.step(t, h, &mut state, &mut derivative);
+        }
+        if state.iter().any(|s| !s.is_finite()) {
+            return Err(Error::Numerical {
+                stage: "simulation".into(),
+                detail: format!("the state diverged at t = {t}; reduce the step or add substeps"),
+            });
+        }
+    }
+    let frequency = system.forcing[0].frequency;
+    Record::new(RecordParts {
+        label: format!("sim ω={frequency}"),
+        step: settings.step,
+        start_time: settings.transient_steps as f64 * settings.step,
+        displacements: x,
+        velocities: Some(v),
+        forcing: Forcing::on_dofs(signals, system.forcing.iter().map(|f| f.dof).collect()),
+        period: 2.0 * std::f64::consts::PI / frequency,
+    })
+}

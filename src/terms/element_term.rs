@@ -1,0 +1,159 @@
+//! A law acting on a set of elements, with one shared coefficient or one per element.
+//!
+//! Column of element e: ∫ v_e f(x_e, v_e) dt ≈ Σ_i w_i v_e(t_i) f(x_e(t_i), v_e(t_i)),
+//! where x_e, v_e are the element's relative displacement and velocity. A shared
+//! coefficient's column is the sum over elements.
+
+use std::sync::Arc;
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::record::col;
+use crate::terms::WindowSamples;
+use crate::terms::element::Element;
+use crate::terms::law::Law;
+
+/// Samples per chunk when forming relative motion; small enough to stay in L1.
+const CHUNK: usize = 512;
+
+/// Elements above which columns are computed in parallel.
+const PARALLEL_ELEMENTS: usize = 32;
+
+/// How the elements of a term share coefficients.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Coefficients {
+    /// One coefficient with this name for every element.
+    Shared(String),
+    /// One coefficient per element, named `prefix[label]`.
+    PerElement(String),
+}
+
+/// A damping law on elements.
+#[derive(Debug, Clone)]
+pub struct ElementTerm {
+    law: Arc<dyn Law>,
+    elements: Vec<Element>,
+    coefficients: Coefficients,
+}
+
+impl ElementTerm {
+    /// The law `law` on `elements`, sharing coefficients as `coefficients` says.
+    pub fn new(law: Arc<dyn Law>, elements: Vec<Element>, coefficients: Coefficients) -> Self {
+        ElementTerm {
+            law,
+            elements,
+            coefficients,
+        }
+    }
+
+    /// The law.
+    pub fn law(&self) -> &dyn Law {
+        self.law.as_ref()
+    }
+
+    /// The elements.
+    pub fn elements(&self) -> &[Element] {
+        &self.elements
+    }
+
+    /// The sharing of coefficients.
+    pub fn coefficients(&self) -> &Coefficients {
+        &self.coefficients
+    }
+
+    pub(crate) fn coefficient_names(&self) -> Vec<String> {
+        match &self.coefficients {
+            Coefficients::Shared(name) => vec![name.clone()],
+            Coefficients::PerElement(prefix) => self
+                .elements
+                .iter()
+                .map(|e| format!("{prefix}[{}]", e.label))
+                .collect(),
+        }
+    }
+
+    pub(crate) fn validate(&self, dofs: usize) -> Result<()> {
+        let what = format!("{} term", self.law.name());
+        if self.elements.is_empty() {
+            return Err(Error::Empty {
+                what: format!("element list of the {what}"),
+            });
+        }
+        self.elements
+            .iter()
+            .try_for_each(|e| e.validate(dofs, &what))
+    }
+
+    /// Σ_i w_i v_e f(x_e, v_e) for one element.
+    fn element_column(&self, e: &Element, samples: &WindowSamples<'_>) -> f64 {
+        let (xa, va) = (col(samples.x, e.a), col(samples.v, e.a));
+        let w = samples.weights;
+        let uses_x = self.law.uses_displacement();
+        match e.b {
+            None if !uses_x => self.law.weighted_power(&[], va, w),
+            None => self.law.weighted_power(xa, va, w),
+            Some(b) => {
+                let (xb, vb) = (col(samples.x, b), col(samples.v, b));
+                let mut dx = [0.0; CHUNK];
+                let mut dv = [0.0; CHUNK];
+                let mut total = 0.0;
+                for start in (0..w.len()).step_by(CHUNK) {
+                    let end = (start + CHUNK).min(w.len());
+                    let len = end - start;
+                    for k in 0..len {
+                        dv[k] = va[start + k] - vb[start + k];
+                    }
+                    let x_chunk: &[f64] = if uses_x {
+                        for k in 0..len {
+                            dx[k] = xa[start + k] - xb[start + k];
+                        }
+                        &dx[..len]
+                    } else {
+                        &[]
+                    };
+                    total += self.law.weighted_power(x_chunk, &dv[..len], &w[start..end]);
+                }
+                total
+            }
+        }
+    }
+
+    pub(crate) fn accumulate(&self, samples: &WindowSamples<'_>, out: &mut [f64]) {
+        let per_element: Vec<f64> = if self.elements.len() >= PARALLEL_ELEMENTS {
+            self.elements
+                .par_iter()
+                .map(|e| self.element_column(e, samples))
+                .collect()
+        } else {
+            self.elements
+                .iter()
+                .map(|e| self.element_column(e, samples))
+                .collect()
+        };
+        match self.coefficients {
+            Coefficients::Shared(_) => out[0] = per_element.iter().sum(),
+            Coefficients::PerElement(_) => out.copy_from_slice(&per_element),
+        }
+    }
+
+    pub(crate) fn add_force(&self, coefficients: &[f64], x: &[f64], v: &[f64], out: &mut [f64]) {
+        for (k, e) in self.elements.iter().enumerate() {
+            let theta = match self.coefficients {
+                Coefficients::Shared(_) => coefficients[0],
+                Coefficients::PerElement(_) => coefficients[k],
+            };
+            let (xr, vr) = match e.b {
+                None => (x[e.a], v[e.a]),
+                Some(b) => (x[e.a] - x[b], v[e.a] - v[b]),
+            };
+            let f = theta * self.law.force(xr, vr);
+            out[e.a] += f;
+            if let Some(b) = e.b {
+                out[b] -= f;
+            }
+        }
+    }
+}

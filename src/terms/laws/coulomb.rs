@@ -1,0 +1,20 @@
+//! Coulomb (dry) friction: f = sign(v), power |v|. Over a cycle of x = X cos ωt,
+//! ∫ |v| dt = 4X (the total distance travelled).
+
+use crate::terms::law::{Law, sign};
+
+/// Coulomb friction, f(v) = sign(v) with sign(0) = 0.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Coulomb;
+
+impl Law for Coulomb {
+    fn name(&self) -> String {
+        "coulomb".into()
+    }
+    fn force(&self, _x: f64, v: f64) -> f64 {
+        sign(v)
+    }
+    fn weighted_power(&self, _x: &[f64], v: &[f64], w: &[f64]) -> f64 {
+        w.iter().zip(v).map(|(w, v)| w * v.abs()).sum()
+    }
+}

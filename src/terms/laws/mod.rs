@@ -1,0 +1,13 @@
+//! The built-in damping laws, one per file.
+
+mod coulomb;
+mod custom;
+mod linear;
+mod power;
+mod quadratic;
+
+pub use coulomb::Coulomb;
+pub use custom::Custom;
+pub use linear::Linear;
+pub use power::PowerLaw;
+pub use quadratic::Quadratic;

@@ -1,0 +1,44 @@
+//! Power law: f = |v|^p sign(v), power |v|^{p+1}. p = 0 is Coulomb, p = 1 linear,
+//! p = 2 quadratic. Over a cycle of x = X cos ωt,
+//! ∫ |v|^{p+1} dt = (ωX)^{p+1} · (4/ω) · ∫_0^{π/2} sin^{p+1} θ dθ.
+
+use crate::error::{Error, Result};
+use crate::terms::law::{Law, sign};
+
+/// Power-law damping, f(v) = |v|^p sign(v), p ≥ 0.
+#[derive(Debug, Clone, Copy)]
+pub struct PowerLaw {
+    exponent: f64,
+}
+
+impl PowerLaw {
+    /// A power law with exponent p; p must be finite and nonnegative.
+    pub fn new(exponent: f64) -> Result<Self> {
+        if !(exponent.is_finite() && exponent >= 0.0) {
+            return Err(Error::invalid(
+                "exponent",
+                exponent,
+                "a power law needs a finite exponent p ≥ 0",
+            ));
+        }
+        Ok(PowerLaw { exponent })
+    }
+
+    /// The exponent p.
+    pub fn exponent(&self) -> f64 {
+        self.exponent
+    }
+}
+
+impl Law for PowerLaw {
+    fn name(&self) -> String {
+        format!("power({})", self.exponent)
+    }
+    fn force(&self, _x: f64, v: f64) -> f64 {
+        v.abs().powf(self.exponent) * sign(v)
+    }
+    fn weighted_power(&self, _x: &[f64], v: &[f64], w: &[f64]) -> f64 {
+        let q = self.exponent + 1.0;
+        w.iter().zip(v).map(|(w, v)| w * v.abs().powf(q)).sum()
+    }
+}

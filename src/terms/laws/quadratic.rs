@@ -1,0 +1,20 @@
+//! Quadratic (velocity-squared) law: f = v|v|, power |v|³. Over a cycle of
+//! x = X cos ωt, ∫ |v|³ dt = (8/3) ω² X³.
+
+use crate::terms::law::Law;
+
+/// Quadratic damping, f(v) = v|v|.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Quadratic;
+
+impl Law for Quadratic {
+    fn name(&self) -> String {
+        "quadratic".into()
+    }
+    fn force(&self, _x: f64, v: f64) -> f64 {
+        v * v.abs()
+    }
+    fn weighted_power(&self, _x: &[f64], v: &[f64], w: &[f64]) -> f64 {
+        w.iter().zip(v).map(|(w, v)| w * v * v * v.abs()).sum()
+    }
+}

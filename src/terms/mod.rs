@@ -1,0 +1,127 @@
+//! The term library. A term is one damping mechanism with one or more unknown
+//! coefficients θ_k; its only job is the window integral of the power per coefficient,
+//! ∫ vᵀ f_k(x, v) dt, which becomes one regressor column. The same term also gives the
+//! damping force Σ θ_k f_k(x, v), which the simulator uses.
+
+pub mod element;
+pub mod element_term;
+pub mod law;
+pub mod laws;
+pub mod matrix_term;
+
+use std::sync::Arc;
+use std::sync::OnceLock;
+
+use faer::{Mat, MatRef};
+
+pub use element::Element;
+pub use element_term::{Coefficients, ElementTerm};
+pub use law::Law;
+pub use matrix_term::{MatrixKind, MatrixTerm};
+
+use crate::error::Result;
+
+/// The samples of one window that every term reads: displacements and velocities
+/// (m × n, column-major) and the quadrature weights (m).
+pub struct WindowSamples<'a> {
+    pub(crate) x: MatRef<'a, f64>,
+    pub(crate) v: MatRef<'a, f64>,
+    pub(crate) weights: &'a [f64],
+    gram: OnceLock<Mat<f64>>,
+}
+
+impl<'a> WindowSamples<'a> {
+    pub(crate) fn new(x: MatRef<'a, f64>, v: MatRef<'a, f64>, weights: &'a [f64]) -> Self {
+        WindowSamples {
+            x,
+            v,
+            weights,
+            gram: OnceLock::new(),
+        }
+    }
+
+    /// G = Vᵀ W V, formed on first use.
+    fn gram(&self) -> &Mat<f64> {
+        self.gram.get_or_init(|| {
+            let weighted = Mat::from_fn(self.v.nrows(), self.v.ncols(), |i, j| {
+                self.weights[i] * self.v[(i, j)]
+            });
+            self.v.transpose() * weighted
+        })
+    }
+}
+
+/// One damping mechanism.
+#[derive(Debug, Clone)]
+pub enum Term {
+    /// A damping matrix with one coefficient.
+    Matrix(MatrixTerm),
+    /// A law on elements.
+    Elements(ElementTerm),
+}
+
+impl Term {
+    /// Viscous damping C = θ C₀ with a given C₀; coefficient `name`.
+    pub fn viscous(name: impl Into<String>, c0: Mat<f64>) -> Self {
+        Term::Matrix(MatrixTerm::new(name, MatrixKind::Viscous, c0))
+    }
+
+    /// Stiffness-proportional damping C = θ K; coefficient `name`.
+    pub fn stiffness_proportional(name: impl Into<String>, stiffness: Mat<f64>) -> Self {
+        Term::Matrix(MatrixTerm::new(
+            name,
+            MatrixKind::StiffnessProportional,
+            stiffness,
+        ))
+    }
+
+    /// Mass-proportional damping C = θ M; coefficient `name`.
+    pub fn mass_proportional(name: impl Into<String>, mass: Mat<f64>) -> Self {
+        Term::Matrix(MatrixTerm::new(name, MatrixKind::MassProportional, mass))
+    }
+
+    /// `law` on `elements` (dashpots on a connectivity, or DOFs to ground).
+    pub fn on_elements(
+        law: impl Law + 'static,
+        elements: Vec<Element>,
+        coefficients: Coefficients,
+    ) -> Self {
+        Term::Elements(ElementTerm::new(Arc::new(law), elements, coefficients))
+    }
+
+    /// `law` from each of DOFs 0..n to ground.
+    pub fn per_dof(law: impl Law + 'static, dofs: usize, coefficients: Coefficients) -> Self {
+        Self::on_elements(law, Element::each_dof(dofs), coefficients)
+    }
+
+    /// Names of this term's coefficients, in column order.
+    pub fn coefficient_names(&self) -> Vec<String> {
+        match self {
+            Term::Matrix(t) => t.coefficient_names(),
+            Term::Elements(t) => t.coefficient_names(),
+        }
+    }
+
+    pub(crate) fn validate(&self, dofs: usize) -> Result<()> {
+        match self {
+            Term::Matrix(t) => t.validate(dofs),
+            Term::Elements(t) => t.validate(dofs),
+        }
+    }
+
+    /// Writes this term's columns for one window into `out`.
+    pub(crate) fn accumulate(&self, samples: &WindowSamples<'_>, out: &mut [f64]) {
+        match self {
+            Term::Matrix(t) => t.accumulate(samples, out),
+            Term::Elements(t) => t.accumulate(samples, out),
+        }
+    }
+
+    /// Adds the damping force Σ_k θ_k f_k(x, v) to `out` (length n).
+    pub(crate) fn add_force(&self, coefficients: &[f64], x: &[f64], v: &[f64], out: &mut [f64]) {
+        match self {
+            Term::Matrix(t) => t.add_force(coefficients, v, out),
+            Term::Elements(t) => t.add_force(coefficients, x, v, out),
+        }
+    }
+}
