@@ -7,8 +7,12 @@
 //! D = I. The input power is then v^T r = Σ_k s_k(t) (d_k · v(t)).
 
 use faer::{Mat, MatRef};
+use rayon::prelude::*;
 
 use crate::error::{Error, Result, check_finite};
+
+/// Force channels above which the input work is summed in parallel.
+const PARALLEL_CHANNELS: usize = 32;
 
 /// How the force channels map onto the generalized forces r(t) = D s(t).
 #[derive(Debug, Clone, PartialEq)]
@@ -107,25 +111,24 @@ impl Forcing {
     /// Input work Σ_t w_t v(t)^T r(t) over window samples `start..start + w.len()`,
     /// with velocities `v` given for exactly those samples.
     pub(crate) fn work(&self, start: usize, v: MatRef<'_, f64>, weights: &[f64]) -> f64 {
-        let m = weights.len();
-        let mut total = 0.0;
-        for k in 0..self.signals.ncols() {
-            let s = &self.signals.col_as_slice(k)[start..start + m];
+        let channel = |k: usize| {
+            let s = &self.signals.col_as_slice(k)[start..start + weights.len()];
             match &self.distribution {
-                LoadDistribution::Dofs(dofs) => {
-                    total += weighted_dot(weights, s, col(v, dofs[k]));
-                }
-                LoadDistribution::Matrix(d) => {
-                    for i in 0..d.nrows() {
-                        let dik = d[(i, k)];
-                        if dik != 0.0 {
-                            total += dik * weighted_dot(weights, s, col(v, i));
-                        }
-                    }
-                }
+                LoadDistribution::Dofs(dofs) => weighted_dot(weights, s, col(v, dofs[k])),
+                LoadDistribution::Matrix(d) => (0..d.nrows())
+                    .filter(|&i| d[(i, k)] != 0.0)
+                    .map(|i| d[(i, k)] * weighted_dot(weights, s, col(v, i)))
+                    .sum(),
             }
+        };
+        let channels = self.signals.ncols();
+        if channels >= PARALLEL_CHANNELS {
+            // Per-channel sums in parallel, added in channel order: reproducible.
+            let parts: Vec<f64> = (0..channels).into_par_iter().map(channel).collect();
+            parts.iter().sum()
+        } else {
+            (0..channels).map(channel).sum()
         }
-        total
     }
 }
 

@@ -9,12 +9,30 @@
 //!   periodic, band-limited motion whether or not the period is a whole number of
 //!   samples; with K below the default it also low-pass filters sensor noise.
 
-use faer::Mat;
+use faer::{Mat, MatRef};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 use crate::fourier::{HarmonicBasis, default_harmonics};
 use crate::record::{Record, col};
+
+/// A window's velocities: borrowed from the record when measured, else estimated.
+pub enum WindowVelocities<'a> {
+    /// A view into the record's measured velocities.
+    Measured(MatRef<'a, f64>),
+    /// Velocities estimated for this window.
+    Estimated(Mat<f64>),
+}
+
+impl WindowVelocities<'_> {
+    /// The velocities as a view (samples × DOFs).
+    pub fn as_ref(&self) -> MatRef<'_, f64> {
+        match self {
+            WindowVelocities::Measured(v) => *v,
+            WindowVelocities::Estimated(v) => v.as_ref(),
+        }
+    }
+}
 
 /// Where the velocities come from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -35,12 +53,12 @@ pub enum VelocitySource {
 
 impl VelocitySource {
     /// Velocities (count × n) for samples `start..start + count` of `record`.
-    pub fn window_velocities(
+    pub fn window_velocities<'a>(
         &self,
-        record: &Record,
+        record: &'a Record,
         start: usize,
         count: usize,
-    ) -> Result<Mat<f64>> {
+    ) -> Result<WindowVelocities<'a>> {
         let n = record.dofs();
         match *self {
             VelocitySource::Measured => {
@@ -49,7 +67,7 @@ impl VelocitySource {
                     .ok_or_else(|| Error::MissingVelocities {
                         record: record.label().to_string(),
                     })?;
-                Ok(v.subrows(start, count).to_owned())
+                Ok(WindowVelocities::Measured(v.subrows(start, count)))
             }
             VelocitySource::CentralDifference => {
                 let x = record.displacements();
@@ -70,14 +88,16 @@ impl VelocitySource {
                         };
                     }
                 }
-                Ok(v)
+                Ok(WindowVelocities::Estimated(v))
             }
             VelocitySource::Spectral { harmonics } => {
                 let omega = 2.0 * std::f64::consts::PI / record.period();
                 let k =
                     harmonics.unwrap_or_else(|| default_harmonics(record.period() / record.step()));
                 let basis = HarmonicBasis::new(omega, k, record.step(), count)?;
-                Ok(basis.differentiate(record.displacements().subrows(start, count)))
+                Ok(WindowVelocities::Estimated(basis.differentiate(
+                    record.displacements().subrows(start, count),
+                )))
             }
         }
     }
