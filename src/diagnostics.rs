@@ -17,7 +17,7 @@ use faer::Mat;
 use serde::{Deserialize, Serialize};
 
 use crate::fit::Fit;
-use crate::fit::scaling::Scaling;
+use crate::fit::scaling::{Scaling, norm};
 use crate::regressor::Regressor;
 
 /// Mean signed residual relative to the mean |b|, and the sign counts.
@@ -69,7 +69,6 @@ pub fn diagnose(regressor: &Regressor, fit: &Fit, rank_tolerance: f64) -> Diagno
     let theta = Mat::from_fn(p, 1, |j, _| fit.coefficients[j]);
     let fitted = a * &theta;
     let residuals: Vec<f64> = (0..m).map(|i| b[i] - fitted[(i, 0)]).collect();
-    let norm = |x: &[f64]| x.iter().map(|v| v * v).sum::<f64>().sqrt();
     let b_norm = norm(b);
     let relative_residual = if b_norm > 0.0 {
         norm(&residuals) / b_norm

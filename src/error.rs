@@ -129,13 +129,6 @@ pub enum Error {
         /// What happened.
         detail: String,
     },
-
-    /// The constrained solver rejected the problem before solving (set-up error).
-    #[error("constrained solver set-up failed: {detail}")]
-    SolverSetup {
-        /// The solver's message.
-        detail: String,
-    },
 }
 
 impl Error {

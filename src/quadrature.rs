@@ -47,13 +47,14 @@ impl Quadrature {
         }
     }
 
-    /// How many samples, from the window's first, the rule reads.
+    /// How many samples, from the window's first, the rule reads (saturating: a span
+    /// too long for any record gives `usize::MAX`).
     pub fn samples(&self, span: f64, step: f64) -> usize {
         let (whole, frac) = Self::length(span, step);
         match self {
             Quadrature::Rectangular => (whole as f64 + frac).round() as usize,
-            Quadrature::Trapezoid => whole + 1 + usize::from(frac > 0.0),
-            Quadrature::Spectral => whole + 1,
+            Quadrature::Trapezoid => whole.saturating_add(1 + usize::from(frac > 0.0)),
+            Quadrature::Spectral => whole.saturating_add(1),
         }
     }
 
@@ -66,21 +67,24 @@ impl Quadrature {
                 "must be finite and positive",
             ));
         }
-        let (whole, frac) = Self::length(span, step);
-        let count = self.samples(span, step);
-        if count < 2 {
+        if span < step {
             return Err(Error::invalid(
                 "window span",
                 span,
-                "covers fewer than two samples; record with a smaller step",
+                &format!("is shorter than one sample step h = {step}; record with a smaller step"),
             ));
         }
+        let (whole, frac) = Self::length(span, step);
+        let count = self.samples(span, step);
         Ok(match self {
             Quadrature::Rectangular => vec![step; count],
             Quadrature::Trapezoid => {
                 let mut w = vec![step; count];
                 w[0] = step / 2.0;
                 w[whole] = step / 2.0;
+                if whole == 0 {
+                    w[0] = 0.0; // no whole interval, only the partial one
+                }
                 if frac > 0.0 {
                     w[whole] += frac * step * (1.0 - frac / 2.0);
                     w[whole + 1] = frac * frac * step / 2.0;

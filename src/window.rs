@@ -72,8 +72,13 @@ impl WindowSpec {
         let span = self.cycles as f64 * record.period();
         let length = span / record.step();
         let needed_by_rule = quadrature.samples(span, record.step());
-        let start_of = |j: usize| self.skip + (j as f64 * length).round() as usize;
-        let fits = |j: usize| start_of(j) + needed_by_rule <= record.samples();
+        // Saturating arithmetic: absurd skips, counts or spans must end in
+        // RecordTooShort, never in an overflow.
+        let start_of = |j: usize| {
+            self.skip
+                .saturating_add((j as f64 * length).round() as usize)
+        };
+        let fits = |j: usize| start_of(j).saturating_add(needed_by_rule) <= record.samples();
         let wanted = self.count.unwrap_or(usize::MAX);
         let mut windows = Vec::new();
         while windows.len() < wanted && fits(windows.len()) {
@@ -90,7 +95,7 @@ impl WindowSpec {
         if windows.len() < required {
             return Err(Error::RecordTooShort {
                 record: record.label().to_string(),
-                needed: start_of(required - 1) + needed_by_rule,
+                needed: start_of(required - 1).saturating_add(needed_by_rule),
                 available: record.samples(),
             });
         }

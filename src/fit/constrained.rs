@@ -11,10 +11,12 @@
 //!
 //! Polish. An interior-point solution sits a little inside the bounds (a coefficient
 //! whose true value is 0 comes out near 1e-9 rather than 0). The polish step takes the
-//! bounds the solution touches as active, solves the equality-constrained least-squares
-//! problem on the free coefficients exactly, and keeps that solution only if it is
-//! feasible and satisfies the KKT sign conditions (gradient gᵢ = [Rᵀ(Rθ − c)]ᵢ ≥ 0 at
-//! a lower bound, ≤ 0 at an upper bound). Otherwise the solver's point is kept.
+//! bounds the solution nearly touches as active, solves the equality-constrained
+//! least-squares problem on the free coefficients exactly, and iterates on the active
+//! set (adding violated bounds, releasing bounds with the wrong multiplier sign). It
+//! keeps the result only if it is feasible and satisfies the KKT sign conditions
+//! (gradient gᵢ = [Rᵀ(Rθ − c)]ᵢ ≥ 0 at a lower bound, ≤ 0 at an upper bound), which for
+//! this convex problem certify the exact optimum. Otherwise the solver's point is kept.
 
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
@@ -32,6 +34,11 @@ use crate::regressor::Regressor;
 /// Distance (in scaled units, where coefficients are of order one) within which a
 /// solution is taken to touch a bound.
 const ACTIVE_TOLERANCE: f64 = 1e-6;
+
+/// Distance within which the polish first guesses a bound active. Interior-point
+/// iterates approach a degenerate bound (zero multiplier) only like √μ, so the guess is
+/// generous; the active-set iteration releases any wrong guess.
+const POLISH_GUESS: f64 = 1e-3;
 
 /// Least squares under `constraints`, solved by clarabel.
 pub fn constrained(
@@ -131,9 +138,13 @@ pub fn constrained(
 fn side_touched(t: f64, iv: &Interval) -> Option<BoundSide> {
     if iv.is_fixed() {
         Some(BoundSide::Fixed)
-    } else if (t - iv.lower).abs() <= ACTIVE_TOLERANCE * iv.lower.abs().max(1.0) {
+    } else if iv.lower.is_finite()
+        && (t - iv.lower).abs() <= ACTIVE_TOLERANCE * iv.lower.abs().max(1.0)
+    {
         Some(BoundSide::Lower)
-    } else if (t - iv.upper).abs() <= ACTIVE_TOLERANCE * iv.upper.abs().max(1.0) {
+    } else if iv.upper.is_finite()
+        && (t - iv.upper).abs() <= ACTIVE_TOLERANCE * iv.upper.abs().max(1.0)
+    {
         Some(BoundSide::Upper)
     } else {
         None
@@ -220,7 +231,8 @@ fn solve_lifted(
         &cones,
         clarabel_settings,
     )
-    .map_err(|e| Error::SolverSetup {
+    .map_err(|e| Error::Numerical {
+        stage: "constrained solver set-up".into(),
         detail: format!("{e}"),
     })?;
     solver.solve();
@@ -242,13 +254,27 @@ fn solve_lifted(
     Ok((theta, status, solver.solution.iterations))
 }
 
-/// The active-set polish described in the module docs.
+/// The active-set polish described in the module docs: a primal active-set iteration
+/// started from the bounds the interior-point solution nearly touches (within
+/// [`POLISH_GUESS`]); it adds violated bounds, releases bounds whose KKT sign is wrong,
+/// and returns a point only if it is feasible and satisfies KKT, i.e. is the optimum.
 fn polish(r: &Mat<f64>, c: &Mat<f64>, bounds: &[Interval], start: &[f64]) -> Option<Vec<f64>> {
     let p = start.len();
+    let near = |t: f64, b: f64| b.is_finite() && (t - b).abs() <= POLISH_GUESS * b.abs().max(1.0);
     let mut side: Vec<Option<BoundSide>> = start
         .iter()
         .zip(bounds)
-        .map(|(t, iv)| side_touched(*t, iv))
+        .map(|(&t, iv)| {
+            if iv.is_fixed() {
+                Some(BoundSide::Fixed)
+            } else if near(t, iv.lower) {
+                Some(BoundSide::Lower)
+            } else if near(t, iv.upper) {
+                Some(BoundSide::Upper)
+            } else {
+                None
+            }
+        })
         .collect();
     let bound_value = |j: usize, s: BoundSide| {
         if s == BoundSide::Upper {
@@ -257,8 +283,10 @@ fn polish(r: &Mat<f64>, c: &Mat<f64>, bounds: &[Interval], start: &[f64]) -> Opt
             bounds[j].lower
         }
     };
+    let scale = (r.transpose() * c).norm_max().max(1.0);
+    let tolerance = 1e-9 * scale;
     let mut theta = start.to_vec();
-    for _ in 0..=p {
+    for _ in 0..(4 * p + 10) {
         for j in 0..p {
             if let Some(s) = side[j] {
                 theta[j] = bound_value(j, s);
@@ -278,46 +306,46 @@ fn polish(r: &Mat<f64>, c: &Mat<f64>, bounds: &[Interval], start: &[f64]) -> Opt
                 theta[j] = theta_free[(k, 0)];
             }
         }
-        // Add the most violated free coefficient to the active set, if any.
-        let worst = free
+        if theta.iter().any(|t| !t.is_finite()) {
+            return None;
+        }
+        // Primal feasibility: hold the most violated free coefficient at its bound.
+        let violated = free
             .iter()
             .map(|&j| {
                 let below = bounds[j].lower - theta[j];
                 let above = theta[j] - bounds[j].upper;
-                (
-                    j,
-                    below.max(above),
-                    if below > above {
-                        BoundSide::Lower
-                    } else {
-                        BoundSide::Upper
-                    },
-                )
+                let side = if below > above {
+                    BoundSide::Lower
+                } else {
+                    BoundSide::Upper
+                };
+                (j, below.max(above), side)
             })
             .filter(|(_, violation, _)| *violation > 0.0)
             .max_by(|a, b| a.1.total_cmp(&b.1));
-        match worst {
-            Some((j, _, s)) => side[j] = Some(s),
-            None => break,
+        if let Some((j, _, s)) = violated {
+            side[j] = Some(s);
+            continue;
+        }
+        // Dual feasibility: release the active bound whose gradient pulls hardest inward.
+        let theta_col = Mat::from_fn(p, 1, |j, _| theta[j]);
+        let gradient = r.transpose() * (r * &theta_col - c);
+        let wrong = (0..p)
+            .filter_map(|j| match side[j] {
+                Some(BoundSide::Lower) if gradient[(j, 0)] < -tolerance => {
+                    Some((j, -gradient[(j, 0)]))
+                }
+                Some(BoundSide::Upper) if gradient[(j, 0)] > tolerance => {
+                    Some((j, gradient[(j, 0)]))
+                }
+                _ => None,
+            })
+            .max_by(|a, b| a.1.total_cmp(&b.1));
+        match wrong {
+            Some((j, _)) => side[j] = None,
+            None => return Some(theta),
         }
     }
-    if theta
-        .iter()
-        .zip(bounds)
-        .any(|(t, iv)| *t < iv.lower || *t > iv.upper || !t.is_finite())
-    {
-        return None;
-    }
-    // KKT sign check on the gradient g = Rᵀ(Rθ − c).
-    let theta_col = Mat::from_fn(p, 1, |j, _| theta[j]);
-    let residual = r * &theta_col - c;
-    let gradient = r.transpose() * &residual;
-    let scale = (r.transpose() * c).norm_max().max(1.0);
-    let tolerance = 1e-8 * scale;
-    let kkt_ok = (0..p).all(|j| match side[j] {
-        Some(BoundSide::Lower) => gradient[(j, 0)] >= -tolerance,
-        Some(BoundSide::Upper) => gradient[(j, 0)] <= tolerance,
-        _ => true,
-    });
-    kkt_ok.then_some(theta)
+    None
 }

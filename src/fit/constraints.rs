@@ -100,6 +100,20 @@ impl Constraints {
                     ));
                 }
             }
+            if b.lower == Some(f64::INFINITY) {
+                return Err(Error::invalid(
+                    &format!("lower bound of '{}'", b.name),
+                    f64::INFINITY,
+                    "must be finite (or absent)",
+                ));
+            }
+            if b.upper == Some(f64::NEG_INFINITY) {
+                return Err(Error::invalid(
+                    &format!("upper bound of '{}'", b.name),
+                    f64::NEG_INFINITY,
+                    "must be finite (or absent)",
+                ));
+            }
             if let Some(l) = b.lower {
                 intervals[i].lower = intervals[i].lower.max(l);
             }

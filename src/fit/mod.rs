@@ -178,9 +178,23 @@ impl FitSettings {
 /// Least squares when there are no constraints, clarabel otherwise.
 pub fn solve(regressor: &Regressor, settings: &FitSettings) -> Result<Fit> {
     settings.validate()?;
-    if settings.constraints.is_empty() {
-        least_squares(regressor, settings.rank_tolerance)
+    let fit = if settings.constraints.is_empty() {
+        least_squares(regressor, settings.rank_tolerance)?
     } else {
-        constrained(regressor, &settings.constraints, &settings.solver)
+        constrained(regressor, &settings.constraints, &settings.solver)?
+    };
+    // Never a silent NaN: a fit that claims success must have finite coefficients.
+    if fit.status.is_usable()
+        && let Some((j, value)) = fit
+            .coefficients
+            .iter()
+            .enumerate()
+            .find(|(_, v)| !v.is_finite())
+    {
+        return Err(Error::Numerical {
+            stage: "fit".into(),
+            detail: format!("coefficient '{}' came out {value}", regressor.columns()[j]),
+        });
     }
+    Ok(fit)
 }

@@ -6,6 +6,11 @@
 
 use faer::Mat;
 
+/// ‖x‖₂ without overflow or underflow for any finite x (faer scales internally).
+pub(crate) fn norm(x: &[f64]) -> f64 {
+    faer::ColRef::from_slice(x).norm_l2()
+}
+
 /// Column norms and the right-hand side norm.
 #[derive(Debug, Clone)]
 pub(crate) struct Scaling {
@@ -21,7 +26,7 @@ impl Scaling {
                 if norm > 0.0 { norm } else { 1.0 }
             })
             .collect();
-        let rhs = b.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let rhs = norm(b);
         Scaling {
             columns,
             rhs: if rhs > 0.0 { rhs } else { 1.0 },

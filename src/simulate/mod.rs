@@ -10,6 +10,9 @@
 
 mod rk4;
 
+/// Mass matrices with a larger condition number are treated as singular.
+const MAX_MASS_CONDITION: f64 = 1e12;
+
 use std::fmt;
 use std::sync::Arc;
 
@@ -119,6 +122,17 @@ impl SimSettings {
         if self.substeps == 0 {
             return Err(Error::invalid("substeps", 0.0, "must be at least 1"));
         }
+        if self
+            .transient_steps
+            .checked_add(self.recorded_steps)
+            .is_none()
+        {
+            return Err(Error::invalid(
+                "transient_steps",
+                self.transient_steps as f64,
+                "transient plus recorded steps overflow",
+            ));
+        }
         if self.recorded_steps < 3 {
             return Err(Error::invalid(
                 "recorded_steps",
@@ -219,12 +233,15 @@ impl System {
                     ),
                 ));
             }
-            if !(f.amplitude.is_finite() && f.phase.is_finite()) {
+            if !f.amplitude.is_finite() {
                 return Err(Error::invalid(
-                    "forcing amplitude or phase",
+                    "forcing amplitude",
                     f.amplitude,
                     "must be finite",
                 ));
+            }
+            if !f.phase.is_finite() {
+                return Err(Error::invalid("forcing phase", f.phase, "must be finite"));
             }
         }
         Ok(())
@@ -244,17 +261,26 @@ pub fn simulate(system: &System, settings: &SimSettings) -> Result<Record> {
     settings.validate()?;
     system.validate()?;
     let n = system.dofs();
-    let lu = system.mass.partial_piv_lu();
-    let mass_inverse = lu.solve(Mat::<f64>::identity(n, n));
-    if mass_inverse
-        .col_iter()
-        .any(|c| c.iter().any(|v| !v.is_finite()))
-    {
+    // A mass matrix is invertible in floating point only if it is well conditioned: an
+    // LU pivot of round-off size is not a pivot.
+    let singular_values = system
+        .mass
+        .singular_values()
+        .map_err(|e| Error::Numerical {
+            stage: "simulation".into(),
+            detail: format!("SVD of the mass matrix failed: {e:?}"),
+        })?;
+    let condition = singular_values[0] / singular_values[n - 1];
+    if !(condition.is_finite() && condition < MAX_MASS_CONDITION) {
         return Err(Error::Numerical {
             stage: "simulation".into(),
-            detail: "the mass matrix is singular".into(),
+            detail: format!("the mass matrix is singular (condition number {condition:e})"),
         });
     }
+    let mass_inverse = system
+        .mass
+        .partial_piv_lu()
+        .solve(Mat::<f64>::identity(n, n));
     let h = settings.step / settings.substeps as f64;
     let mut rk = Rk4::new(2 * n);
     let mut state = vec![0.0; 2 * n];
