@@ -13,8 +13,11 @@
 //! round(kT/h) samples, and — for the "estimated" cases — central-difference
 //! velocities from the recorded displacements alone.
 
+use std::fmt;
+
 use faer::Mat;
 use serde::Serialize;
+use serde_json::{Value, json};
 
 use crate::error::Result;
 use crate::identify::{IdentifySettings, identify};
@@ -203,4 +206,78 @@ pub fn run_four_mass_case(case: &FourMassCase, quadrature: Quadrature) -> Result
         error_d: (d - FOUR_MASS_D).abs() / FOUR_MASS_D,
         report,
     })
+}
+
+/// Every four-mass case with its outcome, as a table (`Display`) or as JSON.
+#[derive(Debug, Clone)]
+pub struct FourMassSummary {
+    /// The quadrature rule used.
+    pub quadrature: Quadrature,
+    /// Each case and its outcome.
+    pub cases: Vec<(FourMassCase, CaseOutcome)>,
+}
+
+impl FourMassSummary {
+    /// Runs every case of [`four_mass_cases`] with `quadrature`.
+    pub fn run(quadrature: Quadrature) -> Result<Self> {
+        let cases = four_mass_cases()
+            .into_iter()
+            .map(|case| {
+                let outcome = run_four_mass_case(&case, quadrature)?;
+                Ok((case, outcome))
+            })
+            .collect::<Result<_>>()?;
+        Ok(FourMassSummary { quadrature, cases })
+    }
+
+    /// True when every case is within its tolerance.
+    pub fn all_pass(&self) -> bool {
+        self.cases
+            .iter()
+            .all(|(case, outcome)| outcome.passes(case))
+    }
+
+    /// `{"cases": [{"case": NAME, "report": REPORT}, ...]}`.
+    pub fn to_json(&self) -> Value {
+        let cases: Vec<Value> = self
+            .cases
+            .iter()
+            .map(|(case, outcome)| json!({"case": case.name, "report": outcome.report}))
+            .collect();
+        json!({ "cases": cases })
+    }
+}
+
+impl fmt::Display for FourMassSummary {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "Four-mass chain (Feeny 2009, section 2.2): true c = {FOUR_MASS_C}, d = {FOUR_MASS_D}; {:?} rule, one window per amplitude",
+            self.quadrature
+        )?;
+        writeln!(
+            f,
+            "{:<48} {:>8} {:>8} {:>9} {:>9} {:>8} {:>8} {:>6}",
+            "case", "paper c", "paper d", "ours c", "ours d", "err c", "err d", "tol"
+        )?;
+        for (case, outcome) in &self.cases {
+            let (pc, pd) = case.paper.unwrap_or((f64::NAN, f64::NAN));
+            let c = outcome.report.coefficient("c").unwrap_or(f64::NAN);
+            let d = outcome.report.coefficient("d").unwrap_or(f64::NAN);
+            writeln!(
+                f,
+                "{:<48} {:>8.4} {:>8.4} {:>9.5} {:>9.5} {:>7.3}% {:>7.3}% {:>5.1}% {}",
+                case.name,
+                pc,
+                pd,
+                c,
+                d,
+                100.0 * outcome.error_c,
+                100.0 * outcome.error_d,
+                100.0 * case.tolerance,
+                if outcome.passes(case) { "ok" } else { "MISS" }
+            )?;
+        }
+        Ok(())
+    }
 }
