@@ -297,3 +297,36 @@ fn distributed_load_input_work() {
     );
     assert!(rel(b, PI * 1.5 * (0.5 + 2.0 * 0.4) * 0.6f64.sin()) < 1e-12);
 }
+
+/// Element weights scale each element's column and force: weights (0.5, 2) on two DOFs
+/// to ground with one shared coefficient give π ω (0.5 X_1² + 2 X_2²).
+#[test]
+fn element_weights_scale_each_element() {
+    let (x1, x2, w) = (1.0, 0.5, 1.1);
+    let motion = Harmonic {
+        amplitudes: vec![x1, x2],
+        phases: vec![0.0, 0.4],
+        omega: w,
+        per_period: 128.0,
+        periods: 1.0,
+        force: 1.0,
+        force_phase: 0.0,
+        force_dof: 0,
+    };
+    let model = DampingModel::new().with(Term::weighted(
+        Linear,
+        Element::each_dof(2),
+        vec![0.5, 2.0],
+        Coefficients::Shared("c".into()),
+    ));
+    let (a, _) = row(
+        &model,
+        &motion.record(),
+        Quadrature::Trapezoid,
+        VelocitySource::Measured,
+    );
+    assert!(rel(a[0], PI * w * (0.5 * x1 * x1 + 2.0 * x2 * x2)) < 1e-12);
+    let mut force = [0.0; 2];
+    model.add_damping_force(&[3.0], &[0.0, 0.0], &[1.0, 1.0], &mut force);
+    assert_eq!(force, [1.5, 6.0]);
+}

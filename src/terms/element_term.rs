@@ -1,8 +1,10 @@
 //! A law acting on a set of elements, with one shared coefficient or one per element.
 //!
 //! Column of element e: ∫ v_e f(x_e, v_e) dt ≈ Σ_i w_i v_e(t_i) f(x_e(t_i), v_e(t_i)),
-//! where x_e, v_e are the element's relative displacement and velocity. A shared
-//! coefficient's column is the sum over elements.
+//! where x_e, v_e are the element's relative displacement and velocity, times the
+//! element's weight ω_e (1 by default; a sensor's spacing or area for a continuum,
+//! turning Σ_e into a spatial quadrature of the distributed law). A shared
+//! coefficient's column is the weighted sum over elements.
 
 use std::sync::Arc;
 
@@ -37,6 +39,7 @@ pub struct ElementTerm {
     law: Arc<dyn Law>,
     elements: Vec<Element>,
     coefficients: Coefficients,
+    weights: Option<Vec<f64>>,
 }
 
 impl ElementTerm {
@@ -46,7 +49,24 @@ impl ElementTerm {
             law,
             elements,
             coefficients,
+            weights: None,
         }
+    }
+
+    /// Gives element e the weight `weights[e]` (spacing or area of a sensor); the law's
+    /// force and power on that element are multiplied by it.
+    pub fn with_weights(mut self, weights: Vec<f64>) -> Self {
+        self.weights = Some(weights);
+        self
+    }
+
+    /// The element weights, if any.
+    pub fn weights(&self) -> Option<&[f64]> {
+        self.weights.as_deref()
+    }
+
+    fn weight(&self, e: usize) -> f64 {
+        self.weights.as_ref().map_or(1.0, |w| w[e])
     }
 
     /// The law.
@@ -122,16 +142,11 @@ impl ElementTerm {
     }
 
     pub(crate) fn accumulate(&self, samples: &WindowSamples<'_>, out: &mut [f64]) {
+        let column = |(k, e): (usize, &Element)| self.weight(k) * self.element_column(e, samples);
         let per_element: Vec<f64> = if self.elements.len() >= PARALLEL_ELEMENTS {
-            self.elements
-                .par_iter()
-                .map(|e| self.element_column(e, samples))
-                .collect()
+            self.elements.par_iter().enumerate().map(column).collect()
         } else {
-            self.elements
-                .iter()
-                .map(|e| self.element_column(e, samples))
-                .collect()
+            self.elements.iter().enumerate().map(column).collect()
         };
         match self.coefficients {
             Coefficients::Shared(_) => out[0] = per_element.iter().sum(),
@@ -149,7 +164,7 @@ impl ElementTerm {
                 None => (x[e.a], v[e.a]),
                 Some(b) => (x[e.a] - x[b], v[e.a] - v[b]),
             };
-            let f = theta * self.law.force(xr, vr);
+            let f = theta * self.weight(k) * self.law.force(xr, vr);
             out[e.a] += f;
             if let Some(b) = e.b {
                 out[b] -= f;

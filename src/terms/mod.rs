@@ -89,6 +89,19 @@ impl Term {
         Term::Elements(ElementTerm::new(Arc::new(law), elements, coefficients))
     }
 
+    /// `law` on `elements` with element weights (sensor spacing or area, for a
+    /// distributed law sampled at sensors).
+    pub fn weighted(
+        law: impl Law + 'static,
+        elements: Vec<Element>,
+        weights: Vec<f64>,
+        coefficients: Coefficients,
+    ) -> Self {
+        Term::Elements(
+            ElementTerm::new(Arc::new(law), elements, coefficients).with_weights(weights),
+        )
+    }
+
     /// `law` from each of DOFs 0..n to ground.
     pub fn per_dof(law: impl Law + 'static, dofs: usize, coefficients: Coefficients) -> Self {
         Self::on_elements(law, Element::each_dof(dofs), coefficients)

@@ -1,8 +1,3 @@
-//! Reference systems from the paper (Feeny, JVA 131(4) 041005, 2009), shared by the
-//! examples, tests, benches and the command line. Each builds the system, simulates
-//! it with the paper's settings and identifies it; none contains an expected answer
-//! other than the paper's printed values, which are only compared against.
-//!
 //! Four-mass chain (section 2.2): M = I, K = tridiag(−1, 2, −1) (walls at both ends),
 //! C = c K with c = 0.15, quadratic damping d ẋ_i|ẋ_i| on every mass with d = 0.10,
 //! force a cos(0.618 t) on mass 4 for a ∈ {0.25, 0.5, 0.75, 1}, RK4 with h = 0.1 and

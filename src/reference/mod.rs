@@ -1,0 +1,8 @@
+//! Reference systems from the paper (Feeny, JVA 131(4) 041005, 2009), shared by the
+//! examples, tests, benches and the command line. Each builds the system, simulates it
+//! with the paper's settings and identifies it; none contains an expected answer other
+//! than the paper's printed values, which are only compared against.
+
+pub mod four_mass;
+
+pub use four_mass::*;
