@@ -121,6 +121,52 @@ pub enum Error {
         record: String,
     },
 
+    /// A damping-law expression does not parse or uses an unknown identifier.
+    #[error("bad expression '{expression}': {message}")]
+    Expression {
+        /// The expression text.
+        expression: String,
+        /// What is wrong.
+        message: String,
+    },
+
+    /// A model file is malformed: bad TOML, an unknown key, a wrong type or value.
+    #[error("{file}:{line}:{column}: {message}")]
+    ModelFile {
+        /// The file.
+        file: String,
+        /// 1-based line (0 when the problem has no position).
+        line: usize,
+        /// 1-based column (0 when the problem has no position).
+        column: usize,
+        /// What is wrong.
+        message: String,
+    },
+
+    /// A name in a model file does not refer to anything known.
+    #[error("unknown {what} '{name}'; known: {known}")]
+    UnknownName {
+        /// What kind of name ("law", "matrix", "column").
+        what: String,
+        /// The name given.
+        name: String,
+        /// The names that would be accepted.
+        known: String,
+    },
+
+    /// A data file cannot be read or holds a bad value.
+    #[error("{file}, row {row}, column '{column}': {message}")]
+    Data {
+        /// The file.
+        file: String,
+        /// 1-based data row (0 for the header or the file as a whole).
+        row: usize,
+        /// The column (or variable) name.
+        column: String,
+        /// What is wrong.
+        message: String,
+    },
+
     /// A numerical step failed (a singular mass matrix, a failed decomposition).
     #[error("numerical failure in {stage}: {detail}")]
     Numerical {

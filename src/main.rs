@@ -1,15 +1,33 @@
 //! The `dampid` command line.
 
+use std::fmt::Write as _;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use anyhow::Context;
+use anyhow::{Context, bail};
 use clap::{Parser, Subcommand, ValueEnum};
+use dampid::io::csv_table::Table;
+use dampid::model_file::{Job, load};
 use dampid::quadrature::Quadrature;
 use dampid::reference::FourMassSummary;
+use dampid::regressor::Regressor;
+use dampid::report::FitReport;
+use serde_json::json;
+
+const EXAMPLES: &str = "Examples:
+  dampid identify models/four_mass.toml          # simulate the paper's chain and identify c, d
+  dampid identify models/four_mass.toml --json   # the report as one JSON object
+  dampid check models/measured_chain.toml        # conditioning of the regressor, before any fit
+  dampid simulate models/four_mass.toml --out runs/   # write the simulated records as CSV
+  dampid reference four-mass                     # the paper's section 2.2, every case
+
+Exit codes: 0 success; 1 a fit that did not converge or a missed reference target;
+2 bad input (model file, data, settings).";
 
 /// Identify damping laws of vibrating structures by balancing energy over cycles.
 #[derive(Parser)]
-#[command(version, about, long_about = None, after_help = "Examples:\n  dampid reference four-mass            # the paper's section 2.2, as a table\n  dampid reference four-mass --json     # the same, one JSON object\n  dampid reference four-mass --quadrature trapezoid")]
+#[command(version, about, long_about = None, after_help = EXAMPLES)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -17,6 +35,27 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Identify the coefficients of a model file's damping model from its records.
+    Identify {
+        /// The model file (TOML).
+        model: PathBuf,
+        /// Print the report as one JSON object.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Validate a model file and its data and show the regressor's conditioning.
+    Check {
+        /// The model file (TOML).
+        model: PathBuf,
+    },
+    /// Simulate a model file's [simulation] section and write one CSV per record.
+    Simulate {
+        /// The model file (TOML) with a [simulation] section.
+        model: PathBuf,
+        /// Output folder (created if missing).
+        #[arg(long)]
+        out: PathBuf,
+    },
     /// Simulate and identify a reference system from the paper.
     Reference {
         /// Which reference system.
@@ -53,11 +92,19 @@ impl From<Rule> for Quadrature {
     }
 }
 
-/// Exit codes: 0 all targets met, 1 a target missed, 2 an error.
+/// What a command prints, and whether its numbers can be trusted.
+struct Outcome {
+    text: String,
+    trusted: bool,
+}
+
 fn main() -> ExitCode {
     match run(Cli::parse()) {
-        Ok(true) => ExitCode::SUCCESS,
-        Ok(false) => ExitCode::from(1),
+        Ok(outcome) => {
+            // A closed pipe (`dampid … | head`) is not an error of ours.
+            let _ = std::io::stdout().lock().write_all(outcome.text.as_bytes());
+            if outcome.trusted { ExitCode::SUCCESS } else { ExitCode::from(1) }
+        }
         Err(e) => {
             eprintln!("error: {e:#}");
             ExitCode::from(2)
@@ -65,20 +112,124 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(cli: Cli) -> anyhow::Result<bool> {
+fn run(cli: Cli) -> anyhow::Result<Outcome> {
     match cli.command {
+        Command::Identify { model, json } => identify(&model, json),
+        Command::Check { model } => check(&model),
+        Command::Simulate { model, out } => write_records(&model, &out),
         Command::Reference {
             system: ReferenceSystem::FourMass,
             json,
             quadrature,
         } => {
             let summary = FourMassSummary::run(quadrature.into()).context("four-mass reference")?;
-            if json {
-                println!("{}", serde_json::to_string_pretty(&summary.to_json())?);
+            let text = if json {
+                format!("{}\n", serde_json::to_string_pretty(&summary.to_json())?)
             } else {
-                print!("{summary}");
-            }
-            Ok(summary.all_pass())
+                summary.to_string()
+            };
+            Ok(Outcome {
+                text,
+                trusted: summary.all_pass(),
+            })
         }
     }
+}
+
+fn load_job(path: &Path) -> anyhow::Result<Job> {
+    Ok(load(path)?)
+}
+
+fn identify(path: &Path, as_json: bool) -> anyhow::Result<Outcome> {
+    let job = load_job(path)?;
+    let report = dampid::identify(&job.model, &job.records, &job.settings)?;
+    let mut out = String::new();
+    if as_json {
+        let truth = job.truth.as_ref().map(|t| t.iter().map(|(n, v)| (n.clone(), json!(v))).collect::<serde_json::Map<_, _>>());
+        writeln!(out, "{}", serde_json::to_string_pretty(&json!({"model": job.title, "report": report, "truth": truth}))?)?;
+    } else {
+        writeln!(out, "{}", job.title)?;
+        writeln!(out, "{} records, {} equations", job.records.len(), report.residuals.len())?;
+        write!(out, "{report}")?;
+        if let Some(truth) = &job.truth {
+            write_truth(&mut out, &report, truth)?;
+        }
+    }
+    Ok(Outcome {
+        text: out,
+        trusted: report.status.is_usable(),
+    })
+}
+
+fn write_truth(out: &mut String, report: &FitReport, truth: &[(String, f64)]) -> std::fmt::Result {
+    writeln!(out, "against the simulation's true coefficients:")?;
+    for (name, value) in truth {
+        if let Some(estimate) = report.coefficient(name) {
+            let error = if *value != 0.0 { format!("{:+.3}%", 100.0 * (estimate - value) / value.abs()) } else { format!("{:+.3e}", estimate - value) };
+            writeln!(out, "  {name:<18} true {value:<12} estimate {estimate:<14.6e} error {error}")?;
+        }
+    }
+    Ok(())
+}
+
+fn check(path: &Path) -> anyhow::Result<Outcome> {
+    let job = load_job(path)?;
+    job.settings.fit.validate()?;
+    let regressor = Regressor::build(&job.model, &job.records, &job.settings.regressor)?;
+    let fit = dampid::fit::least_squares(&regressor, job.settings.fit.rank_tolerance)
+        .context("the regressor cannot be fitted")?;
+    let diagnostics = dampid::diagnostics::diagnose(&regressor, &fit, job.settings.fit.rank_tolerance);
+    let mut out = String::new();
+    writeln!(out, "{}: model and data are valid", job.title)?;
+    writeln!(
+        out,
+        "{} records, {} equations, {} coefficients: {}",
+        job.records.len(),
+        regressor.equations(),
+        regressor.columns().len(),
+        regressor.columns().join(", ")
+    )?;
+    let sv: Vec<String> = diagnostics.singular_values.iter().map(|s| format!("{s:.3e}")).collect();
+    writeln!(out, "singular values of the column-scaled regressor: [{}]", sv.join(", "))?;
+    writeln!(out, "numerical rank: {} of {}", diagnostics.rank, regressor.columns().len())?;
+    if diagnostics.condition_number.is_finite() {
+        writeln!(out, "condition number: {:.3e}", diagnostics.condition_number)?;
+    } else {
+        writeln!(out, "condition number: infinite: these data cannot separate the coefficients")?;
+    }
+    Ok(Outcome { text: out, trusted: true })
+}
+
+fn write_records(path: &Path, folder: &Path) -> anyhow::Result<Outcome> {
+    let job = load_job(path)?;
+    if job.truth.is_none() {
+        bail!("{} has no [simulation] section: nothing to simulate", path.display());
+    }
+    std::fs::create_dir_all(folder).with_context(|| format!("creating {}", folder.display()))?;
+    let mut out = String::new();
+    for (k, record) in job.records.iter().enumerate() {
+        let n = record.dofs();
+        let samples = record.samples();
+        let mut headers = vec!["t".to_string()];
+        let mut columns = vec![(0..samples).map(|i| record.start_time() + i as f64 * record.step()).collect::<Vec<_>>()];
+        for j in 0..n {
+            headers.push(format!("x{}", j + 1));
+            columns.push(record.displacements().col(j).iter().copied().collect());
+        }
+        if let Some(v) = record.velocities() {
+            for j in 0..n {
+                headers.push(format!("v{}", j + 1));
+                columns.push(v.col(j).iter().copied().collect());
+            }
+        }
+        let signals = &record.forcing().signals;
+        for c in 0..signals.ncols() {
+            headers.push(format!("f{}", c + 1));
+            columns.push(signals.col(c).iter().copied().collect());
+        }
+        let file = folder.join(format!("record_{}.csv", k + 1));
+        Table::write(&file, &headers, &columns)?;
+        writeln!(out, "{} ({}, period {:.6})", file.display(), record.label(), record.period())?;
+    }
+    Ok(Outcome { text: out, trusted: true })
 }

@@ -18,6 +18,7 @@ use std::f64::consts::PI;
 use std::sync::Arc;
 
 use dampid::fit::{self, SolverSettings};
+use dampid::io::csv_table::Table;
 use dampid::prelude::*;
 use dampid::record::LoadDistribution;
 use dampid::regressor::RowLabel;
@@ -1376,6 +1377,10 @@ fn variant(e: &Error) -> &'static str {
         Error::InfeasibleBounds { .. } => "InfeasibleBounds",
         Error::MissingVelocities { .. } => "MissingVelocities",
         Error::Numerical { .. } => "Numerical",
+        Error::Expression { .. } => "Expression",
+        Error::ModelFile { .. } => "ModelFile",
+        Error::UnknownName { .. } => "UnknownName",
+        Error::Data { .. } => "Data",
     }
 }
 
@@ -1423,6 +1428,10 @@ fn every_variant_is_reachable() {
         identify(&per_dof_model(), &[record()], &infeasible).unwrap_err(),
         identify(&shared_model(), &[Record::new(no_v).unwrap()], &measured()).unwrap_err(),
         simulate(&singular, &sim_settings()).unwrap_err(),
+        dampid::terms::laws::Expression::parse("abs(v)*q").unwrap_err(),
+        dampid::model_file::parse("dofs = ", "bad.toml", std::path::Path::new(".")).unwrap_err(),
+        Table::parse("t,x\n0,1\n", "t.csv").unwrap().column("y").unwrap_err(),
+        Table::parse("t,x\n0,abc\n", "t.csv").unwrap_err(),
     ];
     let mut seen: Vec<&str> = errors.iter().map(variant).collect();
     seen.sort_unstable();
@@ -1440,6 +1449,10 @@ fn every_variant_is_reachable() {
         "InfeasibleBounds",
         "MissingVelocities",
         "Numerical",
+        "Expression",
+        "ModelFile",
+        "UnknownName",
+        "Data",
     ];
     expected.sort_unstable();
     assert_eq!(seen, expected);
@@ -1606,4 +1619,51 @@ fn nan_phase_is_reported_with_its_value() {
     let mut sys = system();
     sys.forcing[0].phase = f64::NAN;
     assert_invalid(simulate(&sys, &sim_settings()), "forcing phase", f64::NAN);
+}
+
+// ---------------------------------------------------------------------------------
+// Expressions, model files and data files (more cases in tests/model_file.rs)
+// ---------------------------------------------------------------------------------
+
+#[test]
+fn expression_with_unknown_identifier_names_it() {
+    match dampid::terms::laws::Expression::parse("x^2*vel") {
+        Err(Error::Expression { expression, message }) => {
+            assert_eq!(expression, "x^2*vel");
+            assert!(message.contains("'vel'"), "{message}");
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn malformed_model_file_names_file_line_and_column() {
+    match dampid::model_file::parse("dofs = 2\nterms = 3\n", "m.toml", std::path::Path::new(".")) {
+        Err(Error::ModelFile { file, line, column, message }) => {
+            assert_eq!((file.as_str(), line), ("m.toml", 2));
+            assert!(column >= 1);
+            assert!(!message.is_empty());
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn missing_column_lists_the_columns() {
+    let table = Table::parse("t,x1\n0,1\n", "d.csv").unwrap();
+    match table.column("x2") {
+        Err(Error::UnknownName { what, name, known }) => {
+            assert!(what.contains("d.csv"));
+            assert_eq!((name.as_str(), known.as_str()), ("x2", "t, x1"));
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn bad_data_cell_names_row_and_column() {
+    match Table::parse("t,x1\n0,1\n0.1,inf\n", "d.csv") {
+        Err(Error::Data { file, row, column, .. }) => assert_eq!((file.as_str(), row, column.as_str()), ("d.csv", 2, "x1")),
+        other => panic!("{other:?}"),
+    }
 }

@@ -1,0 +1,3 @@
+//! Reading and writing measurement files.
+
+pub mod csv_table;

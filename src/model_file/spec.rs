@@ -1,0 +1,272 @@
+//! The TOML schema of a model file, as serde types. Unknown keys are rejected
+//! (`deny_unknown_fields`); DOFs are numbered from 1 as engineers do, 0 meaning ground.
+//! See `models/` and README.md for annotated examples.
+
+use std::collections::BTreeMap;
+
+use serde::Deserialize;
+use toml::Spanned;
+
+use crate::quadrature::Quadrature;
+
+/// A whole model file.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModelFileSpec {
+    /// A title for reports.
+    pub title: Option<String>,
+    /// Number of DOFs (sensors) n.
+    pub dofs: usize,
+    /// Named matrices, n × n rows, for matrix terms and the simulation.
+    #[serde(default)]
+    pub matrices: BTreeMap<String, Spanned<Vec<Vec<f64>>>>,
+    /// The damping model.
+    pub terms: Vec<Spanned<TermSpec>>,
+    /// How to identify.
+    #[serde(default)]
+    pub identification: IdentificationSpec,
+    /// Generate the records by simulation.
+    pub simulation: Option<Spanned<SimulationSpec>>,
+    /// Read the records from files.
+    pub data: Option<Spanned<DataSpec>>,
+}
+
+/// A matrix: a name from `[matrices]`, a built-in (`identity`, `chain`), or inline rows.
+#[derive(Debug, Deserialize)]
+#[serde(untagged)]
+pub enum MatrixRef {
+    /// `"identity"`, `"chain"` (tridiag(−1, 2, −1), fixed at both ends) or a name.
+    Name(String),
+    /// Inline rows.
+    Rows(Vec<Vec<f64>>),
+}
+
+/// One damping term.
+#[derive(Debug, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum TermSpec {
+    /// C = θ C₀ with a given C₀.
+    Viscous {
+        /// Coefficient name.
+        coefficient: String,
+        /// C₀.
+        matrix: MatrixRef,
+    },
+    /// C = θ K.
+    StiffnessProportional {
+        /// Coefficient name.
+        coefficient: String,
+        /// K.
+        matrix: MatrixRef,
+    },
+    /// C = θ M.
+    MassProportional {
+        /// Coefficient name.
+        coefficient: String,
+        /// M.
+        matrix: MatrixRef,
+    },
+    /// A law on elements.
+    Law {
+        /// `linear`, `quadratic`, `coulomb`, `power`, or `expression`.
+        law: LawName,
+        /// Exponent p of a power law.
+        exponent: Option<f64>,
+        /// f(x, v) of an expression law.
+        expression: Option<String>,
+        /// `"each_dof"`, `"chain"` or a list of [a, b] DOF pairs (1-based, 0 = ground).
+        elements: ElementsSpec,
+        /// One shared coefficient with this name …
+        coefficient: Option<String>,
+        /// … or one per element, named `prefix[label]`.
+        per_element: Option<String>,
+        /// Element weights (sensor spacing or area).
+        weights: Option<Vec<f64>>,
+    },
+}
+
+/// The built-in laws.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LawName {
+    /// f = v.
+    Linear,
+    /// f = v|v|.
+    Quadratic,
+    /// f = sign(v).
+    Coulomb,
+    /// f = |v|^p sign(v).
+    Power,
+    /// f(x, v) from `expression`.
+    Expression,
+}
+
+/// Where a law acts.
+#[derive(Debug, Deserialize)]
+#[serde(untagged)]
+pub enum ElementsSpec {
+    /// `"each_dof"` or `"chain"`.
+    Named(String),
+    /// DOF pairs, 1-based, 0 = ground.
+    Pairs(Vec<[usize; 2]>),
+}
+
+/// Velocity source names.
+#[derive(Debug, Clone, Copy, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum VelocityName {
+    /// Measured (or simulated) velocities.
+    Measured,
+    /// Central differences of the displacements.
+    #[default]
+    CentralDifference,
+    /// Fourier series in harmonics of the drive (`harmonics` sets K).
+    Spectral,
+}
+
+/// Bounds on one coefficient.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoundSpec {
+    /// Lower bound.
+    pub lower: Option<f64>,
+    /// Upper bound.
+    pub upper: Option<f64>,
+}
+
+/// `[identification]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct IdentificationSpec {
+    /// Quadrature rule.
+    pub quadrature: Quadrature,
+    /// Velocity source.
+    pub velocity: VelocityName,
+    /// K for spectral velocities.
+    pub harmonics: Option<usize>,
+    /// Whole periods per window.
+    pub cycles: usize,
+    /// Windows per record (absent: as many as fit).
+    pub windows: Option<usize>,
+    /// Samples to skip at the start of each record.
+    pub skip: usize,
+    /// All coefficients ≥ 0.
+    pub nonnegative: bool,
+    /// Per-coefficient bounds.
+    pub bounds: BTreeMap<String, BoundSpec>,
+    /// Per-coefficient fixed values.
+    pub fixed: BTreeMap<String, f64>,
+}
+
+impl Default for IdentificationSpec {
+    fn default() -> Self {
+        IdentificationSpec {
+            quadrature: Quadrature::default(),
+            velocity: VelocityName::default(),
+            harmonics: None,
+            cycles: 1,
+            windows: None,
+            skip: 0,
+            nonnegative: false,
+            bounds: BTreeMap::new(),
+            fixed: BTreeMap::new(),
+        }
+    }
+}
+
+/// `[simulation]`: M x'' + Q_d + K x + cubic springs = harmonic forces.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SimulationSpec {
+    /// M.
+    pub mass: MatrixRef,
+    /// K.
+    pub stiffness: MatrixRef,
+    /// True damping coefficients, by name (every coefficient of the model).
+    pub coefficients: BTreeMap<String, f64>,
+    /// Grounded cubic springs k x³.
+    #[serde(default)]
+    pub cubic_springs: Vec<CubicSpec>,
+    /// Recording step h.
+    pub step: f64,
+    /// RK4 steps per recorded step.
+    #[serde(default = "one")]
+    pub substeps: usize,
+    /// Dropped steps.
+    pub transient_steps: usize,
+    /// Recorded steps.
+    pub recorded_steps: usize,
+    /// One simulated record per experiment.
+    pub experiments: Vec<Spanned<ExperimentSpec>>,
+}
+
+fn one() -> usize {
+    1
+}
+
+/// A grounded cubic spring.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CubicSpec {
+    /// DOF, 1-based.
+    pub dof: usize,
+    /// k in k x³.
+    pub coefficient: f64,
+}
+
+/// One simulated experiment: a cos(ωt + φ) on one DOF.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExperimentSpec {
+    /// DOF, 1-based.
+    pub force_dof: usize,
+    /// a.
+    pub amplitude: f64,
+    /// ω (rad per unit time).
+    pub frequency: f64,
+    /// φ (rad).
+    #[serde(default)]
+    pub phase: f64,
+}
+
+/// `[data]`: measured records.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DataSpec {
+    /// One entry per record file.
+    pub records: Vec<Spanned<RecordSpec>>,
+}
+
+/// One measured record in a CSV file with a header row.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RecordSpec {
+    /// Path, relative to the model file.
+    pub file: String,
+    /// A label (default: the file name).
+    pub label: Option<String>,
+    /// The time column (uniform step required) …
+    pub time: Option<String>,
+    /// … or the step h.
+    pub step: Option<f64>,
+    /// Displacement columns, one per DOF in order.
+    pub displacements: Vec<String>,
+    /// Measured velocity columns, one per DOF in order.
+    pub velocities: Option<Vec<String>>,
+    /// Force columns and the DOF each acts on.
+    pub forces: Vec<ForceColumn>,
+    /// Driving period T …
+    pub period: Option<f64>,
+    /// … or driving frequency ω (rad per unit time).
+    pub frequency: Option<f64>,
+}
+
+/// A force column and its DOF (1-based).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ForceColumn {
+    /// Column name.
+    pub column: String,
+    /// DOF, 1-based.
+    pub dof: usize,
+}
