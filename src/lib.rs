@@ -42,10 +42,12 @@ pub mod diagnostics;
 pub mod error;
 pub mod fit;
 mod fourier;
+pub mod harmonic;
 pub mod identify;
 pub mod io;
 pub mod model;
 pub mod model_file;
+pub mod pod;
 pub mod quadrature;
 pub mod record;
 pub mod reference;
@@ -63,8 +65,12 @@ pub use identify::{IdentifySettings, identify};
 pub mod prelude {
     pub use crate::error::{Error, Result};
     pub use crate::fit::{Bound, Constraints, Fit, FitSettings, FitStatus, Fixed};
+    pub use crate::harmonic::{
+        HarmonicApproximation, PhaseReading, SteppedSinePoint, SteppedSineTable,
+    };
     pub use crate::identify::{IdentifySettings, identify};
     pub use crate::model::DampingModel;
+    pub use crate::pod::{Pod, PodBasis, PodSettings, Retain, reduce};
     pub use crate::quadrature::Quadrature;
     pub use crate::record::{Forcing, Record, RecordParts};
     pub use crate::regressor::{Regressor, RegressorSettings};

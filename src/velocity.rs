@@ -5,16 +5,41 @@
 //!   second-order forms (∓3x_i ± 4x_{i±1} ∓ x_{i±2}) / 2h at the record's ends. The
 //!   error on a harmonic of frequency kω is a relative −(kωh)²/6.
 //! - **Spectral**: the derivative of the least-squares Fourier series in the harmonics
-//!   of the driving frequency fitted over the window (see [`crate::fourier`]). Exact for
+//!   of the driving frequency fitted over the window (see `src/fourier.rs`). Exact for
 //!   periodic, band-limited motion whether or not the period is a whole number of
 //!   samples; with K below the default it also low-pass filters sensor noise.
+//! - **Harmonic projection**: the window's whole periods t_0 .. t_0 + kT (k = the
+//!   periods the quadrature rule spans, ⌊kT/h⌋ + 1 samples) are projected by least
+//!   squares onto a Fourier series in harmonics of ω = 2π/T,
+//!
+//!   ```text
+//!     x(t) ≈ a_0 + Σ_{q ∈ S} (a_q cos qωt + b_q sin qωt),
+//!     v(t) = Σ_{q ∈ S} qω (b_q cos qωt − a_q sin qωt),
+//!   ```
+//!
+//!   and the series' derivative is evaluated at every sample the rule reads. With
+//!   `harmonics: Some(K)`, S = {1..K}. With `harmonics: None`, S is chosen from the
+//!   noise floor of the window ([`harmonic_selection`]): fit every harmonic up to
+//!   K_max = 45% of Nyquist; per displacement channel, estimate the per-bin noise
+//!   amplitude σ̂_A from the median power of the out-of-band harmonics 2..K_max,
+//!   σ̂_A² = median P_q / ln 2 (the median of an exponential is its mean times ln 2;
+//!   the few harmonics that carry signal do not move a median), floored at 10⁻¹² of the
+//!   channel's largest harmonic for round-off; keep harmonic q when its amplitude
+//!   A_q = √(a_q² + b_q²) exceeds 3.5 σ̂_A in any channel, and always keep the
+//!   fundamental. A noise-only harmonic passes with probability e^{−3.5²} ≈ 5·10⁻⁶, so
+//!   S holds the harmonics the motion really has, and noise in the others is dropped:
+//!   for white displacement noise σ the velocity noise is σ ω √(Σ_{q∈S} q² · 2/m)
+//!   instead of ≈ σ/(h√2) for central differences. `docs/velocities.md` compares the
+//!   three estimators on noisy data.
 
 use faer::{Mat, MatRef};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
-use crate::fourier::{HarmonicBasis, default_harmonics};
+use crate::fourier::{HarmonicBasis, WholePeriods, default_harmonics, select_harmonics};
 use crate::record::{Record, col};
+
+pub use crate::fourier::HarmonicSelection;
 
 /// A window's velocities: borrowed from the record when measured, else estimated.
 pub enum WindowVelocities<'a> {
@@ -47,6 +72,13 @@ pub enum VelocitySource {
     /// `harmonics: None` uses 45% of the Nyquist count for the period.
     Spectral {
         /// Number of harmonics K.
+        harmonics: Option<usize>,
+    },
+    /// Derivative of the least-squares projection of the window's whole periods on
+    /// harmonics of the drive. `harmonics: None` keeps the harmonics that stand above
+    /// the noise floor (see the module doc); `Some(K)` keeps 1..K.
+    HarmonicProjection {
+        /// Number of harmonics K, or `None` to choose them from the noise floor.
         harmonics: Option<usize>,
     },
 }
@@ -99,6 +131,58 @@ impl VelocitySource {
                     record.displacements().subrows(start, count),
                 )))
             }
+            VelocitySource::HarmonicProjection { harmonics } => {
+                let whole = whole_periods(record, start, count)?;
+                let x = record.displacements().subrows(start, whole.samples);
+                let orders = match harmonics {
+                    // K = 0 gives no orders, which the basis rejects.
+                    Some(k) => (1..=k).collect(),
+                    None => {
+                        select_harmonics(x, record.step(), record.period(), whole.periods)?.kept
+                    }
+                };
+                let omega = 2.0 * std::f64::consts::PI / record.period();
+                let basis =
+                    HarmonicBasis::with_orders(omega, orders, record.step(), whole.samples)?;
+                let coefficients = basis.fit(x);
+                Ok(WindowVelocities::Estimated(
+                    basis.derivative(&coefficients, count),
+                ))
+            }
         }
     }
+}
+
+/// The whole periods of the window of `count` samples from `start` of `record`.
+fn whole_periods(record: &Record, start: usize, count: usize) -> Result<WholePeriods> {
+    if start.saturating_add(count) > record.samples() {
+        return Err(Error::RecordTooShort {
+            record: record.label().to_string(),
+            needed: start.saturating_add(count),
+            available: record.samples(),
+        });
+    }
+    WholePeriods::of_window(
+        count,
+        record.samples() - start,
+        record.step(),
+        record.period(),
+    )
+}
+
+/// The harmonics that [`VelocitySource::HarmonicProjection`] with `harmonics: None`
+/// keeps for the window of `count` samples from `start` of `record`, with the noise
+/// floor and harmonic amplitudes of every displacement channel (see the module doc).
+pub fn harmonic_selection(
+    record: &Record,
+    start: usize,
+    count: usize,
+) -> Result<HarmonicSelection> {
+    let whole = whole_periods(record, start, count)?;
+    select_harmonics(
+        record.displacements().subrows(start, whole.samples),
+        record.step(),
+        record.period(),
+        whole.periods,
+    )
 }

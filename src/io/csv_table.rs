@@ -70,11 +70,15 @@ impl Table {
                 ));
             }
             for (k, field) in record.iter().enumerate() {
-                let value: f64 = field
-                    .parse()
-                    .map_err(|_| data_error(row, &headers[k], format!("'{field}' is not a number")))?;
+                let value: f64 = field.parse().map_err(|_| {
+                    data_error(row, &headers[k], format!("'{field}' is not a number"))
+                })?;
                 if !value.is_finite() {
-                    return Err(data_error(row, &headers[k], format!("non-finite value {value}")));
+                    return Err(data_error(
+                        row,
+                        &headers[k],
+                        format!("non-finite value {value}"),
+                    ));
                 }
                 columns[k].push(value);
             }
@@ -137,7 +141,12 @@ mod tests {
         assert_eq!(table.column("x1").unwrap(), [1.0, 1.5]);
         assert_eq!(table.rows(), 2);
         match Table::parse("t,x\n0,1\n0.1,abc\n", "mem.csv") {
-            Err(Error::Data { file, row, column, message }) => {
+            Err(Error::Data {
+                file,
+                row,
+                column,
+                message,
+            }) => {
                 assert_eq!((file.as_str(), row, column.as_str()), ("mem.csv", 2, "x"));
                 assert!(message.contains("abc"));
             }

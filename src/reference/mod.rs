@@ -4,5 +4,6 @@
 //! than the paper's printed values, which are only compared against.
 
 pub mod four_mass;
+pub mod string;
 
 pub use four_mass::*;
