@@ -103,7 +103,11 @@ fn main() -> ExitCode {
         Ok(outcome) => {
             // A closed pipe (`dampid … | head`) is not an error of ours.
             let _ = std::io::stdout().lock().write_all(outcome.text.as_bytes());
-            if outcome.trusted { ExitCode::SUCCESS } else { ExitCode::from(1) }
+            if outcome.trusted {
+                ExitCode::SUCCESS
+            } else {
+                ExitCode::from(1)
+            }
         }
         Err(e) => {
             eprintln!("error: {e:#}");
@@ -145,11 +149,26 @@ fn identify(path: &Path, as_json: bool) -> anyhow::Result<Outcome> {
     let report = dampid::identify(&job.model, &job.records, &job.settings)?;
     let mut out = String::new();
     if as_json {
-        let truth = job.truth.as_ref().map(|t| t.iter().map(|(n, v)| (n.clone(), json!(v))).collect::<serde_json::Map<_, _>>());
-        writeln!(out, "{}", serde_json::to_string_pretty(&json!({"model": job.title, "report": report, "truth": truth}))?)?;
+        let truth = job.truth.as_ref().map(|t| {
+            t.iter()
+                .map(|(n, v)| (n.clone(), json!(v)))
+                .collect::<serde_json::Map<_, _>>()
+        });
+        writeln!(
+            out,
+            "{}",
+            serde_json::to_string_pretty(
+                &json!({"model": job.title, "report": report, "truth": truth})
+            )?
+        )?;
     } else {
         writeln!(out, "{}", job.title)?;
-        writeln!(out, "{} records, {} equations", job.records.len(), report.residuals.len())?;
+        writeln!(
+            out,
+            "{} records, {} equations",
+            job.records.len(),
+            report.residuals.len()
+        )?;
         write!(out, "{report}")?;
         if let Some(truth) = &job.truth {
             write_truth(&mut out, &report, truth)?;
@@ -165,8 +184,15 @@ fn write_truth(out: &mut String, report: &FitReport, truth: &[(String, f64)]) ->
     writeln!(out, "against the simulation's true coefficients:")?;
     for (name, value) in truth {
         if let Some(estimate) = report.coefficient(name) {
-            let error = if *value != 0.0 { format!("{:+.3}%", 100.0 * (estimate - value) / value.abs()) } else { format!("{:+.3e}", estimate - value) };
-            writeln!(out, "  {name:<18} true {value:<12} estimate {estimate:<14.6e} error {error}")?;
+            let error = if *value != 0.0 {
+                format!("{:+.3}%", 100.0 * (estimate - value) / value.abs())
+            } else {
+                format!("{:+.3e}", estimate - value)
+            };
+            writeln!(
+                out,
+                "  {name:<18} true {value:<12} estimate {estimate:<14.6e} error {error}"
+            )?;
         }
     }
     Ok(())
@@ -178,7 +204,8 @@ fn check(path: &Path) -> anyhow::Result<Outcome> {
     let regressor = Regressor::build(&job.model, &job.records, &job.settings.regressor)?;
     let fit = dampid::fit::least_squares(&regressor, job.settings.fit.rank_tolerance)
         .context("the regressor cannot be fitted")?;
-    let diagnostics = dampid::diagnostics::diagnose(&regressor, &fit, job.settings.fit.rank_tolerance);
+    let diagnostics =
+        dampid::diagnostics::diagnose(&regressor, &fit, job.settings.fit.rank_tolerance);
     let mut out = String::new();
     writeln!(out, "{}: model and data are valid", job.title)?;
     writeln!(
@@ -189,21 +216,47 @@ fn check(path: &Path) -> anyhow::Result<Outcome> {
         regressor.columns().len(),
         regressor.columns().join(", ")
     )?;
-    let sv: Vec<String> = diagnostics.singular_values.iter().map(|s| format!("{s:.3e}")).collect();
-    writeln!(out, "singular values of the column-scaled regressor: [{}]", sv.join(", "))?;
-    writeln!(out, "numerical rank: {} of {}", diagnostics.rank, regressor.columns().len())?;
+    let sv: Vec<String> = diagnostics
+        .singular_values
+        .iter()
+        .map(|s| format!("{s:.3e}"))
+        .collect();
+    writeln!(
+        out,
+        "singular values of the column-scaled regressor: [{}]",
+        sv.join(", ")
+    )?;
+    writeln!(
+        out,
+        "numerical rank: {} of {}",
+        diagnostics.rank,
+        regressor.columns().len()
+    )?;
     if diagnostics.condition_number.is_finite() {
-        writeln!(out, "condition number: {:.3e}", diagnostics.condition_number)?;
+        writeln!(
+            out,
+            "condition number: {:.3e}",
+            diagnostics.condition_number
+        )?;
     } else {
-        writeln!(out, "condition number: infinite: these data cannot separate the coefficients")?;
+        writeln!(
+            out,
+            "condition number: infinite: these data cannot separate the coefficients"
+        )?;
     }
-    Ok(Outcome { text: out, trusted: true })
+    Ok(Outcome {
+        text: out,
+        trusted: true,
+    })
 }
 
 fn write_records(path: &Path, folder: &Path) -> anyhow::Result<Outcome> {
     let job = load_job(path)?;
     if job.truth.is_none() {
-        bail!("{} has no [simulation] section: nothing to simulate", path.display());
+        bail!(
+            "{} has no [simulation] section: nothing to simulate",
+            path.display()
+        );
     }
     std::fs::create_dir_all(folder).with_context(|| format!("creating {}", folder.display()))?;
     let mut out = String::new();
@@ -211,7 +264,11 @@ fn write_records(path: &Path, folder: &Path) -> anyhow::Result<Outcome> {
         let n = record.dofs();
         let samples = record.samples();
         let mut headers = vec!["t".to_string()];
-        let mut columns = vec![(0..samples).map(|i| record.start_time() + i as f64 * record.step()).collect::<Vec<_>>()];
+        let mut columns = vec![
+            (0..samples)
+                .map(|i| record.start_time() + i as f64 * record.step())
+                .collect::<Vec<_>>(),
+        ];
         for j in 0..n {
             headers.push(format!("x{}", j + 1));
             columns.push(record.displacements().col(j).iter().copied().collect());
@@ -229,7 +286,16 @@ fn write_records(path: &Path, folder: &Path) -> anyhow::Result<Outcome> {
         }
         let file = folder.join(format!("record_{}.csv", k + 1));
         Table::write(&file, &headers, &columns)?;
-        writeln!(out, "{} ({}, period {:.6})", file.display(), record.label(), record.period())?;
+        writeln!(
+            out,
+            "{} ({}, period {:.6})",
+            file.display(),
+            record.label(),
+            record.period()
+        )?;
     }
-    Ok(Outcome { text: out, trusted: true })
+    Ok(Outcome {
+        text: out,
+        trusted: true,
+    })
 }

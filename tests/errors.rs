@@ -1430,7 +1430,10 @@ fn every_variant_is_reachable() {
         simulate(&singular, &sim_settings()).unwrap_err(),
         dampid::terms::laws::Expression::parse("abs(v)*q").unwrap_err(),
         dampid::model_file::parse("dofs = ", "bad.toml", std::path::Path::new(".")).unwrap_err(),
-        Table::parse("t,x\n0,1\n", "t.csv").unwrap().column("y").unwrap_err(),
+        Table::parse("t,x\n0,1\n", "t.csv")
+            .unwrap()
+            .column("y")
+            .unwrap_err(),
         Table::parse("t,x\n0,abc\n", "t.csv").unwrap_err(),
     ];
     let mut seen: Vec<&str> = errors.iter().map(variant).collect();
@@ -1628,7 +1631,10 @@ fn nan_phase_is_reported_with_its_value() {
 #[test]
 fn expression_with_unknown_identifier_names_it() {
     match dampid::terms::laws::Expression::parse("x^2*vel") {
-        Err(Error::Expression { expression, message }) => {
+        Err(Error::Expression {
+            expression,
+            message,
+        }) => {
             assert_eq!(expression, "x^2*vel");
             assert!(message.contains("'vel'"), "{message}");
         }
@@ -1639,7 +1645,12 @@ fn expression_with_unknown_identifier_names_it() {
 #[test]
 fn malformed_model_file_names_file_line_and_column() {
     match dampid::model_file::parse("dofs = 2\nterms = 3\n", "m.toml", std::path::Path::new(".")) {
-        Err(Error::ModelFile { file, line, column, message }) => {
+        Err(Error::ModelFile {
+            file,
+            line,
+            column,
+            message,
+        }) => {
             assert_eq!((file.as_str(), line), ("m.toml", 2));
             assert!(column >= 1);
             assert!(!message.is_empty());
@@ -1663,7 +1674,9 @@ fn missing_column_lists_the_columns() {
 #[test]
 fn bad_data_cell_names_row_and_column() {
     match Table::parse("t,x1\n0,1\n0.1,inf\n", "d.csv") {
-        Err(Error::Data { file, row, column, .. }) => assert_eq!((file.as_str(), row, column.as_str()), ("d.csv", 2, "x1")),
+        Err(Error::Data {
+            file, row, column, ..
+        }) => assert_eq!((file.as_str(), row, column.as_str()), ("d.csv", 2, "x1")),
         other => panic!("{other:?}"),
     }
 }

@@ -18,10 +18,18 @@ fn run(path: &str) -> dampid::report::FitReport {
 #[test]
 fn four_mass_model_file_matches_the_example() {
     let from_file = run("models/four_mass.toml");
-    let case = four_mass_cases().into_iter().find(|c| c.name == "chain, central differences").unwrap();
-    let from_example = run_four_mass_case(&case, Quadrature::Rectangular).unwrap().report;
+    let case = four_mass_cases()
+        .into_iter()
+        .find(|c| c.name == "chain, central differences")
+        .unwrap();
+    let from_example = run_four_mass_case(&case, Quadrature::Rectangular)
+        .unwrap()
+        .report;
     for name in ["c", "d"] {
-        let (a, b) = (from_file.coefficient(name).unwrap(), from_example.coefficient(name).unwrap());
+        let (a, b) = (
+            from_file.coefficient(name).unwrap(),
+            from_example.coefficient(name).unwrap(),
+        );
         assert!((a - b).abs() < 1e-12 * b.abs(), "{name}: {a} vs {b}");
     }
 }
@@ -29,10 +37,18 @@ fn four_mass_model_file_matches_the_example() {
 #[test]
 fn cubic_spring_model_file_matches_the_example() {
     let from_file = run("models/four_mass_cubic.toml");
-    let case = four_mass_cases().into_iter().find(|c| c.name == "cubic spring, four cycles, central differences").unwrap();
-    let from_example = run_four_mass_case(&case, Quadrature::Rectangular).unwrap().report;
+    let case = four_mass_cases()
+        .into_iter()
+        .find(|c| c.name == "cubic spring, four cycles, central differences")
+        .unwrap();
+    let from_example = run_four_mass_case(&case, Quadrature::Rectangular)
+        .unwrap()
+        .report;
     for name in ["c", "d"] {
-        let (a, b) = (from_file.coefficient(name).unwrap(), from_example.coefficient(name).unwrap());
+        let (a, b) = (
+            from_file.coefficient(name).unwrap(),
+            from_example.coefficient(name).unwrap(),
+        );
         assert!((a - b).abs() < 1e-12 * b.abs(), "{name}: {a} vs {b}");
     }
 }
@@ -43,10 +59,19 @@ fn cubic_spring_model_file_matches_the_example() {
 #[test]
 fn measured_csv_model_file_identifies_the_chain() {
     let report = run("models/measured_chain.toml");
-    let truth = [("dashpot[0-1]", 0.10), ("dashpot[1-2]", 0.05), ("dashpot[2-3]", 0.15), ("dashpot[3-4]", 0.08), ("friction", 0.05)];
+    let truth = [
+        ("dashpot[0-1]", 0.10),
+        ("dashpot[1-2]", 0.05),
+        ("dashpot[2-3]", 0.15),
+        ("dashpot[3-4]", 0.08),
+        ("friction", 0.05),
+    ];
     for (name, value) in truth {
         let estimate = report.coefficient(name).unwrap();
-        assert!((estimate - value).abs() < 1e-3 * value, "{name}: {estimate}");
+        assert!(
+            (estimate - value).abs() < 1e-3 * value,
+            "{name}: {estimate}"
+        );
     }
     assert!(report.coefficients.iter().all(|c| c.std_error.is_some()));
 }
@@ -57,7 +82,12 @@ fn error_of(text: &str) -> Error {
 
 fn assert_at(error: Error, line: usize, needle: &str) {
     match error {
-        Error::ModelFile { file, line: l, column, message } => {
+        Error::ModelFile {
+            file,
+            line: l,
+            column,
+            message,
+        } => {
             assert_eq!(file, "test.toml");
             assert_eq!(l, line, "{message}");
             assert!(column >= 1, "{message}");
@@ -126,7 +156,11 @@ fn data_errors_name_file_row_and_column() {
     let nan = csv.replacen(&format!("\n0.1,{},", 0.1f64.cos()), "\n0.1,NaN,", 1);
     assert_ne!(nan, csv);
     std::fs::write(folder.join("nan.csv"), nan).unwrap();
-    std::fs::write(folder.join("uneven.csv"), csv.replacen("\n0.2,", "\n0.25,", 1)).unwrap();
+    std::fs::write(
+        folder.join("uneven.csv"),
+        csv.replacen("\n0.2,", "\n0.25,", 1),
+    )
+    .unwrap();
     let model = |file: &str, x: &str| {
         format!(
             "{HEAD}[[data.records]]\nfile = \"{file}\"\ntime = \"t\"\ndisplacements = [\"x1\", \"{x}\"]\nforces = [{{ column = \"f\", dof = 2 }}]\nperiod = 6.283185307179586\n"
@@ -138,16 +172,27 @@ fn data_errors_name_file_row_and_column() {
     match parse_in(model("good.csv", "x3")).unwrap_err() {
         Error::ModelFile { line, message, .. } => {
             assert_eq!(line, 7);
-            assert!(message.contains("unknown column") && message.contains("x3") && message.contains("x1, x2"), "{message}");
+            assert!(
+                message.contains("unknown column")
+                    && message.contains("x3")
+                    && message.contains("x1, x2"),
+                "{message}"
+            );
         }
         other => panic!("{other:?}"),
     }
     match parse_in(model("nan.csv", "x2")).unwrap_err() {
-        Error::ModelFile { message, .. } => assert!(message.contains("row 2") && message.contains("x1"), "{message}"),
+        Error::ModelFile { message, .. } => assert!(
+            message.contains("row 2") && message.contains("x1"),
+            "{message}"
+        ),
         other => panic!("{other:?}"),
     }
     match parse_in(model("uneven.csv", "x2")).unwrap_err() {
-        Error::ModelFile { message, .. } => assert!(message.contains("row 3") && message.contains("'t'"), "{message}"),
+        Error::ModelFile { message, .. } => assert!(
+            message.contains("row 3") && message.contains("'t'"),
+            "{message}"
+        ),
         other => panic!("{other:?}"),
     }
     std::fs::remove_dir_all(&folder).ok();
@@ -155,5 +200,8 @@ fn data_errors_name_file_row_and_column() {
 
 #[test]
 fn missing_model_file_is_a_model_file_error() {
-    assert!(matches!(load(Path::new("models/does_not_exist.toml")), Err(Error::ModelFile { line: 0, .. })));
+    assert!(matches!(
+        load(Path::new("models/does_not_exist.toml")),
+        Err(Error::ModelFile { line: 0, .. })
+    ));
 }

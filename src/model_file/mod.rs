@@ -115,7 +115,12 @@ impl Context<'_> {
         for term in &spec.terms {
             model = model.with(self.at(term, |t| build_term(t, n, &matrix))?);
         }
-        self.at(spec.terms.first().ok_or_else(|| Error::Empty { what: "terms".into() })?, |_| model.validate(n))?;
+        self.at(
+            spec.terms.first().ok_or_else(|| Error::Empty {
+                what: "terms".into(),
+            })?,
+            |_| model.validate(n),
+        )?;
         let settings = identification_settings(&spec.identification);
         let (records, truth) = match (&spec.simulation, &spec.data) {
             (Some(sim), None) => {
@@ -154,16 +159,20 @@ fn resolve_matrix(reference: &MatrixRef, spec: &ModelFileSpec, n: usize) -> Resu
     let rows: &Vec<Vec<f64>> = match reference {
         MatrixRef::Name(name) if name == "identity" => return Ok(Mat::identity(n, n)),
         MatrixRef::Name(name) if name == "chain" => return Ok(chain_stiffness(n)),
-        MatrixRef::Name(name) => spec.matrices.get(name).map(|m| m.get_ref()).ok_or_else(|| Error::UnknownName {
-            what: "matrix".into(),
-            name: name.clone(),
-            known: ["identity", "chain"]
-                .into_iter()
-                .map(String::from)
-                .chain(spec.matrices.keys().cloned())
-                .collect::<Vec<_>>()
-                .join(", "),
-        })?,
+        MatrixRef::Name(name) => spec
+            .matrices
+            .get(name)
+            .map(|m| m.get_ref())
+            .ok_or_else(|| Error::UnknownName {
+                what: "matrix".into(),
+                name: name.clone(),
+                known: ["identity", "chain"]
+                    .into_iter()
+                    .map(String::from)
+                    .chain(spec.matrices.keys().cloned())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            })?,
         MatrixRef::Rows(rows) => rows,
     };
     if rows.len() != n {
@@ -177,13 +186,24 @@ fn resolve_matrix(reference: &MatrixRef, spec: &ModelFileSpec, n: usize) -> Resu
     Ok(Mat::from_fn(n, n, |i, j| rows[i][j]))
 }
 
-fn build_term(spec: &TermSpec, n: usize, matrix: &dyn Fn(&MatrixRef) -> Result<Mat<f64>>) -> Result<Term> {
+fn build_term(
+    spec: &TermSpec,
+    n: usize,
+    matrix: &dyn Fn(&MatrixRef) -> Result<Mat<f64>>,
+) -> Result<Term> {
     Ok(match spec {
-        TermSpec::Viscous { coefficient, matrix: m } => Term::viscous(coefficient.clone(), matrix(m)?),
-        TermSpec::StiffnessProportional { coefficient, matrix: m } => {
-            Term::stiffness_proportional(coefficient.clone(), matrix(m)?)
-        }
-        TermSpec::MassProportional { coefficient, matrix: m } => Term::mass_proportional(coefficient.clone(), matrix(m)?),
+        TermSpec::Viscous {
+            coefficient,
+            matrix: m,
+        } => Term::viscous(coefficient.clone(), matrix(m)?),
+        TermSpec::StiffnessProportional {
+            coefficient,
+            matrix: m,
+        } => Term::stiffness_proportional(coefficient.clone(), matrix(m)?),
+        TermSpec::MassProportional {
+            coefficient,
+            matrix: m,
+        } => Term::mass_proportional(coefficient.clone(), matrix(m)?),
         TermSpec::Law {
             law,
             exponent,
@@ -193,9 +213,13 @@ fn build_term(spec: &TermSpec, n: usize, matrix: &dyn Fn(&MatrixRef) -> Result<M
             per_element,
             weights,
         } => {
-            let law: Box<dyn Fn(Vec<Element>, Coefficients) -> Term> = match (law, exponent, expression) {
+            let law: Box<dyn Fn(Vec<Element>, Coefficients) -> Term> = match (
+                law, exponent, expression,
+            ) {
                 (LawName::Linear, None, None) => Box::new(|e, c| Term::on_elements(Linear, e, c)),
-                (LawName::Quadratic, None, None) => Box::new(|e, c| Term::on_elements(Quadratic, e, c)),
+                (LawName::Quadratic, None, None) => {
+                    Box::new(|e, c| Term::on_elements(Quadratic, e, c))
+                }
                 (LawName::Coulomb, None, None) => Box::new(|e, c| Term::on_elements(Coulomb, e, c)),
                 (LawName::Power, Some(p), None) => {
                     let law = PowerLaw::new(*p)?;
@@ -205,7 +229,13 @@ fn build_term(spec: &TermSpec, n: usize, matrix: &dyn Fn(&MatrixRef) -> Result<M
                     let law = Expression::parse(text)?;
                     Box::new(move |e, c| Term::on_elements(law.clone(), e, c))
                 }
-                (LawName::Power, None, _) => return Err(Error::invalid("exponent", f64::NAN, "a power law needs `exponent`")),
+                (LawName::Power, None, _) => {
+                    return Err(Error::invalid(
+                        "exponent",
+                        f64::NAN,
+                        "a power law needs `exponent`",
+                    ));
+                }
                 (LawName::Expression, _, None) => {
                     return Err(Error::Expression {
                         expression: String::new(),
@@ -216,7 +246,9 @@ fn build_term(spec: &TermSpec, n: usize, matrix: &dyn Fn(&MatrixRef) -> Result<M
                     return Err(Error::invalid(
                         "law",
                         f64::NAN,
-                        &format!("`exponent` belongs to power laws and `expression` to expression laws, not to {name:?}"),
+                        &format!(
+                            "`exponent` belongs to power laws and `expression` to expression laws, not to {name:?}"
+                        ),
                     ));
                 }
             };
@@ -255,7 +287,13 @@ fn build_elements(spec: &ElementsSpec, n: usize) -> Result<Vec<Element>> {
             .map(|&[a, b]| {
                 let label = format!("{a}-{b}");
                 let element = match (a, b) {
-                    (0, 0) => return Err(Error::invalid("element", 0.0, "[0, 0] joins ground to ground")),
+                    (0, 0) => {
+                        return Err(Error::invalid(
+                            "element",
+                            0.0,
+                            "[0, 0] joins ground to ground",
+                        ));
+                    }
                     (0, b) => Element::to_ground(b - 1),
                     (a, 0) => Element::to_ground(a - 1),
                     (a, b) => Element::between(a - 1, b - 1),
@@ -334,15 +372,23 @@ fn simulate_records(
             spec.coefficients
                 .get(name)
                 .map(|v| (name.clone(), *v))
-                .ok_or_else(|| Error::invalid(&format!("simulation coefficient '{name}'"), f64::NAN, "is missing"))
+                .ok_or_else(|| {
+                    Error::invalid(
+                        &format!("simulation coefficient '{name}'"),
+                        f64::NAN,
+                        "is missing",
+                    )
+                })
         })
         .collect::<Result<_>>()?;
     let one_based = |dof: usize, what: &str| {
-        dof.checked_sub(1).filter(|d| *d < n).ok_or_else(|| Error::DofOutOfRange {
-            what: format!("{what} (DOFs are numbered 1..{n} in model files)"),
-            dof,
-            dofs: n,
-        })
+        dof.checked_sub(1)
+            .filter(|d| *d < n)
+            .ok_or_else(|| Error::DofOutOfRange {
+                what: format!("{what} (DOFs are numbered 1..{n} in model files)"),
+                dof,
+                dofs: n,
+            })
     };
     let conservative = spec
         .cubic_springs
@@ -391,20 +437,39 @@ fn read_record(spec: &RecordSpec, n: usize, base: &Path) -> Result<Record> {
     let path = base.join(&spec.file);
     let table = Table::read(&path)?;
     if spec.displacements.len() != n {
-        return Err(Error::mismatch("displacement columns vs dofs", n, spec.displacements.len()));
+        return Err(Error::mismatch(
+            "displacement columns vs dofs",
+            n,
+            spec.displacements.len(),
+        ));
     }
     let step = match (&spec.time, spec.step) {
         (Some(time), None) => uniform_step(&table, time)?,
         (None, Some(step)) => step,
-        _ => return Err(Error::invalid("step", f64::NAN, "give exactly one of `time` (a column) or `step`")),
+        _ => {
+            return Err(Error::invalid(
+                "step",
+                f64::NAN,
+                "give exactly one of `time` (a column) or `step`",
+            ));
+        }
     };
     let period = match (spec.period, spec.frequency) {
         (Some(period), None) => period,
         (None, Some(omega)) => 2.0 * std::f64::consts::PI / omega,
-        _ => return Err(Error::invalid("period", f64::NAN, "give exactly one of `period` or `frequency` (rad per unit time)")),
+        _ => {
+            return Err(Error::invalid(
+                "period",
+                f64::NAN,
+                "give exactly one of `period` or `frequency` (rad per unit time)",
+            ));
+        }
     };
     let columns = |names: &[String]| -> Result<Mat<f64>> {
-        let cols = names.iter().map(|name| table.column(name)).collect::<Result<Vec<_>>>()?;
+        let cols = names
+            .iter()
+            .map(|name| table.column(name))
+            .collect::<Result<Vec<_>>>()?;
         Ok(Mat::from_fn(table.rows(), cols.len(), |i, j| cols[j][i]))
     };
     let displacements = columns(&spec.displacements)?;
@@ -414,14 +479,23 @@ fn read_record(spec: &RecordSpec, n: usize, base: &Path) -> Result<Record> {
         .forces
         .iter()
         .map(|f| {
-            f.dof.checked_sub(1).filter(|d| *d < n).ok_or_else(|| Error::DofOutOfRange {
-                what: format!("force column '{}' (DOFs are numbered 1..{n} in model files)", f.column),
-                dof: f.dof,
-                dofs: n,
-            })
+            f.dof
+                .checked_sub(1)
+                .filter(|d| *d < n)
+                .ok_or_else(|| Error::DofOutOfRange {
+                    what: format!(
+                        "force column '{}' (DOFs are numbered 1..{n} in model files)",
+                        f.column
+                    ),
+                    dof: f.dof,
+                    dofs: n,
+                })
         })
         .collect::<Result<Vec<_>>>()?;
-    let start_time = spec.time.as_deref().map_or(Ok(0.0), |t| table.column(t).map(|c| c[0]))?;
+    let start_time = spec
+        .time
+        .as_deref()
+        .map_or(Ok(0.0), |t| table.column(t).map(|c| c[0]))?;
     Record::new(RecordParts {
         label: spec.label.clone().unwrap_or_else(|| spec.file.clone()),
         step,

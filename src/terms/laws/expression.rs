@@ -104,9 +104,15 @@ impl Law for Expression {
     }
     fn weighted_power(&self, x: &[f64], v: &[f64], w: &[f64]) -> f64 {
         if self.uses_displacement() {
-            w.iter().zip(x.iter().zip(v)).map(|(w, (&x, &v))| w * v * self.force(x, v)).sum()
+            w.iter()
+                .zip(x.iter().zip(v))
+                .map(|(w, (&x, &v))| w * v * self.force(x, v))
+                .sum()
         } else {
-            w.iter().zip(v).map(|(w, &v)| w * v * self.force(0.0, v)).sum()
+            w.iter()
+                .zip(v)
+                .map(|(w, &v)| w * v * self.force(0.0, v))
+                .sum()
         }
     }
 }
@@ -129,12 +135,18 @@ mod tests {
     #[test]
     fn rejects_unknown_identifiers_and_bad_syntax() {
         match Expression::parse("abs(v)*q") {
-            Err(Error::Expression { expression, message }) => {
+            Err(Error::Expression {
+                expression,
+                message,
+            }) => {
                 assert_eq!(expression, "abs(v)*q");
                 assert!(message.contains("'q'"), "{message}");
             }
             other => panic!("{other:?}"),
         }
-        assert!(matches!(Expression::parse("v*(x"), Err(Error::Expression { .. })));
+        assert!(matches!(
+            Expression::parse("v*(x"),
+            Err(Error::Expression { .. })
+        ));
     }
 }
