@@ -25,9 +25,19 @@ pub fn identify(
     records: &[Record],
     settings: &IdentifySettings,
 ) -> Result<FitReport> {
+    identify_with_regressor(model, records, settings).map(|(_, report)| report)
+}
+
+/// [`identify`], also returning the regressor the fit used (for plots and research).
+pub fn identify_with_regressor(
+    model: &DampingModel,
+    records: &[Record],
+    settings: &IdentifySettings,
+) -> Result<(Regressor, FitReport)> {
     settings.fit.validate()?;
     let regressor = Regressor::build(model, records, &settings.regressor)?;
     let fit = solve(&regressor, &settings.fit)?;
     let diagnostics = diagnose(&regressor, &fit, settings.fit.rank_tolerance);
-    Ok(FitReport::new(&regressor, fit, diagnostics))
+    let report = FitReport::new(&regressor, fit, diagnostics);
+    Ok((regressor, report))
 }

@@ -53,6 +53,7 @@ pub mod record;
 pub mod reference;
 pub mod regressor;
 pub mod report;
+pub mod report_html;
 pub mod simulate;
 pub mod terms;
 pub mod velocity;

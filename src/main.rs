@@ -13,11 +13,13 @@ use dampid::quadrature::Quadrature;
 use dampid::reference::FourMassSummary;
 use dampid::regressor::Regressor;
 use dampid::report::FitReport;
+use dampid::report_html::HtmlReport;
 use serde_json::json;
 
 const EXAMPLES: &str = "Examples:
   dampid identify models/four_mass.toml          # simulate the paper's chain and identify c, d
   dampid identify models/four_mass.toml --json   # the report as one JSON object
+  dampid identify models/measured_chain.toml --report out/   # also out/report.html, with plots
   dampid check models/measured_chain.toml        # conditioning of the regressor, before any fit
   dampid simulate models/four_mass.toml --out runs/   # write the simulated records as CSV
   dampid reference four-mass                     # the paper's section 2.2, every case
@@ -42,6 +44,9 @@ enum Command {
         /// Print the report as one JSON object.
         #[arg(long)]
         json: bool,
+        /// Also write a self-contained HTML report with plots to DIR/report.html.
+        #[arg(long, value_name = "DIR")]
+        report: Option<PathBuf>,
     },
     /// Validate a model file and its data and show the regressor's conditioning.
     Check {
@@ -118,7 +123,11 @@ fn main() -> ExitCode {
 
 fn run(cli: Cli) -> anyhow::Result<Outcome> {
     match cli.command {
-        Command::Identify { model, json } => identify(&model, json),
+        Command::Identify {
+            model,
+            json,
+            report,
+        } => identify(&model, json, report.as_deref()),
         Command::Check { model } => check(&model),
         Command::Simulate { model, out } => write_records(&model, &out),
         Command::Reference {
@@ -144,10 +153,28 @@ fn load_job(path: &Path) -> anyhow::Result<Job> {
     Ok(load(path)?)
 }
 
-fn identify(path: &Path, as_json: bool) -> anyhow::Result<Outcome> {
+fn identify(path: &Path, as_json: bool, html: Option<&Path>) -> anyhow::Result<Outcome> {
     let job = load_job(path)?;
-    let report = dampid::identify(&job.model, &job.records, &job.settings)?;
+    let (regressor, report) =
+        dampid::identify::identify_with_regressor(&job.model, &job.records, &job.settings)?;
     let mut out = String::new();
+    if let Some(folder) = html {
+        let page = HtmlReport {
+            title: &job.title,
+            model: &job.model,
+            records: &job.records,
+            regressor: &regressor,
+            report: &report,
+            truth: job.truth.as_deref(),
+        }
+        .render()?;
+        std::fs::create_dir_all(folder)
+            .with_context(|| format!("creating {}", folder.display()))?;
+        let file = folder.join("report.html");
+        std::fs::write(&file, page).with_context(|| format!("writing {}", file.display()))?;
+        // Keep stdout pure JSON with --json: say where the report went on stderr.
+        eprintln!("wrote {}", file.display());
+    }
     if as_json {
         let truth = job.truth.as_ref().map(|t| {
             t.iter()

@@ -1,0 +1,214 @@
+//! A self-contained HTML report of one identification: the coefficients with standard
+//! errors and 95% intervals (θ ± 1.96 se), the warnings in words, the conditioning, and
+//! inline SVG plots: measured input work against identified dissipated work per window,
+//! the residuals with their bias, and each identified damping law θ f(v) against the
+//! relative velocity with its uncertainty band. Nothing is loaded from outside the file.
+
+mod plots;
+
+use std::fmt::Write as _;
+
+use crate::error::Result;
+use crate::model::DampingModel;
+use crate::record::{Record, col};
+use crate::regressor::Regressor;
+use crate::report::FitReport;
+use crate::terms::Term;
+
+/// Curves drawn per term at most (per-element terms may have thousands).
+const MAX_CURVES: usize = 8;
+
+/// What the report shows.
+pub struct HtmlReport<'a> {
+    /// Title (the model file's).
+    pub title: &'a str,
+    /// The damping model.
+    pub model: &'a DampingModel,
+    /// The records (for the velocity range of the force-law plots).
+    pub records: &'a [Record],
+    /// The regressor the fit used (for the input work per window).
+    pub regressor: &'a Regressor,
+    /// The fit report.
+    pub report: &'a FitReport,
+    /// True coefficients, when the records were simulated.
+    pub truth: Option<&'a [(String, f64)]>,
+}
+
+impl HtmlReport<'_> {
+    /// The whole page.
+    pub fn render(&self) -> Result<String> {
+        let report = self.report;
+        let input = self.regressor.rhs();
+        let dissipated: Vec<f64> = input
+            .iter()
+            .zip(&report.residuals)
+            .map(|(b, e)| b - e)
+            .collect();
+        let mut page = String::new();
+        let title = escape(self.title);
+        let _ = write!(
+            page,
+            "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>{title}</title>\n<style>{STYLE}</style></head><body>\n<h1>{title}</h1>\n"
+        );
+        let _ = write!(
+            page,
+            "<p>Status <b>{:?}</b> ({:?}); {} equations from {} records; relative residual {:.3e}; residual bias {:+.3e} of mean |input work| ({} positive, {} negative).</p>\n",
+            report.status,
+            report.method,
+            report.residuals.len(),
+            self.records.len(),
+            report.relative_residual,
+            report.residual_bias.relative_mean,
+            report.residual_bias.positive,
+            report.residual_bias.negative
+        );
+        for warning in &report.warnings {
+            let _ = writeln!(
+                page,
+                "<p class=\"warning\">⚠ {}</p>",
+                escape(&warning.to_string())
+            );
+        }
+        page.push_str(&self.coefficient_table());
+        let condition = report
+            .condition_number
+            .map_or("infinite".to_string(), |k| format!("{k:.3e}"));
+        let singular: Vec<String> = report
+            .singular_values
+            .iter()
+            .map(|s| format!("{s:.3e}"))
+            .collect();
+        let _ = writeln!(
+            page,
+            "<p>Column-scaled regressor: rank {}, condition number {condition}, singular values [{}].</p>",
+            report.rank,
+            singular.join(", ")
+        );
+        page.push_str("<h2>Energy balance</h2>\n");
+        page.push_str(&plots::work_balance(input, &dissipated)?);
+        page.push_str("\n<h2>Residuals</h2>\n");
+        page.push_str(&plots::residuals(&report.residuals)?);
+        page.push_str("\n<h2>Identified damping laws</h2>\n");
+        for svg in self.force_law_plots()? {
+            page.push_str(&svg);
+            page.push('\n');
+        }
+        let json = serde_json::to_string_pretty(report).unwrap_or_default();
+        let _ = write!(
+            page,
+            "<details><summary>Report JSON</summary><pre>{}</pre></details>\n</body></html>\n",
+            escape(&json)
+        );
+        Ok(page)
+    }
+
+    fn coefficient_table(&self) -> String {
+        let mut table = String::from(
+            "<table><tr><th>coefficient</th><th>estimate</th><th>std error</th><th>95% interval</th>",
+        );
+        if self.truth.is_some() {
+            table.push_str("<th>true</th><th>error</th>");
+        }
+        table.push_str("</tr>\n");
+        for c in &self.report.coefficients {
+            let (se, interval) = match c.std_error {
+                Some(se) => (
+                    format!("{se:.3e}"),
+                    format!("[{:.6e}, {:.6e}]", c.value - 1.96 * se, c.value + 1.96 * se),
+                ),
+                None => ("–".into(), "–".into()),
+            };
+            let _ = write!(
+                table,
+                "<tr><td>{}</td><td>{:.6e}</td><td>{se}</td><td>{interval}</td>",
+                escape(&c.name),
+                c.value
+            );
+            if let Some(truth) = self.truth {
+                match truth.iter().find(|(n, _)| *n == c.name) {
+                    Some((_, t)) if *t != 0.0 => {
+                        let _ = write!(
+                            table,
+                            "<td>{t}</td><td>{:+.3}%</td>",
+                            100.0 * (c.value - t) / t.abs()
+                        );
+                    }
+                    Some((_, t)) => {
+                        let _ = write!(table, "<td>{t}</td><td>{:+.3e}</td>", c.value - t);
+                    }
+                    None => table.push_str("<td></td><td></td>"),
+                }
+            }
+            table.push_str("</tr>\n");
+        }
+        table.push_str("</table>\n");
+        table
+    }
+
+    /// One plot per element term: θ f(0, v) for v in ±max|v| of the records, with the
+    /// band (θ ± 1.96 se) f(0, v). Laws of x are drawn at x = 0.
+    fn force_law_plots(&self) -> Result<Vec<String>> {
+        let v_max = self.velocity_range();
+        let speeds: Vec<f64> = (0..=100).map(|i| v_max * (i as f64 / 50.0 - 1.0)).collect();
+        let mut svgs = Vec::new();
+        for (term, range) in self.model.term_columns() {
+            let Term::Elements(term) = term else { continue };
+            let law = term.law();
+            let curves: Vec<plots::Curve> = range
+                .take(MAX_CURVES)
+                .map(|k| {
+                    let c = &self.report.coefficients[k];
+                    let f = |theta: f64, v: f64| theta * law.force(0.0, v);
+                    plots::Curve {
+                        name: c.name.clone(),
+                        points: speeds.iter().map(|&v| (v, f(c.value, v))).collect(),
+                        band: c.std_error.map(|se| {
+                            speeds
+                                .iter()
+                                .map(|&v| {
+                                    let (a, b) =
+                                        (f(c.value - 1.96 * se, v), f(c.value + 1.96 * se, v));
+                                    (v, a.min(b), a.max(b))
+                                })
+                                .collect()
+                        }),
+                    }
+                })
+                .collect();
+            svgs.push(plots::force_laws(&format!("{} law", law.name()), &curves)?);
+        }
+        Ok(svgs)
+    }
+
+    /// The largest |velocity| in the records (measured, else central differences).
+    fn velocity_range(&self) -> f64 {
+        let mut v_max: f64 = 0.0;
+        for record in self.records {
+            let h2 = 2.0 * record.step();
+            for j in 0..record.dofs() {
+                match record.velocities() {
+                    Some(v) => v_max = col(v, j).iter().fold(v_max, |m, v| m.max(v.abs())),
+                    None => {
+                        let x = col(record.displacements(), j);
+                        v_max = x
+                            .windows(3)
+                            .fold(v_max, |m, w| m.max(((w[2] - w[0]) / h2).abs()));
+                    }
+                }
+            }
+        }
+        if v_max > 0.0 { v_max } else { 1.0 }
+    }
+}
+
+const STYLE: &str = "body{font-family:sans-serif;max-width:60em;margin:2em auto;color:#222}\
+table{border-collapse:collapse}td,th{border:1px solid #bbb;padding:.25em .6em;text-align:right}\
+th{background:#eee}.warning{background:#fff3cd;border:1px solid #e0c060;padding:.5em}svg{display:block;margin:1em 0}";
+
+/// Escapes text for HTML.
+fn escape(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
