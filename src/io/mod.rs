@@ -1,3 +1,38 @@
-//! Reading and writing measurement files.
+//! Reading and writing measurement files. Every format becomes a [`csv_table::Table`] of
+//! named numeric columns, which model files refer to by name.
+//!
+//! | extension | reader | columns |
+//! |---|---|---|
+//! | `.csv` | [`csv_table::Table::read`] | header names |
+//! | `.npy` | [`npy::read_npy`] | the file stem (`x`, or `x[1]`…`x[k]` for N × k) |
+//! | `.npz` | [`npy::read_npz`] | each array's name, as above |
+//! | `.mat` | [`mat::read_mat`] | each real numeric variable's name, as above |
 
+mod arrays;
 pub mod csv_table;
+pub mod mat;
+pub mod npy;
+
+use std::path::Path;
+
+use crate::error::{Error, Result};
+use csv_table::Table;
+
+/// Reads a data file by its extension.
+pub fn read_table(path: &Path) -> Result<Table> {
+    let extension = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    match extension.as_deref() {
+        Some("csv") | Some("txt") => Table::read(path),
+        Some("npy") => npy::read_npy(path),
+        Some("npz") => npy::read_npz(path),
+        Some("mat") => mat::read_mat(path),
+        other => Err(Error::Data {
+            file: path.display().to_string(),
+            row: 0,
+            column: String::new(),
+            message: format!("unknown data format {other:?}: use .csv, .npy, .npz or .mat"),
+        }),
+    }
+}

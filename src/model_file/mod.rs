@@ -435,7 +435,7 @@ fn simulate_records(
 
 fn read_record(spec: &RecordSpec, n: usize, base: &Path) -> Result<Record> {
     let path = base.join(&spec.file);
-    let table = Table::read(&path)?;
+    let table = crate::io::read_table(&path)?;
     if spec.displacements.len() != n {
         return Err(Error::mismatch(
             "displacement columns vs dofs",

@@ -50,9 +50,9 @@ impl HtmlReport<'_> {
             page,
             "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>{title}</title>\n<style>{STYLE}</style></head><body>\n<h1>{title}</h1>\n"
         );
-        let _ = write!(
+        let _ = writeln!(
             page,
-            "<p>Status <b>{:?}</b> ({:?}); {} equations from {} records; relative residual {:.3e}; residual bias {:+.3e} of mean |input work| ({} positive, {} negative).</p>\n",
+            "<p>Status <b>{:?}</b> ({:?}); {} equations from {} records; relative residual {:.3e}; residual bias {:+.3e} of mean |input work| ({} positive, {} negative).</p>",
             report.status,
             report.method,
             report.residuals.len(),
