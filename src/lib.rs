@@ -44,6 +44,7 @@ pub mod fit;
 mod fourier;
 pub mod harmonic;
 pub mod identify;
+pub mod interop;
 pub mod io;
 pub mod model;
 pub mod model_file;

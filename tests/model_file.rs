@@ -13,14 +13,12 @@ fn run(path: &str) -> dampid::report::FitReport {
     dampid::identify(&job.model, &job.records, &job.settings).unwrap()
 }
 
-/// `models/four_mass.toml` is the paper's chain with central differences and the
-/// rectangular rule: the same numbers as the example's matching case, to round-off.
-#[test]
-fn four_mass_model_file_matches_the_example() {
-    let from_file = run("models/four_mass.toml");
+/// A model file's report equals the example case's, to round-off.
+fn assert_matches_example(path: &str, case_name: &str) {
+    let from_file = run(path);
     let case = four_mass_cases()
         .into_iter()
-        .find(|c| c.name == "chain, central differences")
+        .find(|c| c.name == case_name)
         .unwrap();
     let from_example = run_four_mass_case(&case, Quadrature::Rectangular)
         .unwrap()
@@ -30,27 +28,23 @@ fn four_mass_model_file_matches_the_example() {
             from_file.coefficient(name).unwrap(),
             from_example.coefficient(name).unwrap(),
         );
-        assert!((a - b).abs() < 1e-12 * b.abs(), "{name}: {a} vs {b}");
+        assert!((a - b).abs() < 1e-12 * b.abs(), "{path} {name}: {a} vs {b}");
     }
+}
+
+/// `models/four_mass.toml` is the paper's chain with central differences and the
+/// rectangular rule: the same numbers as the example's matching case.
+#[test]
+fn four_mass_model_file_matches_the_example() {
+    assert_matches_example("models/four_mass.toml", "chain, central differences");
 }
 
 #[test]
 fn cubic_spring_model_file_matches_the_example() {
-    let from_file = run("models/four_mass_cubic.toml");
-    let case = four_mass_cases()
-        .into_iter()
-        .find(|c| c.name == "cubic spring, four cycles, central differences")
-        .unwrap();
-    let from_example = run_four_mass_case(&case, Quadrature::Rectangular)
-        .unwrap()
-        .report;
-    for name in ["c", "d"] {
-        let (a, b) = (
-            from_file.coefficient(name).unwrap(),
-            from_example.coefficient(name).unwrap(),
-        );
-        assert!((a - b).abs() < 1e-12 * b.abs(), "{name}: {a} vs {b}");
-    }
+    assert_matches_example(
+        "models/four_mass_cubic.toml",
+        "cubic spring, four cycles, central differences",
+    );
 }
 
 /// The bundled CSV data set (three-mass chain, per-dashpot viscous + friction) read from

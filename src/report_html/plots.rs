@@ -1,6 +1,7 @@
 //! SVG charts for the HTML report, drawn with plotters' SVG backend. Text is written as
 //! SVG `<text>` elements with estimated metrics, so no font library is needed.
 
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use crate::error::{Error, Result};
@@ -19,6 +20,44 @@ fn plot_error(e: impl std::fmt::Display) -> Error {
         stage: "plot".into(),
         detail: e.to_string(),
     }
+}
+
+type Chart<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// The common frame: caption, margins, axes with their descriptions.
+fn frame<'a, 'b>(
+    root: &'a DrawingArea<SVGBackend<'b>, plotters::coord::Shift>,
+    caption: &str,
+    x: std::ops::Range<f64>,
+    y: std::ops::Range<f64>,
+    (x_desc, y_desc): (&str, &str),
+) -> Result<Chart<'a, 'b>> {
+    root.fill(&WHITE).map_err(plot_error)?;
+    let mut chart = ChartBuilder::on(root)
+        .caption(caption, ("sans-serif", 18))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(x, y)
+        .map_err(plot_error)?;
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .draw()
+        .map_err(plot_error)?;
+    Ok(chart)
+}
+
+/// Draws the legend box at `position`.
+fn legend<'a, 'b: 'a>(chart: &mut Chart<'a, 'b>, position: SeriesLabelPosition) -> Result<()> {
+    chart
+        .configure_series_labels()
+        .position(position)
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK.mix(0.3))
+        .draw()
+        .map_err(plot_error)
 }
 
 /// A range that contains every value, padded by 5%, never empty.
@@ -42,21 +81,18 @@ pub(crate) fn work_balance(input: &[f64], dissipated: &[f64]) -> Result<String> 
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-        root.fill(&WHITE).map_err(plot_error)?;
         let range = padded(input.iter().chain(dissipated).copied());
-        let mut chart = ChartBuilder::on(&root)
-            .caption("Energy balance per window", ("sans-serif", 18))
-            .margin(12)
-            .x_label_area_size(40)
-            .y_label_area_size(70)
-            .build_cartesian_2d(range.clone(), range.clone())
-            .map_err(plot_error)?;
-        chart
-            .configure_mesh()
-            .x_desc("input work ∮ vᵀr dt")
-            .y_desc("identified dissipated work Σ θ_k A_k")
-            .draw()
-            .map_err(plot_error)?;
+        let axes = (
+            "input work ∮ vᵀr dt",
+            "identified dissipated work Σ θ_k A_k",
+        );
+        let mut chart = frame(
+            &root,
+            "Energy balance per window",
+            range.clone(),
+            range.clone(),
+            axes,
+        )?;
         chart
             .draw_series(LineSeries::new(
                 [(range.start, range.start), (range.end, range.end)],
@@ -75,12 +111,7 @@ pub(crate) fn work_balance(input: &[f64], dissipated: &[f64]) -> Result<String> 
             .map_err(plot_error)?
             .label("windows")
             .legend(|(x, y)| Circle::new((x + 8, y), 4, BLUE.filled()));
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK.mix(0.3))
-            .draw()
-            .map_err(plot_error)?;
+        legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
         root.present().map_err(plot_error)?;
     }
     Ok(svg)
@@ -91,23 +122,17 @@ pub(crate) fn residuals(residuals: &[f64]) -> Result<String> {
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-        root.fill(&WHITE).map_err(plot_error)?;
         let n = residuals.len().max(1) as f64;
         let mean = residuals.iter().sum::<f64>() / n;
         let y = padded(residuals.iter().copied().chain([0.0, mean]));
-        let mut chart = ChartBuilder::on(&root)
-            .caption("Residuals b − Aθ per equation", ("sans-serif", 18))
-            .margin(12)
-            .x_label_area_size(40)
-            .y_label_area_size(70)
-            .build_cartesian_2d(-0.5..(n - 0.5), y)
-            .map_err(plot_error)?;
-        chart
-            .configure_mesh()
-            .x_desc("equation (window)")
-            .y_desc("residual work")
-            .draw()
-            .map_err(plot_error)?;
+        let axes = ("equation (window)", "residual work");
+        let mut chart = frame(
+            &root,
+            "Residuals b − Aθ per equation",
+            -0.5..(n - 0.5),
+            y,
+            axes,
+        )?;
         chart
             .draw_series(LineSeries::new(
                 [(-0.5, 0.0), (n - 0.5, 0.0)],
@@ -132,12 +157,7 @@ pub(crate) fn residuals(residuals: &[f64]) -> Result<String> {
             .map_err(plot_error)?
             .label("residuals")
             .legend(|(x, y)| Circle::new((x + 8, y), 4, BLUE.filled()));
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK.mix(0.3))
-            .draw()
-            .map_err(plot_error)?;
+        legend(&mut chart, SeriesLabelPosition::UpperRight)?;
         root.present().map_err(plot_error)?;
     }
     Ok(svg)
@@ -148,25 +168,13 @@ pub(crate) fn force_laws(title: &str, curves: &[Curve]) -> Result<String> {
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-        root.fill(&WHITE).map_err(plot_error)?;
         let x = padded(curves.iter().flat_map(|c| c.points.iter().map(|p| p.0)));
         let y = padded(curves.iter().flat_map(|c| {
             let band = c.band.iter().flatten().flat_map(|b| [b.1, b.2]);
             c.points.iter().map(|p| p.1).chain(band)
         }));
-        let mut chart = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 18))
-            .margin(12)
-            .x_label_area_size(40)
-            .y_label_area_size(70)
-            .build_cartesian_2d(x, y)
-            .map_err(plot_error)?;
-        chart
-            .configure_mesh()
-            .x_desc("relative velocity v")
-            .y_desc("damping force θ f(v)")
-            .draw()
-            .map_err(plot_error)?;
+        let axes = ("relative velocity v", "damping force θ f(v)");
+        let mut chart = frame(&root, title, x, y, axes)?;
         for (k, curve) in curves.iter().enumerate() {
             let color = Palette99::pick(k).to_rgba();
             if let Some(band) = &curve.band {
@@ -190,13 +198,7 @@ pub(crate) fn force_laws(title: &str, curves: &[Curve]) -> Result<String> {
                     PathElement::new([(x, y), (x + 16, y)], color.stroke_width(2))
                 });
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK.mix(0.3))
-            .draw()
-            .map_err(plot_error)?;
+        legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
         root.present().map_err(plot_error)?;
     }
     Ok(svg)
