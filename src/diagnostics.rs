@@ -12,12 +12,18 @@
 //!   coefficients not held at a bound, s² = ‖e‖²/(m − |F|) and
 //!   Cov(θ_F) = s² (A_Fᵀ A_F)⁻¹ = s² S⁻¹ V Σ⁻² Vᵀ S⁻¹ from the SVD of the scaled A_F;
 //!   the correlation matrix follows. Coefficients held at a bound get none.
+//! - Identifiability (see [`crate::identifiability`]): practically zero singular values
+//!   against the noise level of the equations, near-null directions and determined
+//!   combinations by name, variance inflation factors.
+
+use std::fmt;
 
 use faer::Mat;
 use serde::{Deserialize, Serialize};
 
 use crate::fit::Fit;
 use crate::fit::scaling::{Scaling, norm};
+use crate::identifiability::{Identifiability, analyse};
 use crate::regressor::Regressor;
 
 /// Mean signed residual relative to the mean |b|, and the sign counts.
@@ -40,6 +46,26 @@ pub struct Correlation {
     pub matrix: Vec<Vec<f64>>,
 }
 
+impl fmt::Display for Correlation {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let width = self.names.iter().map(|n| n.len()).max().unwrap_or(0).max(7);
+        writeln!(f, "correlation of the estimates:")?;
+        write!(f, "  {:width$}", "")?;
+        for n in &self.names {
+            write!(f, " {n:>width$}")?;
+        }
+        writeln!(f)?;
+        for (n, row) in self.names.iter().zip(&self.matrix) {
+            write!(f, "  {n:<width$}")?;
+            for r in row {
+                write!(f, " {r:>width$.3}")?;
+            }
+            writeln!(f)?;
+        }
+        Ok(())
+    }
+}
+
 /// Diagnostics of one fit.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Diagnostics {
@@ -59,6 +85,8 @@ pub struct Diagnostics {
     pub std_errors: Vec<Option<f64>>,
     /// Correlation of the free coefficients, when standard errors exist.
     pub correlation: Option<Correlation>,
+    /// What the data can and cannot determine.
+    pub identifiability: Identifiability,
 }
 
 /// Computes the diagnostics of `fit` on `regressor`.
@@ -113,6 +141,7 @@ pub fn diagnose(regressor: &Regressor, fit: &Fit, rank_tolerance: f64) -> Diagno
         rank,
         std_errors,
         correlation,
+        identifiability: analyse(regressor, rank_tolerance),
     }
 }
 

@@ -21,7 +21,10 @@
 //!
 //! Data flow one way: [`record`] → [`window`], [`quadrature`], [`velocity`] →
 //! [`regressor`] (built from the [`terms`] of a [`model`]) → [`fit`] →
-//! [`diagnostics`] → [`report`]. The [`simulate`] module is a leaf that produces
+//! [`diagnostics`] (with [`identifiability`]) → [`report`]. Beside the chain:
+//! [`bootstrap`] (confidence intervals by resampling windows), [`compare`] (nested
+//! models by AIC, BIC and an F-test) and [`design`] (choosing experiments that make the
+//! coefficients identifiable). The [`simulate`] module is a leaf that produces
 //! records; [`reference`] holds the paper's systems.
 //!
 //! ```
@@ -38,11 +41,15 @@
 
 #![warn(missing_docs)]
 
+pub mod bootstrap;
+pub mod compare;
+pub mod design;
 pub mod diagnostics;
 pub mod error;
 pub mod fit;
 mod fourier;
 pub mod harmonic;
+pub mod identifiability;
 pub mod identify;
 pub mod interop;
 pub mod io;
@@ -56,6 +63,7 @@ pub mod regressor;
 pub mod report;
 pub mod report_html;
 pub mod simulate;
+mod special;
 pub mod terms;
 pub mod velocity;
 pub mod window;
@@ -65,11 +73,17 @@ pub use identify::{IdentifySettings, identify};
 
 /// The names most programs need.
 pub mod prelude {
+    pub use crate::bootstrap::{BootstrapSettings, identify_with_bootstrap};
+    pub use crate::compare::{CompareSettings, Comparison, compare};
+    pub use crate::design::{Criterion, DesignReport, DesignSettings, design};
     pub use crate::error::{Error, Result};
-    pub use crate::fit::{Bound, Constraints, Fit, FitSettings, FitStatus, Fixed};
+    pub use crate::fit::{
+        Bound, Constraints, Fit, FitSettings, FitStatus, Fixed, LinearConstraint, Relation,
+    };
     pub use crate::harmonic::{
         HarmonicApproximation, PhaseReading, SteppedSinePoint, SteppedSineTable,
     };
+    pub use crate::identifiability::Identifiability;
     pub use crate::identify::{IdentifySettings, identify};
     pub use crate::model::DampingModel;
     pub use crate::pod::{Pod, PodBasis, PodSettings, Retain, reduce};

@@ -21,11 +21,13 @@ const EXAMPLES: &str = "Examples:
   dampid identify models/four_mass.toml --json   # the report as one JSON object
   dampid identify models/measured_chain.toml --report out/   # also out/report.html, with plots
   dampid check models/measured_chain.toml        # conditioning of the regressor, before any fit
+  dampid compare models/measured_chain.toml models/measured_chain_no_friction.toml   # is friction needed?
+  dampid design models/per_dashpot.toml          # choose experiments that separate the coefficients
   dampid simulate models/four_mass.toml --out runs/   # write the simulated records as CSV
   dampid reference four-mass                     # the paper's section 2.2, every case
 
-Exit codes: 0 success; 1 a fit that did not converge or a missed reference target;
-2 bad input (model file, data, settings).";
+Exit codes: 0 success; 1 a fit that did not converge, a missed reference target, or a
+design that does not reach its target; 2 bad input (model file, data, settings).";
 
 /// Identify damping laws of vibrating structures by balancing energy over cycles.
 #[derive(Parser)]
@@ -52,6 +54,26 @@ enum Command {
     Check {
         /// The model file (TOML).
         model: PathBuf,
+    },
+    /// Compare two damping models on MODEL_A's records: AIC, BIC and, when nested, an
+    /// F-test on the change in residual. MODEL_B contributes only its terms.
+    Compare {
+        /// The first model file; its records and identification settings are used.
+        model_a: PathBuf,
+        /// The second model file (its damping terms).
+        model_b: PathBuf,
+        /// Print the comparison as one JSON object.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Choose among a model file's [simulation] experiments a set that makes the
+    /// coefficients identifiable (settings in [design]).
+    Design {
+        /// The model file (TOML) with a [simulation] section (the candidates).
+        model: PathBuf,
+        /// Print the design report as one JSON object.
+        #[arg(long)]
+        json: bool,
     },
     /// Simulate a model file's [simulation] section and write one CSV per record.
     Simulate {
@@ -129,6 +151,12 @@ fn run(cli: Cli) -> anyhow::Result<Outcome> {
             report,
         } => identify(&model, json, report.as_deref()),
         Command::Check { model } => check(&model),
+        Command::Compare {
+            model_a,
+            model_b,
+            json,
+        } => compare(&model_a, &model_b, json),
+        Command::Design { model, json } => design(&model, json),
         Command::Simulate { model, out } => write_records(&model, &out),
         Command::Reference {
             system: ReferenceSystem::FourMass,
@@ -271,9 +299,69 @@ fn check(path: &Path) -> anyhow::Result<Outcome> {
             "condition number: infinite: these data cannot separate the coefficients"
         )?;
     }
+    write!(out, "{}", diagnostics.identifiability)?;
+    if let Some(c) = diagnostics
+        .correlation
+        .as_ref()
+        .filter(|c| c.names.len() > 1)
+    {
+        write!(out, "{c}")?;
+    }
     Ok(Outcome {
         text: out,
         trusted: true,
+    })
+}
+
+fn compare(first: &Path, second: &Path, as_json: bool) -> anyhow::Result<Outcome> {
+    let job = load_job(first)?;
+    let other = load_job(second)?;
+    let comparison = dampid::compare::compare(
+        (&first.display().to_string(), &job.model),
+        (&second.display().to_string(), &other.model),
+        &job.records,
+        &job.settings.regressor,
+        &dampid::compare::CompareSettings {
+            rank_tolerance: job.settings.fit.rank_tolerance,
+            ..Default::default()
+        },
+    )?;
+    let text = if as_json {
+        format!("{}\n", serde_json::to_string_pretty(&comparison)?)
+    } else {
+        format!(
+            "records and identification settings of {}\n{comparison}",
+            first.display()
+        )
+    };
+    Ok(Outcome {
+        text,
+        trusted: true,
+    })
+}
+
+fn design(path: &Path, as_json: bool) -> anyhow::Result<Outcome> {
+    let job = load_job(path)?;
+    if job.truth.is_none() {
+        bail!(
+            "{} has no [simulation] section: its experiments are the candidates a design chooses from",
+            path.display()
+        );
+    }
+    let settings = job.design.clone().unwrap_or_default();
+    let report =
+        dampid::design::select(&job.model, &job.records, &job.settings.regressor, &settings)?;
+    let text = if as_json {
+        format!("{}\n", serde_json::to_string_pretty(&report)?)
+    } else {
+        format!(
+            "{}: the [simulation] coefficients are the nominal damping\n{report}",
+            job.title
+        )
+    };
+    Ok(Outcome {
+        text,
+        trusted: report.succeeded(),
     })
 }
 

@@ -7,7 +7,11 @@
 //!
 //!   min ½‖r‖²  s.t.  R θ_s − r = Qᵀ b_s,  bounds on θ_s,
 //!
-//! which never forms AᵀA (whose conditioning is the square of A's).
+//! which never forms AᵀA (whose conditioning is the square of A's). A linear constraint
+//! Σ a_j θ_j (= | ≤ | ≥) v becomes the row Σ (a_j ‖b‖/S_j) θ_s,j in the scaled
+//! coefficients (θ_j = ‖b‖ θ_s,j / S_j), normalised to a largest weight of 1: an
+//! equality joins the zero cone beside R θ_s − r = c, an inequality the nonnegative
+//! cone beside the bounds.
 //!
 //! Polish. An interior-point solution sits a little inside the bounds (a coefficient
 //! whose true value is 0 comes out near 1e-9 rather than 0). The polish step takes the
@@ -17,13 +21,16 @@
 //! keeps the result only if it is feasible and satisfies the KKT sign conditions
 //! (gradient gᵢ = [Rᵀ(Rθ − c)]ᵢ ≥ 0 at a lower bound, ≤ 0 at an upper bound), which for
 //! this convex problem certify the exact optimum. Otherwise the solver's point is kept.
+//! The polish knows only bounds, so it is skipped when there are linear constraints
+//! (`SolverInfo::polished` is then false): the interior-point solution is kept, with
+//! coefficients within 1e-6 (scaled) of a bound put on it.
 
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
 use faer::Mat;
 
 use crate::error::{Error, Result};
-use crate::fit::constraints::{Constraints, Interval};
+use crate::fit::constraints::{Constraints, Interval, LinearRow, Relation};
 use crate::fit::least_squares::solve_subset;
 use crate::fit::scaling::Scaling;
 use crate::fit::{
@@ -49,6 +56,7 @@ pub fn constrained(
     settings.validate()?;
     let names = regressor.columns();
     let intervals = constraints.resolve(names)?;
+    let linear = constraints.resolve_linear(names)?;
     let a = regressor.matrix();
     let (m, p) = a.shape();
     let free_count = intervals.iter().filter(|iv| !iv.is_fixed()).count();
@@ -69,6 +77,24 @@ pub fn constrained(
             upper: scaling.scale(j, iv.upper),
         })
         .collect();
+    let scaled_linear: Vec<LinearRow> = linear
+        .iter()
+        .map(|row| {
+            // Σ a_j θ_j = Σ (a_j β / S_j) θ_s,j, then normalised.
+            let weights: Vec<f64> = row
+                .weights
+                .iter()
+                .zip(&scaling.columns)
+                .map(|(a, s)| a * scaling.rhs / s)
+                .collect();
+            let largest = weights.iter().fold(0.0f64, |m, w| m.max(w.abs()));
+            LinearRow {
+                weights: weights.iter().map(|w| w / largest).collect(),
+                relation: row.relation,
+                value: row.value / largest,
+            }
+        })
+        .collect();
 
     // Reduce by QR when there are more equations than coefficients.
     let (r, c) = if m > p {
@@ -80,7 +106,7 @@ pub fn constrained(
         (a_s, b_s)
     };
 
-    let (x, status, iterations) = solve_lifted(&r, &c, &scaled, settings)?;
+    let (x, status, iterations) = solve_lifted(&r, &c, &scaled, &scaled_linear, settings)?;
     let mut theta_s: Vec<f64> = x
         .iter()
         .zip(&scaled)
@@ -89,6 +115,7 @@ pub fn constrained(
 
     let mut polished = false;
     if settings.polish
+        && scaled_linear.is_empty()
         && matches!(status, FitStatus::Solved | FitStatus::AlmostSolved)
         && let Some(better) = polish(&r, &c, &scaled, &theta_s)
     {
@@ -151,11 +178,13 @@ fn side_touched(t: f64, iv: &Interval) -> Option<BoundSide> {
     }
 }
 
-/// Clarabel on min ½‖r‖² s.t. Rθ − r = c, bounds. Returns θ, status and iterations.
+/// Clarabel on min ½‖r‖² s.t. Rθ − r = c, bounds, linear rows. Returns θ, status and
+/// iterations.
 fn solve_lifted(
     r: &Mat<f64>,
     c: &Mat<f64>,
     bounds: &[Interval],
+    linear: &[LinearRow],
     settings: &SolverSettings,
 ) -> Result<(Vec<f64>, FitStatus, u32)> {
     let (q, p) = r.shape();
@@ -189,6 +218,19 @@ fn solve_lifted(
             row += 1;
         }
     }
+    // Linear rows (clarabel: A x + s = b, s in the cone): a·θ = v in the zero cone;
+    // a·θ ≤ v as (a, v) and a·θ ≥ v as (−a, −v) in the nonnegative cone, after the bounds.
+    let equalities = linear.iter().filter(|l| l.relation == Relation::Equal);
+    let inequalities = linear.iter().filter(|l| l.relation != Relation::Equal);
+    for l in equalities {
+        for (j, w) in l.weights.iter().enumerate().filter(|(_, w)| **w != 0.0) {
+            rows.push(row);
+            cols.push(j);
+            vals.push(*w);
+        }
+        rhs.push(l.value);
+        row += 1;
+    }
     let zero_rows = row;
     for (j, iv) in bounds.iter().enumerate() {
         if iv.is_fixed() {
@@ -208,6 +250,20 @@ fn solve_lifted(
             rhs.push(iv.upper);
             row += 1;
         }
+    }
+    for l in inequalities {
+        let sign = if l.relation == Relation::AtMost {
+            1.0
+        } else {
+            -1.0
+        };
+        for (j, w) in l.weights.iter().enumerate().filter(|(_, w)| **w != 0.0) {
+            rows.push(row);
+            cols.push(j);
+            vals.push(sign * w);
+        }
+        rhs.push(sign * l.value);
+        row += 1;
     }
     let a_mat = CscMatrix::new_from_triplets(row, n, rows, cols, vals);
     let mut cones = vec![SupportedConeT::ZeroConeT(zero_rows)];

@@ -1,5 +1,6 @@
 //! Fitting the regressor: plain least squares ([`least_squares`]) or least squares
-//! under physical constraints through clarabel ([`constrained`]). [`solve`] picks the
+//! under physical constraints (bounds, fixed values, linear relations between
+//! coefficients) through clarabel ([`constrained`]). [`solve`] picks the
 //! one the settings call for. A solver's status is data: a fit that did not converge
 //! says so in [`Fit::status`], and the report carries it.
 
@@ -9,7 +10,7 @@ mod least_squares;
 pub(crate) mod scaling;
 
 pub use constrained::constrained;
-pub use constraints::{Bound, Constraints, Fixed};
+pub use constraints::{Bound, Constraints, Fixed, LinearConstraint, LinearTerm, Relation};
 pub use least_squares::least_squares;
 
 use serde::{Deserialize, Serialize};

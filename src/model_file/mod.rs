@@ -15,8 +15,9 @@ use toml::Spanned;
 
 pub use spec::*;
 
+use crate::design::DesignSettings;
 use crate::error::{Error, Result};
-use crate::fit::{Bound, Constraints, Fixed};
+use crate::fit::{Bound, Constraints, Fixed, LinearConstraint, LinearTerm};
 use crate::identify::IdentifySettings;
 use crate::io::csv_table::Table;
 use crate::model::DampingModel;
@@ -42,6 +43,8 @@ pub struct Job {
     pub settings: IdentifySettings,
     /// True coefficients, in model order, when the records were simulated.
     pub truth: Option<Vec<(String, f64)>>,
+    /// Experiment-design settings from `[design]` (start indices 0-based).
+    pub design: Option<DesignSettings>,
 }
 
 /// Reads and builds the model file at `path` (data paths are relative to its folder).
@@ -137,12 +140,24 @@ impl Context<'_> {
                 });
             }
         };
+        let design = spec
+            .design
+            .as_ref()
+            .map(|d| {
+                let experiments = spec
+                    .simulation
+                    .as_ref()
+                    .map(|s| s.get_ref().experiments.len());
+                self.at(d, |d| design_settings(d, experiments))
+            })
+            .transpose()?;
         Ok(Job {
             title: spec.title.clone().unwrap_or_else(|| self.file.to_string()),
             model,
             records,
             settings,
             truth,
+            design,
         })
     }
 
@@ -345,8 +360,55 @@ fn identification_settings(spec: &IdentificationSpec) -> IdentifySettings {
                 value: *value,
             })
             .collect(),
+        linear: spec
+            .constraints
+            .iter()
+            .map(|c| LinearConstraint {
+                terms: c
+                    .terms
+                    .iter()
+                    .map(|(name, coefficient)| LinearTerm {
+                        name: name.clone(),
+                        coefficient: *coefficient,
+                    })
+                    .collect(),
+                relation: c.relation,
+                value: c.value,
+            })
+            .collect(),
     };
     settings
+}
+
+/// `[design]` against the number of `[simulation]` experiments (none without one).
+fn design_settings(spec: &DesignSpec, experiments: Option<usize>) -> Result<DesignSettings> {
+    let Some(count) = experiments else {
+        return Err(Error::Empty {
+            what: "[simulation] experiments: a [design] chooses among them, so it needs a [simulation] section".into(),
+        });
+    };
+    let start = spec
+        .start
+        .iter()
+        .map(|&k| {
+            k.checked_sub(1).filter(|k| *k < count).ok_or_else(|| {
+                Error::invalid(
+                    "design start",
+                    k as f64,
+                    &format!("experiments are numbered 1..{count}"),
+                )
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let settings = DesignSettings {
+        criterion: spec.criterion,
+        picks: spec.picks.unwrap_or(DesignSettings::default().picks),
+        start,
+        target_condition: spec.target_condition,
+        ..DesignSettings::default()
+    };
+    settings.validate(count)?;
+    Ok(settings)
 }
 
 type Truth = Vec<(String, f64)>;

@@ -7,6 +7,8 @@ use std::collections::BTreeMap;
 use serde::Deserialize;
 use toml::Spanned;
 
+use crate::design::Criterion;
+use crate::fit::Relation;
 use crate::quadrature::Quadrature;
 
 /// A whole model file.
@@ -29,6 +31,8 @@ pub struct ModelFileSpec {
     pub simulation: Option<Spanned<SimulationSpec>>,
     /// Read the records from files.
     pub data: Option<Spanned<DataSpec>>,
+    /// Experiment design over the `[simulation]` experiments (`dampid design`).
+    pub design: Option<Spanned<DesignSpec>>,
 }
 
 /// A matrix: a name from `[matrices]`, a built-in (`identity`, `chain`), or inline rows.
@@ -156,6 +160,37 @@ pub struct IdentificationSpec {
     pub bounds: BTreeMap<String, BoundSpec>,
     /// Per-coefficient fixed values.
     pub fixed: BTreeMap<String, f64>,
+    /// Linear relations between coefficients.
+    pub constraints: Vec<LinearConstraintSpec>,
+}
+
+/// `{ terms = { "dashpot[0-1]" = 1, "dashpot[4-5]" = -1 }, relation = "=", value = 0 }`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LinearConstraintSpec {
+    /// Coefficient name → multiplier.
+    pub terms: BTreeMap<String, f64>,
+    /// `"="`, `"<="` or `">="`.
+    pub relation: Relation,
+    /// Right-hand side (default 0).
+    #[serde(default)]
+    pub value: f64,
+}
+
+/// `[design]`: how `dampid design` chooses among the `[simulation]` experiments.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DesignSpec {
+    /// `"d_optimal"` (default) or `"condition"`.
+    #[serde(default)]
+    pub criterion: Criterion,
+    /// Most experiments to add (default 3).
+    pub picks: Option<usize>,
+    /// Experiments always included, 1-based in the order of `[[simulation.experiments]]`.
+    #[serde(default)]
+    pub start: Vec<usize>,
+    /// Stop once the column-scaled condition number falls below this.
+    pub target_condition: Option<f64>,
 }
 
 impl Default for IdentificationSpec {
@@ -170,6 +205,7 @@ impl Default for IdentificationSpec {
             nonnegative: false,
             bounds: BTreeMap::new(),
             fixed: BTreeMap::new(),
+            constraints: Vec::new(),
         }
     }
 }

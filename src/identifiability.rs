@@ -1,0 +1,454 @@
+//! Identifiability: which coefficients, and which combinations of them, the data
+//! determine.
+//!
+//! Everything is read off the thin SVD of the column-scaled regressor
+//! A_s = A S⁻¹ = U Σ Vᵀ (S = diag‖A_j‖, b_s = b/‖b‖, so θ_s = Sθ/‖b‖ is of order one):
+//!
+//! - **Noise level of the equations.** With the numerical rank r (σ_i > tol·σ_1), the
+//!   least-squares residual of the scaled equations is e_s = b_s − Σ_{i≤r} u_i u_iᵀ b_s
+//!   and its standard deviation s = ‖e_s‖/√(m − r) (unknown when m = r).
+//! - **Practically zero singular values.** The component of θ_s along v_i is
+//!   α_i = u_iᵀ b_s/σ_i with standard error s/σ_i. σ_i is *practically zero* when
+//!
+//!   ```text
+//!     σ_i < τ = max(tol·σ_1, κ·max(s, ε·σ_1)),   κ = 3, ε = 1e-6,
+//!   ```
+//!
+//!   i.e. when the equation noise leaves that component uncertain by more than a third of
+//!   an order-one scaled coefficient. The floor ε is the relative precision assumed for
+//!   the scaled equations even when the residual is smaller: noise-free simulations
+//!   still carry quadrature and velocity errors, which enter A and b consistently and so
+//!   hide from the residual (a first-resonance record of a linear chain gives σ_2/σ_1
+//!   between 1e-12 and 1e-7 depending on the rule, with s smaller still).
+//! - **Near-null directions.** For each practically zero σ_i, the coefficient change
+//!   Δθ_j ∝ v_ji/S_j leaves the fit (nearly) unchanged. It is normalised so that its
+//!   largest component is 1, components below 5% of it are dropped, and it is written
+//!   with the coefficient names: the coefficients in it trade off against each other.
+//!   A coefficient that appears in any near-null direction is practically
+//!   unidentifiable.
+//! - **Determined combinations.** When some direction is null, only the linear
+//!   functionals v_iᵀθ_s = Σ_j v_ji S_j θ_j/‖b‖ with σ_i ≥ τ are determined: the weights
+//!   g_j ∝ v_ji S_j, normalised to a largest weight of 1 (for C = c0 I + c1 K driven at
+//!   the first resonance, c0 + λ_1 c1). Value g·θ̂ and standard error (‖b‖/c)·s/σ_i,
+//!   with c the normalising factor. Weights below 0.1% are dropped from the written
+//!   form (not 5%: the value belongs to the whole combination, and a dropped weight
+//!   times a large, undetermined coefficient would make the written one misleading).
+//! - **Variance inflation factor** (uncentred, as the energy balance has no intercept):
+//!   VIF_j = 1/(1 − R_j²) = [(A_sᵀA_s)⁻¹]_jj = Σ_i v_ji²/σ_i², with R_j² the uncentred
+//!   R² of column j on the others; infinite (`None`) when the regressor is rank
+//!   deficient. VIF 1 means an orthogonal column; VIF 100 inflates the variance a
+//!   hundredfold.
+
+use std::fmt;
+
+use faer::Mat;
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::fit::scaling::Scaling;
+use crate::regressor::Regressor;
+
+/// Weights below this fraction of the largest are dropped from a determined combination.
+const DETERMINED_DROP: f64 = 1e-3;
+
+/// Settings of the identifiability analysis.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct IdentifiabilitySettings {
+    /// κ: a singular value below κ·s is practically zero (default 3).
+    pub noise_factor: f64,
+    /// ε: relative precision assumed for the scaled equations when the residual is
+    /// smaller (default 1e-6).
+    pub precision: f64,
+    /// Components below this fraction of a direction's largest are dropped from its
+    /// written form (default 0.05).
+    pub drop: f64,
+}
+
+impl Default for IdentifiabilitySettings {
+    fn default() -> Self {
+        IdentifiabilitySettings {
+            noise_factor: 3.0,
+            precision: 1e-6,
+            drop: 0.05,
+        }
+    }
+}
+
+impl IdentifiabilitySettings {
+    /// Rejects non-positive factors and a drop fraction outside [0, 1).
+    pub fn validate(&self) -> Result<()> {
+        if !(self.noise_factor.is_finite() && self.noise_factor > 0.0) {
+            return Err(Error::invalid(
+                "noise_factor",
+                self.noise_factor,
+                "must be finite and positive",
+            ));
+        }
+        if !(self.precision >= 0.0 && self.precision < 1.0) {
+            return Err(Error::invalid(
+                "precision",
+                self.precision,
+                "must be in [0, 1)",
+            ));
+        }
+        if !(self.drop >= 0.0 && self.drop < 1.0) {
+            return Err(Error::invalid("drop", self.drop, "must be in [0, 1)"));
+        }
+        Ok(())
+    }
+}
+
+/// One named coefficient in a combination, with its weight.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CombinationTerm {
+    /// Coefficient name.
+    pub name: String,
+    /// Its weight (the largest in a combination is 1).
+    pub weight: f64,
+}
+
+/// A linear combination of coefficients, largest weight 1, small weights dropped.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Combination {
+    /// The weights kept, in model order.
+    pub terms: Vec<CombinationTerm>,
+    /// Written out, e.g. `c0 + 0.198 c1`.
+    pub text: String,
+}
+
+/// A direction in coefficient space along which the fit barely changes.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct NullDirection {
+    /// Its singular value (of the column-scaled regressor).
+    pub singular_value: f64,
+    /// The change Δθ, largest component 1.
+    pub direction: Combination,
+    /// In words.
+    pub text: String,
+}
+
+/// A combination of coefficients the data do determine.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DeterminedCombination {
+    /// Its singular value.
+    pub singular_value: f64,
+    /// The functional g·θ, largest weight 1.
+    pub combination: Combination,
+    /// Its least-squares value g·θ̂ (all weights, including dropped ones).
+    pub value: f64,
+    /// Its standard error, when the data have redundancy.
+    pub std_error: Option<f64>,
+}
+
+/// What the data can and cannot determine.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Identifiability {
+    /// Coefficient names, in model order.
+    pub names: Vec<String>,
+    /// s: standard deviation of the scaled equations' residuals (`None` without
+    /// redundancy).
+    pub noise_level: Option<f64>,
+    /// τ: singular values below it are practically zero.
+    pub threshold: f64,
+    /// Singular values at or above τ.
+    pub practical_rank: usize,
+    /// Variance inflation factor per coefficient (`None`: infinite).
+    pub variance_inflation: Vec<Option<f64>>,
+    /// Directions the data do not determine, smallest singular value first.
+    pub null_directions: Vec<NullDirection>,
+    /// When some direction is null: the combinations that are determined.
+    pub determined: Vec<DeterminedCombination>,
+    /// Coefficients that appear in a near-null direction.
+    pub unidentifiable: Vec<String>,
+}
+
+impl Identifiability {
+    /// True when every coefficient is practically identifiable.
+    pub fn separable(&self) -> bool {
+        self.null_directions.is_empty()
+    }
+
+    /// True when coefficient `name` is practically identifiable.
+    pub fn is_identifiable(&self, name: &str) -> bool {
+        !self.unidentifiable.iter().any(|n| n == name)
+    }
+}
+
+/// Analyses `regressor` with numerical rank tolerance `rank_tolerance` (relative to
+/// σ_1) and the default [`IdentifiabilitySettings`].
+pub fn analyse(regressor: &Regressor, rank_tolerance: f64) -> Identifiability {
+    analyse_with(
+        regressor,
+        rank_tolerance,
+        &IdentifiabilitySettings::default(),
+    )
+}
+
+/// Analyses `regressor` with explicit settings (validated by the caller; see
+/// [`IdentifiabilitySettings::validate`]).
+pub fn analyse_with(
+    regressor: &Regressor,
+    rank_tolerance: f64,
+    settings: &IdentifiabilitySettings,
+) -> Identifiability {
+    let a = regressor.matrix();
+    let b = regressor.rhs();
+    let names = regressor.columns().to_vec();
+    let (m, p) = a.shape();
+    let scaling = Scaling::of(a, b);
+    // Zero rows below a short regressor keep every right singular vector in a thin SVD.
+    let rows = m.max(p);
+    let a_s = Mat::from_fn(rows, p, |i, j| {
+        if i < m {
+            a[(i, j)] / scaling.columns[j]
+        } else {
+            0.0
+        }
+    });
+    let b_s = Mat::from_fn(rows, 1, |i, _| if i < m { b[i] / scaling.rhs } else { 0.0 });
+    let empty = |names: Vec<String>| Identifiability {
+        variance_inflation: vec![None; names.len()],
+        unidentifiable: names.clone(),
+        names,
+        noise_level: None,
+        threshold: 0.0,
+        practical_rank: 0,
+        null_directions: Vec::new(),
+        determined: Vec::new(),
+    };
+    let Ok(svd) = a_s.thin_svd() else {
+        return empty(names);
+    };
+    let (u, sv, v) = (svd.U(), svd.S().column_vector(), svd.V());
+    let sigma: Vec<f64> = (0..p).map(|i| sv[i]).collect();
+    let sigma1 = sigma.first().copied().unwrap_or(0.0);
+    if p == 0 || sigma1 <= 0.0 {
+        return empty(names);
+    }
+    let rank = sigma
+        .iter()
+        .filter(|s| **s > rank_tolerance * sigma1)
+        .count();
+    let ub: Vec<f64> = (0..p)
+        .map(|i| (0..rows).map(|r| u[(r, i)] * b_s[(r, 0)]).sum())
+        .collect();
+    let noise_level = (m > rank).then(|| {
+        let residual2: f64 = (0..rows)
+            .map(|r| {
+                let fitted: f64 = (0..rank).map(|i| u[(r, i)] * ub[i]).sum();
+                (b_s[(r, 0)] - fitted).powi(2)
+            })
+            .sum();
+        (residual2 / (m - rank) as f64).sqrt()
+    });
+    let floor = settings.precision * sigma1;
+    let threshold = (rank_tolerance * sigma1)
+        .max(settings.noise_factor * noise_level.unwrap_or(0.0).max(floor));
+    let practical: Vec<bool> = sigma.iter().map(|s| *s >= threshold).collect();
+    let practical_rank = practical.iter().filter(|k| **k).count();
+
+    let variance_inflation = (0..p)
+        .map(|j| (rank == p).then(|| (0..p).map(|i| (v[(j, i)] / sigma[i]).powi(2)).sum::<f64>()))
+        .collect();
+
+    let mut null_directions = Vec::new();
+    let mut unidentifiable = vec![false; p];
+    for i in (0..p).filter(|&i| !practical[i]).rev() {
+        let weights: Vec<f64> = (0..p).map(|j| v[(j, i)] / scaling.columns[j]).collect();
+        let (direction, _) = combination(&names, &weights, settings.drop);
+        for t in &direction.terms {
+            let j = names.iter().position(|n| *n == t.name).unwrap_or(0);
+            unidentifiable[j] = true;
+        }
+        let text = trade_off_text(&direction);
+        null_directions.push(NullDirection {
+            singular_value: sigma[i],
+            direction,
+            text,
+        });
+    }
+    let determined = if null_directions.is_empty() {
+        Vec::new()
+    } else {
+        (0..p)
+            .filter(|&i| practical[i])
+            .map(|i| {
+                let weights: Vec<f64> = (0..p).map(|j| v[(j, i)] * scaling.columns[j]).collect();
+                let drop = settings.drop.min(DETERMINED_DROP);
+                let (combination, factor) = combination(&names, &weights, drop);
+                // g·θ = (‖b‖/factor)·v_iᵀθ_s, v_iᵀθ_s estimated by u_iᵀb_s/σ_i.
+                let to_g = scaling.rhs / factor;
+                DeterminedCombination {
+                    singular_value: sigma[i],
+                    combination,
+                    value: to_g * ub[i] / sigma[i],
+                    std_error: noise_level.map(|s| to_g.abs() * s / sigma[i]),
+                }
+            })
+            .collect()
+    };
+    Identifiability {
+        unidentifiable: names
+            .iter()
+            .zip(&unidentifiable)
+            .filter(|(_, u)| **u)
+            .map(|(n, _)| n.clone())
+            .collect(),
+        names,
+        noise_level,
+        threshold,
+        practical_rank,
+        variance_inflation,
+        null_directions,
+        determined,
+    }
+}
+
+/// Normalises `weights` so that the largest in magnitude is +1, drops those below
+/// `drop`, and writes the rest with `names`. Returns the combination and the factor
+/// the weights were divided by (signed).
+fn combination(names: &[String], weights: &[f64], drop: f64) -> (Combination, f64) {
+    let largest = weights
+        .iter()
+        .copied()
+        .max_by(|x, y| x.abs().total_cmp(&y.abs()))
+        .filter(|w| *w != 0.0)
+        .unwrap_or(1.0);
+    let terms: Vec<CombinationTerm> = names
+        .iter()
+        .zip(weights)
+        .map(|(name, w)| CombinationTerm {
+            name: name.clone(),
+            weight: w / largest,
+        })
+        .filter(|t| t.weight.abs() >= drop && t.weight != 0.0)
+        .collect();
+    let mut text = String::new();
+    for (k, t) in terms.iter().enumerate() {
+        let sign = if t.weight < 0.0 { "−" } else { "+" };
+        let magnitude = t.weight.abs();
+        let number = if (magnitude - 1.0).abs() < 5e-4 {
+            String::new()
+        } else {
+            format!("{} ", significant(magnitude))
+        };
+        match (k, t.weight < 0.0) {
+            (0, false) => text.push_str(&format!("{number}{}", t.name)),
+            (0, true) => text.push_str(&format!("−{number}{}", t.name)),
+            _ => text.push_str(&format!(" {sign} {number}{}", t.name)),
+        }
+    }
+    (Combination { terms, text }, largest)
+}
+
+/// Three significant digits for numbers below 1, three decimals otherwise.
+fn significant(x: f64) -> String {
+    let decimals = if x > 0.0 && x < 1.0 {
+        (2.0 - x.log10().floor()).max(3.0) as usize
+    } else {
+        3
+    };
+    format!("{x:.decimals$}")
+}
+
+fn trade_off_text(direction: &Combination) -> String {
+    let names: Vec<&str> = direction.terms.iter().map(|t| t.name.as_str()).collect();
+    let ratio = direction
+        .terms
+        .iter()
+        .map(|t| {
+            let magnitude = if (t.weight.abs() - 1.0).abs() < 5e-4 {
+                "1".to_string()
+            } else {
+                significant(t.weight.abs())
+            };
+            if t.weight < 0.0 {
+                format!("−{magnitude}")
+            } else {
+                magnitude
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(" : ");
+    match names.as_slice() {
+        [] => "a direction with no significant component".into(),
+        [one] => format!("{one} is not determined: changing it leaves the fit unchanged"),
+        _ => format!(
+            "{} trade off against each other: changing them in the proportion {} = {ratio} leaves the fit unchanged",
+            list(&names),
+            names.join(" : ")
+        ),
+    }
+}
+
+/// "a", "a and b", "a, b and c".
+pub(crate) fn list(names: &[&str]) -> String {
+    match names {
+        [] => String::new(),
+        [one] => (*one).to_string(),
+        [init @ .., last] => format!("{} and {last}", init.join(", ")),
+    }
+}
+
+impl fmt::Display for Identifiability {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.noise_level {
+            Some(s) => writeln!(
+                f,
+                "noise level of the scaled equations: s = {s:.3e}; singular values below {:.3e} are practically zero",
+                self.threshold
+            )?,
+            None => writeln!(
+                f,
+                "no redundancy, so no noise level; singular values below {:.3e} are practically zero",
+                self.threshold
+            )?,
+        }
+        writeln!(
+            f,
+            "practical rank: {} of {}",
+            self.practical_rank,
+            self.names.len()
+        )?;
+        let vif: Vec<String> = self
+            .names
+            .iter()
+            .zip(&self.variance_inflation)
+            .map(|(n, v)| match v {
+                Some(v) => format!("{n} {v:.3e}"),
+                None => format!("{n} infinite"),
+            })
+            .collect();
+        writeln!(f, "variance inflation factors: {}", vif.join(", "))?;
+        if self.separable() {
+            return writeln!(f, "every coefficient is determined by these data");
+        }
+        let names: Vec<&str> = self.unidentifiable.iter().map(String::as_str).collect();
+        writeln!(
+            f,
+            "these data cannot separate {} (practically unidentifiable):",
+            list(&names)
+        )?;
+        for d in &self.null_directions {
+            writeln!(f, "  {} (σ = {:.3e})", d.text, d.singular_value)?;
+        }
+        if !self.determined.is_empty() {
+            writeln!(f, "only these combinations are determined by these data:")?;
+            for d in &self.determined {
+                match d.std_error {
+                    Some(se) => writeln!(
+                        f,
+                        "  {} = {:.6e} ± {se:.2e} (σ = {:.3e})",
+                        d.combination.text, d.value, d.singular_value
+                    )?,
+                    None => writeln!(
+                        f,
+                        "  {} = {:.6e} (σ = {:.3e})",
+                        d.combination.text, d.value, d.singular_value
+                    )?,
+                }
+            }
+        }
+        Ok(())
+    }
+}
