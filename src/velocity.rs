@@ -109,26 +109,31 @@ impl VelocitySource {
                 for j in 0..n {
                     let xj = col(x, j);
                     let vj = v.col_as_slice_mut(j);
+                    // The one-sided forms are written in differences, so that a
+                    // constant signal gives exactly zero (−3a + 4a − a does not).
                     for (k, out) in vj.iter_mut().enumerate() {
                         let i = start + k;
                         *out = if i == 0 {
-                            (-3.0 * xj[0] + 4.0 * xj[1] - xj[2]) / h2
+                            (4.0 * (xj[1] - xj[0]) - (xj[2] - xj[0])) / h2
                         } else if i == last {
-                            (3.0 * xj[last] - 4.0 * xj[last - 1] + xj[last - 2]) / h2
+                            (4.0 * (xj[last] - xj[last - 1]) - (xj[last] - xj[last - 2])) / h2
                         } else {
                             (xj[i + 1] - xj[i - 1]) / h2
                         };
                     }
                 }
-                Ok(WindowVelocities::Estimated(v))
+                Ok(WindowVelocities::Estimated(without_round_off(
+                    v, record, start,
+                )))
             }
             VelocitySource::Spectral { harmonics } => {
                 let omega = 2.0 * std::f64::consts::PI / record.period();
                 let k =
                     harmonics.unwrap_or_else(|| default_harmonics(record.period() / record.step()));
                 let basis = HarmonicBasis::new(omega, k, record.step(), count)?;
-                Ok(WindowVelocities::Estimated(basis.differentiate(
-                    record.displacements().subrows(start, count),
+                let v = basis.differentiate(record.displacements().subrows(start, count));
+                Ok(WindowVelocities::Estimated(without_round_off(
+                    v, record, start,
                 )))
             }
             VelocitySource::HarmonicProjection { harmonics } => {
@@ -145,12 +150,38 @@ impl VelocitySource {
                 let basis =
                     HarmonicBasis::with_orders(omega, orders, record.step(), whole.samples)?;
                 let coefficients = basis.fit(x);
-                Ok(WindowVelocities::Estimated(
-                    basis.derivative(&coefficients, count),
-                ))
+                let v = basis.derivative(&coefficients, count);
+                Ok(WindowVelocities::Estimated(without_round_off(
+                    v, record, start,
+                )))
             }
         }
     }
+}
+
+/// An estimated velocity no larger than this times max|x|/h over the window is the
+/// round-off of differentiating a displacement that does not move.
+const ROUND_OFF_VELOCITY: f64 = 8.0 * f64::EPSILON;
+
+/// Zeroes the estimated velocities (window rows from `start`) of every DOF whose
+/// displacement does not move beyond round-off: a constant signal (a still DOF, a stuck
+/// sensor) then does exactly zero work, instead of round-off velocities that column
+/// scaling would turn into a coefficient of any size.
+fn without_round_off(mut v: Mat<f64>, record: &Record, start: usize) -> Mat<f64> {
+    let x = record.displacements();
+    for j in 0..v.ncols() {
+        let xj = col(x, j);
+        let end = start.saturating_add(v.nrows()).min(xj.len());
+        let largest = xj[start.min(end)..end]
+            .iter()
+            .fold(0.0f64, |m, a| m.max(a.abs()));
+        let floor = ROUND_OFF_VELOCITY * largest / record.step();
+        let vj = v.col_as_slice_mut(j);
+        if vj.iter().all(|a| a.abs() <= floor) {
+            vj.fill(0.0);
+        }
+    }
+    v
 }
 
 /// The whole periods of the window of `count` samples from `start` of `record`.

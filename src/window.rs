@@ -71,6 +71,19 @@ impl WindowSpec {
         self.validate()?;
         let span = self.cycles as f64 * record.period();
         let length = span / record.step();
+        // A window shorter than one step would not advance from one window to the
+        // next: with `count: None` the loop below would never end. The quadrature rules
+        // reject such a window anyway; say so before cutting any.
+        if length.is_nan() || length < 1.0 {
+            return Err(Error::invalid(
+                "window span",
+                span,
+                &format!(
+                    "is shorter than one sample step h = {}; record with a smaller step",
+                    record.step()
+                ),
+            ));
+        }
         let needed_by_rule = quadrature.samples(span, record.step());
         // Saturating arithmetic: absurd skips, counts or spans must end in
         // RecordTooShort, never in an overflow.

@@ -1680,3 +1680,65 @@ fn bad_data_cell_names_row_and_column() {
         other => panic!("{other:?}"),
     }
 }
+
+#[test]
+fn element_weights_that_do_not_match_the_elements_are_checked() {
+    // Two elements, one weight: accumulating the second element's column once indexed
+    // past the end of the weights and panicked.
+    let model = DampingModel::new().with(Term::weighted(
+        Linear,
+        Element::each_dof(2),
+        vec![0.5],
+        Coefficients::Shared("c".into()),
+    ));
+    assert!(matches!(
+        identify(&model, &[record()], &measured()),
+        Err(Error::DimensionMismatch { ref what, expected: 2, found: 1 })
+            if what.contains("element weights")
+    ));
+    // The same through a model file.
+    let text = "dofs = 2\n[[terms]]\nkind = \"law\"\nlaw = \"linear\"\nelements = \"each_dof\"\ncoefficient = \"c\"\nweights = [1.0, 2.0, 3.0]\n[simulation]\nmass = \"identity\"\nstiffness = \"chain\"\ncoefficients = { c = 0.1 }\nstep = 0.1\ntransient_steps = 0\nrecorded_steps = 10\nexperiments = [{ force_dof = 1, amplitude = 1.0, frequency = 1.0 }]\n";
+    match dampid::model_file::parse(text, "w.toml", std::path::Path::new(".")) {
+        Err(Error::ModelFile { line, message, .. }) => {
+            assert_eq!(line, 2, "{message}");
+            assert!(message.contains("element weights"), "{message}");
+        }
+        other => panic!("{other:?}"),
+    }
+    // A non-finite weight names its position.
+    let model = DampingModel::new().with(Term::weighted(
+        Linear,
+        Element::each_dof(2),
+        vec![0.5, f64::NAN],
+        Coefficients::Shared("c".into()),
+    ));
+    assert!(matches!(
+        identify(&model, &[record()], &measured()),
+        Err(Error::NonFinite { ref what, row: 1, column: 0, value })
+            if what.contains("element weights") && value.is_nan()
+    ));
+}
+
+#[test]
+fn window_shorter_than_one_step_is_invalid_not_an_endless_loop() {
+    // Found by the `identify` fuzz target: with a period of a tiny fraction of a step
+    // and as many windows as fit (`count: None`), round(j·T/h) stayed 0, every window
+    // "fit" at sample 0, and cutting windows ran until memory ran out.
+    for quadrature in [
+        Quadrature::Rectangular,
+        Quadrature::Trapezoid,
+        Quadrature::Spectral,
+    ] {
+        let mut p = parts(N);
+        p.period = 1e-30;
+        let record = Record::new(p).unwrap();
+        let mut settings = measured();
+        settings.regressor.quadrature = quadrature;
+        settings.regressor.windows.count = None;
+        assert_invalid(
+            identify(&shared_model(), &[record], &settings),
+            "window span",
+            1e-30,
+        );
+    }
+}

@@ -104,7 +104,26 @@ impl ElementTerm {
         }
         self.elements
             .iter()
-            .try_for_each(|e| e.validate(dofs, &what))
+            .try_for_each(|e| e.validate(dofs, &what))?;
+        if let Some(weights) = &self.weights {
+            let what = format!("element weights of the {what}");
+            if weights.len() != self.elements.len() {
+                return Err(Error::mismatch(
+                    format!("{what} vs elements"),
+                    self.elements.len(),
+                    weights.len(),
+                ));
+            }
+            if let Some((row, &value)) = weights.iter().enumerate().find(|(_, w)| !w.is_finite()) {
+                return Err(Error::NonFinite {
+                    what,
+                    row,
+                    column: 0,
+                    value,
+                });
+            }
+        }
+        Ok(())
     }
 
     /// Σ_i w_i v_e f(x_e, v_e) for one element.

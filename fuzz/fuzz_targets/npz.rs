@@ -1,0 +1,16 @@
+//! NumPy `.npz` archives: `dampid::io::npy::read_npz` on arbitrary bytes. Any `Err` is fine; a panic is a bug, and
+//! so is a table with columns of different lengths or non-finite values.
+
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+
+#[path = "file_input.rs"]
+mod file_input;
+
+fuzz_target!(|bytes: &[u8]| {
+    let path = file_input::write(bytes, "npz");
+    if let Ok(table) = dampid::io::npy::read_npz(&path) {
+        file_input::check(&table);
+    }
+});

@@ -1,0 +1,343 @@
+//! Degenerate data gets a typed error or a clearly flagged report: never a panic, a NaN
+//! or a silent number. One test per class of degenerate data. Classes already covered
+//! elsewhere are listed here and not repeated:
+//!
+//! | class | where | what the library gives |
+//! |---|---|---|
+//! | a DOF that never moves | here: `dof_that_never_moves_*` | `Warning::RankDeficient`, no standard errors, the moving DOF's coefficient still right |
+//! | a constant signal | here: `constant_signal_*` | `Warning::RankDeficient` of rank 0, zero residual, no NaN |
+//! | an all-zero regressor column | here: `all_zero_regressor_column_*` | `Warning::RankDeficient`; the other coefficients still right |
+//! | duplicated experiments | here: `duplicated_experiments_*` | `Warning::RankDeficient` (and `NoRedundancy`): copies add no information |
+//! | NaN or Inf anywhere | tests/errors.rs: `nan_in_displacements_*`, `inf_in_force_signals_*`, `negative_inf_in_force_signals_*`, `nan_in_measured_velocities_*`, `nan_in_load_distribution_*`, `nan_start_time_*`, `nan_step_*`, `infinite_step_*`, `nonpositive_or_nan_period_*`, `nan_in_damping_matrix_*`, `custom_law_returning_nan_*`, `overflowing_regressor_column_*`, `regressor_parts_are_checked`, `nan_bound_or_fixed_value_*`, `bad_data_cell_names_row_and_column` | `Error::NonFinite`, `Error::InvalidParameter` or `Error::Data` with the position |
+//! | a record shorter than one period | tests/errors.rs: `record_shorter_than_one_window_is_too_short`, `record_of_two_samples_is_too_short` | `Error::RecordTooShort` |
+//! | more coefficients than equations | tests/errors.rs: `fewer_windows_than_coefficients_is_too_few_equations`, `constrained_fit_with_too_few_equations_*`, `regressor_without_rows_*` | `Error::TooFewEquations` |
+//! | a rank-deficient regressor | tests/fit.rs: `rank_deficient_regressor_is_flagged` (and every test here) | `Warning::RankDeficient`, `condition_number: None` |
+//! | a solver that does not converge | tests/fit.rs: `unconverged_solver_is_reported_not_hidden` | `FitStatus::MaxIterations`, `Warning::NotConverged` |
+//! | a force on a DOF that does not exist | tests/errors.rs: `force_channel_on_missing_dof_*`, `harmonic_force_on_missing_dof_*`; here: `force_on_missing_dof_in_a_model_file_*` (the model-file route) | `Error::DofOutOfRange`, inside `Error::ModelFile` for model files |
+//!
+//! Fixtures: pure harmonic motion on 2 DOFs with exact velocities (tests/support), one
+//! equation per record, least squares unless a test says otherwise.
+
+mod support;
+
+use std::path::Path;
+
+use dampid::prelude::*;
+use dampid::report::Warning;
+use faer::Mat;
+use support::Harmonic;
+
+/// Records of 2-DOF harmonic motion whose generalized forces balance linear damping
+/// c = (0.3, 0.2) per DOF and a shared quadratic d = 0.1 exactly: r_j = c_j v_j + d v_j|v_j|.
+fn balanced(amplitudes: [f64; 2], omega: f64) -> Record {
+    let h = Harmonic {
+        amplitudes: amplitudes.to_vec(),
+        phases: vec![0.0, 0.4],
+        omega,
+        per_period: 40.0,
+        periods: 1.0,
+        force: 1.0,
+        force_phase: 0.0,
+        force_dof: 0,
+    };
+    let parts = h.record().into_parts();
+    let v = parts.velocities.clone().unwrap();
+    let c = [0.3, 0.2];
+    let forces = Mat::from_fn(v.nrows(), 2, |i, j| {
+        c[j] * v[(i, j)] + 0.1 * v[(i, j)] * v[(i, j)].abs()
+    });
+    Record::new(RecordParts {
+        forcing: Forcing::generalized(forces),
+        ..parts
+    })
+    .unwrap()
+}
+
+/// `model` plus the shared quadratic `d` on each DOF.
+fn with_quadratic(model: DampingModel) -> DampingModel {
+    model.with(Term::per_dof(
+        Quadratic,
+        2,
+        Coefficients::Shared("d".into()),
+    ))
+}
+
+fn per_dof_linear() -> DampingModel {
+    DampingModel::new().with(Term::per_dof(
+        Linear,
+        2,
+        Coefficients::PerElement("c".into()),
+    ))
+}
+
+/// Spectral quadrature with measured (exact) velocities: the balanced forces identify
+/// the true coefficients to round-off.
+fn exact() -> IdentifySettings {
+    let mut settings = IdentifySettings::default();
+    settings.regressor.quadrature = Quadrature::Spectral;
+    settings.regressor.velocity = VelocitySource::Measured;
+    settings
+}
+
+fn rank_deficient(report: &FitReport) -> Option<(usize, usize)> {
+    report.warnings.iter().find_map(|w| match w {
+        Warning::RankDeficient { rank, coefficients } => Some((*rank, *coefficients)),
+        _ => None,
+    })
+}
+
+/// Every number in the report is finite or explicitly absent.
+#[track_caller]
+fn no_nan(report: &FitReport) {
+    for c in &report.coefficients {
+        assert!(c.value.is_finite(), "{}: {}", c.name, c.value);
+        assert!(c.std_error.is_none_or(f64::is_finite), "{}", c.name);
+    }
+    assert!(report.relative_residual.is_finite());
+    assert!(report.residuals.iter().all(|e| e.is_finite()));
+    assert!(report.singular_values.iter().all(|s| s.is_finite()));
+    assert!(report.residual_bias.relative_mean.is_finite());
+    let text = report.to_string();
+    assert!(!text.contains("NaN"), "{text}");
+}
+
+// ---------------------------------------------------------------------------------
+// A DOF that never moves
+// ---------------------------------------------------------------------------------
+
+/// DOF 2 is still (amplitude 0): its damper does no work in any record, so its column
+/// is zero. The report says the data cannot determine c[2]; c[1] is still right.
+#[test]
+fn dof_that_never_moves_is_flagged_and_the_other_coefficient_is_right() {
+    let records: Vec<Record> = [(1.0, 1.0), (0.5, 1.3), (1.5, 0.8)]
+        .iter()
+        .map(|&(a, w)| balanced([a, 0.0], w))
+        .collect();
+    let report = identify(&with_quadratic(per_dof_linear()), &records, &exact()).unwrap();
+    no_nan(&report);
+    assert_eq!(rank_deficient(&report), Some((2, 3)), "{report}");
+    assert_eq!(report.condition_number, None);
+    assert!(report.coefficients.iter().all(|c| c.std_error.is_none()));
+    assert!(report.to_string().contains("cannot separate"), "{report}");
+    // The moving DOF's coefficients are determined by the data and come out right.
+    let c1 = report.coefficient("c[1]").unwrap();
+    let d = report.coefficient("d").unwrap();
+    assert!(
+        (c1 - 0.3).abs() < 1e-9 && (d - 0.1).abs() < 1e-9,
+        "{report}"
+    );
+}
+
+/// The same with θ ≥ 0: the interior-point solver puts the undetermined c[2] anywhere
+/// in [0, ∞), and the report must say that it is not an estimate.
+#[test]
+fn dof_that_never_moves_is_flagged_in_a_nonnegative_fit() {
+    let records: Vec<Record> = [(1.0, 1.0), (0.5, 1.3), (1.5, 0.8)]
+        .iter()
+        .map(|&(a, w)| balanced([a, 0.0], w))
+        .collect();
+    let mut settings = exact();
+    settings.fit.constraints = Constraints::nonnegative();
+    let report = identify(&with_quadratic(per_dof_linear()), &records, &settings).unwrap();
+    no_nan(&report);
+    assert_eq!(report.status, FitStatus::Solved);
+    assert_eq!(rank_deficient(&report), Some((2, 3)), "{report}");
+    assert!(report.coefficients.iter().all(|c| c.std_error.is_none()));
+    let c1 = report.coefficient("c[1]").unwrap();
+    let d = report.coefficient("d").unwrap();
+    assert!(
+        (c1 - 0.3).abs() < 1e-6 && (d - 0.1).abs() < 1e-6,
+        "{report}"
+    );
+}
+
+/// A still DOF whose sensor reads a constant offset (0.3, not 0): estimated velocities
+/// must come out exactly zero, not as round-off that column scaling would inflate into
+/// a "determined" coefficient of any size (spectral velocities once gave c[2] ≈ 0.01
+/// "± 1e-18" here, central differences 9e14 on a record with no motion at all).
+#[test]
+fn dof_that_never_moves_at_an_offset_is_flagged_with_estimated_velocities() {
+    let records: Vec<Record> = [(1.0, 1.0), (0.5, 1.3), (1.5, 0.8)]
+        .iter()
+        .map(|&(a, w)| {
+            let mut parts = balanced([a, 0.0], w).into_parts();
+            for i in 0..parts.displacements.nrows() {
+                parts.displacements[(i, 1)] = 0.3;
+            }
+            parts.velocities = None;
+            Record::new(parts).unwrap()
+        })
+        .collect();
+    for velocity in [
+        VelocitySource::CentralDifference,
+        VelocitySource::Spectral { harmonics: None },
+        VelocitySource::HarmonicProjection { harmonics: None },
+    ] {
+        let mut settings = exact();
+        settings.regressor.velocity = velocity;
+        let report = identify(&with_quadratic(per_dof_linear()), &records, &settings).unwrap();
+        no_nan(&report);
+        assert_eq!(
+            rank_deficient(&report),
+            Some((2, 3)),
+            "{velocity:?}: {report}"
+        );
+        // Minimum norm: zero along the null direction, up to round-off.
+        let c2 = report.coefficient("c[2]").unwrap();
+        assert!(c2.abs() < 1e-12, "{velocity:?}: c[2] = {c2}");
+        let c1 = report.coefficient("c[1]").unwrap();
+        assert!((c1 - 0.3).abs() < 1e-2, "{velocity:?}: c[1] = {c1}");
+    }
+}
+
+// ---------------------------------------------------------------------------------
+// A constant signal
+// ---------------------------------------------------------------------------------
+
+/// Displacements that never change (a stuck sensor, or no motion at all) and a constant
+/// force: every velocity estimate is zero, so A = 0 and b = 0. The report has rank 0,
+/// says so, and holds no NaN (‖b‖ = 0 must not divide anything).
+#[test]
+fn constant_signal_is_rank_zero_without_nan() {
+    let samples = 120;
+    let record = Record::new(RecordParts {
+        label: "stuck".into(),
+        step: 0.05,
+        start_time: 0.0,
+        displacements: Mat::from_fn(samples, 2, |_, j| [0.3, -0.2][j]),
+        velocities: None,
+        forcing: Forcing::on_dofs(Mat::from_fn(samples, 1, |_, _| 1.0), vec![0]),
+        period: 2.0,
+    })
+    .unwrap();
+    let mut settings = IdentifySettings::default(); // central differences
+    settings.regressor.windows.count = None; // as many windows as fit: 2 equations
+    for velocity in [
+        VelocitySource::CentralDifference,
+        VelocitySource::Spectral { harmonics: None },
+    ] {
+        settings.regressor.velocity = velocity;
+        let report = identify(&per_dof_linear(), std::slice::from_ref(&record), &settings).unwrap();
+        no_nan(&report);
+        assert_eq!(
+            rank_deficient(&report),
+            Some((0, 2)),
+            "{velocity:?}: {report}"
+        );
+        assert_eq!(report.rank, 0);
+        assert_eq!(report.condition_number, None);
+        assert_eq!(report.relative_residual, 0.0);
+    }
+}
+
+// ---------------------------------------------------------------------------------
+// An all-zero regressor column
+// ---------------------------------------------------------------------------------
+
+/// A term that dissipates nothing on these data (a zero damping matrix) gives an
+/// all-zero column. Column scaling must not divide by its zero norm; the report flags
+/// it and the other coefficients are unaffected.
+#[test]
+fn all_zero_regressor_column_is_flagged_and_the_others_are_right() {
+    let records: Vec<Record> = [([1.0, 0.5], 1.0), ([0.4, 1.2], 1.3), ([1.1, 0.9], 0.7)]
+        .iter()
+        .map(|&(a, w)| balanced(a, w))
+        .collect();
+    let model = with_quadratic(per_dof_linear()).with(Term::viscous("zero", Mat::zeros(2, 2)));
+    let mut records = records;
+    records.push(balanced([0.7, 0.3], 1.6));
+    let report = identify(&model, &records, &exact()).unwrap();
+    no_nan(&report);
+    assert_eq!(rank_deficient(&report), Some((3, 4)), "{report}");
+    assert_eq!(report.coefficient("zero"), Some(0.0));
+    for (name, truth) in [("c[1]", 0.3), ("c[2]", 0.2), ("d", 0.1)] {
+        let value = report.coefficient(name).unwrap();
+        assert!((value - truth).abs() < 1e-9, "{name} = {value}: {report}");
+    }
+}
+
+// ---------------------------------------------------------------------------------
+// Duplicated experiments
+// ---------------------------------------------------------------------------------
+
+/// The same experiment given twice is two equal equations: as many equations as
+/// coefficients, but rank 1. The report says the data cannot separate them, instead of
+/// fitting the copies exactly and calling it a solution.
+#[test]
+fn duplicated_experiments_are_rank_deficient() {
+    let record = balanced([1.0, 0.5], 1.0);
+    let report = identify(&per_dof_linear(), &[record.clone(), record], &exact()).unwrap();
+    no_nan(&report);
+    assert_eq!(rank_deficient(&report), Some((1, 2)), "{report}");
+    assert!(
+        report
+            .warnings
+            .contains(&Warning::NoRedundancy { equations: 2 }),
+        "{report}"
+    );
+    assert!(report.coefficients.iter().all(|c| c.std_error.is_none()));
+}
+
+/// Copies of an experiment whose motion is only rescaled (the same shape at another
+/// amplitude) carry no new information about a linear model either.
+#[test]
+fn duplicated_experiments_at_another_amplitude_are_rank_deficient() {
+    let records = [
+        balanced([1.0, 0.5], 1.0),
+        balanced([2.0, 1.0], 1.0),
+        balanced([0.5, 0.25], 1.0),
+    ];
+    let report = identify(&per_dof_linear(), &records, &exact()).unwrap();
+    no_nan(&report);
+    assert_eq!(rank_deficient(&report), Some((1, 2)), "{report}");
+    assert!(report.coefficients.iter().all(|c| c.std_error.is_none()));
+}
+
+// ---------------------------------------------------------------------------------
+// A force on a DOF that does not exist (the model-file route)
+// ---------------------------------------------------------------------------------
+
+fn model_file_error(forces: &str) -> Error {
+    let text = format!(
+        r#"
+dofs = 2
+
+[[terms]]
+kind = "law"
+law = "linear"
+elements = "each_dof"
+coefficient = "c"
+
+[[data.records]]
+file = "data/chain3/record_1.csv"
+time = "t"
+displacements = ["x1", "x2"]
+forces = [{forces}]
+frequency = 0.765367
+"#
+    );
+    dampid::model_file::parse(&text, "force.toml", Path::new("models")).unwrap_err()
+}
+
+/// Model files number DOFs from 1 (0 is ground): a force column on DOF 3 of a 2-DOF
+/// model, or on DOF 0, is `DofOutOfRange`, reported at the record's line.
+#[test]
+fn force_on_missing_dof_in_a_model_file_is_dof_out_of_range() {
+    for (dof, needle) in [(3, "DOF 3"), (0, "DOF 0")] {
+        let err = model_file_error(&format!(r#"{{ column = "f1", dof = {dof} }}"#));
+        match &err {
+            Error::ModelFile {
+                file,
+                line,
+                message,
+                ..
+            } => {
+                assert_eq!(file, "force.toml");
+                assert_eq!(*line, 10, "{err}");
+                assert!(message.contains(needle), "{err}");
+                assert!(message.contains("numbered 1..2"), "{err}");
+            }
+            other => panic!("expected a model-file error, got {other:?}"),
+        }
+    }
+}
