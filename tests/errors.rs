@@ -1742,3 +1742,24 @@ fn window_shorter_than_one_step_is_invalid_not_an_endless_loop() {
         );
     }
 }
+
+#[test]
+fn mat_file_whose_element_size_overflows_is_a_data_error() {
+    // Found by the `mat` fuzz target: a data element claiming 0xFFFFFFFF bytes made the
+    // MAT parser (matfile 0.5) overflow while rounding the size up to its padding, a
+    // panic under overflow checks. A 128-byte level-5 header, then that one tag.
+    let mut bytes = vec![b' '; 116];
+    bytes.extend_from_slice(&[0; 8]); // subsystem data offset
+    bytes.extend_from_slice(&[0x00, 0x01]); // version
+    bytes.extend_from_slice(b"IM"); // little endian
+    bytes.extend_from_slice(&[0x0f, 0, 0, 0, 0xff, 0xff, 0xff, 0xff]); // miCOMPRESSED
+    let path = std::env::temp_dir().join(format!("dampid-overflow-{}.mat", std::process::id()));
+    std::fs::write(&path, &bytes).unwrap();
+    let result = dampid::io::mat::read_mat(&path);
+    std::fs::remove_file(&path).unwrap();
+    assert!(
+        matches!(&result, Err(Error::Data { file, row: 0, message, .. })
+            if file.ends_with(".mat") && message.contains("MAT")),
+        "{result:?}"
+    );
+}

@@ -44,8 +44,15 @@ pub fn read_mat(path: &Path) -> Result<Table> {
         message,
     };
     let reader = std::fs::File::open(path).map_err(|e| error(e.to_string()))?;
-    let mat = MatFile::parse(std::io::BufReader::new(reader))
-        .map_err(|e| error(format!("not a level-5 MAT file (v7.3 files are HDF5): {e}")))?;
+    // matfile 0.5 panics on some malformed files (a data element whose size is within 8
+    // of u32::MAX overflows its padding arithmetic; found by the `mat` fuzz target), so
+    // a panic in the parser is turned into the same typed error as a parse failure.
+    let parsed = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        MatFile::parse(std::io::BufReader::new(reader))
+    }))
+    .map_err(|_| error("not a level-5 MAT file: the MAT parser failed on it".into()))?;
+    let mat =
+        parsed.map_err(|e| error(format!("not a level-5 MAT file (v7.3 files are HDF5): {e}")))?;
     let arrays = mat
         .arrays()
         .iter()
