@@ -175,6 +175,37 @@ pub enum Error {
         /// What happened.
         detail: String,
     },
+
+    /// No driving period can be detected from a record's force signals.
+    #[error("record '{record}': no driving period can be detected from the force: {reason}")]
+    NoPeriod {
+        /// The record's label.
+        record: String,
+        /// Share of the force's variance the best single sinusoid explains (0 when the
+        /// force is constant).
+        explained: f64,
+        /// Why the force shows no period.
+        reason: String,
+    },
+
+    /// A window is not in steady state: the motion at its end differs from its start.
+    #[error(
+        "record '{record}', window {window} (starting at t = {start_time}): not in steady state: {measure} {mismatch:.3e} exceeds {threshold:.3e}; skip more of the transient, or accept it"
+    )]
+    NotSteady {
+        /// The record's label.
+        record: String,
+        /// The window's index within its record (0-based).
+        window: usize,
+        /// Time of the window's first sample.
+        start_time: f64,
+        /// What was measured ("stored-energy mismatch / input work", "state mismatch").
+        measure: String,
+        /// The mismatch found.
+        mismatch: f64,
+        /// The largest mismatch accepted.
+        threshold: f64,
+    },
 }
 
 impl Error {

@@ -8,26 +8,37 @@ use std::process::ExitCode;
 use anyhow::{Context, bail};
 use clap::{Parser, Subcommand, ValueEnum};
 use dampid::io::csv_table::Table;
-use dampid::model_file::{Job, load};
+use dampid::model_file::{Job, load_with_progress};
+use dampid::pod::{PodBasis, PodSettings, Retain};
+use dampid::pod_files::{Columns, PodTables, pod_of_files};
 use dampid::quadrature::Quadrature;
 use dampid::reference::FourMassSummary;
 use dampid::regressor::Regressor;
 use dampid::report::FitReport;
 use dampid::report_html::HtmlReport;
+use dampid::steady_state::SteadyStateReport;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::json;
 
 const EXAMPLES: &str = "Examples:
   dampid identify models/four_mass.toml          # simulate the paper's chain and identify c, d
   dampid identify models/four_mass.toml --json   # the report as one JSON object
   dampid identify models/measured_chain.toml --report out/   # also out/report.html, with plots
-  dampid check models/measured_chain.toml        # conditioning of the regressor, before any fit
+  dampid check models/measured_chain.toml        # periods, steady state and conditioning, before any fit
+  dampid identify models/four_mass_pod.toml      # the same chain reduced to two POMs (paper 3.1)
+  dampid identify models/string.toml             # the string with eight sensors (paper 3.2.1)
+  dampid identify models/four_mass_harmonic.toml # the harmonic approximation (paper eq. 4)
+  dampid pod models/data/chain3/record_1.csv     # energy table of the proper orthogonal modes
   dampid compare models/measured_chain.toml models/measured_chain_no_friction.toml   # is friction needed?
   dampid design models/per_dashpot.toml          # choose experiments that separate the coefficients
   dampid simulate models/four_mass.toml --out runs/   # write the simulated records as CSV
   dampid reference four-mass                     # the paper's section 2.2, every case
 
 Exit codes: 0 success; 1 a fit that did not converge, a missed reference target, or a
-design that does not reach its target; 2 bad input (model file, data, settings).";
+design that does not reach its target; 2 bad input (model file, data, settings), or a
+window that is not in steady state (--accept-transient accepts it).
+
+Progress bars are drawn on stderr only when it is a terminal.";
 
 /// Identify damping laws of vibrating structures by balancing energy over cycles.
 #[derive(Parser)]
@@ -49,11 +60,42 @@ enum Command {
         /// Also write a self-contained HTML report with plots to DIR/report.html.
         #[arg(long, value_name = "DIR")]
         report: Option<PathBuf>,
+        /// Identify from windows that are not in steady state (they are reported).
+        #[arg(long)]
+        accept_transient: bool,
     },
-    /// Validate a model file and its data and show the regressor's conditioning.
+    /// Validate a model file and its data: detected periods, how far each window is
+    /// from steady state, and the regressor's conditioning, before any fit.
     Check {
         /// The model file (TOML).
         model: PathBuf,
+        /// Do not fail on windows that are not in steady state.
+        #[arg(long)]
+        accept_transient: bool,
+    },
+    /// Proper orthogonal modes of record files (CSV, NPY, NPZ, MAT): energy table.
+    Pod {
+        /// The record files; one decomposition per file unless --shared.
+        #[arg(required = true)]
+        files: Vec<PathBuf>,
+        /// Displacement columns, comma-separated (default: every column but t/time).
+        #[arg(long, value_delimiter = ',', conflicts_with = "prefix")]
+        columns: Option<Vec<String>>,
+        /// Displacement columns: every column whose name starts with PREFIX.
+        #[arg(long)]
+        prefix: Option<String>,
+        /// One basis for all files, from their stacked samples.
+        #[arg(long)]
+        shared: bool,
+        /// Remove each column's mean first (the paper does not).
+        #[arg(long)]
+        remove_mean: bool,
+        /// Modes counted as retained in the table: the fewest reaching this energy share.
+        #[arg(long, default_value_t = 0.999)]
+        energy: f64,
+        /// Print the decompositions as one JSON object.
+        #[arg(long)]
+        json: bool,
     },
     /// Compare two damping models on MODEL_A's records: AIC, BIC and, when nested, an
     /// F-test on the change in residual. MODEL_B contributes only its terms.
@@ -149,8 +191,21 @@ fn run(cli: Cli) -> anyhow::Result<Outcome> {
             model,
             json,
             report,
-        } => identify(&model, json, report.as_deref()),
-        Command::Check { model } => check(&model),
+            accept_transient,
+        } => identify(&model, json, report.as_deref(), accept_transient),
+        Command::Check {
+            model,
+            accept_transient,
+        } => check(&model, accept_transient),
+        Command::Pod {
+            files,
+            columns,
+            prefix,
+            shared,
+            remove_mean,
+            energy,
+            json,
+        } => pod(&files, columns, prefix, shared, remove_mean, energy, json),
         Command::Compare {
             model_a,
             model_b,
@@ -177,14 +232,76 @@ fn run(cli: Cli) -> anyhow::Result<Outcome> {
     }
 }
 
-fn load_job(path: &Path) -> anyhow::Result<Job> {
-    Ok(load(path)?)
+/// A progress bar on stderr, hidden when stderr is not a terminal.
+fn progress_bar(message: &'static str) -> ProgressBar {
+    let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+    let style = ProgressStyle::with_template("{msg:>10} [{bar:40}] {percent:>3}% ({eta} left)")
+        .unwrap_or_else(|_| ProgressStyle::default_bar())
+        .progress_chars("=> ");
+    bar.set_style(style);
+    bar.set_message(message);
+    bar
 }
 
-fn identify(path: &Path, as_json: bool, html: Option<&Path>) -> anyhow::Result<Outcome> {
-    let job = load_job(path)?;
-    let (regressor, report) =
-        dampid::identify::identify_with_regressor(&job.model, &job.records, &job.settings)?;
+/// Loads a model file with a progress bar over simulating or reading its records.
+fn load_job(path: &Path) -> anyhow::Result<Job> {
+    let bar = progress_bar("records");
+    let job = load_with_progress(path, &|done, total| {
+        bar.set_length(total);
+        bar.set_position(done);
+    });
+    bar.finish_and_clear();
+    Ok(job?)
+}
+
+/// Loads a model file and enforces steady state on its windows (unless accepted).
+fn load_steady_job(
+    path: &Path,
+    accept_transient: bool,
+) -> anyhow::Result<(Job, SteadyStateReport)> {
+    let mut job = load_job(path)?;
+    job.steady_state.accept_transient |= accept_transient;
+    let steady = job.steady_state()?;
+    steady.enforce().with_context(|| {
+        format!(
+            "{}: set accept_transient = true in [identification] or pass --accept-transient to use these windows anyway",
+            path.display()
+        )
+    })?;
+    Ok((job, steady))
+}
+
+/// The regressor with a spinner while it is built: it is built in one call (its rows
+/// in parallel, and a noise model across them), so there is no per-record count to show.
+fn build_regressor(job: &Job) -> anyhow::Result<Regressor> {
+    let spinner = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+    spinner.set_style(
+        ProgressStyle::with_template("{spinner} {msg} ({elapsed})")
+            .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+    );
+    spinner.set_message(format!(
+        "building the regressor from {} records",
+        job.records.len()
+    ));
+    spinner.enable_steady_tick(std::time::Duration::from_millis(120));
+    let regressor = Regressor::build(&job.model, &job.records, &job.settings.regressor);
+    spinner.finish_and_clear();
+    Ok(regressor?)
+}
+
+fn identify(
+    path: &Path,
+    as_json: bool,
+    html: Option<&Path>,
+    accept_transient: bool,
+) -> anyhow::Result<Outcome> {
+    let (job, steady) = load_steady_job(path, accept_transient)?;
+    job.settings.fit.validate()?;
+    let regressor = build_regressor(&job)?;
+    let fit = dampid::fit::solve(&regressor, &job.settings.fit)?;
+    let diagnostics =
+        dampid::diagnostics::diagnose(&regressor, &fit, job.settings.fit.rank_tolerance);
+    let report = FitReport::new(&regressor, fit, diagnostics);
     let mut out = String::new();
     if let Some(folder) = html {
         let page = HtmlReport {
@@ -224,6 +341,7 @@ fn identify(path: &Path, as_json: bool, html: Option<&Path>) -> anyhow::Result<O
             job.records.len(),
             report.residuals.len()
         )?;
+        write_preamble(&mut out, &job, &steady)?;
         write!(out, "{report}")?;
         if let Some(truth) = &job.truth {
             write_truth(&mut out, &report, truth)?;
@@ -253,16 +371,96 @@ fn write_truth(out: &mut String, report: &FitReport, truth: &[(String, f64)]) ->
     Ok(())
 }
 
-fn check(path: &Path) -> anyhow::Result<Outcome> {
-    let job = load_job(path)?;
+/// What identify prints before the fit: detected periods, windows accepted although
+/// not steady, the POD reduction and the harmonic approximation, when there are any.
+fn write_preamble(out: &mut String, job: &Job, steady: &SteadyStateReport) -> std::fmt::Result {
+    write_periods(out, job)?;
+    let rejected: Vec<_> = steady.rejected().collect();
+    if !rejected.is_empty() {
+        writeln!(
+            out,
+            "warning: {} window(s) not in steady state, accepted (dampid check shows them)",
+            rejected.len()
+        )?;
+    }
+    if let Some(reduction) = &job.pod {
+        let reports = reduction.reports();
+        let retained = reports.iter().map(|r| r.retained).max().unwrap_or(0);
+        writeln!(
+            out,
+            "POD: {} basis(es), {} mode(s) retained; energy share of the retained modes:",
+            reports.len(),
+            retained
+        )?;
+        for (k, r) in reports.iter().enumerate() {
+            let label = match reduction.bases.len() {
+                1 if job.source_records.len() > 1 => "all records (stacked)".to_string(),
+                _ => job.source_records[k].label().to_string(),
+            };
+            let shares: Vec<String> = r
+                .modes
+                .iter()
+                .map(|m| format!("{:.4}", 100.0 * m.energy_share))
+                .collect();
+            writeln!(
+                out,
+                "  {label:<32} retained {:.4}%, every mode [{}] %",
+                100.0 * r.retained_share,
+                shares.join(", ")
+            )?;
+        }
+    }
+    if let Some(table) = &job.harmonic {
+        writeln!(
+            out,
+            "harmonic approximation (eq. 4): {} stepped-sine points, synchronous motion synthesized",
+            table.points().len()
+        )?;
+    }
+    Ok(())
+}
+
+fn write_periods(out: &mut String, job: &Job) -> std::fmt::Result {
+    for (record, detected) in job.source_records.iter().zip(&job.detected_periods) {
+        if let Some(p) = detected {
+            writeln!(
+                out,
+                "period detected from the force of '{}': T = {:.9} (ω = {:.9}), {:.1} cycles, the fundamental explains {:.3}% of the force",
+                record.label(),
+                p.period,
+                p.frequency,
+                p.cycles,
+                100.0 * p.explained
+            )?;
+        }
+    }
+    Ok(())
+}
+
+fn check(path: &Path, accept_transient: bool) -> anyhow::Result<Outcome> {
+    let mut job = load_job(path)?;
+    job.steady_state.accept_transient |= accept_transient;
+    let steady = job.steady_state()?;
+    let mut head = String::new();
+    write_periods(&mut head, &job)?;
+    write!(head, "{steady}")?;
+    if let Err(e) = steady.enforce() {
+        // The table says which windows and by how much; print it with the error.
+        eprint!("{head}");
+        return Err(anyhow::Error::new(e).context(format!(
+            "{}: set accept_transient = true in [identification] or pass --accept-transient to use these windows anyway",
+            path.display()
+        )));
+    }
     job.settings.fit.validate()?;
-    let regressor = Regressor::build(&job.model, &job.records, &job.settings.regressor)?;
+    let regressor = build_regressor(&job)?;
     let fit = dampid::fit::least_squares(&regressor, job.settings.fit.rank_tolerance)
         .context("the regressor cannot be fitted")?;
     let diagnostics =
         dampid::diagnostics::diagnose(&regressor, &fit, job.settings.fit.rank_tolerance);
     let mut out = String::new();
     writeln!(out, "{}: model and data are valid", job.title)?;
+    out.push_str(&head);
     writeln!(
         out,
         "{} records, {} equations, {} coefficients: {}",
@@ -309,6 +507,44 @@ fn check(path: &Path) -> anyhow::Result<Outcome> {
     }
     Ok(Outcome {
         text: out,
+        trusted: true,
+    })
+}
+
+fn pod(
+    files: &[PathBuf],
+    columns: Option<Vec<String>>,
+    prefix: Option<String>,
+    shared: bool,
+    remove_mean: bool,
+    energy: f64,
+    as_json: bool,
+) -> anyhow::Result<Outcome> {
+    let choice = match (columns, prefix) {
+        (Some(names), _) => Columns::Named(names),
+        (None, Some(prefix)) => Columns::Prefix(prefix),
+        (None, None) => Columns::AllButTime,
+    };
+    let settings = PodSettings {
+        remove_mean,
+        retain: Retain::Energy(energy),
+        basis: if shared {
+            PodBasis::Shared
+        } else {
+            PodBasis::PerRecord
+        },
+    };
+    let pods = pod_of_files(files, &choice, &settings)?;
+    let text = if as_json {
+        format!(
+            "{}\n",
+            serde_json::to_string_pretty(&json!({ "decompositions": pods }))?
+        )
+    } else {
+        PodTables(&pods).to_string()
+    };
+    Ok(Outcome {
+        text,
         trusted: true,
     })
 }
@@ -375,7 +611,7 @@ fn write_records(path: &Path, folder: &Path) -> anyhow::Result<Outcome> {
     }
     std::fs::create_dir_all(folder).with_context(|| format!("creating {}", folder.display()))?;
     let mut out = String::new();
-    for (k, record) in job.records.iter().enumerate() {
+    for (k, record) in job.source_records.iter().enumerate() {
         let n = record.dofs();
         let samples = record.samples();
         let mut headers = vec!["t".to_string()];

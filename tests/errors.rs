@@ -1357,6 +1357,63 @@ fn system_matrices_and_coefficients_are_checked() {
     ));
 }
 
+/// A force that does not change has no period; a zero force neither.
+#[test]
+fn constant_force_has_no_period() {
+    for level in [0.0, 2.5] {
+        let force = Mat::from_fn(N, 1, |_, _| level);
+        match dampid::period::detect_period(force.as_ref(), H, "still") {
+            Err(Error::NoPeriod {
+                record, explained, ..
+            }) => {
+                assert_eq!(record, "still");
+                assert_eq!(explained, 0.0);
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+}
+
+/// The fixture record with its amplitude growing by half over its two periods: the
+/// state at the end of the first window differs from its start by about a quarter of
+/// the amplitude, and the steady-state check names record, window and mismatch.
+fn growing_record_is_not_steady() -> Error {
+    let mut p = parts(N);
+    let grow = |i: usize| 1.0 + 0.5 * i as f64 / N as f64;
+    let x = p.displacements.clone();
+    let v = p.velocities.clone().unwrap();
+    p.displacements = Mat::from_fn(N, 2, |i, j| grow(i) * x[(i, j)]);
+    p.velocities = Some(Mat::from_fn(N, 2, |i, j| grow(i) * v[(i, j)]));
+    p.label = "growing".into();
+    let record = Record::new(p).unwrap();
+    let report = dampid::steady_state::check(
+        &[record],
+        &measured().regressor,
+        None,
+        &dampid::steady_state::SteadyStateSettings::default(),
+    )
+    .unwrap();
+    report.enforce().unwrap_err()
+}
+
+#[test]
+fn growing_motion_is_not_steady_with_its_mismatch() {
+    match growing_record_is_not_steady() {
+        Error::NotSteady {
+            record,
+            window,
+            mismatch,
+            threshold,
+            ..
+        } => {
+            assert_eq!((record.as_str(), window), ("growing", 0));
+            assert!(mismatch > 0.2 && mismatch < 0.3, "{mismatch}");
+            assert_eq!(threshold, 0.02);
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
 // ---------------------------------------------------------------------------------
 // Coverage of the variants
 // ---------------------------------------------------------------------------------
@@ -1381,6 +1438,8 @@ fn variant(e: &Error) -> &'static str {
         Error::ModelFile { .. } => "ModelFile",
         Error::UnknownName { .. } => "UnknownName",
         Error::Data { .. } => "Data",
+        Error::NoPeriod { .. } => "NoPeriod",
+        Error::NotSteady { .. } => "NotSteady",
     }
 }
 
@@ -1435,6 +1494,8 @@ fn every_variant_is_reachable() {
             .column("y")
             .unwrap_err(),
         Table::parse("t,x\n0,abc\n", "t.csv").unwrap_err(),
+        dampid::period::detect_period(Mat::<f64>::zeros(N, 1).as_ref(), H, "still").unwrap_err(),
+        growing_record_is_not_steady(),
     ];
     let mut seen: Vec<&str> = errors.iter().map(variant).collect();
     seen.sort_unstable();
@@ -1456,6 +1517,8 @@ fn every_variant_is_reachable() {
         "ModelFile",
         "UnknownName",
         "Data",
+        "NoPeriod",
+        "NotSteady",
     ];
     expected.sort_unstable();
     assert_eq!(seen, expected);

@@ -6,8 +6,11 @@
 //!
 //! Errors carry the file and the line and column of the offending table or key.
 
+mod reduction;
 mod spec;
+mod string;
 
+use std::collections::BTreeMap;
 use std::path::Path;
 
 use faer::Mat;
@@ -18,13 +21,20 @@ pub use spec::*;
 use crate::design::DesignSettings;
 use crate::error::{Error, Result};
 use crate::fit::{Bound, Constraints, Fixed, LinearConstraint, LinearTerm};
+use crate::harmonic::{HarmonicApproximation, SteppedSineTable};
 use crate::identify::IdentifySettings;
 use crate::io::csv_table::Table;
 use crate::model::DampingModel;
+use crate::period::{PeriodEstimate, detect_period};
+use crate::pod::Reduction;
+use crate::progress::Progress;
 use crate::record::{Forcing, Record, RecordParts};
 use crate::reference::chain_stiffness;
 use crate::regressor::RegressorSettings;
-use crate::simulate::{ConservativeForce, HarmonicForce, SimSettings, System, simulate};
+use crate::simulate::{
+    ConservativeForce, HarmonicForce, SimSettings, System, simulate_with_progress,
+};
+use crate::steady_state::{SteadyStateReport, SteadyStateSettings, StoredEnergy};
 use crate::terms::laws::{Coulomb, Expression, Linear, PowerLaw, Quadratic};
 use crate::terms::{Coefficients, Element, Term};
 use crate::velocity::VelocitySource;
@@ -37,18 +47,53 @@ pub struct Job {
     pub title: String,
     /// The damping model.
     pub model: DampingModel,
-    /// The records (simulated or read).
+    /// The records identification runs on: the source records, reduced by `[pod]` and
+    /// synthesized by `[harmonic_approximation]` when asked.
     pub records: Vec<Record>,
-    /// Identification settings.
+    /// The records as simulated or read (before any reduction).
+    pub source_records: Vec<Record>,
+    /// The period detected from the force of each source record, where the model file
+    /// gave none (`None`: given or simulated).
+    pub detected_periods: Vec<Option<PeriodEstimate>>,
+    /// Identification settings (for a harmonic approximation, those of the synthesized
+    /// records).
     pub settings: IdentifySettings,
+    /// How windows are cut from the source records (`[identification]`).
+    pub source_windows: RegressorSettings,
     /// True coefficients, in model order, when the records were simulated.
     pub truth: Option<Vec<(String, f64)>>,
     /// Experiment-design settings from `[design]` (start indices 0-based).
     pub design: Option<DesignSettings>,
+    /// Mass, stiffness and cubic springs, when known (`[simulation]` or `[system]`).
+    pub stored_energy: Option<StoredEnergy>,
+    /// Steady-state thresholds and whether transients are accepted.
+    pub steady_state: SteadyStateSettings,
+    /// The POD reduction, when `[pod]` asks for one.
+    pub pod: Option<Reduction>,
+    /// The stepped-sine table of a harmonic approximation.
+    pub harmonic: Option<SteppedSineTable>,
+}
+
+impl Job {
+    /// How far each window of the source records is from periodic motion
+    /// ([`crate::steady_state`]).
+    pub fn steady_state(&self) -> Result<SteadyStateReport> {
+        crate::steady_state::check(
+            &self.source_records,
+            &self.source_windows,
+            self.stored_energy.as_ref(),
+            &self.steady_state,
+        )
+    }
 }
 
 /// Reads and builds the model file at `path` (data paths are relative to its folder).
 pub fn load(path: &Path) -> Result<Job> {
+    load_with_progress(path, &crate::progress::silent)
+}
+
+/// [`load`], reporting the progress of simulating or reading the records.
+pub fn load_with_progress(path: &Path, progress: Progress<'_>) -> Result<Job> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::ModelFile {
         file: path.display().to_string(),
         line: 0,
@@ -56,11 +101,21 @@ pub fn load(path: &Path) -> Result<Job> {
         message: e.to_string(),
     })?;
     let base = path.parent().unwrap_or(Path::new("."));
-    parse(&text, &path.display().to_string(), base)
+    parse_with_progress(&text, &path.display().to_string(), base, progress)
 }
 
 /// Parses model-file `text` (named `file` in errors) and builds the job.
 pub fn parse(text: &str, file: &str, base: &Path) -> Result<Job> {
+    parse_with_progress(text, file, base, &crate::progress::silent)
+}
+
+/// [`parse`], reporting the progress of simulating or reading the records.
+pub fn parse_with_progress(
+    text: &str,
+    file: &str,
+    base: &Path,
+    progress: Progress<'_>,
+) -> Result<Job> {
     let context = Context { file, text };
     let spec: ModelFileSpec = toml::from_str(text).map_err(|e| {
         let (line, column) = e.span().map_or((0, 0), |s| context.position(s.start));
@@ -71,7 +126,15 @@ pub fn parse(text: &str, file: &str, base: &Path) -> Result<Job> {
             message: e.message().to_string(),
         }
     })?;
-    context.build(&spec, base)
+    context.build(&spec, base, progress)
+}
+
+/// Where the records come from, and what is known with them.
+struct Sources {
+    records: Vec<Record>,
+    truth: Option<Truth>,
+    detected_periods: Vec<Option<PeriodEstimate>>,
+    stored_energy: Option<StoredEnergy>,
 }
 
 struct Context<'a> {
@@ -103,15 +166,19 @@ impl Context<'_> {
         f(spanned.get_ref()).map_err(|e| self.error_at(spanned, e))
     }
 
-    fn build(&self, spec: &ModelFileSpec, base: &Path) -> Result<Job> {
+    fn whole_file_error(&self, message: impl Into<String>) -> Error {
+        Error::ModelFile {
+            file: self.file.to_string(),
+            line: 0,
+            column: 0,
+            message: message.into(),
+        }
+    }
+
+    fn build(&self, spec: &ModelFileSpec, base: &Path, progress: Progress<'_>) -> Result<Job> {
         let n = spec.dofs;
         if n == 0 {
-            return Err(Error::ModelFile {
-                file: self.file.to_string(),
-                line: 0,
-                column: 0,
-                message: "dofs must be at least 1".into(),
-            });
+            return Err(self.whole_file_error("dofs must be at least 1"));
         }
         let matrix = |r: &MatrixRef| resolve_matrix(r, spec, n);
         let mut model = DampingModel::new();
@@ -124,22 +191,46 @@ impl Context<'_> {
             })?,
             |_| model.validate(n),
         )?;
-        let settings = identification_settings(&spec.identification);
-        let (records, truth) = match (&spec.simulation, &spec.data) {
-            (Some(sim), None) => {
-                let (records, truth) = self.at(sim, |s| simulate_records(s, &model, n, &matrix))?;
-                (records, Some(truth))
-            }
-            (None, Some(data)) => (self.read_records(data, n, base)?, None),
-            _ => {
-                return Err(Error::ModelFile {
-                    file: self.file.to_string(),
-                    line: 0,
-                    column: 0,
-                    message: "give exactly one of [simulation] (generate the records) or [data] (read them)".into(),
-                });
-            }
+        let mut settings = identification_settings(&spec.identification);
+        let steady_state = SteadyStateSettings {
+            max_energy_mismatch: spec.identification.max_energy_mismatch,
+            max_state_mismatch: spec.identification.max_state_mismatch,
+            accept_transient: spec.identification.accept_transient,
         };
+        steady_state
+            .validate()
+            .map_err(|e| self.whole_file_error(format!("[identification]: {e}")))?;
+        let sources = self.sources(spec, &model, n, base, &matrix, progress)?;
+        let source_windows = settings.regressor;
+        let mut records = sources.records.clone();
+        let pod = spec
+            .pod
+            .as_ref()
+            .map(|p| {
+                self.at(p, |p| {
+                    crate::pod::reduce(&records, &reduction::pod_settings(p)?)
+                })
+            })
+            .transpose()?;
+        if let Some(reduction) = &pod {
+            records = reduction.records.clone();
+        }
+        let harmonic = spec
+            .harmonic_approximation
+            .as_ref()
+            .map(|h| {
+                self.at(h, |h| {
+                    let approximation = reduction::harmonic_settings(h, n)?;
+                    let table = SteppedSineTable::from_records(&records, &source_windows.windows)?;
+                    Ok((approximation.records(&table)?, table))
+                })
+            })
+            .transpose()?
+            .map(|(synthesized, table)| {
+                records = synthesized;
+                settings.regressor = HarmonicApproximation::regressor_settings();
+                table
+            });
         let design = spec
             .design
             .as_ref()
@@ -155,19 +246,130 @@ impl Context<'_> {
             title: spec.title.clone().unwrap_or_else(|| self.file.to_string()),
             model,
             records,
+            source_records: sources.records,
+            detected_periods: sources.detected_periods,
             settings,
-            truth,
+            source_windows,
+            truth: sources.truth,
             design,
+            stored_energy: sources.stored_energy,
+            steady_state,
+            pod,
+            harmonic,
         })
     }
 
-    fn read_records(&self, data: &Spanned<DataSpec>, n: usize, base: &Path) -> Result<Vec<Record>> {
-        data.get_ref()
-            .records
-            .iter()
-            .map(|r| self.at(r, |spec| read_record(spec, n, base)))
-            .collect()
+    /// The records from `[simulation]`, `[string_simulation]` or `[data]` (exactly one),
+    /// with the truth, detected periods, and M and K when known.
+    fn sources(
+        &self,
+        spec: &ModelFileSpec,
+        model: &DampingModel,
+        n: usize,
+        base: &Path,
+        matrix: &dyn Fn(&MatrixRef) -> Result<Mat<f64>>,
+        progress: Progress<'_>,
+    ) -> Result<Sources> {
+        let given = [
+            spec.simulation.is_some(),
+            spec.string_simulation.is_some(),
+            spec.data.is_some(),
+        ];
+        if given.iter().filter(|g| **g).count() != 1 {
+            return Err(self.whole_file_error(
+                "give exactly one of [simulation] (generate the records), [string_simulation] (the paper's string) or [data] (read them)",
+            ));
+        }
+        let system = spec
+            .system
+            .as_ref()
+            .map(|s| {
+                self.at(s, |s| {
+                    if spec.data.is_none() {
+                        return Err(Error::invalid(
+                            "system",
+                            f64::NAN,
+                            "[system] describes measured data; a [simulation] gives its own mass and stiffness",
+                        ));
+                    }
+                    stored_energy(&s.mass, &s.stiffness, &s.cubic_springs, n, matrix)
+                })
+            })
+            .transpose()?;
+        if let Some(sim) = &spec.simulation {
+            let (records, truth) =
+                self.at(sim, |s| simulate_records(s, model, n, matrix, progress))?;
+            let energy = self.at(sim, |s| {
+                stored_energy(&s.mass, &s.stiffness, &s.cubic_springs, n, matrix)
+            })?;
+            return Ok(Sources {
+                detected_periods: vec![None; records.len()],
+                records,
+                truth: Some(truth),
+                stored_energy: Some(energy),
+            });
+        }
+        if let Some(string) = &spec.string_simulation {
+            let (records, truth) =
+                self.at(string, |s| string::string_records(s, model, n, progress))?;
+            return Ok(Sources {
+                detected_periods: vec![None; records.len()],
+                records,
+                truth: Some(truth),
+                stored_energy: None,
+            });
+        }
+        let data = spec
+            .data
+            .as_ref()
+            .ok_or_else(|| self.whole_file_error("no records"))?;
+        let list = &data.get_ref().records;
+        let total = list.len() as u64;
+        let mut records = Vec::new();
+        let mut detected_periods = Vec::new();
+        for (k, r) in list.iter().enumerate() {
+            let (record, detected) = self.at(r, |spec| read_record(spec, n, base))?;
+            records.push(record);
+            detected_periods.push(detected);
+            progress(k as u64 + 1, total);
+        }
+        Ok(Sources {
+            records,
+            truth: None,
+            detected_periods,
+            stored_energy: system,
+        })
     }
+}
+
+/// M, K and cubic springs from a model file's matrices (DOFs 1-based in the file).
+fn stored_energy(
+    mass: &MatrixRef,
+    stiffness: &MatrixRef,
+    cubic: &[CubicSpec],
+    n: usize,
+    matrix: &dyn Fn(&MatrixRef) -> Result<Mat<f64>>,
+) -> Result<StoredEnergy> {
+    let cubic_springs = cubic
+        .iter()
+        .map(|c| Ok((one_based(c.dof, n, "cubic spring")?, c.coefficient)))
+        .collect::<Result<_>>()?;
+    Ok(StoredEnergy {
+        mass: matrix(mass)?,
+        stiffness: matrix(stiffness)?,
+        cubic_springs,
+    })
+}
+
+/// A 1-based model-file DOF as a 0-based index.
+fn one_based(dof: usize, n: usize, what: &str) -> Result<usize> {
+    dof.checked_sub(1)
+        .filter(|d| *d < n)
+        .ok_or_else(|| Error::DofOutOfRange {
+            what: format!("{what} (DOFs are numbered 1..{n} in model files)"),
+            dof,
+            dofs: n,
+        })
 }
 
 fn resolve_matrix(reference: &MatrixRef, spec: &ModelFileSpec, n: usize) -> Result<Mat<f64>> {
@@ -338,6 +540,7 @@ fn identification_settings(spec: &IdentificationSpec) -> IdentifySettings {
             },
             quadrature: spec.quadrature,
             velocity,
+            ..RegressorSettings::default()
         },
         ..IdentifySettings::default()
     };
@@ -413,14 +616,11 @@ fn design_settings(spec: &DesignSpec, experiments: Option<usize>) -> Result<Desi
 
 type Truth = Vec<(String, f64)>;
 
-fn simulate_records(
-    spec: &SimulationSpec,
-    model: &DampingModel,
-    n: usize,
-    matrix: &dyn Fn(&MatrixRef) -> Result<Mat<f64>>,
-) -> Result<(Vec<Record>, Truth)> {
+/// The true value of every coefficient of `model`, in model order, from a table that
+/// must name each of them and nothing else.
+fn truth_of(coefficients: &BTreeMap<String, f64>, model: &DampingModel) -> Result<Truth> {
     let names = model.coefficient_names();
-    for name in spec.coefficients.keys() {
+    for name in coefficients.keys() {
         if !names.contains(name) {
             return Err(Error::UnknownCoefficient {
                 name: name.clone(),
@@ -428,10 +628,10 @@ fn simulate_records(
             });
         }
     }
-    let truth: Truth = names
+    names
         .iter()
         .map(|name| {
-            spec.coefficients
+            coefficients
                 .get(name)
                 .map(|v| (name.clone(), *v))
                 .ok_or_else(|| {
@@ -442,16 +642,19 @@ fn simulate_records(
                     )
                 })
         })
-        .collect::<Result<_>>()?;
-    let one_based = |dof: usize, what: &str| {
-        dof.checked_sub(1)
-            .filter(|d| *d < n)
-            .ok_or_else(|| Error::DofOutOfRange {
-                what: format!("{what} (DOFs are numbered 1..{n} in model files)"),
-                dof,
-                dofs: n,
-            })
-    };
+        .collect()
+}
+
+/// Simulates every experiment; progress counts integration steps over all of them.
+fn simulate_records(
+    spec: &SimulationSpec,
+    model: &DampingModel,
+    n: usize,
+    matrix: &dyn Fn(&MatrixRef) -> Result<Mat<f64>>,
+    progress: Progress<'_>,
+) -> Result<(Vec<Record>, Truth)> {
+    let truth = truth_of(&spec.coefficients, model)?;
+    let one_based = |dof: usize, what: &str| one_based(dof, n, what);
     let conservative = spec
         .cubic_springs
         .iter()
@@ -469,10 +672,13 @@ fn simulate_records(
         recorded_steps: spec.recorded_steps,
     };
     let (mass, stiffness) = (matrix(&spec.mass)?, matrix(&spec.stiffness)?);
+    let steps = spec.transient_steps.saturating_add(spec.recorded_steps) as u64;
+    let total = steps.saturating_mul(spec.experiments.len() as u64);
     let records = spec
         .experiments
         .iter()
-        .map(|experiment| {
+        .enumerate()
+        .map(|(k, experiment)| {
             let e = experiment.get_ref();
             let system = System {
                 mass: mass.clone(),
@@ -487,7 +693,11 @@ fn simulate_records(
                     phase: e.phase,
                 }],
             };
-            let mut parts = simulate(&system, &settings)?.into_parts();
+            let offset = k as u64 * steps;
+            let mut parts = simulate_with_progress(&system, &settings, &|done, _| {
+                progress(offset + done, total)
+            })?
+            .into_parts();
             parts.label = format!("a={} ω={} on DOF {}", e.amplitude, e.frequency, e.force_dof);
             Record::new(parts)
         })
@@ -495,7 +705,11 @@ fn simulate_records(
     Ok((records, truth))
 }
 
-fn read_record(spec: &RecordSpec, n: usize, base: &Path) -> Result<Record> {
+fn read_record(
+    spec: &RecordSpec,
+    n: usize,
+    base: &Path,
+) -> Result<(Record, Option<PeriodEstimate>)> {
     let path = base.join(&spec.file);
     let table = crate::io::read_table(&path)?;
     if spec.displacements.len() != n {
@@ -513,17 +727,6 @@ fn read_record(spec: &RecordSpec, n: usize, base: &Path) -> Result<Record> {
                 "step",
                 f64::NAN,
                 "give exactly one of `time` (a column) or `step`",
-            ));
-        }
-    };
-    let period = match (spec.period, spec.frequency) {
-        (Some(period), None) => period,
-        (None, Some(omega)) => 2.0 * std::f64::consts::PI / omega,
-        _ => {
-            return Err(Error::invalid(
-                "period",
-                f64::NAN,
-                "give exactly one of `period` or `frequency` (rad per unit time)",
             ));
         }
     };
@@ -558,15 +761,33 @@ fn read_record(spec: &RecordSpec, n: usize, base: &Path) -> Result<Record> {
         .time
         .as_deref()
         .map_or(Ok(0.0), |t| table.column(t).map(|c| c[0]))?;
-    Record::new(RecordParts {
-        label: spec.label.clone().unwrap_or_else(|| spec.file.clone()),
+    let label = spec.label.clone().unwrap_or_else(|| spec.file.clone());
+    let signals = columns(&force_names)?;
+    let (period, detected) = match (spec.period, spec.frequency) {
+        (Some(period), None) => (period, None),
+        (None, Some(omega)) => (2.0 * std::f64::consts::PI / omega, None),
+        (None, None) => {
+            let estimate = detect_period(signals.as_ref(), step, &label)?;
+            (estimate.period, Some(estimate))
+        }
+        (Some(period), Some(_)) => {
+            return Err(Error::invalid(
+                "period",
+                period,
+                "give at most one of `period` or `frequency` (rad per unit time); with neither, the period is detected from the force",
+            ));
+        }
+    };
+    let record = Record::new(RecordParts {
+        label,
         step,
         start_time,
         displacements,
         velocities,
-        forcing: Forcing::on_dofs(columns(&force_names)?, dofs),
+        forcing: Forcing::on_dofs(signals, dofs),
         period,
-    })
+    })?;
+    Ok((record, detected))
 }
 
 /// The step of a uniformly sampled time column; rows whose spacing departs from it by

@@ -33,6 +33,119 @@ pub struct ModelFileSpec {
     pub data: Option<Spanned<DataSpec>>,
     /// Experiment design over the `[simulation]` experiments (`dampid design`).
     pub design: Option<Spanned<DesignSpec>>,
+    /// Generate the records with the paper's string simulator (section 3.2.1).
+    pub string_simulation: Option<Spanned<StringSimulationSpec>>,
+    /// Mass and stiffness of measured data, for the steady-state energy check.
+    pub system: Option<Spanned<SystemSpec>>,
+    /// Reduce the records to their proper orthogonal modes before identifying.
+    pub pod: Option<Spanned<PodSpec>>,
+    /// Identify by the synchronous harmonic approximation (paper eq. 4).
+    pub harmonic_approximation: Option<Spanned<HarmonicApproximationSpec>>,
+}
+
+/// `[system]`: what stores energy in measured data (never used by the fit).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SystemSpec {
+    /// M.
+    pub mass: MatrixRef,
+    /// K.
+    pub stiffness: MatrixRef,
+    /// Grounded cubic springs k x³.
+    #[serde(default)]
+    pub cubic_springs: Vec<CubicSpec>,
+}
+
+/// `[pod]`: project every record on its leading proper orthogonal modes.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PodSpec {
+    /// Retain this many modes …
+    pub modes: Option<usize>,
+    /// … or the fewest whose cumulative energy share reaches this (default 0.999).
+    pub energy: Option<f64>,
+    /// One basis per record (default, the paper's) or one shared by all.
+    #[serde(default)]
+    pub basis: crate::pod::PodBasis,
+    /// Remove the column means before the decomposition (the paper does not).
+    #[serde(default)]
+    pub remove_mean: bool,
+}
+
+/// Phase readings of the harmonic approximation.
+#[derive(Debug, Clone, Copy, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PhaseName {
+    /// Arithmetic mean lag (the paper's reading).
+    #[default]
+    ArithmeticMean,
+    /// Circular mean lag.
+    CircularMean,
+    /// Amplitude-weighted circular mean lag.
+    AmplitudeWeightedMean,
+    /// The lag of one DOF (`dof`).
+    Dof,
+    /// Every DOF its own lag (not synchronous).
+    PerDof,
+}
+
+/// `[harmonic_approximation]`: fundamentals per window (`[identification]` windows),
+/// synchronous motion, eq. 4.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HarmonicApproximationSpec {
+    /// How the DOFs' common phase is read.
+    #[serde(default)]
+    pub phase: PhaseName,
+    /// The DOF (1-based) whose lag is used with `phase = "dof"`.
+    pub dof: Option<usize>,
+    /// Samples per synthesized period (default 512).
+    pub samples_per_period: Option<usize>,
+}
+
+/// `[string_simulation]`: a uniform string on its linear modes, sensed at equally spaced
+/// points, driven by a point load at each amplitude (`dampid::reference::string`).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StringSimulationSpec {
+    /// Tension T (default 1).
+    #[serde(default = "unit")]
+    pub tension: f64,
+    /// Mass per unit length ρ (default 1).
+    #[serde(default = "unit")]
+    pub density: f64,
+    /// Length L (default 1).
+    #[serde(default = "unit")]
+    pub length: f64,
+    /// Load position L_a (a sensor position).
+    pub force_position: f64,
+    /// Driving frequency ω.
+    pub frequency: f64,
+    /// Load amplitudes a, one record each.
+    pub amplitudes: Vec<f64>,
+    /// Linear modes simulated.
+    pub modes: usize,
+    /// Points of the rectangular rule for the simulated damping integral.
+    pub damping_points: usize,
+    /// True coefficients by model name.
+    pub coefficients: BTreeMap<String, f64>,
+    /// The model coefficient that is the string's linear damping c ż.
+    pub linear: String,
+    /// The model coefficient that is the string's quadratic damping d ż|ż|.
+    pub quadratic: String,
+    /// Recording step h.
+    pub step: f64,
+    /// RK4 steps per recorded step.
+    #[serde(default = "one")]
+    pub substeps: usize,
+    /// Dropped steps.
+    pub transient_steps: usize,
+    /// Recorded steps.
+    pub recorded_steps: usize,
+}
+
+fn unit() -> f64 {
+    1.0
 }
 
 /// A matrix: a name from `[matrices]`, a built-in (`identity`, `chain`), or inline rows.
@@ -162,6 +275,12 @@ pub struct IdentificationSpec {
     pub fixed: BTreeMap<String, f64>,
     /// Linear relations between coefficients.
     pub constraints: Vec<LinearConstraintSpec>,
+    /// Largest stored-energy mismatch |ΔE|/|W| of a steady window (M and K known).
+    pub max_energy_mismatch: f64,
+    /// Largest state mismatch of a steady window (M and K unknown).
+    pub max_state_mismatch: f64,
+    /// Identify from windows that are not steady (they are reported, not rejected).
+    pub accept_transient: bool,
 }
 
 /// `{ terms = { "dashpot[0-1]" = 1, "dashpot[4-5]" = -1 }, relation = "=", value = 0 }`.
@@ -206,6 +325,9 @@ impl Default for IdentificationSpec {
             bounds: BTreeMap::new(),
             fixed: BTreeMap::new(),
             constraints: Vec::new(),
+            max_energy_mismatch: crate::steady_state::DEFAULT_MAX_ENERGY_MISMATCH,
+            max_state_mismatch: crate::steady_state::DEFAULT_MAX_STATE_MISMATCH,
+            accept_transient: false,
         }
     }
 }
@@ -293,7 +415,8 @@ pub struct RecordSpec {
     pub forces: Vec<ForceColumn>,
     /// Driving period T …
     pub period: Option<f64>,
-    /// … or driving frequency ω (rad per unit time).
+    /// … or driving frequency ω (rad per unit time); with neither, the period is
+    /// detected from the force columns (`dampid::period`).
     pub frequency: Option<f64>,
 }
 

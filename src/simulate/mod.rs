@@ -258,6 +258,19 @@ impl System {
 
 /// Simulates `system` and records its steady state.
 pub fn simulate(system: &System, settings: &SimSettings) -> Result<Record> {
+    simulate_with_progress(system, settings, &crate::progress::silent)
+}
+
+/// Reports at most this many times per simulation.
+const PROGRESS_REPORTS: usize = 100;
+
+/// [`simulate`], calling `progress(done, total)` in integration steps (recorded steps,
+/// transient included) about every 1% of the run and once at its end.
+pub fn simulate_with_progress(
+    system: &System,
+    settings: &SimSettings,
+    progress: crate::progress::Progress<'_>,
+) -> Result<Record> {
     settings.validate()?;
     system.validate()?;
     let n = system.dofs();
@@ -315,6 +328,7 @@ pub fn simulate(system: &System, settings: &SimSettings) -> Result<Record> {
         }
     };
     let total = settings.transient_steps + settings.recorded_steps;
+    let report_every = (total / PROGRESS_REPORTS).max(1);
     let recorded = settings.recorded_steps;
     let mut x = Mat::<f64>::zeros(recorded, n);
     let mut v = Mat::<f64>::zeros(recorded, n);
@@ -341,6 +355,9 @@ pub fn simulate(system: &System, settings: &SimSettings) -> Result<Record> {
                 stage: "simulation".into(),
                 detail: format!("the state diverged at t = {t}; reduce the step or add substeps"),
             });
+        }
+        if (step + 1) % report_every == 0 || step + 1 == total {
+            progress((step + 1) as u64, total as u64);
         }
     }
     let frequency = system.forcing[0].frequency;
