@@ -22,6 +22,9 @@
 //! record ends before the trapezoid's last sample). ΔE is exactly the error the
 //! window's equation carries, as a share of its right-hand side.
 //!
+//! When t₀ + kT lies past the record's last sample (a window that ends with the record),
+//! the comparison is over the k' < k whole periods that fit, scaled by k/k'.
+//!
 //! A window is steady when ε_E ≤ [`SteadyStateSettings::max_energy_mismatch`] (M and K
 //! known), else when max(δx, δv) ≤ [`SteadyStateSettings::max_state_mismatch`].
 //!
@@ -301,6 +304,7 @@ pub fn check(
                 window.index,
                 window.start,
                 window.span,
+                window.cycles,
                 regressor,
                 energy,
             )?;
@@ -325,14 +329,24 @@ fn check_window(
     window: usize,
     start: usize,
     span: f64,
+    cycles: usize,
     regressor: &RegressorSettings,
     energy: Option<&StoredEnergy>,
 ) -> Result<WindowCheck> {
     let samples = record.samples();
     let h = record.step();
-    let end = start as f64 + span / h;
+    let (compared, scale) = compared_span(record, start, span, cycles);
+    let end = start as f64 + compared / h;
     let stencil = Stencil::at(end, samples);
-    let last = stencil.last().max(start + 1).min(samples - 1);
+    // Velocities for the stencil and for every sample the work's weights read.
+    let work_samples = Quadrature::Trapezoid
+        .samples(span, h)
+        .max(regressor.quadrature.samples(span, h));
+    let last = stencil
+        .last()
+        .max(start.saturating_add(work_samples).saturating_sub(1))
+        .max(start + 1)
+        .min(samples - 1);
     let count = last + 1 - start;
     let source = if record.velocities().is_some() {
         VelocitySource::Measured
@@ -352,7 +366,7 @@ fn check_window(
         .map(|j| stencil.value(|i| v[(i - start, j)]))
         .collect();
     // Amplitudes over the samples inside the window.
-    let inside = ((end.floor() as usize).min(last) + 1 - start).max(1);
+    let inside = ((start as f64 + span / h).floor() as usize).min(last) + 1 - start;
     let amplitude = |m: faer::MatRef<'_, f64>| {
         (0..n)
             .map(|j| {
@@ -379,10 +393,11 @@ fn check_window(
             (c, s) => c / s,
         }
     };
-    let displacement_mismatch = relative(&x_end, &x_start, amplitude(x));
-    let velocity_mismatch = relative(&v_end, &v_start, amplitude(v));
+    let displacement_mismatch = scale * relative(&x_end, &x_start, amplitude(x));
+    let velocity_mismatch = scale * relative(&v_end, &v_start, amplitude(v));
     let input_work = input_work(record, start, span, count, v, regressor.quadrature)?;
-    let energy_change = energy.map(|e| e.energy(&x_end, &v_end) - e.energy(&x_start, &v_start));
+    let energy_change =
+        energy.map(|e| scale * (e.energy(&x_end, &v_end) - e.energy(&x_start, &v_start)));
     let energy_mismatch = energy_change.map(|de| {
         if de == 0.0 {
             0.0
@@ -404,6 +419,22 @@ fn check_window(
         energy_mismatch,
         steady: true,
     })
+}
+
+/// The span over which the end state is compared with the start, and the factor that
+/// scales its mismatch to the window: kT when t₀ + kT lies within the record's samples;
+/// otherwise the k' < k whole periods that do, scaled by k/k' (a drift accumulates
+/// period by period); kT extrapolated (by less than a sample) when not even one does.
+fn compared_span(record: &Record, start: usize, span: f64, cycles: usize) -> (f64, f64) {
+    let last = (record.samples() - 1 - start) as f64 * record.step();
+    if span <= last || cycles <= 1 {
+        return (span, 1.0);
+    }
+    let fitting = (last / record.period()).floor() as usize;
+    match fitting.min(cycles) {
+        0 => (span, 1.0),
+        k => (k as f64 * record.period(), cycles as f64 / k as f64),
+    }
 }
 
 /// W = Σ_i w_i v_iᵀ r_i with trapezoid weights over [t₀, t₀ + span]; the window's own

@@ -199,3 +199,145 @@ fn missing_model_file_is_a_model_file_error() {
         Err(Error::ModelFile { line: 0, .. })
     ));
 }
+
+// ---------------------------------------------------------------------------------
+// Model files of the section 3 examples: the same numbers as the examples
+// ---------------------------------------------------------------------------------
+
+#[allow(dead_code)]
+#[path = "../examples/paper_four_mass_pod.rs"]
+mod paper_four_mass_pod;
+
+#[allow(dead_code)]
+#[path = "../examples/paper_string.rs"]
+mod paper_string;
+
+/// `a` and `b` agree to 1e-9 relative, coefficient by coefficient.
+fn assert_same_estimates(
+    path: &str,
+    from_file: &dampid::report::FitReport,
+    from_example: &dampid::report::FitReport,
+) {
+    for name in ["c", "d"] {
+        let (a, b) = (
+            from_file.coefficient(name).unwrap(),
+            from_example.coefficient(name).unwrap(),
+        );
+        assert!((a - b).abs() <= 1e-9 * b.abs(), "{path} {name}: {a} vs {b}");
+    }
+}
+
+/// models/four_mass_pod.toml is the example's "two POMs" case: the same POD energy
+/// shares and the same c, d.
+#[test]
+fn four_mass_pod_model_file_matches_the_example() {
+    let path = "models/four_mass_pod.toml";
+    let job = load(Path::new(path)).unwrap();
+    let from_file = dampid::identify(&job.model, &job.records, &job.settings).unwrap();
+    let study = paper_four_mass_pod::run().unwrap();
+    let case = study.cases.iter().find(|c| c.name == "two POMs").unwrap();
+    assert_same_estimates(path, &from_file, &case.report);
+    let reduction = job.pod.as_ref().unwrap();
+    for (basis, (_, example)) in reduction.bases.iter().zip(&case.pods) {
+        assert_eq!(basis.retained(), 2);
+        for (a, b) in basis.energy_shares().iter().zip(&example.modes) {
+            assert!((a - b.energy_share).abs() < 1e-12);
+        }
+    }
+}
+
+/// models/string.toml is the example's noise-free two-mode case.
+#[test]
+fn string_model_file_matches_the_example() {
+    let path = "models/string.toml";
+    let job = load(Path::new(path)).unwrap();
+    assert!(job.steady_state().unwrap().enforce().is_ok());
+    let from_file = dampid::identify(&job.model, &job.records, &job.settings).unwrap();
+    let study = paper_string::run(1, false).unwrap();
+    let case = study
+        .cases
+        .iter()
+        .find(|c| c.name == "noise-free, 2 modes")
+        .unwrap();
+    assert_same_estimates(path, &from_file, &case.report);
+    assert_eq!(
+        job.truth.unwrap(),
+        vec![("c".to_string(), 0.4), ("d".to_string(), 0.5)]
+    );
+}
+
+/// models/four_mass_harmonic.toml is the example's target case: stepped-sine points
+/// from the first whole period of each record, arithmetic mean lag, eq. 4. The
+/// example's library path is repeated here (its `run` is private to the example).
+#[test]
+fn harmonic_model_file_matches_the_example() {
+    use dampid::harmonic::{HarmonicApproximation, SteppedSineTable};
+    use dampid::prelude::*;
+    use dampid::reference::{FOUR_MASS_AMPLITUDES, four_mass_model, four_mass_system};
+    use dampid::simulate::{SimSettings, simulate};
+
+    let path = "models/four_mass_harmonic.toml";
+    let job = load(Path::new(path)).unwrap();
+    let from_file = dampid::identify(&job.model, &job.records, &job.settings).unwrap();
+
+    let records: Vec<Record> = FOUR_MASS_AMPLITUDES
+        .iter()
+        .map(|&a| simulate(&four_mass_system(a, false), &SimSettings::default()).unwrap())
+        .collect();
+    let first_period = WindowSpec {
+        skip: 0,
+        cycles: 1,
+        count: Some(1),
+    };
+    let table = SteppedSineTable::from_records(&records, &first_period).unwrap();
+    let from_example = HarmonicApproximation::default()
+        .identify(&four_mass_model(), &table, &FitSettings::default())
+        .unwrap();
+    assert_same_estimates(path, &from_file, &from_example);
+    assert_eq!(job.harmonic.as_ref().unwrap(), &table);
+    // The paper's c_h = 0.1341, d_h = 0.1216 within 2%.
+    assert!((from_file.coefficient("c").unwrap() - 0.1341).abs() < 0.02 * 0.1341);
+    assert!((from_file.coefficient("d").unwrap() - 0.1216).abs() < 0.02 * 0.1216);
+}
+
+/// Every shipped model file loads, and its windows are steady.
+#[test]
+fn every_shipped_model_file_is_steady() {
+    for entry in std::fs::read_dir("models").unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "toml") {
+            let job = load(&path).unwrap();
+            let report = job.steady_state().unwrap();
+            assert!(report.enforce().is_ok(), "{}:\n{report}", path.display());
+        }
+    }
+}
+
+/// `[pod]` and `[harmonic_approximation]` reject what they cannot use, at their line.
+#[test]
+fn pod_and_harmonic_sections_are_checked() {
+    let four = std::fs::read_to_string("models/four_mass.toml").unwrap();
+    let with = |section: &str| {
+        let text = format!("{four}\n{section}");
+        parse(&text, "test.toml", Path::new("models")).unwrap_err()
+    };
+    match with("[pod]\nmodes = 5\n") {
+        Error::ModelFile { message, line, .. } => {
+            assert!(message.contains("retained modes"), "{message}");
+            assert!(line > 40);
+        }
+        other => panic!("{other:?}"),
+    }
+    match with("[pod]\nmodes = 2\nenergy = 0.9\n") {
+        Error::ModelFile { message, .. } => assert!(message.contains("at most one"), "{message}"),
+        other => panic!("{other:?}"),
+    }
+    match with("[harmonic_approximation]\nphase = \"dof\"\n") {
+        Error::ModelFile { message, .. } => assert!(message.contains("needs `dof`"), "{message}"),
+        other => panic!("{other:?}"),
+    }
+    match with("[harmonic_approximation]\nphase = \"dof\"\ndof = 7\n") {
+        Error::ModelFile { message, .. } => assert!(message.contains("DOF 7"), "{message}"),
+        other => panic!("{other:?}"),
+    }
+}

@@ -1,0 +1,181 @@
+//! The command line as a user runs it: `dampid pod`, exit codes for windows that are not
+//! steady, and progress bars that stay silent when stderr is not a terminal.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use dampid::model_file::load;
+use dampid::pod::{Pod, PodBasis, PodSettings, Retain};
+use dampid::pod_files::{Columns, pod_of_files};
+
+fn dampid(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_dampid"))
+        .args(args)
+        .output()
+        .expect("the dampid binary runs")
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+const RECORD: &str = "models/data/chain3/record_1.csv";
+
+fn settings(basis: PodBasis) -> PodSettings {
+    PodSettings {
+        remove_mean: false,
+        retain: Retain::Energy(0.999),
+        basis,
+    }
+}
+
+/// The POD of a file's x columns is the POD of the record the model file reads from it.
+#[test]
+fn pod_of_a_file_is_the_pod_of_its_displacements() {
+    let pods = pod_of_files(
+        &[PathBuf::from(RECORD)],
+        &Columns::Prefix("x".into()),
+        &settings(PodBasis::PerRecord),
+    )
+    .unwrap();
+    assert_eq!(pods.len(), 1);
+    assert_eq!(pods[0].columns, ["x1", "x2", "x3"]);
+    let job = load(Path::new("models/measured_chain.toml")).unwrap();
+    let direct = Pod::from_record(&job.source_records[0], &settings(PodBasis::PerRecord)).unwrap();
+    for (mode, share) in pods[0].report.modes.iter().zip(direct.energy_shares()) {
+        assert!((mode.energy_share - share).abs() < 1e-12);
+    }
+    // Named columns in another order permute the shapes' components.
+    let named = pod_of_files(
+        &[PathBuf::from(RECORD)],
+        &Columns::Named(vec!["x3".into(), "x2".into(), "x1".into()]),
+        &settings(PodBasis::PerRecord),
+    )
+    .unwrap();
+    let (a, b) = (
+        &pods[0].report.modes[0].shape,
+        &named[0].report.modes[0].shape,
+    );
+    assert!((a[0] - b[2]).abs() < 1e-12 && (a[2] - b[0]).abs() < 1e-12);
+    // By default every column but t: x, v and f.
+    let all = pod_of_files(
+        &[PathBuf::from(RECORD)],
+        &Columns::AllButTime,
+        &settings(PodBasis::PerRecord),
+    )
+    .unwrap();
+    assert_eq!(all[0].columns.len(), 7);
+}
+
+/// A shared basis stacks the files; different columns are refused with the file named.
+#[test]
+fn shared_pod_stacks_files() {
+    let files = [
+        PathBuf::from(RECORD),
+        PathBuf::from("models/data/chain3/record_5.csv"),
+    ];
+    let shared = pod_of_files(
+        &files,
+        &Columns::Prefix("x".into()),
+        &settings(PodBasis::Shared),
+    )
+    .unwrap();
+    assert_eq!(shared.len(), 1);
+    let separate = pod_of_files(
+        &files,
+        &Columns::Prefix("x".into()),
+        &settings(PodBasis::PerRecord),
+    )
+    .unwrap();
+    assert_eq!(
+        shared[0].report.samples,
+        separate.iter().map(|p| p.report.samples).sum::<usize>()
+    );
+    assert!(matches!(
+        pod_of_files(&files[..1], &Columns::Prefix("q".into()), &settings(PodBasis::Shared)),
+        Err(dampid::Error::Data { ref file, .. }) if file.contains("record_1")
+    ));
+}
+
+/// `dampid pod --json` prints what the library function returns.
+#[test]
+fn pod_command_prints_the_energy_table() {
+    let out = dampid(&["pod", RECORD, "--prefix", "x", "--json"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let value: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let shares: Vec<f64> = value["decompositions"][0]["report"]["modes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m["energy_share"].as_f64().unwrap())
+        .collect();
+    let library = pod_of_files(
+        &[PathBuf::from(RECORD)],
+        &Columns::Prefix("x".into()),
+        &settings(PodBasis::PerRecord),
+    )
+    .unwrap();
+    let expected: Vec<f64> = library[0]
+        .report
+        .modes
+        .iter()
+        .map(|m| m.energy_share)
+        .collect();
+    assert_eq!(shares, expected);
+    let table = dampid(&["pod", RECORD, "--columns", "x1,x2,x3"]);
+    assert!(table.status.success());
+    let printed = text(&table.stdout);
+    assert!(
+        printed.contains("x1, x2, x3") && printed.contains("cumulative"),
+        "{printed}"
+    );
+    let missing = dampid(&["pod", RECORD, "--columns", "x9"]);
+    assert_eq!(missing.status.code(), Some(2));
+    assert!(text(&missing.stderr).contains("x9"));
+}
+
+/// A model file whose records start from rest: check and identify exit with 2 and say
+/// which window, when and by how much; --accept-transient lets identify run.
+#[test]
+fn unsteady_windows_exit_with_2_unless_accepted() {
+    let folder = std::env::temp_dir().join(format!("dampid-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&folder).unwrap();
+    let four = std::fs::read_to_string("models/four_mass.toml").unwrap();
+    let from_rest = four.replace("transient_steps = 1000", "transient_steps = 0");
+    assert_ne!(four, from_rest);
+    let file = folder.join("from_rest.toml");
+    std::fs::write(&file, from_rest).unwrap();
+    let path = file.to_str().unwrap();
+    for command in ["check", "identify"] {
+        let out = dampid(&[command, path]);
+        assert_eq!(out.status.code(), Some(2), "{command}");
+        let error = text(&out.stderr);
+        for needle in [
+            "not in steady state",
+            "window 0",
+            "t = 0",
+            "--accept-transient",
+        ] {
+            assert!(
+                error.contains(needle),
+                "{command}: '{needle}' not in {error}"
+            );
+        }
+    }
+    let accepted = dampid(&["identify", path, "--accept-transient"]);
+    assert!(accepted.status.success(), "{}", text(&accepted.stderr));
+    assert!(text(&accepted.stdout).contains("not in steady state, accepted"));
+    std::fs::remove_dir_all(&folder).ok();
+}
+
+/// Progress bars draw on stderr only when it is a terminal: piped, identify writes
+/// nothing there (indicatif's stderr target hides itself).
+#[test]
+fn progress_bars_are_silent_when_stderr_is_not_a_terminal() {
+    let out = dampid(&["identify", "models/four_mass.toml"]);
+    assert!(out.status.success());
+    assert_eq!(text(&out.stderr), "");
+    let check = dampid(&["check", "models/measured_chain.toml"]);
+    assert!(check.status.success());
+    assert_eq!(text(&check.stderr), "");
+}

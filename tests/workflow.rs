@@ -1,0 +1,97 @@
+//! The new-user walkthrough (docs/walkthrough.md), run as written: its two model files,
+//! the commands it shows, and what it says the outputs contain.
+
+use std::path::Path;
+use std::process::Command;
+
+use dampid::model_file::load;
+
+const TRUTH: [(&str, f64); 5] = [
+    ("dashpot[0-1]", 0.10),
+    ("dashpot[1-2]", 0.05),
+    ("dashpot[2-3]", 0.15),
+    ("dashpot[3-4]", 0.08),
+    ("friction", 0.05),
+];
+
+fn dampid(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_dampid"))
+        .args(args)
+        .output()
+        .expect("the dampid binary runs")
+}
+
+/// First try: four records at the first resonance. The periods are detected from the
+/// force (2π/0.765367 to 1e-6), every window is steady, and the report flags the four
+/// dashpots as not separable.
+#[test]
+fn first_try_is_flagged_as_not_identifiable() {
+    let job = load(Path::new("models/walkthrough_first_try.toml")).unwrap();
+    let period = 2.0 * std::f64::consts::PI / 0.765367;
+    for detected in &job.detected_periods {
+        let detected = detected.expect("no period in the file: detected");
+        assert!((detected.period - period).abs() < 1e-6 * period);
+    }
+    assert!(job.steady_state().unwrap().enforce().is_ok());
+    let report = dampid::identify(&job.model, &job.records, &job.settings).unwrap();
+    let identifiability = &report.identifiability;
+    assert!(!identifiability.separable());
+    assert!(identifiability.practical_rank < 5);
+    for name in [
+        "dashpot[0-1]",
+        "dashpot[1-2]",
+        "dashpot[2-3]",
+        "dashpot[3-4]",
+    ] {
+        assert!(
+            identifiability.unidentifiable.iter().any(|n| n == name),
+            "{name}: {:?}",
+            identifiability.unidentifiable
+        );
+    }
+    let checked = dampid(&["check", "models/walkthrough_first_try.toml"]);
+    assert!(checked.status.success());
+    let printed = String::from_utf8_lossy(&checked.stdout);
+    assert!(
+        printed.contains("period detected from the force"),
+        "{printed}"
+    );
+    assert!(printed.contains("cannot separate"), "{printed}");
+}
+
+/// The full file: all twelve records; every coefficient within 0.05% of the truth,
+/// with standard errors, and `--report` writes the HTML report.
+#[test]
+fn walkthrough_model_file_identifies_the_chain() {
+    let job = load(Path::new("models/walkthrough.toml")).unwrap();
+    assert_eq!(job.records.len(), 12);
+    let report = dampid::identify(&job.model, &job.records, &job.settings).unwrap();
+    assert!(report.identifiability.separable());
+    for (name, value) in TRUTH {
+        let estimate = report.coefficient(name).unwrap();
+        assert!(
+            (estimate - value).abs() < 5e-4 * value,
+            "{name}: {estimate}"
+        );
+    }
+    assert!(report.coefficients.iter().all(|c| c.std_error.is_some()));
+
+    let folder = std::env::temp_dir().join(format!("dampid-walkthrough-{}", std::process::id()));
+    let out = dampid(&[
+        "identify",
+        "models/walkthrough.toml",
+        "--report",
+        folder.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let page = std::fs::read_to_string(folder.join("report.html")).unwrap();
+    assert!(page.contains("<svg"));
+    let json = dampid(&["identify", "models/walkthrough.toml", "--json"]);
+    let value: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
+    assert_eq!(value["report"]["coefficients"].as_array().unwrap().len(), 5);
+    std::fs::remove_dir_all(&folder).ok();
+}
