@@ -95,3 +95,55 @@ fn walkthrough_model_file_identifies_the_chain() {
     assert_eq!(value["report"]["coefficients"].as_array().unwrap().len(), 5);
     std::fs::remove_dir_all(&folder).ok();
 }
+
+/// Every `cargo run --release -- …` command in docs/walkthrough.md runs and succeeds
+/// (`out/` becomes a temporary folder), and the `head` it shows is the file's start.
+#[test]
+fn every_walkthrough_command_works() {
+    let doc = std::fs::read_to_string("docs/walkthrough.md").unwrap();
+    let folder =
+        std::env::temp_dir().join(format!("dampid-walkthrough-doc-{}", std::process::id()));
+    let mut in_shell = false;
+    let mut commands = 0;
+    for line in doc.lines() {
+        if line.starts_with("```") {
+            in_shell = line == "```sh";
+            continue;
+        }
+        if !in_shell {
+            continue;
+        }
+        if let Some(rest) = line.strip_prefix("cargo run --release -- ") {
+            let args: Vec<String> = rest
+                .split('#')
+                .next()
+                .unwrap()
+                .split_whitespace()
+                .map(|a| {
+                    if a == "out/" {
+                        folder.display().to_string()
+                    } else {
+                        a.to_string()
+                    }
+                })
+                .collect();
+            let args: Vec<&str> = args.iter().map(String::as_str).collect();
+            let out = dampid(&args);
+            assert!(
+                out.status.success(),
+                "{line}: {}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+            commands += 1;
+        } else if let Some(file) = line.strip_prefix("head -3 ") {
+            let text = std::fs::read_to_string(file).unwrap();
+            let shown: Vec<&str> = text.lines().take(3).collect();
+            assert!(doc.contains(&shown.join("\n")), "{file}");
+        } else {
+            panic!("a command the test does not run: {line}");
+        }
+    }
+    assert!(commands >= 5, "{commands}");
+    assert!(folder.join("report.html").exists());
+    std::fs::remove_dir_all(&folder).ok();
+}
