@@ -42,6 +42,7 @@ use crate::quadrature::Quadrature;
 use crate::record::{LoadDistribution, Record};
 use crate::regressor::RegressorSettings;
 use crate::velocity::VelocitySource;
+use crate::window::Window;
 
 /// Default largest |ΔE| / |W| of a steady window (1% of the input work).
 pub const DEFAULT_MAX_ENERGY_MISMATCH: f64 = 0.01;
@@ -298,16 +299,7 @@ pub fn check(
             .windows
             .windows(record, index, regressor.quadrature)?
         {
-            let mut checked = check_window(
-                record,
-                index,
-                window.index,
-                window.start,
-                window.span,
-                window.cycles,
-                regressor,
-                energy,
-            )?;
+            let mut checked = check_window(record, &window, regressor, energy)?;
             checked.steady = match checked.energy_mismatch {
                 Some(e) => e <= settings.max_energy_mismatch,
                 None => checked.state_mismatch() <= settings.max_state_mismatch,
@@ -322,20 +314,17 @@ pub fn check(
     })
 }
 
-/// The check of the window of `span` from sample `start` of `record`.
+/// The check of `window` of `record`.
 fn check_window(
     record: &Record,
-    record_index: usize,
-    window: usize,
-    start: usize,
-    span: f64,
-    cycles: usize,
+    window: &Window,
     regressor: &RegressorSettings,
     energy: Option<&StoredEnergy>,
 ) -> Result<WindowCheck> {
+    let (start, span) = (window.start, window.span);
     let samples = record.samples();
     let h = record.step();
-    let (compared, scale) = compared_span(record, start, span, cycles);
+    let (compared, scale) = compared_span(record, start, span, window.cycles);
     let end = start as f64 + compared / h;
     let stencil = Stencil::at(end, samples);
     // Velocities for the stencil and for every sample the work's weights read.
@@ -387,10 +376,12 @@ fn check_window(
             .zip(b)
             .map(|(a, b)| (a - b).abs())
             .fold(0.0, f64::max);
-        match (change, scale) {
-            (c, _) if c == 0.0 => 0.0,
-            (_, s) if s == 0.0 => f64::INFINITY,
-            (c, s) => c / s,
+        if change == 0.0 {
+            0.0
+        } else if scale == 0.0 {
+            f64::INFINITY
+        } else {
+            change / scale
         }
     };
     let displacement_mismatch = scale * relative(&x_end, &x_start, amplitude(x));
@@ -409,8 +400,8 @@ fn check_window(
     });
     Ok(WindowCheck {
         record: record.label().to_string(),
-        record_index,
-        window,
+        record_index: window.record,
+        window: window.index,
         start_time: record.start_time() + start as f64 * h,
         displacement_mismatch,
         velocity_mismatch,

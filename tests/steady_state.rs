@@ -30,7 +30,7 @@ fn period_of_a_clean_sinusoid_with_fractional_samples_per_period() {
 /// the noise allows.
 #[test]
 fn period_with_noise_and_a_harmonic() {
-    let (period, h) = (6.2832 / 0.618, 0.1);
+    let (period, h) = (2.0 * PI / 0.618, 0.1);
     let mut state = 12345u64;
     let mut uniform = || {
         state = state
