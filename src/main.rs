@@ -329,9 +329,14 @@ fn identify(
         writeln!(
             out,
             "{}",
-            serde_json::to_string_pretty(
-                &json!({"model": job.title, "report": report, "truth": truth})
-            )?
+            serde_json::to_string_pretty(&json!({
+                "model": job.title,
+                "report": report,
+                "truth": truth,
+                "steady_state": steady,
+                "detected_periods": job.detected_periods,
+                "pod": job.pod.as_ref().map(|r| r.reports()),
+            }))?
         )?;
     } else {
         writeln!(out, "{}", job.title)?;

@@ -111,7 +111,8 @@ pub fn detect_period(signals: MatRef<'_, f64>, step: f64, label: &str) -> Result
     let high = ((peak as f64 + BRACKET_BINS) * bin).min(nyquist);
     let explained_energy = |omega: f64| explained(&centred, step, omega);
     let frequency = golden_maximum(explained_energy, low, high);
-    let share = explained_energy(frequency) / variance;
+    // A share is at most 1; the fit can exceed the variance by round-off.
+    let share = (explained_energy(frequency) / variance).min(1.0);
     if share < MIN_EXPLAINED {
         return Err(Error::NoPeriod {
             record: label.to_string(),
