@@ -4,9 +4,11 @@
 //! Resource limits of the harness (not of the library): a model file may ask for a
 //! simulation of any length or a system of any size, which is slow or exhausts memory
 //! by request rather than by bug, so inputs whose simulation would take more than
-//! `MAX_WORK` DOF-steps or whose system has more than `MAX_DOFS` DOFs are skipped. Data
-//! files are read from `fuzz/data/`; paths that leave it (absolute, `..`) are skipped,
-//! so that the fuzzer never reads `/dev/zero` or the rest of the disk.
+//! `MAX_WORK` DOF-steps (string simulations: mode-point-steps), whose harmonic
+//! approximation synthesizes more than `MAX_SYNTHESIZED` samples per period, or whose
+//! system has more than `MAX_DOFS` DOFs are skipped. Data files are read from
+//! `fuzz/data/`; paths that leave it (absolute, `..`) are skipped, so that the fuzzer
+//! never reads `/dev/zero` or the rest of the disk.
 
 #![no_main]
 
@@ -17,6 +19,8 @@ use libfuzzer_sys::fuzz_target;
 
 const MAX_DOFS: usize = 64;
 const MAX_WORK: u128 = 2_000_000;
+/// Samples per synthesized period of a harmonic approximation.
+const MAX_SYNTHESIZED: usize = 100_000;
 
 fn within_limits(spec: &ModelFileSpec) -> bool {
     let n = spec.dofs as u128;
@@ -29,6 +33,19 @@ fn within_limits(spec: &ModelFileSpec) -> bool {
         if steps * (s.experiments.len() as u128).max(1) * n * n > MAX_WORK {
             return false;
         }
+    }
+    if let Some(string) = &spec.string_simulation {
+        let s = string.get_ref();
+        let steps = (s.transient_steps as u128 + s.recorded_steps as u128) * s.substeps as u128;
+        let per_step = (s.modes as u128) * (s.damping_points as u128 + n);
+        if steps * (s.amplitudes.len() as u128).max(1) * per_step > MAX_WORK {
+            return false;
+        }
+    }
+    if let Some(harmonic) = &spec.harmonic_approximation
+        && harmonic.get_ref().samples_per_period.unwrap_or(0) > MAX_SYNTHESIZED
+    {
+        return false;
     }
     if let Some(data) = &spec.data {
         for record in &data.get_ref().records {
