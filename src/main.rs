@@ -28,7 +28,7 @@ const EXAMPLES: &str = "Examples:
   dampid identify models/four_mass_pod.toml      # the same chain reduced to two POMs (paper 3.1)
   dampid identify models/string.toml             # the string with eight sensors (paper 3.2.1)
   dampid identify models/four_mass_harmonic.toml # the harmonic approximation (paper eq. 4)
-  dampid pod models/data/chain3/record_1.csv     # energy table of the proper orthogonal modes
+  dampid pod models/data/chain3/record_1.csv --prefix x   # energy table of the POMs of columns x1, x2, …
   dampid compare models/measured_chain.toml models/measured_chain_no_friction.toml   # is friction needed?
   dampid design models/per_dashpot.toml          # choose experiments that separate the coefficients
   dampid simulate models/four_mass.toml --out runs/   # write the simulated records as CSV
@@ -38,7 +38,8 @@ Exit codes: 0 success; 1 a fit that did not converge, a missed reference target,
 design that does not reach its target; 2 bad input (model file, data, settings), or a
 window that is not in steady state (--accept-transient accepts it).
 
-Progress bars are drawn on stderr only when it is a terminal.";
+Progress bars are drawn on stderr only when it is a terminal. From CSV files to a report,
+step by step: docs/walkthrough.md.";
 
 /// Identify damping laws of vibrating structures by balancing energy over cycles.
 #[derive(Parser)]
