@@ -336,14 +336,18 @@ fn check_window(
         .max(start.saturating_add(work_samples).saturating_sub(1))
         .max(start + 1)
         .min(samples - 1);
-    let count = last + 1 - start;
+    // The stencil may reach before the window's start in a short record's last window.
+    let origin = start.min(stencil.first);
     let source = if record.velocities().is_some() {
         VelocitySource::Measured
     } else {
         VelocitySource::CentralDifference
     };
-    let velocities = source.window_velocities(record, start, count)?;
-    let v = velocities.as_ref();
+    let velocities = source.window_velocities(record, origin, last + 1 - origin)?;
+    let v = velocities
+        .as_ref()
+        .subrows(start - origin, last + 1 - start);
+    let count = last + 1 - start;
     let x = record.displacements().subrows(start, count);
     let n = record.dofs();
     let x_start: Vec<f64> = (0..n).map(|j| x[(0, j)]).collect();
@@ -351,8 +355,9 @@ fn check_window(
     let x_end: Vec<f64> = (0..n)
         .map(|j| stencil.value(|i| record.displacements()[(i, j)]))
         .collect();
+    let all_v = velocities.as_ref();
     let v_end: Vec<f64> = (0..n)
-        .map(|j| stencil.value(|i| v[(i - start, j)]))
+        .map(|j| stencil.value(|i| all_v[(i - origin, j)]))
         .collect();
     // Amplitudes over the samples inside the window.
     let inside = ((start as f64 + span / h).floor() as usize).min(last) + 1 - start;
@@ -423,7 +428,8 @@ fn compared_span(record: &Record, start: usize, span: f64, cycles: usize) -> (f6
     }
     let fitting = (last / record.period()).floor() as usize;
     match fitting.min(cycles) {
-        0 => (span, 1.0),
+        // Periods shorter than a sample step cannot be compared on their own.
+        k if k == 0 || k as f64 * record.period() < record.step() => (span, 1.0),
         k => (k as f64 * record.period(), cycles as f64 / k as f64),
     }
 }
