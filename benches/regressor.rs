@@ -130,6 +130,7 @@ fn settings() -> RegressorSettings {
         },
         quadrature: Quadrature::Rectangular,
         velocity: VelocitySource::Measured,
+        ..RegressorSettings::default()
     }
 }
 

@@ -85,6 +85,7 @@ fn main() -> Result<()> {
             },
             quadrature: Quadrature::Trapezoid,
             velocity: VelocitySource::Spectral { harmonics: None },
+            ..Default::default()
         },
         ..IdentifySettings::default()
     };

@@ -177,6 +177,7 @@ fn identify_settings(velocity: VelocitySource) -> IdentifySettings {
             },
             quadrature: Quadrature::Rectangular,
             velocity,
+            ..Default::default()
         },
         ..IdentifySettings::default()
     }

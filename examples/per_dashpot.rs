@@ -76,6 +76,7 @@ fn main() -> Result<()> {
             },
             quadrature: Quadrature::Trapezoid,
             velocity: VelocitySource::Spectral { harmonics: None },
+            ..Default::default()
         },
         ..IdentifySettings::default()
     };

@@ -117,6 +117,7 @@ fn main() -> Result<()> {
                     windows: WindowSpec::default(),
                     quadrature,
                     velocity,
+                    ..Default::default()
                 },
                 ..IdentifySettings::default()
             };

@@ -12,6 +12,13 @@
 //!   coefficients not held at a bound, s² = ‖e‖²/(m − |F|) and
 //!   Cov(θ_F) = s² (A_Fᵀ A_F)⁻¹ = s² S⁻¹ V Σ⁻² Vᵀ S⁻¹ from the SVD of the scaled A_F;
 //!   the correlation matrix follows. Coefficients held at a bound get none.
+//! - With propagated weights (the noise-robust pipeline), every quantity above except
+//!   the residuals is computed on the weighted rows e_r/s_r, and the plug-in covariance
+//!   (A_Fᵀ W A_F)⁻¹, W = diag(1/s_r²), gives standard errors that need no residual
+//!   variance. The weighted residual sum of squares χ² = Σ (e_r/s_r)² against its
+//!   m − |F| degrees of freedom checks the model: a χ² far above its degrees of freedom
+//!   (upper-tail probability below 1%) says the residuals are larger than the noise
+//!   explains, so the model misses a mechanism or the noise is not white.
 //! - Identifiability (see [`crate::identifiability`]): practically zero singular values
 //!   against the noise level of the equations, near-null directions and determined
 //!   combinations by name, variance inflation factors.
@@ -87,10 +94,50 @@ pub struct Diagnostics {
     pub correlation: Option<Correlation>,
     /// What the data can and cannot determine.
     pub identifiability: Identifiability,
+    /// With propagated weights: the model-adequacy check and plug-in standard errors.
+    pub weighted: Option<WeightedDiagnostics>,
 }
 
-/// Computes the diagnostics of `fit` on `regressor`.
+/// Diagnostics of a fit weighted by propagated residual variances.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct WeightedDiagnostics {
+    /// χ² = Σ_r (e_r/s_r)².
+    pub chi_square: f64,
+    /// m − |F|.
+    pub degrees_of_freedom: usize,
+    /// P(χ²_dof > χ²): small values (< 0.01) say the residuals exceed the noise. None
+    /// without degrees of freedom.
+    pub p_value: Option<f64>,
+    /// Plug-in standard errors √diag((A_Fᵀ W A_F)⁻¹) (None for coefficients at a bound).
+    pub plug_in_std_errors: Vec<Option<f64>>,
+    /// s_r, the propagated standard deviation of each equation's residual.
+    pub residual_std: Vec<f64>,
+}
+
+/// Computes the diagnostics of `fit` on `regressor` (on its weighted rows when the fit
+/// was weighted).
 pub fn diagnose(regressor: &Regressor, fit: &Fit, rank_tolerance: f64) -> Diagnostics {
+    let Some(std) = &fit.residual_std else {
+        return diagnose_rows(regressor, fit, rank_tolerance, None);
+    };
+    let weights = crate::fit::inverse_std(std);
+    let Ok(weighted) = regressor.weighted(&weights) else {
+        return diagnose_rows(regressor, fit, rank_tolerance, None);
+    };
+    let physical = diagnose_rows(regressor, fit, rank_tolerance, None);
+    let mut diagnostics = diagnose_rows(&weighted, fit, rank_tolerance, Some(std));
+    diagnostics.residuals = physical.residuals;
+    diagnostics.relative_residual = physical.relative_residual;
+    diagnostics.residual_bias = physical.residual_bias;
+    diagnostics
+}
+
+fn diagnose_rows(
+    regressor: &Regressor,
+    fit: &Fit,
+    rank_tolerance: f64,
+    residual_std: Option<&Vec<f64>>,
+) -> Diagnostics {
     let a = regressor.matrix();
     let b = regressor.rhs();
     let (m, p) = a.shape();
@@ -122,16 +169,32 @@ pub fn diagnose(regressor: &Regressor, fit: &Fit, rank_tolerance: f64) -> Diagno
     let free: Vec<usize> = (0..p)
         .filter(|j| !fit.active.iter().any(|c| c.name == regressor.columns()[*j]))
         .collect();
-    let (std_errors, correlation) = covariance(
-        a,
-        &scaling,
-        &residuals,
-        &free,
-        rank_tolerance,
-        regressor.columns(),
-    )
-    .map(|(se, corr)| (se, Some(corr)))
-    .unwrap_or((vec![None; p], None));
+    let unit = unit_covariance(a, &scaling, &free, rank_tolerance);
+    let dof = m.saturating_sub(free.len());
+    let (std_errors, correlation) = unit
+        .as_ref()
+        .filter(|_| dof > 0)
+        .map(|cov| {
+            let variance = residuals.iter().map(|e| e * e).sum::<f64>() / dof as f64;
+            let (se, corr) = standard_errors(cov, variance, &free, p, regressor.columns());
+            (se, Some(corr))
+        })
+        .unwrap_or((vec![None; p], None));
+    let weighted = residual_std.map(|std| {
+        let chi_square: f64 = residuals.iter().map(|e| e * e).sum();
+        let plug_in_std_errors = match &unit {
+            Some(cov) => standard_errors(cov, 1.0, &free, p, regressor.columns()).0,
+            None => vec![None; p],
+        };
+        WeightedDiagnostics {
+            chi_square,
+            degrees_of_freedom: dof,
+            p_value: (dof > 0)
+                .then(|| crate::special::chi_square_upper_tail(chi_square, dof as f64)),
+            plug_in_std_errors,
+            residual_std: std.clone(),
+        }
+    });
     Diagnostics {
         residuals,
         relative_residual,
@@ -142,6 +205,7 @@ pub fn diagnose(regressor: &Regressor, fit: &Fit, rank_tolerance: f64) -> Diagno
         std_errors,
         correlation,
         identifiability: analyse(regressor, rank_tolerance),
+        weighted,
     }
 }
 
@@ -161,18 +225,14 @@ fn rank_and_condition(s: &[f64], tolerance: f64) -> (usize, f64) {
     (rank, condition)
 }
 
-type Covariance = (Vec<Option<f64>>, Correlation);
-
-/// Standard errors and correlation of the free coefficients, when m > |F| and the
-/// free columns have full rank.
-fn covariance(
+/// (A_Fᵀ A_F)⁻¹ = S⁻¹ V Σ⁻² Vᵀ S⁻¹ of the free columns (from the SVD of the scaled
+/// A_F), when m > |F| and the free columns have full rank.
+fn unit_covariance(
     a: &Mat<f64>,
     scaling: &Scaling,
-    residuals: &[f64],
     free: &[usize],
     rank_tolerance: f64,
-    names: &[String],
-) -> Option<Covariance> {
+) -> Option<Mat<f64>> {
     let m = a.nrows();
     let f = free.len();
     if f == 0 || m <= f {
@@ -185,23 +245,33 @@ fn covariance(
     if rank < f {
         return None;
     }
-    let variance = residuals.iter().map(|e| e * e).sum::<f64>() / (m - f) as f64;
-    // Cov(θ_F) = s² S⁻¹ V Σ⁻² Vᵀ S⁻¹
-    let cov = Mat::from_fn(f, f, |j, k| {
+    Some(Mat::from_fn(f, f, |j, k| {
         let sum: f64 = (0..f).map(|i| v[(j, i)] * v[(k, i)] / (s[i] * s[i])).sum();
-        variance * sum / (scaling.columns[free[j]] * scaling.columns[free[k]])
-    });
-    let mut std_errors = vec![None; a.ncols()];
+        sum / (scaling.columns[free[j]] * scaling.columns[free[k]])
+    }))
+}
+
+/// Standard errors (one per coefficient, None when not free) and the correlation of
+/// the free coefficients for Cov(θ_F) = `variance` · `unit`.
+fn standard_errors(
+    unit: &Mat<f64>,
+    variance: f64,
+    free: &[usize],
+    coefficients: usize,
+    names: &[String],
+) -> (Vec<Option<f64>>, Correlation) {
+    let f = free.len();
+    let mut std_errors = vec![None; coefficients];
     for (k, &j) in free.iter().enumerate() {
-        std_errors[j] = Some(cov[(k, k)].max(0.0).sqrt());
+        std_errors[j] = Some((variance * unit[(k, k)]).max(0.0).sqrt());
     }
     let matrix = (0..f)
         .map(|j| {
             (0..f)
                 .map(|k| {
-                    let denom = (cov[(j, j)] * cov[(k, k)]).sqrt();
+                    let denom = (unit[(j, j)] * unit[(k, k)]).sqrt();
                     if denom > 0.0 {
-                        cov[(j, k)] / denom
+                        unit[(j, k)] / denom
                     } else if j == k {
                         1.0
                     } else {
@@ -212,5 +282,5 @@ fn covariance(
         })
         .collect();
     let names = free.iter().map(|&j| names[j].clone()).collect();
-    Some((std_errors, Correlation { names, matrix }))
+    (std_errors, Correlation { names, matrix })
 }

@@ -13,21 +13,28 @@
 //! A_k = √(a_k² + b_k²) and φ_k = atan2(b_k, a_k) (a phase lag).
 //!
 //! **Noise floor and automatic harmonic selection** ([`select_harmonics`]). Fit every
-//! harmonic 1..K_max (K_max the default count, 45% of Nyquist) over the m samples of the
-//! window's whole periods. For white noise of variance σ² each coefficient has variance
-//! ≈ 2σ²/m, so a harmonic that carries noise only has power P_k = a_k² + b_k² ~
-//! exponential with mean 4σ²/m, whose median is (4σ²/m)·ln 2. A periodic response
-//! carries signal in a few low harmonics; the upper harmonics are out of band and carry
-//! the noise. Per channel, the per-bin noise power is therefore estimated robustly as
+//! harmonic 1..K_max (K_max the default count, 45% of Nyquist, at most 100) over the m samples of the
+//! window's P whole periods. For white noise of variance σ² each coefficient has
+//! variance ≈ 2σ²/m, so a bin that carries noise only has power P = a² + b² ~
+//! exponential with mean 4σ²/m, whose median is (4σ²/m)·ln 2. The noise bins are:
 //!
-//!   P̂_noise = median_{k = 2..K_max} P_k / ln 2,   σ̂_A = √P̂_noise,
+//! - with P ≥ 2, the bins of the fit's residual at the frequencies jω/P that are not
+//!   harmonics of ω (j not a multiple of P, jω/P below K_max ω; at most
+//!   [`MAX_NOISE_BINS`], evenly strided), plus the harmonics in the upper half of the
+//!   band (K_max/2 < k ≤ K_max). The residual has no periodic content left, so a
+//!   transient or a strong harmonic cannot leak into these bins;
+//! - with P = 1 (no bins between harmonics), the harmonics 2..K_max.
 //!
-//! (the median ignores the minority of bins that carry signal), floored at
-//! 10⁻¹² max_k A_k for round-off. Harmonic k is kept when A_k > 3.5 σ̂_A in any
-//! channel; the fundamental is always kept. A noise-only bin passes with probability
+//! Per channel the per-bin noise power is estimated robustly as
+//!
+//!   P̂_noise = median over the noise bins of P / ln 2,   σ̂_A = √P̂_noise,
+//!
+//! (a median ignores the minority of bins that carry signal or leakage), floored at
+//! 10⁻¹² max_k A_k for round-off. The per-sample noise standard deviation follows as
+//! σ̂ = σ̂_A √m / 2. Harmonic k is kept when A_k > 3.5 σ̂_A in any channel; the
+//! fundamental is always kept. A noise-only bin passes with probability
 //! exp(−3.5²) ≈ 5·10⁻⁶.
 
-use faer::prelude::*;
 use faer::{Mat, MatRef};
 
 use crate::error::{Error, Result};
@@ -37,6 +44,15 @@ pub(crate) const NOISE_THRESHOLD: f64 = 3.5;
 
 /// Round-off floor of the noise amplitude, relative to a channel's largest harmonic.
 const ROUND_OFF: f64 = 1e-12;
+
+/// Most harmonics the noise-floor selection fits (K_max = min(45% of Nyquist, 100)):
+/// structural responses rarely carry measurable content above the 100th harmonic of
+/// the drive, and the fit's cost grows with K_max³.
+pub(crate) const MAX_SELECTED_HARMONICS: usize = 100;
+
+/// Most residual bins between harmonics read for the noise floor (a median over 256
+/// exponential powers has a relative standard error of about 9%).
+pub(crate) const MAX_NOISE_BINS: usize = 256;
 
 /// Default number of harmonics for a period of `samples_per_period` samples: 45% of
 /// the Nyquist count, leaving a margin so that the basis stays well conditioned when
@@ -198,7 +214,7 @@ impl HarmonicBasis {
         })
     }
 
-    fn columns(&self) -> usize {
+    pub(crate) fn columns(&self) -> usize {
         2 * self.orders.len() + 1
     }
 
@@ -209,19 +225,146 @@ impl HarmonicBasis {
     }
 
     /// rows × (2|S|+1) design matrix [1, cos k₁ωt, sin k₁ωt, cos k₂ωt, …] at t_i = i h.
-    fn design(&self, rows: usize) -> Mat<f64> {
-        Mat::from_fn(rows, self.columns(), |i, j| {
-            if j == 0 {
-                return 1.0;
+    pub(crate) fn design(&self, rows: usize) -> Mat<f64> {
+        let mut design = Mat::zeros(rows, self.columns());
+        for i in 0..rows {
+            design[(i, 0)] = 1.0;
+            self.for_each_phasor(i, |q, cos, sin| {
+                design[(i, 2 * q + 1)] = cos;
+                design[(i, 2 * q + 2)] = sin;
+            });
+        }
+        design
+    }
+
+    /// Calls `f(q, cos k_q ωt_i, sin k_q ωt_i)` for every order of S at t_i = i h, from
+    /// the powers of the phasor e^{iωt_i} (one sine and cosine per sample; the
+    /// recurrence loses about k·ε, far below any noise).
+    fn for_each_phasor(&self, i: usize, mut f: impl FnMut(usize, f64, f64)) {
+        let angle = self.omega * i as f64 * self.step;
+        let (s1, c1) = angle.sin_cos();
+        let (mut c, mut s) = (1.0, 0.0);
+        let mut q = 0;
+        for k in 1..=*self.orders.last().unwrap_or(&0) {
+            (c, s) = (c * c1 - s * s1, s * c1 + c * s1);
+            if self.orders[q] == k {
+                f(q, c, s);
+                q += 1;
             }
-            let (kw, cosine) = self.column(j);
-            let phase = kw * i as f64 * self.step;
-            if cosine { phase.cos() } else { phase.sin() }
-        })
+        }
+    }
+
+    /// BᵀB of the design over the fitted samples, in closed form: with θ = ωh and the
+    /// sums C(α) = Σ_{i<m} cos αi = cos((m−1)α/2) sin(mα/2)/sin(α/2) and
+    /// S(α) = Σ_{i<m} sin αi = sin((m−1)α/2) sin(mα/2)/sin(α/2) (C(0) = m, S(0) = 0),
+    /// ⟨cos k, cos l⟩ = ½[C((k−l)θ) + C((k+l)θ)], ⟨sin k, sin l⟩ = ½[C((k−l)θ) − C((k+l)θ)],
+    /// ⟨cos k, sin l⟩ = ½[S((k+l)θ) − S((k−l)θ)], ⟨1, cos k⟩ = C(kθ), ⟨1, sin k⟩ = S(kθ).
+    fn gram(&self) -> Mat<f64> {
+        let m = self.samples as f64;
+        let theta = self.omega * self.step;
+        let sums = |order: i64| -> (f64, f64) {
+            if order == 0 {
+                return (m, 0.0);
+            }
+            let alpha = order as f64 * theta;
+            let ratio = (m * alpha / 2.0).sin() / (alpha / 2.0).sin();
+            let (s, c) = ((m - 1.0) * alpha / 2.0).sin_cos();
+            (c * ratio, s * ratio)
+        };
+        let p = self.columns();
+        let mut g = Mat::zeros(p, p);
+        g[(0, 0)] = m;
+        for (q, &k) in self.orders.iter().enumerate() {
+            let (ck, sk) = sums(k as i64);
+            g[(0, 2 * q + 1)] = ck;
+            g[(0, 2 * q + 2)] = sk;
+            for (r, &l) in self.orders.iter().enumerate().skip(q) {
+                let (cd, sd) = sums(k as i64 - l as i64);
+                let (cs, ss) = sums((k + l) as i64);
+                g[(2 * q + 1, 2 * r + 1)] = 0.5 * (cd + cs);
+                g[(2 * q + 2, 2 * r + 2)] = 0.5 * (cd - cs);
+                g[(2 * q + 1, 2 * r + 2)] = 0.5 * (ss - sd);
+                g[(2 * q + 2, 2 * r + 1)] = 0.5 * (ss + sd);
+            }
+        }
+        for j in 0..p {
+            for i in 0..j {
+                g[(j, i)] = g[(i, j)];
+            }
+        }
+        g
+    }
+
+    /// R (upper triangular) with RᵀR = BᵀB: the R of a QR factorization of the design.
+    /// From the Cholesky factor of the closed-form Gram matrix (the harmonic basis over
+    /// whole periods is nearly orthogonal, so BᵀB is well conditioned), or from a QR
+    /// of the design if Cholesky fails.
+    pub(crate) fn r_factor(&self) -> Mat<f64> {
+        match self.gram().llt(faer::Side::Lower) {
+            Ok(llt) => llt.L().transpose().to_owned(),
+            Err(_) => self.design(self.samples).qr().thin_R().to_owned(),
+        }
+    }
+
+    /// Bᵀ values for `values` (m × n), by the phasor recurrence.
+    fn transpose_times(&self, values: MatRef<'_, f64>) -> Mat<f64> {
+        let n = values.ncols();
+        let mut out = Mat::zeros(self.columns(), n);
+        let mut row = vec![0.0; self.columns()];
+        for i in 0..self.samples {
+            row[0] = 1.0;
+            self.for_each_phasor(i, |q, cos, sin| {
+                row[2 * q + 1] = cos;
+                row[2 * q + 2] = sin;
+            });
+            for c in 0..n {
+                let x = values[(i, c)];
+                if x != 0.0 {
+                    for (k, b) in row.iter().enumerate() {
+                        out[(k, c)] += b * x;
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// The design row [1, cos k₁ωt, sin k₁ωt, …] at time t (from the first sample).
+    pub(crate) fn row_at(&self, t: f64) -> Vec<f64> {
+        (0..self.columns())
+            .map(|j| {
+                if j == 0 {
+                    return 1.0;
+                }
+                let (kw, cosine) = self.column(j);
+                if cosine {
+                    (kw * t).cos()
+                } else {
+                    (kw * t).sin()
+                }
+            })
+            .collect()
+    }
+
+    /// The derivative of the design row at time t.
+    pub(crate) fn derivative_row_at(&self, t: f64) -> Vec<f64> {
+        (0..self.columns())
+            .map(|j| {
+                if j == 0 {
+                    return 0.0;
+                }
+                let (kw, cosine) = self.column(j);
+                if cosine {
+                    -kw * (kw * t).sin()
+                } else {
+                    kw * (kw * t).cos()
+                }
+            })
+            .collect()
     }
 
     /// The time derivative of the design matrix at t_i = i h, i = 0..rows.
-    fn derivative_design(&self, rows: usize) -> Mat<f64> {
+    pub(crate) fn derivative_design(&self, rows: usize) -> Mat<f64> {
         Mat::from_fn(rows, self.columns(), |i, j| {
             if j == 0 {
                 return 0.0;
@@ -238,8 +381,35 @@ impl HarmonicBasis {
 
     /// Least-squares coefficients ((2|S|+1) × n: a_0, then a_k, b_k per order) of every
     /// column of `values` (m × n).
+    /// By the normal equations RᵀR c = Bᵀx with R from [`HarmonicBasis::r_factor`]:
+    /// O(m p n + p³) instead of the O(m p²) of a QR of the design.
     pub(crate) fn fit(&self, values: MatRef<'_, f64>) -> Mat<f64> {
-        self.design(self.samples).qr().solve_lstsq(values)
+        self.fit_with(&self.r_factor(), values)
+    }
+
+    /// [`HarmonicBasis::fit`] with R already computed. Each column is fitted relative
+    /// to its first sample (added back to a_0), so that a constant signal gives exactly
+    /// zero harmonics and a large offset costs no accuracy.
+    pub(crate) fn fit_with(&self, r: &Mat<f64>, values: MatRef<'_, f64>) -> Mat<f64> {
+        let first: Vec<f64> = (0..values.ncols())
+            .map(|j| {
+                if values.nrows() > 0 {
+                    values[(0, j)]
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let shifted = Mat::from_fn(values.nrows(), values.ncols(), |i, j| {
+            values[(i, j)] - first[j]
+        });
+        let mut c = self.transpose_times(shifted.as_ref());
+        r.transpose().solve_lower_triangular_in_place(c.as_mut());
+        r.solve_upper_triangular_in_place(c.as_mut());
+        for (j, offset) in first.iter().enumerate() {
+            c[(0, j)] += offset;
+        }
+        c
     }
 
     /// The phasor of the `index`-th order of S in every column of `coefficients`.
@@ -292,6 +462,8 @@ pub struct HarmonicSelection {
     pub kept: Vec<usize>,
     /// Per channel, the estimated per-bin noise amplitude σ̂_A.
     pub noise_amplitude: Vec<f64>,
+    /// Per channel, the estimated noise standard deviation per sample, σ̂ = σ̂_A √m / 2.
+    pub noise_std: Vec<f64>,
     /// Per channel, the amplitude A_k of harmonics k = 1..=K_max of the full fit.
     pub amplitudes: Vec<Vec<f64>>,
 }
@@ -307,9 +479,23 @@ pub(crate) fn select_harmonics(
 ) -> Result<HarmonicSelection> {
     let m = x.nrows();
     let omega = 2.0 * std::f64::consts::PI / period;
-    let most = default_harmonics(period / step).min((m.saturating_sub(1)) / 2);
+    let most = default_harmonics(period / step)
+        .min(MAX_SELECTED_HARMONICS)
+        .min((m.saturating_sub(1)) / 2);
     let basis = HarmonicBasis::new(omega, most, step, m)?;
     let coefficients = basis.fit(x);
+    let between = if periods >= 2 {
+        let residual = x - basis.design(m) * &coefficients;
+        Some(between_harmonics(
+            residual.as_ref(),
+            step,
+            omega,
+            periods,
+            most,
+        ))
+    } else {
+        None
+    };
     let mut kept = vec![1];
     let mut noise_amplitude = Vec::with_capacity(x.ncols());
     let mut amplitudes = Vec::with_capacity(x.ncols());
@@ -318,20 +504,19 @@ pub(crate) fn select_harmonics(
         let amps: Vec<f64> = (0..most)
             .map(|k| coefficients[(2 * k + 1, channel)].hypot(coefficients[(2 * k + 2, channel)]))
             .collect();
-        let mut powers: Vec<f64> = amps[1..].iter().map(|a| a * a).collect();
-        let floor = ROUND_OFF * amps.iter().cloned().fold(0.0, f64::max);
-        let noise = if powers.is_empty() {
-            floor
-        } else {
-            powers.sort_by(f64::total_cmp);
-            let mid = powers.len() / 2;
-            let median = if powers.len() % 2 == 1 {
-                powers[mid]
-            } else {
-                0.5 * (powers[mid - 1] + powers[mid])
-            };
-            (median / std::f64::consts::LN_2).sqrt().max(floor)
+        let mut powers: Vec<f64> = match &between {
+            // the upper half of the band, then the residual bins between harmonics
+            Some(bins) => amps[most / 2..]
+                .iter()
+                .map(|a| a * a)
+                .chain(bins.iter().map(|powers| powers[channel]))
+                .collect(),
+            None => amps[1..].iter().map(|a| a * a).collect(),
         };
+        let floor = ROUND_OFF * amps.iter().cloned().fold(0.0, f64::max);
+        let noise = median(&mut powers).map_or(floor, |median| {
+            (median / std::f64::consts::LN_2).sqrt().max(floor)
+        });
         for (k, a) in amps.iter().enumerate().skip(1) {
             if *a > NOISE_THRESHOLD * noise {
                 above[k + 1] = true;
@@ -341,13 +526,80 @@ pub(crate) fn select_harmonics(
         amplitudes.push(amps);
     }
     kept.extend((2..=most).filter(|&k| above[k]));
+    let noise_std = noise_amplitude
+        .iter()
+        .map(|a| a * (m as f64).sqrt() / 2.0)
+        .collect();
     Ok(HarmonicSelection {
         periods,
         samples: m,
         kept,
         noise_amplitude,
+        noise_std,
         amplitudes,
     })
+}
+
+/// The median of `values` (reordered), or None when empty.
+fn median(values: &mut [f64]) -> Option<f64> {
+    if values.is_empty() {
+        return None;
+    }
+    values.sort_by(f64::total_cmp);
+    let mid = values.len() / 2;
+    Some(if values.len() % 2 == 1 {
+        values[mid]
+    } else {
+        0.5 * (values[mid - 1] + values[mid])
+    })
+}
+
+/// Powers a² + b² per channel of the residual (m × n) at the frequencies jω/P between
+/// the harmonics, j = 1..P·K with j not a multiple of P, at most [`MAX_NOISE_BINS`] of
+/// them evenly strided; a = (2/m) Σ r_i cos(jωt_i/P), b likewise with sin. The sines
+/// and cosines come from powers of the phasor e^{iωt_i/P}, one sincos per sample.
+fn between_harmonics(
+    residual: MatRef<'_, f64>,
+    step: f64,
+    omega: f64,
+    periods: usize,
+    most: usize,
+) -> Vec<Vec<f64>> {
+    let (m, n) = residual.shape();
+    let all: Vec<usize> = (1..periods * most).filter(|j| j % periods != 0).collect();
+    let stride = all.len().div_ceil(MAX_NOISE_BINS).max(1);
+    let bins: Vec<usize> = all.into_iter().step_by(stride).collect();
+    let Some(&highest) = bins.last() else {
+        return Vec::new();
+    };
+    // sums[b][c] = (Σ r cos, Σ r sin) for bin b and channel c
+    let mut sums = vec![vec![(0.0, 0.0); n]; bins.len()];
+    let base = omega / periods as f64 * step;
+    let row: Vec<&[f64]> = (0..n).map(|c| crate::record::col(residual, c)).collect();
+    for i in 0..m {
+        let (s1, c1) = (base * i as f64).sin_cos();
+        let (mut cos, mut sin) = (1.0, 0.0);
+        let mut b = 0;
+        for j in 1..=highest {
+            (cos, sin) = (cos * c1 - sin * s1, sin * c1 + cos * s1);
+            if bins[b] == j {
+                for (sum, r) in sums[b].iter_mut().zip(&row) {
+                    sum.0 += cos * r[i];
+                    sum.1 += sin * r[i];
+                }
+                b += 1;
+            }
+        }
+    }
+    let scale = 2.0 / m as f64;
+    sums.into_iter()
+        .map(|per_channel| {
+            per_channel
+                .into_iter()
+                .map(|(a, b)| (scale * a).powi(2) + (scale * b).powi(2))
+                .collect()
+        })
+        .collect()
 }
 
 #[cfg(test)]

@@ -43,6 +43,7 @@
 
 pub mod bootstrap;
 pub mod compare;
+mod derivative_free;
 pub mod design;
 pub mod diagnostics;
 pub mod error;
@@ -55,6 +56,7 @@ pub mod interop;
 pub mod io;
 pub mod model;
 pub mod model_file;
+pub mod noise;
 pub mod period;
 pub mod pod;
 pub mod pod_files;
@@ -66,8 +68,8 @@ pub mod regressor;
 pub mod report;
 pub mod report_html;
 pub mod simulate;
-pub mod steady_state;
 mod special;
+pub mod steady_state;
 pub mod terms;
 pub mod velocity;
 pub mod window;

@@ -39,7 +39,7 @@ impl DampingModel {
 
     /// Number of coefficients.
     pub fn coefficient_count(&self) -> usize {
-        self.terms.iter().map(|t| t.coefficient_names().len()).sum()
+        self.terms.iter().map(Term::coefficient_count).sum()
     }
 
     /// Checks the model against a system of `dofs` DOFs: not empty, unique coefficient
@@ -63,7 +63,7 @@ impl DampingModel {
     pub(crate) fn term_columns(&self) -> impl Iterator<Item = (&Term, std::ops::Range<usize>)> {
         let mut offset = 0;
         self.terms.iter().map(move |t| {
-            let count = t.coefficient_names().len();
+            let count = t.coefficient_count();
             let range = offset..offset + count;
             offset += count;
             (t, range)

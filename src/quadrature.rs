@@ -37,7 +37,7 @@ pub enum Quadrature {
 impl Quadrature {
     /// Window length L = span/h in samples, with values within round-off of an
     /// integer snapped to it.
-    fn length(span: f64, step: f64) -> (usize, f64) {
+    pub(crate) fn length(span: f64, step: f64) -> (usize, f64) {
         let l = span / step;
         let whole = l.round();
         if (l - whole).abs() <= 1e-9 * l.max(1.0) {

@@ -6,13 +6,21 @@
 //!
 //! Mass and stiffness never appear: over whole periods of a periodic motion their
 //! stored energy returns to its start.
+//!
+//! With harmonic-projection velocities the rows come from the noise-robust pipeline
+//! ([`crate::noise`]): columns corrected for the expected noise contribution, and each
+//! row's first-order noise sensitivity kept for weighting the fit. With
+//! [`WorkForm::DerivativeFree`] the input work is ∫ rᵀ dx and (on raw samples) Coulomb
+//! columns are total variations of x ([`crate::derivative_free`]).
 
 use faer::Mat;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use crate::derivative_free;
 use crate::error::{Error, Result};
 use crate::model::DampingModel;
+use crate::noise::{self, NoiseModel, NoiseTreatment};
 use crate::quadrature::Quadrature;
 use crate::record::Record;
 use crate::terms::WindowSamples;
@@ -28,6 +36,61 @@ pub struct RegressorSettings {
     pub quadrature: Quadrature,
     /// Where velocities come from.
     pub velocity: VelocitySource,
+    /// Whether columns are corrected for sensor noise (the noise-robust pipeline).
+    #[serde(default)]
+    pub noise: NoiseTreatment,
+    /// Velocity-weighted or derivative-free forms of the input and Coulomb work.
+    #[serde(default)]
+    pub work_form: WorkForm,
+}
+
+/// How the input work (and, on raw samples, Coulomb columns) are integrated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum WorkForm {
+    /// ∫ vᵀ r dt and ∫ |v| dt with the rule's weights. In the noise-robust pipeline v̂ is
+    /// the exact derivative of the projected displacement x̂, so this is ∫ rᵀ dx̂
+    /// integrated by the rule (spectrally accurate over whole periods), with no
+    /// difference of noisy samples.
+    #[default]
+    Velocity,
+    /// ∫ rᵀ dx as a trapezoidal Stieltjes sum and Coulomb work as the total variation of
+    /// the sampled x (see [`crate::derivative_free`]): no velocity estimate enters them.
+    /// Its relative error on a harmonic of phase step δ = kωh is about −δ²/6.
+    DerivativeFree,
+}
+
+impl RegressorSettings {
+    /// The paper's plain pipeline: `velocity` as given, no noise correction,
+    /// velocity-weighted work.
+    pub fn plain(windows: WindowSpec, quadrature: Quadrature, velocity: VelocitySource) -> Self {
+        RegressorSettings {
+            windows,
+            quadrature,
+            velocity,
+            noise: NoiseTreatment::Ignore,
+            work_form: WorkForm::Velocity,
+        }
+    }
+
+    /// Whether the noise-robust pipeline runs: `Auto` runs it with harmonic-projection
+    /// velocities; `Correct` with any other source is an error.
+    pub fn noise_robust(&self) -> Result<bool> {
+        let projected = matches!(self.velocity, VelocitySource::HarmonicProjection { .. });
+        match self.noise {
+            NoiseTreatment::Ignore => Ok(false),
+            NoiseTreatment::Auto => Ok(projected),
+            NoiseTreatment::Correct if projected => Ok(true),
+            NoiseTreatment::Correct => Err(Error::invalid(
+                "noise",
+                0.0,
+                &format!(
+                    "noise correction needs velocity = harmonic projection (the noise of a projection is known), not {:?}; set noise = ignore or change the velocity source",
+                    self.velocity
+                ),
+            )),
+        }
+    }
 }
 
 /// Where a row came from.
@@ -52,6 +115,7 @@ pub struct Regressor {
     rhs: Vec<f64>,
     columns: Vec<String>,
     rows: Vec<RowLabel>,
+    noise: Option<NoiseModel>,
 }
 
 impl Regressor {
@@ -78,10 +142,32 @@ impl Regressor {
             );
         }
         let columns = model.coefficient_names();
-        let rows: Vec<(Vec<f64>, f64)> = windows
-            .par_iter()
-            .map(|w| window_row(model, &records[w.record], w, settings))
-            .collect::<Result<_>>()?;
+        let noise_robust = settings.noise_robust()?;
+        let (rows, noise): (Vec<(Vec<f64>, f64)>, Option<NoiseModel>) = if noise_robust {
+            let robust: Vec<noise::RobustRow> = windows
+                .par_iter()
+                .map(|w| noise::robust_row(model, &records[w.record], w, settings))
+                .collect::<Result<_>>()?;
+            let mut rows = Vec::with_capacity(robust.len());
+            let mut model_rows = Vec::with_capacity(robust.len());
+            let mut summaries = Vec::with_capacity(robust.len());
+            for r in robust {
+                rows.push((r.columns, r.input));
+                model_rows.push(r.noise);
+                summaries.push(r.window);
+            }
+            let noise = NoiseModel {
+                rows: model_rows,
+                windows: summaries,
+            };
+            (rows, Some(noise))
+        } else {
+            let rows = windows
+                .par_iter()
+                .map(|w| window_row(model, &records[w.record], w, settings))
+                .collect::<Result<_>>()?;
+            (rows, None)
+        };
         let matrix = Mat::from_fn(rows.len(), columns.len(), |r, k| rows[r].0[k]);
         let rhs = rows.iter().map(|(_, b)| *b).collect();
         let labels = windows
@@ -97,7 +183,9 @@ impl Regressor {
                 }
             })
             .collect();
-        Self::from_parts(matrix, rhs, columns, labels)
+        let mut regressor = Self::from_parts(matrix, rhs, columns, labels)?;
+        regressor.noise = noise;
+        Ok(regressor)
     }
 
     /// A regressor from its parts (for research use and tests); validates shapes and
@@ -157,7 +245,50 @@ impl Regressor {
             rhs,
             columns,
             rows,
+            noise: None,
         })
+    }
+
+    /// This regressor with a noise model (one row each), for research use and tests.
+    pub fn with_noise(mut self, noise: NoiseModel) -> Result<Self> {
+        if noise.rows.len() != self.rhs.len() {
+            return Err(Error::mismatch(
+                "noise model rows vs regressor rows",
+                self.rhs.len(),
+                noise.rows.len(),
+            ));
+        }
+        self.noise = Some(noise);
+        Ok(self)
+    }
+
+    /// The rows `indices` (repeats allowed), with their labels and noise model.
+    pub fn select_rows(&self, indices: &[usize]) -> Result<Self> {
+        let matrix = Mat::from_fn(indices.len(), self.columns.len(), |r, k| {
+            self.matrix[(indices[r], k)]
+        });
+        let rhs = indices.iter().map(|&i| self.rhs[i]).collect();
+        let rows = indices.iter().map(|&i| self.rows[i].clone()).collect();
+        let mut selected = Self::from_parts(matrix, rhs, self.columns.clone(), rows)?;
+        selected.noise = self.noise.as_ref().map(|n| n.select(indices));
+        Ok(selected)
+    }
+
+    /// Each row multiplied by `weights` (a weighted system W^{1/2}A, W^{1/2}b); the noise
+    /// model is dropped (it describes the unweighted rows).
+    pub fn weighted(&self, weights: &[f64]) -> Result<Self> {
+        if weights.len() != self.rhs.len() {
+            return Err(Error::mismatch(
+                "row weights vs regressor rows",
+                self.rhs.len(),
+                weights.len(),
+            ));
+        }
+        let matrix = Mat::from_fn(self.rhs.len(), self.columns.len(), |r, k| {
+            weights[r] * self.matrix[(r, k)]
+        });
+        let rhs = self.rhs.iter().zip(weights).map(|(b, w)| w * b).collect();
+        Self::from_parts(matrix, rhs, self.columns.clone(), self.rows.clone())
     }
 
     /// A (equations × coefficients).
@@ -179,6 +310,10 @@ impl Regressor {
     /// Number of equations.
     pub fn equations(&self) -> usize {
         self.rhs.len()
+    }
+    /// The noise model, when the noise-robust pipeline built the rows.
+    pub fn noise(&self) -> Option<&NoiseModel> {
+        self.noise.as_ref()
     }
 }
 
@@ -202,6 +337,9 @@ fn window_row(
     for (term, range) in model.term_columns() {
         term.accumulate(&samples, &mut row[range]);
     }
-    let input = record.forcing().work(w.start, v.as_ref(), &weights);
+    let mut input = record.forcing().work(w.start, v.as_ref(), &weights);
+    if settings.work_form == WorkForm::DerivativeFree {
+        input = derivative_free::replace_with_raw(model, record, w, &mut row)?;
+    }
     Ok((row, input))
 }

@@ -14,6 +14,7 @@ use crate::bootstrap::{Bootstrap, BootstrapSummary, ConfidenceInterval};
 use crate::diagnostics::{Correlation, Diagnostics, ResidualBias};
 use crate::fit::{ActiveConstraint, Fit, FitMethod, FitStatus, SolverInfo};
 use crate::identifiability::{Identifiability, list};
+use crate::noise::WindowNoise;
 use crate::regressor::{Regressor, RowLabel};
 
 /// Condition number of the column-scaled regressor above which the report warns.
@@ -26,14 +27,40 @@ pub struct CoefficientEstimate {
     pub name: String,
     /// Estimate.
     pub value: f64,
-    /// Standard error, when the data have redundancy and the coefficient is free.
+    /// Standard error, when the data have redundancy and the coefficient is free: the
+    /// plug-in √diag((AᵀWA)⁻¹) when the fit was weighted by propagated variances (see
+    /// [`FitReport::noise`]), else from the residual variance.
     pub std_error: Option<f64>,
+    /// The standard error from the residual variance s²(AᵀWA)⁻¹ of the weighted fit, next
+    /// to the plug-in one (None for an unweighted fit, where it is `std_error`).
+    #[serde(default)]
+    pub residual_std_error: Option<f64>,
     /// False when the data cannot separate this coefficient from others: `value` is
     /// then not an estimate.
     pub determined: bool,
     /// Bootstrap confidence interval, when a bootstrap was run.
     pub interval: Option<ConfidenceInterval>,
 }
+
+/// What the noise-robust pipeline estimated and how well the model explains the data.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct NoiseSummary {
+    /// Per window: harmonics kept, noise per displacement and force channel.
+    pub windows: Vec<WindowNoise>,
+    /// The propagated standard deviation of each equation's residual.
+    pub residual_std: Vec<f64>,
+    /// χ² = Σ (e_r/s_r)², the weighted residual sum of squares.
+    pub chi_square: f64,
+    /// Its degrees of freedom, equations − free coefficients.
+    pub degrees_of_freedom: usize,
+    /// P(χ² > observed) for an adequate model with white noise (None without degrees
+    /// of freedom).
+    pub p_value: Option<f64>,
+}
+
+/// Upper-tail probability of χ² below which the report warns that the residuals are
+/// larger than the estimated noise explains.
+pub const INADEQUATE_P_VALUE: f64 = 0.01;
 
 /// Something the user must know before trusting the numbers.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -60,6 +87,15 @@ pub enum Warning {
     NoRedundancy {
         /// Equations.
         equations: usize,
+    },
+    /// The weighted residuals are larger than the propagated noise explains.
+    ModelInadequate {
+        /// χ².
+        chi_square: f64,
+        /// Its degrees of freedom.
+        degrees_of_freedom: usize,
+        /// Its upper-tail probability.
+        p_value: f64,
     },
     /// Some directions of the column-scaled regressor are practically null (below the
     /// level the equation noise can resolve): these coefficients are not separated.
@@ -90,6 +126,14 @@ impl fmt::Display for Warning {
             Warning::IllConditioned { condition_number } => write!(
                 f,
                 "the column-scaled regressor has condition number {condition_number:.3e}: some combination of coefficients is barely determined by these data"
+            ),
+            Warning::ModelInadequate {
+                chi_square,
+                degrees_of_freedom,
+                p_value,
+            } => write!(
+                f,
+                "the weighted residual sum of squares is {chi_square:.3e} for {degrees_of_freedom} degrees of freedom (P = {p_value:.1e}): the residuals are larger than the estimated sensor noise explains, so the model may miss a mechanism, the records may not be in steady state, or the noise is not white; the plug-in standard errors are then too small"
             ),
             Warning::NoRedundancy { equations } => write!(
                 f,
@@ -169,6 +213,9 @@ pub struct FitReport {
     pub identifiability: Identifiability,
     /// The bootstrap behind the confidence intervals, when one was run.
     pub bootstrap: Option<BootstrapSummary>,
+    /// The noise-robust pipeline's estimates and model check, when it ran.
+    #[serde(default)]
+    pub noise: Option<NoiseSummary>,
     /// What to be careful about.
     pub warnings: Vec<Warning>,
 }
@@ -199,6 +246,16 @@ impl FitReport {
                 equations: regressor.equations(),
             });
         }
+        if let Some(w) = &diagnostics.weighted
+            && let Some(p_value) = w.p_value
+            && p_value < INADEQUATE_P_VALUE
+        {
+            warnings.push(Warning::ModelInadequate {
+                chi_square: w.chi_square,
+                degrees_of_freedom: w.degrees_of_freedom,
+                p_value,
+            });
+        }
         let identifiability = diagnostics.identifiability;
         if !identifiability.separable() {
             warnings.push(Warning::Unidentifiable {
@@ -216,19 +273,32 @@ impl FitReport {
                 constrained: fit.method == FitMethod::Constrained,
             });
         }
+        let weighted = diagnostics.weighted.as_ref();
         let coefficients = regressor
             .columns()
             .iter()
             .zip(&fit.coefficients)
             .zip(&diagnostics.std_errors)
-            .map(|((name, value), se)| CoefficientEstimate {
+            .enumerate()
+            .map(|(k, ((name, value), se))| CoefficientEstimate {
                 name: name.clone(),
                 value: *value,
-                std_error: *se,
+                std_error: weighted.map_or(*se, |w| w.plug_in_std_errors[k]),
+                residual_std_error: weighted.and(*se),
                 determined: identifiability.is_identifiable(name),
                 interval: None,
             })
             .collect();
+        let noise = match (regressor.noise(), diagnostics.weighted) {
+            (Some(model), Some(w)) => Some(NoiseSummary {
+                windows: model.windows.clone(),
+                residual_std: w.residual_std,
+                chi_square: w.chi_square,
+                degrees_of_freedom: w.degrees_of_freedom,
+                p_value: w.p_value,
+            }),
+            _ => None,
+        };
         FitReport {
             status: fit.status,
             method: fit.method,
@@ -248,6 +318,7 @@ impl FitReport {
             solver: fit.solver,
             identifiability,
             bootstrap: None,
+            noise,
             warnings,
         }
     }
@@ -291,10 +362,19 @@ impl fmt::Display for FitReport {
                 format!("  {:>27}", format!("{percent}% interval"))
             })
             .unwrap_or_default();
+        let weighted = self.noise.is_some();
+        let wald_header = if weighted {
+            format!("  {:>27}", "95% plug-in interval")
+        } else {
+            String::new()
+        };
         writeln!(
             f,
-            "{:<20} {:>14} {:>12} {:>9}{interval_header}",
-            "coefficient", "value", "std error", "rel. se"
+            "{:<20} {:>14} {:>12} {:>9}{wald_header}{interval_header}",
+            "coefficient",
+            "value",
+            if weighted { "plug-in se" } else { "std error" },
+            "rel. se"
         )?;
         for c in &self.coefficients {
             let (se, rel) = match c.std_error {
@@ -305,6 +385,15 @@ impl fmt::Display for FitReport {
                 ),
                 Some(se) => (format!("{se:.3e}"), "-".into()),
                 None => ("-".into(), "-".into()),
+            };
+            let wald = match (weighted, c.std_error) {
+                (true, Some(se)) if c.determined => format!(
+                    "  [{:>12.5e}, {:>12.5e}]",
+                    c.value - 1.959_963_985 * se,
+                    c.value + 1.959_963_985 * se
+                ),
+                (true, _) => format!("  {:>27}", "-"),
+                (false, _) => String::new(),
             };
             let interval = match (&c.interval, level) {
                 (Some(i), _) => format!("  [{:>12.5e}, {:>12.5e}]", i.lower, i.upper),
@@ -319,7 +408,7 @@ impl fmt::Display for FitReport {
                 .unwrap_or_default();
             writeln!(
                 f,
-                "{:<20} {:>14.6e} {:>12} {:>9}{interval}{held}",
+                "{:<20} {:>14.6e} {:>12} {:>9}{wald}{interval}{held}",
                 c.name, c.value, se, rel
             )?;
         }
@@ -352,6 +441,9 @@ impl fmt::Display for FitReport {
         {
             write!(f, "{c}")?;
         }
+        if let Some(noise) = &self.noise {
+            write!(f, "{noise}")?;
+        }
         writeln!(f, "relative residual: {:.3e}", self.relative_residual)?;
         writeln!(
             f,
@@ -362,6 +454,49 @@ impl fmt::Display for FitReport {
         )?;
         for w in &self.warnings {
             writeln!(f, "warning: {w}")?;
+        }
+        Ok(())
+    }
+}
+
+impl fmt::Display for NoiseSummary {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "noise-robust fit: equations weighted by their propagated residual standard deviation"
+        )?;
+        match self.p_value {
+            Some(p) => writeln!(
+                f,
+                "  weighted residual sum of squares χ² = {:.3} for {} degrees of freedom (P = {p:.3})",
+                self.chi_square, self.degrees_of_freedom
+            )?,
+            None => writeln!(
+                f,
+                "  no degrees of freedom left: no check of the model against the noise"
+            )?,
+        }
+        let all: Vec<f64> = self
+            .windows
+            .iter()
+            .flat_map(|w| w.displacement_noise.iter().copied())
+            .collect();
+        if let (Some(lo), Some(hi)) = (
+            all.iter().copied().reduce(f64::min),
+            all.iter().copied().reduce(f64::max),
+        ) {
+            writeln!(
+                f,
+                "  displacement noise (per sample, estimated per window and channel): {lo:.3e} to {hi:.3e}"
+            )?;
+        }
+        let most = self.windows.iter().map(|w| w.harmonics.len()).max();
+        let fewest = self.windows.iter().map(|w| w.harmonics.len()).min();
+        if let (Some(lo), Some(hi)) = (fewest, most) {
+            writeln!(
+                f,
+                "  harmonics kept per window: {lo} to {hi} (listed per window in the JSON report)"
+            )?;
         }
         Ok(())
     }

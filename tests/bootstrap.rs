@@ -92,6 +92,7 @@ fn settings() -> IdentifySettings {
             },
             quadrature: Quadrature::Spectral,
             velocity: VelocitySource::HarmonicProjection { harmonics: Some(1) },
+            ..Default::default()
         },
         ..IdentifySettings::default()
     }

@@ -189,6 +189,7 @@ fn regressor_settings() -> RegressorSettings {
         },
         quadrature: Quadrature::Trapezoid,
         velocity: VelocitySource::HarmonicProjection { harmonics: None },
+        ..Default::default()
     }
 }
 

@@ -65,6 +65,7 @@ fn regressor_settings() -> RegressorSettings {
         },
         quadrature: Quadrature::Trapezoid,
         velocity: VelocitySource::Measured,
+        ..Default::default()
     }
 }
 

@@ -224,6 +224,7 @@ fn first_resonance_of_a_rayleigh_chain_determines_c0_plus_lambda1_c1() {
             },
             quadrature: Quadrature::Trapezoid,
             velocity: VelocitySource::Measured,
+            ..Default::default()
         },
         ..IdentifySettings::default()
     };

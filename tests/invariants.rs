@@ -40,6 +40,7 @@ fn settings(
             },
             quadrature,
             velocity,
+            ..Default::default()
         },
         ..IdentifySettings::default()
     }

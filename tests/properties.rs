@@ -103,6 +103,7 @@ fn settings(
             },
             quadrature,
             velocity: VelocitySource::Measured,
+            ..Default::default()
         },
         ..IdentifySettings::default()
     };

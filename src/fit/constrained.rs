@@ -158,6 +158,7 @@ pub fn constrained(
             iterations,
             polished,
         }),
+        residual_std: None,
     })
 }
 

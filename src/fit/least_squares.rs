@@ -39,12 +39,21 @@ pub fn least_squares(regressor: &Regressor, rank_tolerance: f64) -> Result<Fit> 
             }
         }
     }
+    // An all-zero column keeps scale 1, so its round-off share of the minimum-norm
+    // solution would be unscaled in b's units (1e-4 for a weighted b of norm 1e12):
+    // the minimum-norm solution has exactly 0 there.
+    for (j, t) in theta_s.iter_mut().enumerate() {
+        if (0..m).all(|i| a[(i, j)] == 0.0) {
+            *t = 0.0;
+        }
+    }
     Ok(Fit {
         coefficients: scaling.unscale(&theta_s),
         status: FitStatus::Solved,
         method: FitMethod::LeastSquares,
         active: Vec::new(),
         solver: None,
+        residual_std: None,
     })
 }
 

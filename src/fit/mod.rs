@@ -8,10 +8,12 @@ mod constrained;
 mod constraints;
 mod least_squares;
 pub(crate) mod scaling;
+mod weighted;
 
 pub use constrained::constrained;
 pub use constraints::{Bound, Constraints, Fixed, LinearConstraint, LinearTerm, Relation};
 pub use least_squares::least_squares;
+pub(crate) use weighted::inverse_std;
 
 use serde::{Deserialize, Serialize};
 
@@ -100,6 +102,24 @@ pub struct Fit {
     pub active: Vec<ActiveConstraint>,
     /// Constrained solver details.
     pub solver: Option<SolverInfo>,
+    /// With propagated weighting: the standard deviation of each equation's residual
+    /// at the final coefficients (the equations were weighted by its inverse).
+    pub residual_std: Option<Vec<f64>>,
+}
+
+/// How the equations are weighted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Weighting {
+    /// Propagated when the regressor carries a noise model, ordinary otherwise.
+    #[default]
+    Auto,
+    /// Every equation counts the same (ordinary least squares).
+    Ordinary,
+    /// Each equation weighted by the inverse standard deviation of its residual,
+    /// propagated from the estimated sensor noise (needs the noise-robust pipeline;
+    /// see [`crate::noise`]).
+    Propagated,
 }
 
 /// Settings of the constrained solver.
@@ -150,6 +170,9 @@ pub struct FitSettings {
     /// Singular values below `rank_tolerance · σ_1` of the column-scaled regressor
     /// count as zero (default 1e-10).
     pub rank_tolerance: f64,
+    /// How the equations are weighted.
+    #[serde(default)]
+    pub weighting: Weighting,
 }
 
 impl Default for FitSettings {
@@ -158,6 +181,7 @@ impl Default for FitSettings {
             constraints: Constraints::default(),
             solver: SolverSettings::default(),
             rank_tolerance: 1e-10,
+            weighting: Weighting::Auto,
         }
     }
 }
@@ -176,9 +200,23 @@ impl FitSettings {
     }
 }
 
-/// Least squares when there are no constraints, clarabel otherwise.
+/// Least squares when there are no constraints, clarabel otherwise; weighted by the
+/// propagated residual variances when the settings and the regressor call for it.
 pub fn solve(regressor: &Regressor, settings: &FitSettings) -> Result<Fit> {
     settings.validate()?;
+    match (settings.weighting, regressor.noise()) {
+        (Weighting::Ordinary, _) | (Weighting::Auto, None) => solve_rows(regressor, settings),
+        (_, Some(noise)) => weighted::solve(regressor, noise, settings),
+        (Weighting::Propagated, None) => Err(Error::invalid(
+            "weighting",
+            0.0,
+            "propagated weights need the regressor's noise model: use velocity = harmonic projection with noise correction, or weighting = ordinary",
+        )),
+    }
+}
+
+/// [`solve`] on the rows as they are.
+pub(crate) fn solve_rows(regressor: &Regressor, settings: &FitSettings) -> Result<Fit> {
     let fit = if settings.constraints.is_empty() {
         least_squares(regressor, settings.rank_tolerance)?
     } else {

@@ -165,6 +165,7 @@ impl HarmonicApproximation {
             windows: WindowSpec::default(),
             quadrature: Quadrature::Spectral,
             velocity: VelocitySource::Measured,
+            ..RegressorSettings::default()
         }
     }
 

@@ -190,6 +190,7 @@ pub fn run_four_mass_case(case: &FourMassCase, quadrature: Quadrature) -> Result
             },
             quadrature,
             velocity: case.velocity,
+            ..RegressorSettings::default()
         },
         ..IdentifySettings::default()
     };

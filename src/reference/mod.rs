@@ -4,6 +4,8 @@
 //! than the paper's printed values, which are only compared against.
 
 pub mod four_mass;
+pub mod noisy_chain;
 pub mod string;
 
 pub use four_mass::*;
+pub use noisy_chain::*;

@@ -485,6 +485,7 @@ pub fn string_identify_settings(velocity: VelocitySource) -> IdentifySettings {
             },
             quadrature: Quadrature::Rectangular,
             velocity,
+            ..RegressorSettings::default()
         },
         ..IdentifySettings::default()
     }

@@ -115,6 +115,18 @@ impl Term {
         }
     }
 
+    /// Number of coefficients (without formatting their names: the simulator asks for
+    /// it at every force evaluation).
+    pub fn coefficient_count(&self) -> usize {
+        match self {
+            Term::Matrix(_) => 1,
+            Term::Elements(t) => match t.coefficients() {
+                Coefficients::Shared(_) => 1,
+                Coefficients::PerElement(_) => t.elements().len(),
+            },
+        }
+    }
+
     pub(crate) fn validate(&self, dofs: usize) -> Result<()> {
         match self {
             Term::Matrix(t) => t.validate(dofs),

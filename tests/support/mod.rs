@@ -73,6 +73,7 @@ pub fn row(
         windows: WindowSpec::default(),
         quadrature,
         velocity,
+        ..Default::default()
     };
     let regressor =
         Regressor::build(model, std::slice::from_ref(record), &settings).expect("regressor");

@@ -17,4 +17,15 @@ impl Law for Coulomb {
     fn weighted_power(&self, _x: &[f64], v: &[f64], w: &[f64]) -> f64 {
         w.iter().zip(v).map(|(w, v)| w * v.abs()).sum()
     }
+    /// None: Coulomb work is read as the total variation of the (denoised)
+    /// displacement, which zero-mean noise leaves unbiased to first order.
+    fn noise_bias(&self, _x: f64, _v: f64, _var_x: f64, _var_v: f64) -> f64 {
+        0.0
+    }
+    fn power_slope(&self, _x: f64, v: f64, _dx: f64, _dv: f64) -> (f64, f64) {
+        (0.0, sign(v))
+    }
+    fn is_total_variation(&self) -> bool {
+        true
+    }
 }

@@ -17,4 +17,11 @@ impl Law for Linear {
     fn weighted_power(&self, _x: &[f64], v: &[f64], w: &[f64]) -> f64 {
         w.iter().zip(v).map(|(w, v)| w * v * v).sum()
     }
+    /// E[(v + δv)²] − v² = σ_v², exactly.
+    fn noise_bias(&self, _x: f64, _v: f64, _var_x: f64, var_v: f64) -> f64 {
+        var_v
+    }
+    fn power_slope(&self, _x: f64, v: f64, _dx: f64, _dv: f64) -> (f64, f64) {
+        (0.0, 2.0 * v)
+    }
 }

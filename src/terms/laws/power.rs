@@ -41,4 +41,23 @@ impl Law for PowerLaw {
         let q = self.exponent + 1.0;
         w.iter().zip(v).map(|(w, v)| w * v.abs().powf(q)).sum()
     }
+    fn noise_bias(&self, x: f64, v: f64, _var_x: f64, var_v: f64) -> f64 {
+        if self.exponent == 0.0 {
+            0.0 // Coulomb: read as total variation
+        } else {
+            // the trait's three-point Gauss–Hermite rule in v
+            let s = (3.0 * var_v).sqrt();
+            (self.power(x, v + s) - 2.0 * self.power(x, v) + self.power(x, v - s)) / 6.0
+        }
+    }
+    fn power_slope(&self, _x: f64, v: f64, _dx: f64, _dv: f64) -> (f64, f64) {
+        // d/dv |v|^{p+1} = (p + 1)|v|^p sign(v)
+        (
+            0.0,
+            (self.exponent + 1.0) * v.abs().powf(self.exponent) * sign(v),
+        )
+    }
+    fn is_total_variation(&self) -> bool {
+        self.exponent == 0.0
+    }
 }

@@ -17,4 +17,7 @@ impl Law for Quadratic {
     fn weighted_power(&self, _x: &[f64], v: &[f64], w: &[f64]) -> f64 {
         w.iter().zip(v).map(|(w, v)| w * v * v * v.abs()).sum()
     }
+    fn power_slope(&self, _x: f64, v: f64, _dx: f64, _dv: f64) -> (f64, f64) {
+        (0.0, 3.0 * v * v.abs())
+    }
 }
