@@ -32,7 +32,7 @@
 //! use dampid::reference::{four_mass_model, four_mass_records};
 //!
 //! let records = four_mass_records(false, 1)?;           // simulate the paper's chain
-//! let settings = IdentifySettings::default();            // trapezoid, central differences
+//! let settings = IdentifySettings::default();            // trapezoid, noise-robust projection
 //! let report = identify(&four_mass_model(), &records, &settings)?;
 //! let c = report.coefficient("c").unwrap();
 //! assert!((c - 0.15).abs() < 0.15 * 0.005);

@@ -60,13 +60,12 @@ impl WindowVelocities<'_> {
 }
 
 /// Where the velocities come from.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum VelocitySource {
     /// The record's measured (or simulated) velocities.
     Measured,
     /// Central differences of the displacements.
-    #[default]
     CentralDifference,
     /// Derivative of a least-squares Fourier series in harmonics of the drive.
     /// `harmonics: None` uses 45% of the Nyquist count for the period.
@@ -75,12 +74,20 @@ pub enum VelocitySource {
         harmonics: Option<usize>,
     },
     /// Derivative of the least-squares projection of the window's whole periods on
-    /// harmonics of the drive. `harmonics: None` keeps the harmonics that stand above
+    /// harmonics of the drive (the default: with `NoiseTreatment::Auto` it runs the
+    /// noise-robust pipeline, see [`crate::noise`]). `harmonics: None` keeps the harmonics that stand above
     /// the noise floor (see the module doc); `Some(K)` keeps 1..K.
     HarmonicProjection {
         /// Number of harmonics K, or `None` to choose them from the noise floor.
         harmonics: Option<usize>,
     },
+}
+
+impl Default for VelocitySource {
+    /// Harmonic projection on the harmonics above the noise floor.
+    fn default() -> Self {
+        VelocitySource::HarmonicProjection { harmonics: None }
+    }
 }
 
 impl VelocitySource {

@@ -4,9 +4,11 @@
 use std::path::Path;
 
 use dampid::Error;
+use dampid::identify;
 use dampid::model_file::{load, parse};
 use dampid::quadrature::Quadrature;
 use dampid::reference::{four_mass_cases, run_four_mass_case};
+use dampid::velocity::VelocitySource;
 
 fn run(path: &str) -> dampid::report::FitReport {
     let job = load(Path::new(path)).unwrap();
@@ -352,6 +354,55 @@ fn pod_and_harmonic_sections_are_checked() {
     }
     match with("[harmonic_approximation]\nphase = \"dof\"\ndof = 7\n") {
         Error::ModelFile { message, .. } => assert!(message.contains("DOF 7"), "{message}"),
+        other => panic!("{other:?}"),
+    }
+}
+
+/// `[identification]` selects the pipeline: harmonic projection is the default velocity
+/// (noise-robust with `noise = "auto"`), the plain one is one line away, and a noise
+/// correction the velocity source cannot support is a typed error naming `noise`.
+#[test]
+fn identification_selects_the_noise_pipeline() {
+    let four = std::fs::read_to_string("models/four_mass.toml").unwrap();
+    let with = |identification: &str| {
+        let text = four.replace(
+            "velocity = \"central_difference\"   # from the displacements alone",
+            identification,
+        );
+        assert_ne!(text, four);
+        parse(&text, "test.toml", Path::new("models")).unwrap()
+    };
+    let robust = with("");
+    assert_eq!(
+        robust.settings.regressor.velocity,
+        VelocitySource::HarmonicProjection { harmonics: None }
+    );
+    let report = identify(&robust.model, &robust.records, &robust.settings).unwrap();
+    assert!(report.noise.is_some());
+    let plain = with(
+        "velocity = \"harmonic_projection\"\nharmonics = 3\nnoise = \"ignore\"\nweighting = \"ordinary\"\nwork_form = \"derivative_free\"",
+    );
+    assert_eq!(
+        plain.settings.regressor.velocity,
+        VelocitySource::HarmonicProjection { harmonics: Some(3) }
+    );
+    let report = identify(&plain.model, &plain.records, &plain.settings).unwrap();
+    assert!(report.noise.is_none());
+    let wrong = with("noise = \"correct\"\nvelocity = \"central_difference\"");
+    let error = identify(&wrong.model, &wrong.records, &wrong.settings).unwrap_err();
+    assert!(
+        matches!(&error, Error::InvalidParameter { name, .. } if name == "noise"),
+        "{error}"
+    );
+    match parse(
+        &four.replace("windows = 1 ", "noise = \"sometimes\"\nwindows = 1 "),
+        "test.toml",
+        Path::new("models"),
+    ) {
+        Err(Error::ModelFile { message, .. }) => assert!(
+            message.contains("sometimes") || message.contains("variant"),
+            "{message}"
+        ),
         other => panic!("{other:?}"),
     }
 }

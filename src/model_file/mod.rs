@@ -530,6 +530,9 @@ fn identification_settings(spec: &IdentificationSpec) -> IdentifySettings {
         VelocityName::Spectral => VelocitySource::Spectral {
             harmonics: spec.harmonics,
         },
+        VelocityName::HarmonicProjection => VelocitySource::HarmonicProjection {
+            harmonics: spec.harmonics,
+        },
     };
     let mut settings = IdentifySettings {
         regressor: RegressorSettings {
@@ -540,10 +543,12 @@ fn identification_settings(spec: &IdentificationSpec) -> IdentifySettings {
             },
             quadrature: spec.quadrature,
             velocity,
-            ..RegressorSettings::default()
+            noise: spec.noise,
+            work_form: spec.work_form,
         },
         ..IdentifySettings::default()
     };
+    settings.fit.weighting = spec.weighting;
     settings.fit.constraints = Constraints {
         nonnegative: spec.nonnegative,
         bounds: spec

@@ -235,10 +235,13 @@ pub enum VelocityName {
     /// Measured (or simulated) velocities.
     Measured,
     /// Central differences of the displacements.
-    #[default]
     CentralDifference,
     /// Fourier series in harmonics of the drive (`harmonics` sets K).
     Spectral,
+    /// Projection of whole periods on the harmonics above the noise floor (`harmonics`
+    /// sets 1..K instead); with `noise = "auto"` the noise-robust pipeline.
+    #[default]
+    HarmonicProjection,
 }
 
 /// Bounds on one coefficient.
@@ -259,8 +262,14 @@ pub struct IdentificationSpec {
     pub quadrature: Quadrature,
     /// Velocity source.
     pub velocity: VelocityName,
-    /// K for spectral velocities.
+    /// K for spectral or harmonic-projection velocities.
     pub harmonics: Option<usize>,
+    /// Noise correction: `"auto"` (with harmonic projection), `"ignore"`, `"correct"`.
+    pub noise: crate::noise::NoiseTreatment,
+    /// Equation weights: `"auto"`, `"ordinary"`, `"propagated"`.
+    pub weighting: crate::fit::Weighting,
+    /// Input and Coulomb work: `"velocity"` or `"derivative_free"`.
+    pub work_form: crate::regressor::WorkForm,
     /// Whole periods per window.
     pub cycles: usize,
     /// Windows per record (absent: as many as fit).
@@ -318,6 +327,9 @@ impl Default for IdentificationSpec {
             quadrature: Quadrature::default(),
             velocity: VelocityName::default(),
             harmonics: None,
+            noise: crate::noise::NoiseTreatment::default(),
+            weighting: crate::fit::Weighting::default(),
+            work_form: crate::regressor::WorkForm::default(),
             cycles: 1,
             windows: None,
             skip: 0,
