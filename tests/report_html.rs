@@ -52,3 +52,35 @@ fn identify_writes_an_html_report_with_plots() {
     }
     std::fs::remove_dir_all(&folder).ok();
 }
+
+/// With the noise-robust pipeline the page also shows the model check and, per window,
+/// the harmonics kept and the estimated noise.
+#[test]
+fn noise_robust_report_shows_the_noise_and_the_model_check() {
+    use dampid::identify::identify_with_regressor;
+    use dampid::report_html::HtmlReport;
+    let text = std::fs::read_to_string("models/measured_chain.toml")
+        .unwrap()
+        .replace(
+            "velocity = \"spectral\"       # derivative of a Fourier series in harmonics of the drive",
+            "velocity = \"harmonic_projection\"",
+        );
+    let job =
+        dampid::model_file::parse(&text, "test.toml", std::path::Path::new("models")).unwrap();
+    let (regressor, report) =
+        identify_with_regressor(&job.model, &job.records, &job.settings).unwrap();
+    assert!(report.noise.is_some());
+    let page = HtmlReport {
+        title: &job.title,
+        model: &job.model,
+        records: &job.records,
+        regressor: &regressor,
+        report: &report,
+        truth: None,
+    }
+    .render()
+    .unwrap();
+    for needle in ["Noise and model check", "χ² =", "harmonics kept", "<td>1, "] {
+        assert!(page.contains(needle), "missing {needle}");
+    }
+}

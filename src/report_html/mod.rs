@@ -88,6 +88,9 @@ impl HtmlReport<'_> {
         page.push_str(&plots::work_balance(input, &dissipated)?);
         page.push_str("\n<h2>Residuals</h2>\n");
         page.push_str(&plots::residuals(&report.residuals)?);
+        if let Some(noise) = &report.noise {
+            page.push_str(&noise_section(noise));
+        }
         page.push_str("\n<h2>Identified damping laws</h2>\n");
         for svg in self.force_law_plots()? {
             page.push_str(&svg);
@@ -206,6 +209,50 @@ table{border-collapse:collapse}td,th{border:1px solid #bbb;padding:.25em .6em;te
 th{background:#eee}.warning{background:#fff3cd;border:1px solid #e0c060;padding:.5em}svg{display:block;margin:1em 0}";
 
 /// Escapes text for HTML.
+/// The noise-robust pipeline's model check and, per window, the harmonics kept and the
+/// estimated noise.
+fn noise_section(noise: &crate::report::NoiseSummary) -> String {
+    let mut section = String::from("\n<h2>Noise and model check</h2>\n");
+    let check = match noise.p_value {
+        Some(p) => format!(
+            "χ² = {:.3} for {} degrees of freedom (P = {p:.3}){}",
+            noise.chi_square,
+            noise.degrees_of_freedom,
+            if p < crate::report::INADEQUATE_P_VALUE {
+                ": the residuals exceed what the estimated noise explains"
+            } else {
+                ": the residuals are as large as the noise explains"
+            }
+        ),
+        None => "no degrees of freedom left for a check".into(),
+    };
+    let _ = writeln!(
+        section,
+        "<p>Equations weighted by their propagated residual standard deviation; standard errors are plug-in. {check}.</p>"
+    );
+    section.push_str(
+        "<table><tr><th>record</th><th>window</th><th>harmonics kept</th><th>displacement noise σ</th><th>residual sd</th></tr>\n",
+    );
+    for (w, sd) in noise.windows.iter().zip(&noise.residual_std) {
+        let harmonics: Vec<String> = w.harmonics.iter().map(|k| k.to_string()).collect();
+        let sigma: Vec<String> = w
+            .displacement_noise
+            .iter()
+            .map(|s| format!("{s:.2e}"))
+            .collect();
+        let _ = writeln!(
+            section,
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{sd:.3e}</td></tr>",
+            escape(&w.record),
+            w.window,
+            harmonics.join(", "),
+            sigma.join(", ")
+        );
+    }
+    section.push_str("</table>\n");
+    section
+}
+
 fn escape(text: &str) -> String {
     text.replace('&', "&amp;")
         .replace('<', "&lt;")
