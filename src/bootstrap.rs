@@ -169,17 +169,11 @@ pub fn bootstrap(
         });
     }
     let full_rank = numerical_rank(regressor, fit.rank_tolerance);
-    let a = regressor.matrix();
-    let b = regressor.rhs();
     let replicate = |k: usize| -> Result<Option<Vec<f64>>> {
         let mut rng = replicate_rng(settings.seed, k);
         let rows: Vec<usize> = (0..m).map(|_| rng.random_range(0..m)).collect();
-        let resampled = Regressor::from_parts(
-            faer::Mat::from_fn(m, p, |i, j| a[(rows[i], j)]),
-            rows.iter().map(|&r| b[r]).collect(),
-            regressor.columns().to_vec(),
-            rows.iter().map(|&r| regressor.rows()[r].clone()).collect(),
-        )?;
+        // The rows keep their noise model, so a weighted fit stays weighted.
+        let resampled = regressor.select_rows(&rows)?;
         if numerical_rank(&resampled, fit.rank_tolerance) < full_rank {
             return Ok(None);
         }

@@ -24,6 +24,7 @@ const EXAMPLES: &str = "Examples:
   dampid identify models/four_mass.toml          # simulate the paper's chain and identify c, d
   dampid identify models/four_mass.toml --json   # the report as one JSON object
   dampid identify models/measured_chain.toml --report out/   # also out/report.html, with plots
+  dampid identify models/measured_chain.toml --bootstrap 500   # with bootstrap intervals
   dampid check models/measured_chain.toml        # periods, steady state and conditioning, before any fit
   dampid identify models/four_mass_pod.toml      # the same chain reduced to two POMs (paper 3.1)
   dampid identify models/string.toml             # the string with eight sensors (paper 3.2.1)
@@ -64,6 +65,10 @@ enum Command {
         /// Identify from windows that are not in steady state (they are reported).
         #[arg(long)]
         accept_transient: bool,
+        /// Also give 95% percentile intervals from N bootstrap refits on windows
+        /// resampled with replacement (seed 0).
+        #[arg(long, value_name = "N")]
+        bootstrap: Option<usize>,
     },
     /// Validate a model file and its data: detected periods, how far each window is
     /// from steady state, and the regressor's conditioning, before any fit.
@@ -193,7 +198,8 @@ fn run(cli: Cli) -> anyhow::Result<Outcome> {
             json,
             report,
             accept_transient,
-        } => identify(&model, json, report.as_deref(), accept_transient),
+            bootstrap,
+        } => identify(&model, json, report.as_deref(), accept_transient, bootstrap),
         Command::Check {
             model,
             accept_transient,
@@ -295,6 +301,7 @@ fn identify(
     as_json: bool,
     html: Option<&Path>,
     accept_transient: bool,
+    bootstrap: Option<usize>,
 ) -> anyhow::Result<Outcome> {
     let (job, steady) = load_steady_job(path, accept_transient)?;
     job.settings.fit.validate()?;
@@ -302,7 +309,15 @@ fn identify(
     let fit = dampid::fit::solve(&regressor, &job.settings.fit)?;
     let diagnostics =
         dampid::diagnostics::diagnose(&regressor, &fit, job.settings.fit.rank_tolerance);
-    let report = FitReport::new(&regressor, fit, diagnostics);
+    let mut report = FitReport::new(&regressor, fit, diagnostics);
+    if let Some(replicates) = bootstrap {
+        let settings = dampid::bootstrap::BootstrapSettings {
+            replicates,
+            ..Default::default()
+        };
+        let intervals = dampid::bootstrap::bootstrap(&regressor, &job.settings.fit, &settings)?;
+        report = report.with_bootstrap(intervals);
+    }
     let mut out = String::new();
     if let Some(folder) = html {
         let page = HtmlReport {

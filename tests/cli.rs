@@ -179,3 +179,33 @@ fn progress_bars_are_silent_when_stderr_is_not_a_terminal() {
     assert!(check.status.success());
     assert_eq!(text(&check.stderr), "");
 }
+
+/// `identify --bootstrap N` adds percentile intervals from N resampled refits.
+#[test]
+fn identify_with_bootstrap_prints_intervals() {
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_dampid"))
+        .args([
+            "identify",
+            "models/measured_chain.toml",
+            "--bootstrap",
+            "200",
+            "--json",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let json: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    assert_eq!(json["report"]["bootstrap"]["replicates"], 200);
+    for c in json["report"]["coefficients"].as_array().unwrap() {
+        let (lower, upper) = (
+            c["interval"]["lower"].as_f64().unwrap(),
+            c["interval"]["upper"].as_f64().unwrap(),
+        );
+        let value = c["value"].as_f64().unwrap();
+        assert!(lower <= value && value <= upper, "{c}");
+    }
+}
