@@ -12,10 +12,10 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
+use crate::kernel::{Plan, WindowSamples};
 use crate::model::DampingModel;
 use crate::quadrature::Quadrature;
 use crate::record::Record;
-use crate::terms::WindowSamples;
 use crate::velocity::VelocitySource;
 use crate::window::{Window, WindowSpec};
 
@@ -78,9 +78,10 @@ impl Regressor {
             );
         }
         let columns = model.coefficient_names();
+        let plans: Vec<Plan<'_>> = records.iter().map(|r| Plan::new(model, r)).collect();
         let rows: Vec<(Vec<f64>, f64)> = windows
             .par_iter()
-            .map(|w| window_row(model, &records[w.record], w, settings))
+            .map(|w| window_row(&plans[w.record], &records[w.record], w, settings))
             .collect::<Result<_>>()?;
         let matrix = Mat::from_fn(rows.len(), columns.len(), |r, k| rows[r].0[k]);
         let rhs = rows.iter().map(|(_, b)| *b).collect();
@@ -182,9 +183,10 @@ impl Regressor {
     }
 }
 
-/// One row: every term's columns and the input work for window `w`.
+/// One row: every term's columns and the input work for window `w`, in one fused pass
+/// over the window's samples (`src/kernel/`).
 fn window_row(
-    model: &DampingModel,
+    plan: &Plan<'_>,
     record: &Record,
     w: &Window,
     settings: &RegressorSettings,
@@ -196,12 +198,11 @@ fn window_row(
     let v = settings
         .velocity
         .window_velocities(record, w.start, count)?;
-    let x = record.displacements().subrows(w.start, count);
-    let samples = WindowSamples::new(x, v.as_ref(), &weights);
-    let mut row = vec![0.0; model.coefficient_count()];
-    for (term, range) in model.term_columns() {
-        term.accumulate(&samples, &mut row[range]);
-    }
-    let input = record.forcing().work(w.start, v.as_ref(), &weights);
-    Ok((row, input))
+    let samples = WindowSamples {
+        x: record.displacements().subrows(w.start, count),
+        v: v.as_ref(),
+        signals: record.forcing().signals.as_ref().subrows(w.start, count),
+        weights: &weights,
+    };
+    Ok(plan.row(&samples))
 }
