@@ -12,7 +12,7 @@
 //!
 //! A plain `.sum()` is one chain of dependent adds (each waits for the previous one,
 //! about 4 cycles), and the compiler may not reorder floating-point adds. Here sample i
-//! goes to accumulator i mod 16 and the partial sums are added pairwise at the end, so
+//! goes to accumulator i mod 16 and the partial sums are added at the end, so
 //! the adds are independent and the loop compiles to packed SIMD (sixteen lanes fill
 //! four AVX2 registers). Each sum runs under `pulp`'s run-time dispatch: AVX2 where the
 //! CPU has it, SSE2 otherwise. Every lane does the same operations in the same order
@@ -32,8 +32,8 @@ pub const LANES: usize = 16;
 #[inline]
 pub fn sum(weights: Weights<'_>, v: &[f64], g: impl Fn(f64) -> f64) -> f64 {
     match weights {
-        Weights::Uniform(w) => w * dispatch(|| lanes_sum(v, &g)),
-        Weights::PerSample(w) => dispatch(|| lanes_weighted_sum(w, v, &g)),
+        Weights::Uniform(w) => w * dispatch(Sum { v, g }),
+        Weights::PerSample(w) => dispatch(WeightedSum { w, v, g }),
     }
 }
 
@@ -46,8 +46,8 @@ pub fn sum_of_difference(
     g: impl Fn(f64) -> f64,
 ) -> f64 {
     match weights {
-        Weights::Uniform(w) => w * dispatch(|| lanes_sum_of_difference(a, b, &g)),
-        Weights::PerSample(w) => dispatch(|| lanes_weighted_sum_of_difference(w, a, b, &g)),
+        Weights::Uniform(w) => w * dispatch(SumOfDifference { a, b, g }),
+        Weights::PerSample(w) => dispatch(WeightedSumOfDifference { w, a, b, g }),
     }
 }
 
@@ -69,160 +69,218 @@ pub fn velocity_power(
 #[inline]
 pub fn dot(weights: Weights<'_>, a: &[f64], b: &[f64]) -> f64 {
     match weights {
-        Weights::Uniform(w) => w * dispatch(|| lanes_dot(a, b)),
-        Weights::PerSample(w) => dispatch(|| lanes_weighted_dot(w, a, b)),
+        Weights::Uniform(w) => w * dispatch(Dot { a, b }),
+        Weights::PerSample(w) => dispatch(WeightedDot { w, a, b }),
     }
 }
 
-/// Runs `f` compiled for the best instruction set the CPU has.
+/// One of the loops below with its operands.
+trait Loop {
+    fn run(self) -> f64;
+}
+
+/// Runs `op` compiled for the best instruction set the CPU has. (The loop must be
+/// inlined into pulp's target-feature function: a closure is not, a trait method marked
+/// `inline(always)` is.)
 #[inline(always)]
-fn dispatch(f: impl FnOnce() -> f64) -> f64 {
-    struct Op<F>(F);
-    impl<F: FnOnce() -> f64> WithSimd for Op<F> {
+fn dispatch(op: impl Loop) -> f64 {
+    struct Op<L>(L);
+    impl<L: Loop> WithSimd for Op<L> {
         type Output = f64;
         #[inline(always)]
         fn with_simd<S: Simd>(self, _: S) -> f64 {
-            (self.0)()
+            self.0.run()
         }
     }
-    Arch::new().dispatch(Op(f))
+    Arch::new().dispatch(Op(op))
 }
 
-/// The partial sums added pairwise. (This tree is also the one that lets the compiler
-/// keep the accumulators in four 4-wide registers; other trees make it fall back to
-/// 2-wide ones or shuffle.)
+/// The partial sums added in lane order. (Of the orders tried, this is the one with
+/// which the compiler keeps the accumulators in four 4-wide registers for every loop
+/// below; pairwise trees made it shuffle partial sums inside some loops.)
 #[inline(always)]
 fn combine(lanes: [f64; LANES]) -> f64 {
-    let column = |k: usize| (lanes[k] + lanes[k + 4]) + (lanes[k + 8] + lanes[k + 12]);
-    (column(0) + column(1)) + (column(2) + column(3))
+    let mut total = 0.0;
+    for lane in lanes {
+        total += lane;
+    }
+    total
 }
 
 // The six loops below differ only in the term they add; each is written out so that
-// the compiler sees the plain pattern it vectorises.
+// the compiler sees the plain pattern it vectorises into 4-wide registers.
 
-#[inline(always)]
-fn lanes_sum(v: &[f64], g: &impl Fn(f64) -> f64) -> f64 {
-    let mut lanes = [0.0; LANES];
-    let mut v_chunks = v.chunks_exact(LANES);
-    for vc in &mut v_chunks {
-        for k in 0..LANES {
-            lanes[k] += g(vc[k]);
-        }
-    }
-    let tail: f64 = v_chunks.remainder().iter().map(|v| g(*v)).sum();
-    combine(lanes) + tail
+struct Sum<'a, G> {
+    v: &'a [f64],
+    g: G,
 }
 
-#[inline(always)]
-fn lanes_weighted_sum(w: &[f64], v: &[f64], g: &impl Fn(f64) -> f64) -> f64 {
-    let len = w.len().min(v.len());
-    let (w, v) = (&w[..len], &v[..len]);
-    let mut lanes = [0.0; LANES];
-    let mut w_chunks = w.chunks_exact(LANES);
-    let mut v_chunks = v.chunks_exact(LANES);
-    for (wc, vc) in (&mut w_chunks).zip(&mut v_chunks) {
-        for k in 0..LANES {
-            lanes[k] += wc[k] * g(vc[k]);
+impl<G: Fn(f64) -> f64> Loop for Sum<'_, G> {
+    #[inline(always)]
+    fn run(self) -> f64 {
+        let Sum { v, g } = self;
+        let mut lanes = [0.0; LANES];
+        let mut v_chunks = v.chunks_exact(LANES);
+        for vc in &mut v_chunks {
+            for k in 0..LANES {
+                lanes[k] += g(vc[k]);
+            }
         }
+        let tail: f64 = v_chunks.remainder().iter().map(|v| g(*v)).sum();
+        combine(lanes) + tail
     }
-    let tail: f64 = w_chunks
-        .remainder()
-        .iter()
-        .zip(v_chunks.remainder())
-        .map(|(w, v)| w * g(*v))
-        .sum();
-    combine(lanes) + tail
 }
 
-#[inline(always)]
-fn lanes_sum_of_difference(a: &[f64], b: &[f64], g: &impl Fn(f64) -> f64) -> f64 {
-    let len = a.len().min(b.len());
-    let (a, b) = (&a[..len], &b[..len]);
-    let mut lanes = [0.0; LANES];
-    let mut a_chunks = a.chunks_exact(LANES);
-    let mut b_chunks = b.chunks_exact(LANES);
-    for (ac, bc) in (&mut a_chunks).zip(&mut b_chunks) {
-        for k in 0..LANES {
-            lanes[k] += g(ac[k] - bc[k]);
-        }
-    }
-    let tail: f64 = a_chunks
-        .remainder()
-        .iter()
-        .zip(b_chunks.remainder())
-        .map(|(a, b)| g(a - b))
-        .sum();
-    combine(lanes) + tail
+struct WeightedSum<'a, G> {
+    w: &'a [f64],
+    v: &'a [f64],
+    g: G,
 }
 
-#[inline(always)]
-fn lanes_weighted_sum_of_difference(
-    w: &[f64],
-    a: &[f64],
-    b: &[f64],
-    g: &impl Fn(f64) -> f64,
-) -> f64 {
-    let len = w.len().min(a.len()).min(b.len());
-    let (w, a, b) = (&w[..len], &a[..len], &b[..len]);
-    let mut lanes = [0.0; LANES];
-    let mut w_chunks = w.chunks_exact(LANES);
-    let mut a_chunks = a.chunks_exact(LANES);
-    let mut b_chunks = b.chunks_exact(LANES);
-    for ((wc, ac), bc) in (&mut w_chunks).zip(&mut a_chunks).zip(&mut b_chunks) {
-        for k in 0..LANES {
-            lanes[k] += wc[k] * g(ac[k] - bc[k]);
+impl<G: Fn(f64) -> f64> Loop for WeightedSum<'_, G> {
+    #[inline(always)]
+    fn run(self) -> f64 {
+        let WeightedSum { w, v, g } = self;
+        let len = w.len().min(v.len());
+        let (w, v) = (&w[..len], &v[..len]);
+        let mut lanes = [0.0; LANES];
+        let mut w_chunks = w.chunks_exact(LANES);
+        let mut v_chunks = v.chunks_exact(LANES);
+        for (wc, vc) in (&mut w_chunks).zip(&mut v_chunks) {
+            for k in 0..LANES {
+                lanes[k] += wc[k] * g(vc[k]);
+            }
         }
+        let tail: f64 = w_chunks
+            .remainder()
+            .iter()
+            .zip(v_chunks.remainder())
+            .map(|(w, v)| w * g(*v))
+            .sum();
+        combine(lanes) + tail
     }
-    let tail: f64 = w_chunks
-        .remainder()
-        .iter()
-        .zip(a_chunks.remainder().iter().zip(b_chunks.remainder()))
-        .map(|(w, (a, b))| w * g(a - b))
-        .sum();
-    combine(lanes) + tail
 }
 
-#[inline(always)]
-fn lanes_dot(a: &[f64], b: &[f64]) -> f64 {
-    let len = a.len().min(b.len());
-    let (a, b) = (&a[..len], &b[..len]);
-    let mut lanes = [0.0; LANES];
-    let mut a_chunks = a.chunks_exact(LANES);
-    let mut b_chunks = b.chunks_exact(LANES);
-    for (ac, bc) in (&mut a_chunks).zip(&mut b_chunks) {
-        for k in 0..LANES {
-            lanes[k] += ac[k] * bc[k];
-        }
-    }
-    let tail: f64 = a_chunks
-        .remainder()
-        .iter()
-        .zip(b_chunks.remainder())
-        .map(|(a, b)| a * b)
-        .sum();
-    combine(lanes) + tail
+struct SumOfDifference<'a, G> {
+    a: &'a [f64],
+    b: &'a [f64],
+    g: G,
 }
 
-#[inline(always)]
-fn lanes_weighted_dot(w: &[f64], a: &[f64], b: &[f64]) -> f64 {
-    let len = w.len().min(a.len()).min(b.len());
-    let (w, a, b) = (&w[..len], &a[..len], &b[..len]);
-    let mut lanes = [0.0; LANES];
-    let mut w_chunks = w.chunks_exact(LANES);
-    let mut a_chunks = a.chunks_exact(LANES);
-    let mut b_chunks = b.chunks_exact(LANES);
-    for ((wc, ac), bc) in (&mut w_chunks).zip(&mut a_chunks).zip(&mut b_chunks) {
-        for k in 0..LANES {
-            lanes[k] += wc[k] * ac[k] * bc[k];
+impl<G: Fn(f64) -> f64> Loop for SumOfDifference<'_, G> {
+    #[inline(always)]
+    fn run(self) -> f64 {
+        let SumOfDifference { a, b, g } = self;
+        let len = a.len().min(b.len());
+        let (a, b) = (&a[..len], &b[..len]);
+        let mut lanes = [0.0; LANES];
+        let mut a_chunks = a.chunks_exact(LANES);
+        let mut b_chunks = b.chunks_exact(LANES);
+        for (ac, bc) in (&mut a_chunks).zip(&mut b_chunks) {
+            for k in 0..LANES {
+                lanes[k] += g(ac[k] - bc[k]);
+            }
         }
+        let tail: f64 = a_chunks
+            .remainder()
+            .iter()
+            .zip(b_chunks.remainder())
+            .map(|(a, b)| g(a - b))
+            .sum();
+        combine(lanes) + tail
     }
-    let tail: f64 = w_chunks
-        .remainder()
-        .iter()
-        .zip(a_chunks.remainder().iter().zip(b_chunks.remainder()))
-        .map(|(w, (a, b))| w * a * b)
-        .sum();
-    combine(lanes) + tail
+}
+
+struct WeightedSumOfDifference<'a, G> {
+    w: &'a [f64],
+    a: &'a [f64],
+    b: &'a [f64],
+    g: G,
+}
+
+impl<G: Fn(f64) -> f64> Loop for WeightedSumOfDifference<'_, G> {
+    #[inline(always)]
+    fn run(self) -> f64 {
+        let WeightedSumOfDifference { w, a, b, g } = self;
+        let len = w.len().min(a.len()).min(b.len());
+        let (w, a, b) = (&w[..len], &a[..len], &b[..len]);
+        let mut lanes = [0.0; LANES];
+        let mut w_chunks = w.chunks_exact(LANES);
+        let mut a_chunks = a.chunks_exact(LANES);
+        let mut b_chunks = b.chunks_exact(LANES);
+        for ((wc, ac), bc) in (&mut w_chunks).zip(&mut a_chunks).zip(&mut b_chunks) {
+            for k in 0..LANES {
+                lanes[k] += wc[k] * g(ac[k] - bc[k]);
+            }
+        }
+        let tail: f64 = w_chunks
+            .remainder()
+            .iter()
+            .zip(a_chunks.remainder().iter().zip(b_chunks.remainder()))
+            .map(|(w, (a, b))| w * g(a - b))
+            .sum();
+        combine(lanes) + tail
+    }
+}
+
+struct Dot<'a> {
+    a: &'a [f64],
+    b: &'a [f64],
+}
+
+impl Loop for Dot<'_> {
+    #[inline(always)]
+    fn run(self) -> f64 {
+        let Dot { a, b } = self;
+        let len = a.len().min(b.len());
+        let (a, b) = (&a[..len], &b[..len]);
+        let mut lanes = [0.0; LANES];
+        let mut a_chunks = a.chunks_exact(LANES);
+        let mut b_chunks = b.chunks_exact(LANES);
+        for (ac, bc) in (&mut a_chunks).zip(&mut b_chunks) {
+            for k in 0..LANES {
+                lanes[k] += ac[k] * bc[k];
+            }
+        }
+        let tail: f64 = a_chunks
+            .remainder()
+            .iter()
+            .zip(b_chunks.remainder())
+            .map(|(a, b)| a * b)
+            .sum();
+        combine(lanes) + tail
+    }
+}
+
+struct WeightedDot<'a> {
+    w: &'a [f64],
+    a: &'a [f64],
+    b: &'a [f64],
+}
+
+impl Loop for WeightedDot<'_> {
+    #[inline(always)]
+    fn run(self) -> f64 {
+        let WeightedDot { w, a, b } = self;
+        let len = w.len().min(a.len()).min(b.len());
+        let (w, a, b) = (&w[..len], &a[..len], &b[..len]);
+        let mut lanes = [0.0; LANES];
+        let mut w_chunks = w.chunks_exact(LANES);
+        let mut a_chunks = a.chunks_exact(LANES);
+        let mut b_chunks = b.chunks_exact(LANES);
+        for ((wc, ac), bc) in (&mut w_chunks).zip(&mut a_chunks).zip(&mut b_chunks) {
+            for k in 0..LANES {
+                lanes[k] += wc[k] * ac[k] * bc[k];
+            }
+        }
+        let tail: f64 = w_chunks
+            .remainder()
+            .iter()
+            .zip(a_chunks.remainder().iter().zip(b_chunks.remainder()))
+            .map(|(w, (a, b))| w * a * b)
+            .sum();
+        combine(lanes) + tail
+    }
 }
 
 #[cfg(test)]
