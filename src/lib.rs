@@ -54,6 +54,7 @@ pub mod identifiability;
 pub mod identify;
 pub mod interop;
 pub mod io;
+mod kernel;
 pub mod model;
 pub mod model_file;
 pub mod noise;

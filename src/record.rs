@@ -7,12 +7,8 @@
 //! D = I. The input power is then v^T r = Σ_k s_k(t) (d_k · v(t)).
 
 use faer::{Mat, MatRef};
-use rayon::prelude::*;
 
 use crate::error::{Error, Result, check_finite};
-
-/// Force channels above which the input work is summed in parallel.
-const PARALLEL_CHANNELS: usize = 32;
 
 /// How the force channels map onto the generalized forces r(t) = D s(t).
 #[derive(Debug, Clone, PartialEq)]
@@ -107,29 +103,6 @@ impl Forcing {
         }
         Ok(())
     }
-
-    /// Input work Σ_t w_t v(t)^T r(t) over window samples `start..start + w.len()`,
-    /// with velocities `v` given for exactly those samples.
-    pub(crate) fn work(&self, start: usize, v: MatRef<'_, f64>, weights: &[f64]) -> f64 {
-        let channel = |k: usize| {
-            let s = &self.signals.col_as_slice(k)[start..start + weights.len()];
-            match &self.distribution {
-                LoadDistribution::Dofs(dofs) => weighted_dot(weights, s, col(v, dofs[k])),
-                LoadDistribution::Matrix(d) => (0..d.nrows())
-                    .filter(|&i| d[(i, k)] != 0.0)
-                    .map(|i| d[(i, k)] * weighted_dot(weights, s, col(v, i)))
-                    .sum(),
-            }
-        };
-        let channels = self.signals.ncols();
-        if channels >= PARALLEL_CHANNELS {
-            // Per-channel sums in parallel, added in channel order: reproducible.
-            let parts: Vec<f64> = (0..channels).into_par_iter().map(channel).collect();
-            parts.iter().sum()
-        } else {
-            (0..channels).map(channel).sum()
-        }
-    }
 }
 
 /// The parts of a record, by name. Pass to [`Record::new`], which validates them.
@@ -155,6 +128,8 @@ pub struct RecordParts {
 #[derive(Debug, Clone)]
 pub struct Record {
     parts: RecordParts,
+    /// Force channels that are not zero everywhere (found once, when validating).
+    active_channels: Vec<usize>,
 }
 
 impl Record {
@@ -207,7 +182,14 @@ impl Record {
             check_finite("velocities", v.as_ref())?;
         }
         parts.forcing.validate(samples, dofs)?;
-        Ok(Record { parts })
+        let signals = &parts.forcing.signals;
+        let active_channels = (0..signals.ncols())
+            .filter(|&k| signals.col_as_slice(k).iter().any(|s| *s != 0.0))
+            .collect();
+        Ok(Record {
+            parts,
+            active_channels,
+        })
     }
 
     /// The record's label.
@@ -246,6 +228,11 @@ impl Record {
     pub fn forcing(&self) -> &Forcing {
         &self.parts.forcing
     }
+    /// The force channels that are not zero everywhere, in order: the only ones whose
+    /// input work can differ from zero.
+    pub fn active_channels(&self) -> &[usize] {
+        &self.active_channels
+    }
     /// The validated parts, for transforms that build a new record from this one.
     pub fn parts(&self) -> &RecordParts {
         &self.parts
@@ -262,9 +249,4 @@ pub(crate) fn col<'a>(m: MatRef<'a, f64>, j: usize) -> &'a [f64] {
         .try_as_col_major()
         .expect("dampid stores matrices column-major")
         .as_slice()
-}
-
-/// Σ_t w_t a_t b_t.
-pub(crate) fn weighted_dot(w: &[f64], a: &[f64], b: &[f64]) -> f64 {
-    w.iter().zip(a).zip(b).map(|((w, a), b)| w * a * b).sum()
 }

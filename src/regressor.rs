@@ -19,11 +19,11 @@ use serde::{Deserialize, Serialize};
 
 use crate::derivative_free;
 use crate::error::{Error, Result};
+use crate::kernel::{Plan, WindowSamples};
 use crate::model::DampingModel;
 use crate::noise::{self, NoiseModel, NoiseTreatment};
 use crate::quadrature::Quadrature;
 use crate::record::Record;
-use crate::terms::WindowSamples;
 use crate::velocity::VelocitySource;
 use crate::window::{Window, WindowSpec};
 
@@ -162,9 +162,10 @@ impl Regressor {
             };
             (rows, Some(noise))
         } else {
+            let plans: Vec<Plan<'_>> = records.iter().map(|r| Plan::new(model, r)).collect();
             let rows = windows
                 .par_iter()
-                .map(|w| window_row(model, &records[w.record], w, settings))
+                .map(|w| window_row(&plans[w.record], model, &records[w.record], w, settings))
                 .collect::<Result<_>>()?;
             (rows, None)
         };
@@ -317,8 +318,10 @@ impl Regressor {
     }
 }
 
-/// One row: every term's columns and the input work for window `w`.
+/// One row: every term's columns and the input work for window `w`, in one fused pass
+/// over the window's samples (`src/kernel/`).
 fn window_row(
+    plan: &Plan<'_>,
     model: &DampingModel,
     record: &Record,
     w: &Window,
@@ -331,13 +334,13 @@ fn window_row(
     let v = settings
         .velocity
         .window_velocities(record, w.start, count)?;
-    let x = record.displacements().subrows(w.start, count);
-    let samples = WindowSamples::new(x, v.as_ref(), &weights);
-    let mut row = vec![0.0; model.coefficient_count()];
-    for (term, range) in model.term_columns() {
-        term.accumulate(&samples, &mut row[range]);
-    }
-    let mut input = record.forcing().work(w.start, v.as_ref(), &weights);
+    let samples = WindowSamples {
+        x: record.displacements().subrows(w.start, count),
+        v: v.as_ref(),
+        signals: record.forcing().signals.as_ref().subrows(w.start, count),
+        weights: &weights,
+    };
+    let (mut row, mut input) = plan.row(&samples);
     if settings.work_form == WorkForm::DerivativeFree {
         input = derivative_free::replace_with_raw(model, record, w, &mut row)?;
     }

@@ -8,20 +8,11 @@
 
 use std::sync::Arc;
 
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
-use crate::record::col;
-use crate::terms::WindowSamples;
 use crate::terms::element::Element;
 use crate::terms::law::Law;
-
-/// Samples per chunk when forming relative motion; small enough to stay in L1.
-const CHUNK: usize = 512;
-
-/// Elements above which columns are computed in parallel.
-const PARALLEL_ELEMENTS: usize = 32;
 
 /// How the elements of a term share coefficients.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
@@ -124,53 +115,6 @@ impl ElementTerm {
             }
         }
         Ok(())
-    }
-
-    /// Σ_i w_i v_e f(x_e, v_e) for one element.
-    fn element_column(&self, e: &Element, samples: &WindowSamples<'_>) -> f64 {
-        let (xa, va) = (col(samples.x, e.a), col(samples.v, e.a));
-        let w = samples.weights;
-        let uses_x = self.law.uses_displacement();
-        match e.b {
-            None if !uses_x => self.law.weighted_power(&[], va, w),
-            None => self.law.weighted_power(xa, va, w),
-            Some(b) => {
-                let (xb, vb) = (col(samples.x, b), col(samples.v, b));
-                let mut dx = [0.0; CHUNK];
-                let mut dv = [0.0; CHUNK];
-                let mut total = 0.0;
-                for start in (0..w.len()).step_by(CHUNK) {
-                    let end = (start + CHUNK).min(w.len());
-                    let len = end - start;
-                    for k in 0..len {
-                        dv[k] = va[start + k] - vb[start + k];
-                    }
-                    let x_chunk: &[f64] = if uses_x {
-                        for k in 0..len {
-                            dx[k] = xa[start + k] - xb[start + k];
-                        }
-                        &dx[..len]
-                    } else {
-                        &[]
-                    };
-                    total += self.law.weighted_power(x_chunk, &dv[..len], &w[start..end]);
-                }
-                total
-            }
-        }
-    }
-
-    pub(crate) fn accumulate(&self, samples: &WindowSamples<'_>, out: &mut [f64]) {
-        let column = |(k, e): (usize, &Element)| self.weight(k) * self.element_column(e, samples);
-        let per_element: Vec<f64> = if self.elements.len() >= PARALLEL_ELEMENTS {
-            self.elements.par_iter().enumerate().map(column).collect()
-        } else {
-            self.elements.iter().enumerate().map(column).collect()
-        };
-        match self.coefficients {
-            Coefficients::Shared(_) => out[0] = per_element.iter().sum(),
-            Coefficients::PerElement(_) => out.copy_from_slice(&per_element),
-        }
     }
 
     pub(crate) fn add_force(&self, coefficients: &[f64], x: &[f64], v: &[f64], out: &mut [f64]) {

@@ -2,6 +2,10 @@
 //! displacement x and relative velocity v, and the power it dissipates, v · f(x, v).
 //!
 //! A new law is one file in `laws/` implementing [`Law`]; nothing else changes.
+//!
+//! The regressor evaluates every law block by block over a window (`src/kernel/`): it
+//! calls [`Law::power_sum`] on consecutive runs of samples and adds the results, so a
+//! law's sums must be plain sums over the samples they are given.
 
 use std::fmt;
 
@@ -74,6 +78,100 @@ pub trait Law: Send + Sync + fmt::Debug {
     fn is_total_variation(&self) -> bool {
         false
     }
+
+    /// Σ_i w_i v_i f(x_i, v_i) over one run of samples of one element, for relative
+    /// motion given as the element's DOF motions (x = x_a − x_b, v = v_a − v_b between
+    /// two DOFs) and weights given per sample or as one value for the run.
+    ///
+    /// The default forms the relative motion and the weights in short chunks on the
+    /// stack and calls [`Law::weighted_power`], so every law works unchanged. A law can
+    /// override it to work on the DOF motions directly and to skip the weights when they
+    /// are uniform (the built-in laws do, with [`crate::terms::lanes`]); the result must
+    /// be the same sum up to round-off.
+    fn power_sum(&self, motion: ElementMotion<'_>, weights: Weights<'_>) -> f64 {
+        const CHUNK: usize = 256;
+        let v_len = match motion {
+            ElementMotion::Ground { v, .. } => v.len(),
+            ElementMotion::Between { v_a, .. } => v_a.len(),
+        };
+        let mut dx = [0.0; CHUNK];
+        let mut dv = [0.0; CHUNK];
+        let mut uniform = [0.0; CHUNK];
+        if let Weights::Uniform(w) = weights {
+            uniform.fill(w);
+        }
+        let mut total = 0.0;
+        for start in (0..v_len).step_by(CHUNK) {
+            let end = (start + CHUNK).min(v_len);
+            let len = end - start;
+            let (x, v): (&[f64], &[f64]) = match motion {
+                ElementMotion::Ground { x, v } => (
+                    if x.is_empty() { x } else { &x[start..end] },
+                    &v[start..end],
+                ),
+                ElementMotion::Between { x_a, x_b, v_a, v_b } => {
+                    for (d, (a, b)) in dv
+                        .iter_mut()
+                        .zip(v_a[start..end].iter().zip(&v_b[start..end]))
+                    {
+                        *d = a - b;
+                    }
+                    let x: &[f64] = if x_a.is_empty() {
+                        &[]
+                    } else {
+                        for (d, (a, b)) in dx
+                            .iter_mut()
+                            .zip(x_a[start..end].iter().zip(&x_b[start..end]))
+                        {
+                            *d = a - b;
+                        }
+                        &dx[..len]
+                    };
+                    (x, &dv[..len])
+                }
+            };
+            let w = match weights {
+                Weights::Uniform(_) => &uniform[..len],
+                Weights::PerSample(w) => &w[start..end],
+            };
+            total += self.weighted_power(x, v, w);
+        }
+        total
+    }
+}
+
+/// The motion of one element over a run of samples. Displacement slices are empty when
+/// the law does not use displacement ([`Law::uses_displacement`]).
+#[derive(Debug, Clone, Copy)]
+pub enum ElementMotion<'a> {
+    /// A DOF to ground: x and v are the DOF's own.
+    Ground {
+        /// Displacements (or empty).
+        x: &'a [f64],
+        /// Velocities.
+        v: &'a [f64],
+    },
+    /// A dashpot between DOFs a and b, acting on x_a − x_b and v_a − v_b.
+    Between {
+        /// Displacements of DOF a (or empty).
+        x_a: &'a [f64],
+        /// Displacements of DOF b (or empty).
+        x_b: &'a [f64],
+        /// Velocities of DOF a.
+        v_a: &'a [f64],
+        /// Velocities of DOF b.
+        v_b: &'a [f64],
+    },
+}
+
+/// Quadrature weights over a run of samples.
+#[derive(Debug, Clone, Copy)]
+pub enum Weights<'a> {
+    /// The same weight for every sample of the run (the interior of the rectangular and
+    /// trapezoid rules).
+    Uniform(f64),
+    /// One weight per sample.
+    PerSample(&'a [f64]),
 }
 
 /// sign(v) with sign(0) = 0 (unlike `f64::signum`), so that Coulomb friction at rest

@@ -10,7 +10,6 @@ use faer::Mat;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result, check_finite};
-use crate::terms::WindowSamples;
 
 /// What a matrix term's C₀ is, for reports.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -73,17 +72,6 @@ impl MatrixTerm {
             ));
         }
         check_finite(&what, self.matrix.as_ref())
-    }
-
-    pub(crate) fn accumulate(&self, samples: &WindowSamples<'_>, out: &mut [f64]) {
-        let gram = samples.gram();
-        let mut total = 0.0;
-        for k in 0..self.matrix.ncols() {
-            for j in 0..self.matrix.nrows() {
-                total += self.matrix[(j, k)] * gram[(j, k)];
-            }
-        }
-        out[0] = total;
     }
 
     pub(crate) fn add_force(&self, coefficients: &[f64], v: &[f64], out: &mut [f64]) {

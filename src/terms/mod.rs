@@ -5,51 +5,21 @@
 
 pub mod element;
 pub mod element_term;
+pub mod lanes;
 pub mod law;
 pub mod laws;
 pub mod matrix_term;
 
 use std::sync::Arc;
-use std::sync::OnceLock;
 
-use faer::{Mat, MatRef};
+use faer::Mat;
 
 pub use element::Element;
 pub use element_term::{Coefficients, ElementTerm};
-pub use law::Law;
+pub use law::{ElementMotion, Law, Weights};
 pub use matrix_term::{MatrixKind, MatrixTerm};
 
 use crate::error::Result;
-
-/// The samples of one window that every term reads: displacements and velocities
-/// (m × n, column-major) and the quadrature weights (m).
-pub struct WindowSamples<'a> {
-    pub(crate) x: MatRef<'a, f64>,
-    pub(crate) v: MatRef<'a, f64>,
-    pub(crate) weights: &'a [f64],
-    gram: OnceLock<Mat<f64>>,
-}
-
-impl<'a> WindowSamples<'a> {
-    pub(crate) fn new(x: MatRef<'a, f64>, v: MatRef<'a, f64>, weights: &'a [f64]) -> Self {
-        WindowSamples {
-            x,
-            v,
-            weights,
-            gram: OnceLock::new(),
-        }
-    }
-
-    /// G = Vᵀ W V, formed on first use.
-    fn gram(&self) -> &Mat<f64> {
-        self.gram.get_or_init(|| {
-            let weighted = Mat::from_fn(self.v.nrows(), self.v.ncols(), |i, j| {
-                self.weights[i] * self.v[(i, j)]
-            });
-            self.v.transpose() * weighted
-        })
-    }
-}
 
 /// One damping mechanism.
 #[derive(Debug, Clone)]
@@ -131,14 +101,6 @@ impl Term {
         match self {
             Term::Matrix(t) => t.validate(dofs),
             Term::Elements(t) => t.validate(dofs),
-        }
-    }
-
-    /// Writes this term's columns for one window into `out`.
-    pub(crate) fn accumulate(&self, samples: &WindowSamples<'_>, out: &mut [f64]) {
-        match self {
-            Term::Matrix(t) => t.accumulate(samples, out),
-            Term::Elements(t) => t.accumulate(samples, out),
         }
     }
 

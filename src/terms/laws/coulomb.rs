@@ -1,7 +1,8 @@
 //! Coulomb (dry) friction: f = sign(v), power |v|. Over a cycle of x = X cos ωt,
 //! ∫ |v| dt = 4X (the total distance travelled).
 
-use crate::terms::law::{Law, sign};
+use crate::terms::lanes;
+use crate::terms::law::{ElementMotion, Law, Weights, sign};
 
 /// Coulomb friction, f(v) = sign(v) with sign(0) = 0.
 #[derive(Debug, Clone, Copy, Default)]
@@ -15,7 +16,10 @@ impl Law for Coulomb {
         sign(v)
     }
     fn weighted_power(&self, _x: &[f64], v: &[f64], w: &[f64]) -> f64 {
-        w.iter().zip(v).map(|(w, v)| w * v.abs()).sum()
+        lanes::sum(Weights::PerSample(w), v, |v| v.abs())
+    }
+    fn power_sum(&self, motion: ElementMotion<'_>, weights: Weights<'_>) -> f64 {
+        lanes::velocity_power(motion, weights, |v| v.abs())
     }
     /// None: Coulomb work is read as the total variation of the (denoised)
     /// displacement, which zero-mean noise leaves unbiased to first order.

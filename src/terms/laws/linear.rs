@@ -1,7 +1,8 @@
 //! Linear viscous law: f = v, power v². Over a cycle of x = X cos ωt,
 //! ∫ v² dt = π ω X².
 
-use crate::terms::law::Law;
+use crate::terms::lanes;
+use crate::terms::law::{ElementMotion, Law, Weights};
 
 /// Viscous damping, f(v) = v.
 #[derive(Debug, Clone, Copy, Default)]
@@ -15,7 +16,10 @@ impl Law for Linear {
         v
     }
     fn weighted_power(&self, _x: &[f64], v: &[f64], w: &[f64]) -> f64 {
-        w.iter().zip(v).map(|(w, v)| w * v * v).sum()
+        lanes::sum(Weights::PerSample(w), v, |v| v * v)
+    }
+    fn power_sum(&self, motion: ElementMotion<'_>, weights: Weights<'_>) -> f64 {
+        lanes::velocity_power(motion, weights, |v| v * v)
     }
     /// E[(v + δv)²] − v² = σ_v², exactly.
     fn noise_bias(&self, _x: f64, _v: f64, _var_x: f64, var_v: f64) -> f64 {

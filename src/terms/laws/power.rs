@@ -3,7 +3,8 @@
 //! ∫ |v|^{p+1} dt = (ωX)^{p+1} · (4/ω) · ∫_0^{π/2} sin^{p+1} θ dθ.
 
 use crate::error::{Error, Result};
-use crate::terms::law::{Law, sign};
+use crate::terms::lanes;
+use crate::terms::law::{ElementMotion, Law, Weights, sign};
 
 /// Power-law damping, f(v) = |v|^p sign(v), p ≥ 0.
 #[derive(Debug, Clone, Copy)]
@@ -39,7 +40,11 @@ impl Law for PowerLaw {
     }
     fn weighted_power(&self, _x: &[f64], v: &[f64], w: &[f64]) -> f64 {
         let q = self.exponent + 1.0;
-        w.iter().zip(v).map(|(w, v)| w * v.abs().powf(q)).sum()
+        lanes::sum(Weights::PerSample(w), v, |v| v.abs().powf(q))
+    }
+    fn power_sum(&self, motion: ElementMotion<'_>, weights: Weights<'_>) -> f64 {
+        let q = self.exponent + 1.0;
+        lanes::velocity_power(motion, weights, |v| v.abs().powf(q))
     }
     fn noise_bias(&self, x: f64, v: f64, _var_x: f64, var_v: f64) -> f64 {
         if self.exponent == 0.0 {

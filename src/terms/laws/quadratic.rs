@@ -1,7 +1,8 @@
 //! Quadratic (velocity-squared) law: f = v|v|, power |v|³. Over a cycle of
 //! x = X cos ωt, ∫ |v|³ dt = (8/3) ω² X³.
 
-use crate::terms::law::Law;
+use crate::terms::lanes;
+use crate::terms::law::{ElementMotion, Law, Weights};
 
 /// Quadratic damping, f(v) = v|v|.
 #[derive(Debug, Clone, Copy, Default)]
@@ -15,7 +16,10 @@ impl Law for Quadratic {
         v * v.abs()
     }
     fn weighted_power(&self, _x: &[f64], v: &[f64], w: &[f64]) -> f64 {
-        w.iter().zip(v).map(|(w, v)| w * v * v * v.abs()).sum()
+        lanes::sum(Weights::PerSample(w), v, |v| v * v * v.abs())
+    }
+    fn power_sum(&self, motion: ElementMotion<'_>, weights: Weights<'_>) -> f64 {
+        lanes::velocity_power(motion, weights, |v| v * v * v.abs())
     }
     fn power_slope(&self, _x: f64, v: f64, _dx: f64, _dv: f64) -> (f64, f64) {
         (0.0, 3.0 * v * v.abs())

@@ -1,0 +1,40 @@
+//! The fused window kernel: every term's columns and the input work of one window in a
+//! single pass over its samples,
+//!
+//! ```text
+//!   A_k = Σ_i w_i v(t_i)ᵀ f_k(x(t_i), v(t_i)),     b = Σ_i w_i v(t_i)ᵀ r(t_i),
+//! ```
+//!
+//! instead of one pass per term. `plan.rs` lists the weighted sums the row needs (one
+//! per element, per Gram entry of a sparse matrix term, per force channel) in the order
+//! that reads each velocity column once; `pass.rs` evaluates them block by block in
+//! parallel with a fixed reduction order; `gram.rs` forms G = Vᵀ W V for dense matrix
+//! terms. Force channels that are zero over the whole record are never read.
+
+mod gram;
+mod pass;
+mod plan;
+
+use faer::MatRef;
+
+pub(crate) use plan::Plan;
+
+/// The samples of one window that the kernel reads: displacements and velocities
+/// (m × n), the force signals (m × c), all column-major, and the quadrature weights (m).
+pub(crate) struct WindowSamples<'a> {
+    pub(crate) x: MatRef<'a, f64>,
+    pub(crate) v: MatRef<'a, f64>,
+    pub(crate) signals: MatRef<'a, f64>,
+    pub(crate) weights: &'a [f64],
+}
+
+impl Plan<'_> {
+    /// The regressor row (one value per coefficient) and the input work of one window.
+    pub(crate) fn row(&self, samples: &WindowSamples<'_>) -> (Vec<f64>, f64) {
+        let sums = pass::window_sums(self, samples);
+        let gram = self
+            .needs_gram()
+            .then(|| gram::weighted_gram(samples.v, samples.weights));
+        self.combine(&sums, gram.as_ref())
+    }
+}
