@@ -202,38 +202,48 @@ impl HarmonicBasis {
         2 * self.orders.len() + 1
     }
 
-    /// Angular frequency of column j ≥ 1 and whether it is a cosine.
-    fn column(&self, j: usize) -> (f64, bool) {
-        let order = self.orders[(j - 1) / 2] as f64;
-        (order * self.omega, j % 2 == 1)
-    }
-
     /// rows × (2|S|+1) design matrix [1, cos k₁ωt, sin k₁ωt, cos k₂ωt, …] at t_i = i h.
     fn design(&self, rows: usize) -> Mat<f64> {
-        Mat::from_fn(rows, self.columns(), |i, j| {
-            if j == 0 {
-                return 1.0;
-            }
-            let (kw, cosine) = self.column(j);
-            let phase = kw * i as f64 * self.step;
-            if cosine { phase.cos() } else { phase.sin() }
-        })
+        let mut design = Mat::<f64>::zeros(rows, self.columns());
+        self.for_each_harmonic(rows, |i, slot, _, (cos, sin)| {
+            design[(i, 2 * slot + 1)] = cos;
+            design[(i, 2 * slot + 2)] = sin;
+        });
+        design.col_mut(0).fill(1.0);
+        design
     }
 
     /// The time derivative of the design matrix at t_i = i h, i = 0..rows.
     fn derivative_design(&self, rows: usize) -> Mat<f64> {
-        Mat::from_fn(rows, self.columns(), |i, j| {
-            if j == 0 {
-                return 0.0;
+        let mut design = Mat::<f64>::zeros(rows, self.columns());
+        self.for_each_harmonic(rows, |i, slot, kw, (cos, sin)| {
+            design[(i, 2 * slot + 1)] = -kw * sin;
+            design[(i, 2 * slot + 2)] = kw * cos;
+        });
+        design
+    }
+
+    /// Calls `f(i, slot, kω, (cos kωt_i, sin kωt_i))` for every sample i < rows and every
+    /// order k = S[slot]. One sine and cosine per sample; the harmonics follow by
+    /// complex multiplication, e^{ikθ} = e^{iθ} e^{i(k−1)θ} (relative error about k ε,
+    /// against 2|S| calls of sin and cos per sample).
+    fn for_each_harmonic(&self, rows: usize, mut f: impl FnMut(usize, usize, f64, (f64, f64))) {
+        let highest = *self.orders.last().expect("a basis has at least one order");
+        for i in 0..rows {
+            let (sin1, cos1) = (self.omega * i as f64 * self.step).sin_cos();
+            let (mut cos, mut sin) = (1.0, 0.0);
+            let mut slot = 0;
+            for k in 1..=highest {
+                (cos, sin) = (cos * cos1 - sin * sin1, sin * cos1 + cos * sin1);
+                if self.orders[slot] == k {
+                    f(i, slot, k as f64 * self.omega, (cos, sin));
+                    slot += 1;
+                    if slot == self.orders.len() {
+                        break;
+                    }
+                }
             }
-            let (kw, cosine) = self.column(j);
-            let phase = kw * i as f64 * self.step;
-            if cosine {
-                -kw * phase.sin()
-            } else {
-                kw * phase.cos()
-            }
-        })
+        }
     }
 
     /// Least-squares coefficients ((2|S|+1) × n: a_0, then a_k, b_k per order) of every
@@ -269,14 +279,17 @@ impl HarmonicBasis {
 
     /// Weights w (length m) such that Σ w_i p(t_i) = span · a_0(p): the integral over
     /// the window of the fitted periodic series. w = span · Q R^{-T} e_0 for B = QR.
+    ///
+    /// Since Q = B R⁻¹, w = span · B z with z = R⁻¹ R⁻ᵀ e_0: two triangular solves and
+    /// one product, without forming Q.
     pub(crate) fn integration_weights(&self, span: f64) -> Vec<f64> {
-        let qr = self.design(self.samples).qr();
-        let r = qr.thin_R();
-        let q = qr.compute_thin_Q();
-        let mut u = Mat::<f64>::zeros(self.columns(), 1);
-        u[(0, 0)] = 1.0;
-        r.transpose().solve_lower_triangular_in_place(u.as_mut());
-        let w = q * u;
+        let design = self.design(self.samples);
+        let r = design.qr().thin_R().to_owned();
+        let mut z = Mat::<f64>::zeros(self.columns(), 1);
+        z[(0, 0)] = 1.0;
+        r.transpose().solve_lower_triangular_in_place(z.as_mut());
+        r.solve_upper_triangular_in_place(z.as_mut());
+        let w = design * z;
         (0..self.samples).map(|i| span * w[(i, 0)]).collect()
     }
 }
