@@ -365,18 +365,15 @@ impl HarmonicBasis {
 
     /// The time derivative of the design matrix at t_i = i h, i = 0..rows.
     pub(crate) fn derivative_design(&self, rows: usize) -> Mat<f64> {
-        Mat::from_fn(rows, self.columns(), |i, j| {
-            if j == 0 {
-                return 0.0;
-            }
-            let (kw, cosine) = self.column(j);
-            let phase = kw * i as f64 * self.step;
-            if cosine {
-                -kw * phase.sin()
-            } else {
-                kw * phase.cos()
-            }
-        })
+        let mut design = Mat::zeros(rows, self.columns());
+        for i in 0..rows {
+            self.for_each_phasor(i, |q, cos, sin| {
+                let kw = self.orders[q] as f64 * self.omega;
+                design[(i, 2 * q + 1)] = -kw * sin;
+                design[(i, 2 * q + 2)] = kw * cos;
+            });
+        }
+        design
     }
 
     /// Least-squares coefficients ((2|S|+1) × n: a_0, then a_k, b_k per order) of every
@@ -439,14 +436,17 @@ impl HarmonicBasis {
 
     /// Weights w (length m) such that Σ w_i p(t_i) = span · a_0(p): the integral over
     /// the window of the fitted periodic series. w = span · Q R^{-T} e_0 for B = QR.
+    ///
+    /// Since Q = B R⁻¹, w = span · B z with z = R⁻¹ R⁻ᵀ e_0: two triangular solves and
+    /// one product, without forming Q.
     pub(crate) fn integration_weights(&self, span: f64) -> Vec<f64> {
-        let qr = self.design(self.samples).qr();
-        let r = qr.thin_R();
-        let q = qr.compute_thin_Q();
-        let mut u = Mat::<f64>::zeros(self.columns(), 1);
-        u[(0, 0)] = 1.0;
-        r.transpose().solve_lower_triangular_in_place(u.as_mut());
-        let w = q * u;
+        let design = self.design(self.samples);
+        let r = self.r_factor();
+        let mut z = Mat::<f64>::zeros(self.columns(), 1);
+        z[(0, 0)] = 1.0;
+        r.transpose().solve_lower_triangular_in_place(z.as_mut());
+        r.solve_upper_triangular_in_place(z.as_mut());
+        let w = design * z;
         (0..self.samples).map(|i| span * w[(i, 0)]).collect()
     }
 }

@@ -34,7 +34,8 @@
 //! One basis per record follows the paper; one basis shared by all records (from their
 //! stacked displacements) is an option.
 
-use faer::{Mat, MatRef, Side};
+use faer::linalg::matmul::triangular::{BlockStructure, matmul};
+use faer::{Accum, Mat, MatRef, Side};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result, check_finite};
@@ -176,10 +177,10 @@ impl Pod {
         }
         let mut r = Mat::<f64>::zeros(n, n);
         for block in blocks {
-            let centred = Mat::from_fn(block.nrows(), n, |i, j| block[(i, j)] - mean[j]);
-            r += centred.transpose() * &centred;
+            add_correlation(&mut r, *block, settings.remove_mean.then_some(&mean[..]));
         }
-        let r = Mat::from_fn(n, n, |i, j| 0.5 * (r[(i, j)] + r[(j, i)]) / samples as f64);
+        // The product filled (at least) the lower triangle; R is read from it.
+        let r = Mat::from_fn(n, n, |i, j| r[(i.max(j), i.min(j))] / samples as f64);
         let eigen = r
             .self_adjoint_eigen(Side::Lower)
             .map_err(|e| Error::Numerical {
@@ -359,6 +360,47 @@ impl Pod {
             return Err(Error::mismatch(what, self.dofs(), found));
         }
         Ok(())
+    }
+}
+
+/// Rows per block when the mean is removed: the centred copy of a block stays small.
+const CENTRED_ROWS: usize = 4096;
+
+/// DOFs from which R is formed on its lower triangle only (below, the triangular
+/// product's recursion costs more than the half of the work it saves).
+const TRIANGLE_DOFS: usize = 64;
+
+/// r += X̃ᵀ X̃ on (at least) the lower triangle (row ≥ column), with X̃ = X − 1 x̄ᵀ when
+/// `mean` is given (centred block by block) and X̃ = X otherwise (no copy). One matrix
+/// product, on the triangle only for many DOFs: half the work of the full product.
+fn add_correlation(r: &mut Mat<f64>, x: MatRef<'_, f64>, mean: Option<&[f64]>) {
+    let structure = if x.ncols() >= TRIANGLE_DOFS {
+        BlockStructure::TriangularLower
+    } else {
+        BlockStructure::Rectangular
+    };
+    let product = |r: &mut Mat<f64>, block: MatRef<'_, f64>| {
+        matmul(
+            r.as_mut(),
+            structure,
+            Accum::Add,
+            block.transpose(),
+            BlockStructure::Rectangular,
+            block,
+            BlockStructure::Rectangular,
+            1.0,
+            faer::get_global_parallelism(),
+        )
+    };
+    match mean {
+        None => product(r, x),
+        Some(mean) => {
+            for start in (0..x.nrows()).step_by(CENTRED_ROWS) {
+                let rows = CENTRED_ROWS.min(x.nrows() - start);
+                let centred = Mat::from_fn(rows, x.ncols(), |i, j| x[(start + i, j)] - mean[j]);
+                product(r, centred.as_ref());
+            }
+        }
     }
 }
 

@@ -162,10 +162,18 @@ impl Regressor {
             };
             (rows, Some(noise))
         } else {
-            let plans: Vec<Plan<'_>> = records.iter().map(|r| Plan::new(model, r)).collect();
+            let weights = record_weights(records, &windows, settings)?;
+            let shared: Vec<RecordShared<'_>> = records
+                .par_iter()
+                .zip(weights)
+                .map(|(record, weights)| RecordShared {
+                    plan: Plan::new(model, record),
+                    weights,
+                })
+                .collect();
             let rows = windows
                 .par_iter()
-                .map(|w| window_row(&plans[w.record], model, &records[w.record], w, settings))
+                .map(|w| window_row(&shared[w.record], model, &records[w.record], w, settings))
                 .collect::<Result<_>>()?;
             (rows, None)
         };
@@ -318,18 +326,68 @@ impl Regressor {
     }
 }
 
+/// What the windows of one record share: the kernel's plan and the quadrature weights
+/// (every window of a record spans the same k periods).
+struct RecordShared<'m> {
+    plan: Plan<'m>,
+    weights: Vec<f64>,
+}
+
+/// The quadrature weights of every record's windows. Every window of a record spans the
+/// same k periods, and the weights scale with the step, w(kT, h, T) = h w(kT/h, 1, T/h),
+/// so they are computed once per distinct (kT/h, T/h): once for a stepped-sine table
+/// sampled at a fixed number of samples per period, however many points it has (the
+/// spectral rule costs a QR of the Fourier basis).
+fn record_weights(
+    records: &[Record],
+    windows: &[Window],
+    settings: &RegressorSettings,
+) -> Result<Vec<Vec<f64>>> {
+    let ratios: Vec<(f64, f64)> = records
+        .iter()
+        .enumerate()
+        .map(|(index, record)| {
+            let span = windows
+                .iter()
+                .find(|w| w.record == index)
+                .map_or(settings.windows.cycles as f64 * record.period(), |w| w.span);
+            (span / record.step(), record.period() / record.step())
+        })
+        .collect();
+    let key = |(span, period): (f64, f64)| (span.to_bits(), period.to_bits());
+    let mut distinct: Vec<(f64, f64)> = Vec::new();
+    for &ratio in &ratios {
+        if !distinct.iter().any(|&d| key(d) == key(ratio)) {
+            distinct.push(ratio);
+        }
+    }
+    let per_step: Vec<Vec<f64>> = distinct
+        .par_iter()
+        .map(|&(span, period)| settings.quadrature.weights(span, 1.0, period))
+        .collect::<Result<_>>()?;
+    Ok(records
+        .iter()
+        .zip(&ratios)
+        .map(|(record, &ratio)| {
+            let unit = distinct
+                .iter()
+                .position(|&d| key(d) == key(ratio))
+                .expect("every ratio is in the distinct list");
+            per_step[unit].iter().map(|w| w * record.step()).collect()
+        })
+        .collect())
+}
+
 /// One row: every term's columns and the input work for window `w`, in one fused pass
 /// over the window's samples (`src/kernel/`).
 fn window_row(
-    plan: &Plan<'_>,
+    shared: &RecordShared<'_>,
     model: &DampingModel,
     record: &Record,
     w: &Window,
     settings: &RegressorSettings,
 ) -> Result<(Vec<f64>, f64)> {
-    let weights = settings
-        .quadrature
-        .weights(w.span, record.step(), record.period())?;
+    let weights = &shared.weights;
     let count = weights.len();
     let v = settings
         .velocity
@@ -338,9 +396,9 @@ fn window_row(
         x: record.displacements().subrows(w.start, count),
         v: v.as_ref(),
         signals: record.forcing().signals.as_ref().subrows(w.start, count),
-        weights: &weights,
+        weights,
     };
-    let (mut row, mut input) = plan.row(&samples);
+    let (mut row, mut input) = shared.plan.row(&samples);
     if settings.work_form == WorkForm::DerivativeFree {
         input = derivative_free::replace_with_raw(model, record, w, &mut row)?;
     }
