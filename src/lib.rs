@@ -58,6 +58,7 @@ mod kernel;
 pub mod model;
 pub mod model_file;
 pub mod noise;
+pub mod nonperiodic;
 pub mod period;
 pub mod pod;
 pub mod pod_files;

@@ -261,15 +261,16 @@ fn load_job(path: &Path) -> anyhow::Result<Job> {
     Ok(job?)
 }
 
-/// Loads a model file and enforces steady state on its windows (unless accepted).
+/// Loads a model file and enforces steady state on its windows (unless accepted; the
+/// non-periodic mode has no steady state to check).
 fn load_steady_job(
     path: &Path,
     accept_transient: bool,
-) -> anyhow::Result<(Job, SteadyStateReport)> {
+) -> anyhow::Result<(Job, Option<SteadyStateReport>)> {
     let mut job = load_job(path)?;
     job.steady_state.accept_transient |= accept_transient;
     let steady = job.steady_state()?;
-    steady.enforce().with_context(|| {
+    steady.as_ref().map_or(Ok(()), |s| s.enforce()).with_context(|| {
         format!(
             "{}: set accept_transient = true in [identification] or pass --accept-transient to use these windows anyway",
             path.display()
@@ -291,7 +292,7 @@ fn build_regressor(job: &Job) -> anyhow::Result<Regressor> {
         job.records.len()
     ));
     spinner.enable_steady_tick(std::time::Duration::from_millis(120));
-    let regressor = Regressor::build(&job.model, &job.records, &job.settings.regressor);
+    let regressor = job.regressor();
     spinner.finish_and_clear();
     Ok(regressor?)
 }
@@ -362,7 +363,7 @@ fn identify(
             job.records.len(),
             report.residuals.len()
         )?;
-        write_preamble(&mut out, &job, &steady)?;
+        write_preamble(&mut out, &job, steady.as_ref())?;
         write!(out, "{report}")?;
         if let Some(truth) = &job.truth {
             write_truth(&mut out, &report, truth)?;
@@ -394,9 +395,20 @@ fn write_truth(out: &mut String, report: &FitReport, truth: &[(String, f64)]) ->
 
 /// What identify prints before the fit: detected periods, windows accepted although
 /// not steady, the POD reduction and the harmonic approximation, when there are any.
-fn write_preamble(out: &mut String, job: &Job, steady: &SteadyStateReport) -> std::fmt::Result {
+fn write_preamble(
+    out: &mut String,
+    job: &Job,
+    steady: Option<&SteadyStateReport>,
+) -> std::fmt::Result {
     write_periods(out, job)?;
-    let rejected: Vec<_> = steady.rejected().collect();
+    if let Some(settings) = &job.non_periodic {
+        writeln!(
+            out,
+            "non-periodic energy balance: windows of {} time units, stored energy and constant forces as unknowns",
+            settings.window
+        )?;
+    }
+    let rejected: Vec<_> = steady.iter().flat_map(|s| s.rejected()).collect();
     if !rejected.is_empty() {
         writeln!(
             out,
@@ -464,8 +476,15 @@ fn check(path: &Path, accept_transient: bool) -> anyhow::Result<Outcome> {
     let steady = job.steady_state()?;
     let mut head = String::new();
     write_periods(&mut head, &job)?;
-    write!(head, "{steady}")?;
-    if let Err(e) = steady.enforce() {
+    match &steady {
+        Some(steady) => write!(head, "{steady}")?,
+        None => writeln!(
+            head,
+            "non-periodic mode: windows of {} time units, no steady state needed",
+            job.non_periodic.as_ref().map_or(0.0, |s| s.window)
+        )?,
+    }
+    if let Some(Err(e)) = steady.as_ref().map(|s| s.enforce()) {
         // The table says which windows and by how much; print it with the error.
         eprint!("{head}");
         return Err(anyhow::Error::new(e).context(format!(
@@ -573,6 +592,12 @@ fn pod(
 fn compare(first: &Path, second: &Path, as_json: bool) -> anyhow::Result<Outcome> {
     let job = load_job(first)?;
     let other = load_job(second)?;
+    if job.non_periodic.is_some() {
+        bail!(
+            "{}: compare works on periodic windows; it does not support [non_periodic] yet",
+            first.display()
+        );
+    }
     let comparison = dampid::compare::compare(
         (&first.display().to_string(), &job.model),
         (&second.display().to_string(), &other.model),
@@ -602,6 +627,12 @@ fn design(path: &Path, as_json: bool) -> anyhow::Result<Outcome> {
     if job.truth.is_none() {
         bail!(
             "{} has no [simulation] section: its experiments are the candidates a design chooses from",
+            path.display()
+        );
+    }
+    if job.non_periodic.is_some() {
+        bail!(
+            "{}: design works on periodic windows; it does not support [non_periodic] yet",
             path.display()
         );
     }

@@ -116,6 +116,9 @@ pub struct Regressor {
     columns: Vec<String>,
     rows: Vec<RowLabel>,
     noise: Option<NoiseModel>,
+    /// The last `nuisance` columns are stored-energy and offset unknowns
+    /// ([`crate::nonperiodic`]), not damping coefficients.
+    nuisance: usize,
 }
 
 impl Regressor {
@@ -255,7 +258,22 @@ impl Regressor {
             columns,
             rows,
             noise: None,
+            nuisance: 0,
         })
+    }
+
+    /// This regressor with its last `count` columns marked as nuisance unknowns
+    /// (stored energy and constant forces of the non-periodic balance).
+    pub fn with_nuisance_count(mut self, count: usize) -> Result<Self> {
+        if count > self.columns.len() {
+            return Err(Error::mismatch(
+                "nuisance columns vs regressor columns",
+                self.columns.len(),
+                count,
+            ));
+        }
+        self.nuisance = count;
+        Ok(self)
     }
 
     /// This regressor with a noise model (one row each), for research use and tests.
@@ -280,6 +298,7 @@ impl Regressor {
         let rows = indices.iter().map(|&i| self.rows[i].clone()).collect();
         let mut selected = Self::from_parts(matrix, rhs, self.columns.clone(), rows)?;
         selected.noise = self.noise.as_ref().map(|n| n.select(indices));
+        selected.nuisance = self.nuisance;
         Ok(selected)
     }
 
@@ -297,7 +316,8 @@ impl Regressor {
             weights[r] * self.matrix[(r, k)]
         });
         let rhs = self.rhs.iter().zip(weights).map(|(b, w)| w * b).collect();
-        Self::from_parts(matrix, rhs, self.columns.clone(), self.rows.clone())
+        Self::from_parts(matrix, rhs, self.columns.clone(), self.rows.clone())?
+            .with_nuisance_count(self.nuisance)
     }
 
     /// A (equations × coefficients).
@@ -323,6 +343,14 @@ impl Regressor {
     /// The noise model, when the noise-robust pipeline built the rows.
     pub fn noise(&self) -> Option<&NoiseModel> {
         self.noise.as_ref()
+    }
+    /// How many trailing columns are nuisance unknowns (0 for periodic regressors).
+    pub fn nuisance_count(&self) -> usize {
+        self.nuisance
+    }
+    /// Whether column `k` is a damping coefficient (not a nuisance unknown).
+    pub fn is_damping_column(&self, k: usize) -> bool {
+        k < self.columns.len() - self.nuisance
     }
 }
 

@@ -187,8 +187,12 @@ pub struct FitReport {
     pub status: FitStatus,
     /// Which method.
     pub method: FitMethod,
-    /// Coefficients, in model order.
+    /// Damping coefficients, in model order.
     pub coefficients: Vec<CoefficientEstimate>,
+    /// Nuisance unknowns of a non-periodic balance (`mass[i]`, `stiffness[e]`,
+    /// `offset[i]`, see [`crate::nonperiodic`]), reported apart from the damping.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub nuisance: Vec<CoefficientEstimate>,
     /// Condition number of the column-scaled regressor (`null` when rank deficient).
     pub condition_number: Option<f64>,
     /// Its singular values, descending.
@@ -274,7 +278,7 @@ impl FitReport {
             });
         }
         let weighted = diagnostics.weighted.as_ref();
-        let coefficients = regressor
+        let mut coefficients: Vec<CoefficientEstimate> = regressor
             .columns()
             .iter()
             .zip(&fit.coefficients)
@@ -289,6 +293,7 @@ impl FitReport {
                 interval: None,
             })
             .collect();
+        let nuisance = coefficients.split_off(p - regressor.nuisance_count());
         let noise = match (regressor.noise(), diagnostics.weighted) {
             (Some(model), Some(w)) => Some(NoiseSummary {
                 windows: model.windows.clone(),
@@ -303,6 +308,7 @@ impl FitReport {
             status: fit.status,
             method: fit.method,
             coefficients,
+            nuisance,
             condition_number: diagnostics
                 .condition_number
                 .is_finite()
@@ -326,7 +332,7 @@ impl FitReport {
     /// Adds the confidence intervals of `bootstrap` (run on the same regressor and fit
     /// settings) to the coefficients, matched by name.
     pub fn with_bootstrap(mut self, bootstrap: Bootstrap) -> Self {
-        for c in &mut self.coefficients {
+        for c in self.coefficients.iter_mut().chain(&mut self.nuisance) {
             c.interval = bootstrap
                 .intervals
                 .iter()
@@ -343,12 +349,60 @@ impl FitReport {
         self.status.is_usable() && self.coefficients.iter().all(|c| c.determined)
     }
 
-    /// The estimate of coefficient `name`, if the model has it.
+    /// The estimate of coefficient `name` (damping or nuisance), if the model has it.
     pub fn coefficient(&self, name: &str) -> Option<f64> {
         self.coefficients
             .iter()
+            .chain(&self.nuisance)
             .find(|c| c.name == name)
             .map(|c| c.value)
+    }
+}
+
+impl FitReport {
+    /// One line of the coefficient table.
+    fn write_estimate(
+        &self,
+        f: &mut fmt::Formatter<'_>,
+        c: &CoefficientEstimate,
+        weighted: bool,
+        level: Option<f64>,
+    ) -> fmt::Result {
+        let (se, rel) = match c.std_error {
+            _ if !c.determined => ("not determined".into(), String::new()),
+            Some(se) if c.value != 0.0 => (
+                format!("{se:.3e}"),
+                format!("{:.2}%", 100.0 * se / c.value.abs()),
+            ),
+            Some(se) => (format!("{se:.3e}"), "-".into()),
+            None => ("-".into(), "-".into()),
+        };
+        let wald = match (weighted, c.std_error) {
+            (true, Some(se)) if c.determined => format!(
+                "  [{:>12.5e}, {:>12.5e}]",
+                c.value - 1.959_963_985 * se,
+                c.value + 1.959_963_985 * se
+            ),
+            (true, _) => format!("  {:>27}", "-"),
+            (false, _) => String::new(),
+        };
+        let interval = match (&c.interval, level) {
+            (Some(i), _) => format!("  [{:>12.5e}, {:>12.5e}]", i.lower, i.upper),
+            (None, Some(_)) => format!("  {:>27}", "-"),
+            (None, None) => String::new(),
+        };
+        let held = self
+            .active_constraints
+            .iter()
+            .find(|a| a.name == c.name)
+            .map(|a| format!("  (at {:?} bound)", a.side).to_lowercase())
+            .unwrap_or_default();
+        writeln!(
+            f,
+            "{:<20} {:>14.6e} {:>12} {:>9}{wald}{interval}{held}",
+            c.name, c.value, se, rel
+        )?;
+        Ok(())
     }
 }
 
@@ -377,40 +431,16 @@ impl fmt::Display for FitReport {
             "rel. se"
         )?;
         for c in &self.coefficients {
-            let (se, rel) = match c.std_error {
-                _ if !c.determined => ("not determined".into(), String::new()),
-                Some(se) if c.value != 0.0 => (
-                    format!("{se:.3e}"),
-                    format!("{:.2}%", 100.0 * se / c.value.abs()),
-                ),
-                Some(se) => (format!("{se:.3e}"), "-".into()),
-                None => ("-".into(), "-".into()),
-            };
-            let wald = match (weighted, c.std_error) {
-                (true, Some(se)) if c.determined => format!(
-                    "  [{:>12.5e}, {:>12.5e}]",
-                    c.value - 1.959_963_985 * se,
-                    c.value + 1.959_963_985 * se
-                ),
-                (true, _) => format!("  {:>27}", "-"),
-                (false, _) => String::new(),
-            };
-            let interval = match (&c.interval, level) {
-                (Some(i), _) => format!("  [{:>12.5e}, {:>12.5e}]", i.lower, i.upper),
-                (None, Some(_)) => format!("  {:>27}", "-"),
-                (None, None) => String::new(),
-            };
-            let held = self
-                .active_constraints
-                .iter()
-                .find(|a| a.name == c.name)
-                .map(|a| format!("  (at {:?} bound)", a.side).to_lowercase())
-                .unwrap_or_default();
+            self.write_estimate(f, c, weighted, level)?;
+        }
+        if !self.nuisance.is_empty() {
             writeln!(
                 f,
-                "{:<20} {:>14.6e} {:>12} {:>9}{wald}{interval}{held}",
-                c.name, c.value, se, rel
+                "stored energy and constant forces (nuisance unknowns of the non-periodic balance):"
             )?;
+            for c in &self.nuisance {
+                self.write_estimate(f, c, weighted, level)?;
+            }
         }
         if let Some(b) = &self.bootstrap {
             writeln!(

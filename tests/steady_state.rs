@@ -117,7 +117,7 @@ frequency = 1.0
 #[test]
 fn transient_from_rest_is_rejected_and_skipping_it_passes() {
     let job = parse(&from_rest(0, false), "rest.toml", Path::new(".")).unwrap();
-    let report = job.steady_state().unwrap();
+    let report = job.steady_state().unwrap().expect("a periodic model file");
     assert!(report.energy_known);
     let window = &report.windows[0];
     assert!(!window.steady);
@@ -141,11 +141,21 @@ fn transient_from_rest_is_rejected_and_skipping_it_passes() {
     }
     // Accepted: reported, not rejected, and the fit runs.
     let accepted = parse(&from_rest(0, true), "rest.toml", Path::new(".")).unwrap();
-    assert!(accepted.steady_state().unwrap().enforce().is_ok());
+    assert!(
+        accepted
+            .steady_state()
+            .unwrap()
+            .expect("a periodic model file")
+            .enforce()
+            .is_ok()
+    );
 
     // 2500 samples in, the transient (decaying at c/2 = 0.025) is down to e^-6.25.
     let steady = parse(&from_rest(2500, false), "rest.toml", Path::new(".")).unwrap();
-    let report = steady.steady_state().unwrap();
+    let report = steady
+        .steady_state()
+        .unwrap()
+        .expect("a periodic model file");
     assert!(report.enforce().is_ok(), "{report}");
     let late = report.windows[0].energy_mismatch.unwrap();
     assert!(
@@ -180,7 +190,7 @@ fn state_criterion_sees_the_transient_too() {
 #[test]
 fn four_mass_default_passes() {
     let job = load(Path::new("models/four_mass.toml")).unwrap();
-    let report = job.steady_state().unwrap();
+    let report = job.steady_state().unwrap().expect("a periodic model file");
     assert!(report.enforce().is_ok(), "{report}");
     assert_eq!(report.windows.len(), 4);
     for w in &report.windows {
@@ -223,7 +233,7 @@ forces = [{ column = "f1", dof = 1 }]
         detected.period
     );
     assert_eq!(job.records[0].period(), detected.period);
-    let report = job.steady_state().unwrap();
+    let report = job.steady_state().unwrap().expect("a periodic model file");
     assert!(report.energy_known);
     assert!(report.enforce().is_ok(), "{report}");
 }

@@ -32,7 +32,13 @@ fn first_try_is_flagged_as_not_identifiable() {
         let detected = detected.expect("no period in the file: detected");
         assert!((detected.period - period).abs() < 1e-6 * period);
     }
-    assert!(job.steady_state().unwrap().enforce().is_ok());
+    assert!(
+        job.steady_state()
+            .unwrap()
+            .expect("a periodic model file")
+            .enforce()
+            .is_ok()
+    );
     let report = dampid::identify(&job.model, &job.records, &job.settings).unwrap();
     let identifiability = &report.identifiability;
     assert!(!identifiability.separable());

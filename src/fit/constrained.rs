@@ -73,7 +73,7 @@ pub fn constrained(
 ) -> Result<Fit> {
     settings.validate()?;
     let names = regressor.columns();
-    let intervals = constraints.resolve(names)?;
+    let intervals = constraints.resolve(names, names.len() - regressor.nuisance_count())?;
     let linear = constraints.resolve_linear(names)?;
     let a = regressor.matrix();
     let (m, p) = a.shape();

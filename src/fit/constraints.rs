@@ -129,7 +129,8 @@ impl fmt::Display for LinearConstraint {
 /// Constraints for a fit. The default (none) gives plain least squares.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct Constraints {
-    /// Every coefficient ≥ 0 (dissipative laws).
+    /// Every damping coefficient ≥ 0 (dissipative laws); the nuisance unknowns of a
+    /// non-periodic regressor (stored energy, constant forces) stay free.
     pub nonnegative: bool,
     /// Per-coefficient bounds.
     pub bounds: Vec<Bound>,
@@ -240,19 +241,19 @@ impl Constraints {
     }
 
     /// One interval per coefficient of `names`, checking names and feasibility.
-    pub(crate) fn resolve(&self, names: &[String]) -> Result<Vec<Interval>> {
-        let lower0 = if self.nonnegative {
-            0.0
-        } else {
-            f64::NEG_INFINITY
-        };
-        let mut intervals = vec![
-            Interval {
-                lower: lower0,
-                upper: f64::INFINITY
-            };
-            names.len()
-        ];
+    /// `nonnegative` applies to the first `damping` coefficients only: the rest are
+    /// nuisance unknowns (stored energy, constant forces) of either sign.
+    pub(crate) fn resolve(&self, names: &[String], damping: usize) -> Result<Vec<Interval>> {
+        let mut intervals: Vec<Interval> = (0..names.len())
+            .map(|k| Interval {
+                lower: if self.nonnegative && k < damping {
+                    0.0
+                } else {
+                    f64::NEG_INFINITY
+                },
+                upper: f64::INFINITY,
+            })
+            .collect();
         let index = |name: &str| {
             names
                 .iter()

@@ -25,12 +25,13 @@ use crate::harmonic::{HarmonicApproximation, SteppedSineTable};
 use crate::identify::IdentifySettings;
 use crate::io::csv_table::Table;
 use crate::model::DampingModel;
+use crate::nonperiodic::{Kinetic, NonPeriodicSettings, Potential, StorageModel};
 use crate::period::{PeriodEstimate, detect_period};
 use crate::pod::Reduction;
 use crate::progress::Progress;
 use crate::record::{Forcing, Record, RecordParts};
 use crate::reference::chain_stiffness;
-use crate::regressor::RegressorSettings;
+use crate::regressor::{Regressor, RegressorSettings};
 use crate::simulate::{
     ConservativeForce, HarmonicForce, SimSettings, System, simulate_with_progress,
 };
@@ -72,18 +73,34 @@ pub struct Job {
     pub pod: Option<Reduction>,
     /// The stepped-sine table of a harmonic approximation.
     pub harmonic: Option<SteppedSineTable>,
+    /// Windows and stored-energy unknowns, when `[non_periodic]` asks for that mode.
+    pub non_periodic: Option<NonPeriodicSettings>,
 }
 
 impl Job {
     /// How far each window of the source records is from periodic motion
-    /// ([`crate::steady_state`]).
-    pub fn steady_state(&self) -> Result<SteadyStateReport> {
+    /// ([`crate::steady_state`]); `None` in the non-periodic mode, whose balance holds
+    /// over any window.
+    pub fn steady_state(&self) -> Result<Option<SteadyStateReport>> {
+        if self.non_periodic.is_some() {
+            return Ok(None);
+        }
         crate::steady_state::check(
             &self.source_records,
             &self.source_windows,
             self.stored_energy.as_ref(),
             &self.steady_state,
         )
+        .map(Some)
+    }
+
+    /// The regressor the job identifies from: periodic windows
+    /// ([`Regressor::build`]) or the non-periodic balance ([`crate::nonperiodic::build`]).
+    pub fn regressor(&self) -> Result<Regressor> {
+        match &self.non_periodic {
+            Some(settings) => crate::nonperiodic::build(&self.model, &self.records, settings),
+            None => Regressor::build(&self.model, &self.records, &self.settings.regressor),
+        }
     }
 }
 
@@ -191,7 +208,8 @@ impl Context<'_> {
             })?,
             |_| model.validate(n),
         )?;
-        let mut settings = identification_settings(&spec.identification);
+        let mut settings =
+            identification_settings(&spec.identification, spec.non_periodic.is_some());
         let steady_state = SteadyStateSettings {
             max_energy_mismatch: spec.identification.max_energy_mismatch,
             max_state_mismatch: spec.identification.max_state_mismatch,
@@ -202,6 +220,19 @@ impl Context<'_> {
             .map_err(|e| self.whole_file_error(format!("[identification]: {e}")))?;
         let sources = self.sources(spec, &model, n, base, &matrix, progress)?;
         let source_windows = settings.regressor;
+        let non_periodic = spec
+            .non_periodic
+            .as_ref()
+            .map(|np| {
+                if spec.pod.is_some() || spec.harmonic_approximation.is_some() {
+                    return Err(self.error_at(
+                        np,
+                        "[non_periodic] works on the records themselves; it does not combine with [pod] or [harmonic_approximation]",
+                    ));
+                }
+                self.at(np, |np| non_periodic_settings(np, &settings.regressor, n, &matrix))
+            })
+            .transpose()?;
         let mut records = sources.records.clone();
         let pod = spec
             .pod
@@ -256,6 +287,7 @@ impl Context<'_> {
             steady_state,
             pod,
             harmonic,
+            non_periodic,
         })
     }
 
@@ -328,7 +360,8 @@ impl Context<'_> {
         let mut records = Vec::new();
         let mut detected_periods = Vec::new();
         for (k, r) in list.iter().enumerate() {
-            let (record, detected) = self.at(r, |spec| read_record(spec, n, base))?;
+            let (record, detected) =
+                self.at(r, |r| read_record(r, n, base, spec.non_periodic.is_none()))?;
             records.push(record);
             detected_periods.push(detected);
             progress(k as u64 + 1, total);
@@ -340,6 +373,72 @@ impl Context<'_> {
             stored_energy: system,
         })
     }
+}
+
+/// `[non_periodic]` with the quadrature, velocity, work form and skip of
+/// `[identification]`.
+fn non_periodic_settings(
+    spec: &NonPeriodicSpec,
+    identification: &RegressorSettings,
+    n: usize,
+    matrix: &dyn Fn(&MatrixRef) -> Result<Mat<f64>>,
+) -> Result<NonPeriodicSettings> {
+    let kinetic = match &spec.mass {
+        None => Kinetic::LumpedPerDof,
+        Some(StorageSpec::Elements(ElementsSpec::Named(name))) if name == "each_dof" => {
+            Kinetic::LumpedPerDof
+        }
+        Some(StorageSpec::Elements(ElementsSpec::Named(name))) if name == "none" => {
+            Kinetic::Neglected
+        }
+        Some(StorageSpec::Known { known }) => Kinetic::Known(matrix(known)?),
+        Some(StorageSpec::Elements(other)) => {
+            return Err(Error::UnknownName {
+                what: "mass".into(),
+                name: format!("{other:?}"),
+                known: "\"each_dof\", \"none\", { known = <matrix> }".into(),
+            });
+        }
+    };
+    let potential = match &spec.stiffness {
+        None => Potential::Neglected,
+        Some(StorageSpec::Elements(ElementsSpec::Named(name))) if name == "none" => {
+            Potential::Neglected
+        }
+        Some(StorageSpec::Elements(elements)) => Potential::Elements(build_elements(elements, n)?),
+        Some(StorageSpec::Known { known }) => Potential::Known(matrix(known)?),
+    };
+    let offsets = match &spec.offsets {
+        None => Vec::new(),
+        Some(OffsetsSpec::Named(name)) if name == "none" => Vec::new(),
+        Some(OffsetsSpec::Named(name)) if name == "each_dof" => (0..n).collect(),
+        Some(OffsetsSpec::Named(name)) => {
+            return Err(Error::UnknownName {
+                what: "offsets".into(),
+                name: name.clone(),
+                known: "\"each_dof\", \"none\", a list of 1-based DOFs".into(),
+            });
+        }
+        Some(OffsetsSpec::Dofs(dofs)) => dofs
+            .iter()
+            .map(|&d| one_based(d, n, "offset"))
+            .collect::<Result<_>>()?,
+    };
+    let settings = NonPeriodicSettings {
+        window: spec.window,
+        skip: identification.windows.skip,
+        quadrature: identification.quadrature,
+        velocity: identification.velocity,
+        work_form: identification.work_form,
+        storage: StorageModel {
+            kinetic,
+            potential,
+            offsets,
+        },
+    };
+    settings.validate()?;
+    settings.storage.validate(n)?;
+    Ok(settings)
 }
 
 /// M, K and cubic springs from a model file's matrices (DOFs 1-based in the file).
@@ -523,8 +622,13 @@ fn build_elements(spec: &ElementsSpec, n: usize) -> Result<Vec<Element>> {
     }
 }
 
-fn identification_settings(spec: &IdentificationSpec) -> IdentifySettings {
-    let velocity = match spec.velocity {
+fn identification_settings(spec: &IdentificationSpec, non_periodic: bool) -> IdentifySettings {
+    let default = if non_periodic {
+        VelocityName::CentralDifference
+    } else {
+        VelocityName::HarmonicProjection
+    };
+    let velocity = match spec.velocity.unwrap_or(default) {
         VelocityName::Measured => VelocitySource::Measured,
         VelocityName::CentralDifference => VelocitySource::CentralDifference,
         VelocityName::Spectral => VelocitySource::Spectral {
@@ -710,10 +814,13 @@ fn simulate_records(
     Ok((records, truth))
 }
 
+/// Reads one record; a `periodic` record without a period or frequency gets one detected
+/// from its force, a non-periodic one gets its duration (which nothing uses).
 fn read_record(
     spec: &RecordSpec,
     n: usize,
     base: &Path,
+    periodic: bool,
 ) -> Result<(Record, Option<PeriodEstimate>)> {
     let path = base.join(&spec.file);
     let table = crate::io::read_table(&path)?;
@@ -771,6 +878,7 @@ fn read_record(
     let (period, detected) = match (spec.period, spec.frequency) {
         (Some(period), None) => (period, None),
         (None, Some(omega)) => (2.0 * std::f64::consts::PI / omega, None),
+        (None, None) if !periodic => (step * (signals.nrows().max(2) - 1) as f64, None),
         (None, None) => {
             let estimate = detect_period(signals.as_ref(), step, &label)?;
             (estimate.period, Some(estimate))

@@ -41,6 +41,51 @@ pub struct ModelFileSpec {
     pub pod: Option<Spanned<PodSpec>>,
     /// Identify by the synchronous harmonic approximation (paper eq. 4).
     pub harmonic_approximation: Option<Spanned<HarmonicApproximationSpec>>,
+    /// Identify from records that are not periodic, with stored energy and constant
+    /// forces as extra unknowns (`dampid::nonperiodic`).
+    pub non_periodic: Option<Spanned<NonPeriodicSpec>>,
+}
+
+/// `[non_periodic]`: windows of a fixed length, and what stores energy.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NonPeriodicSpec {
+    /// Window length in time units.
+    pub window: f64,
+    /// `"each_dof"` (an unknown lumped mass per DOF, the default), `"none"`, or
+    /// `{ known = <matrix> }`.
+    #[serde(default)]
+    pub mass: Option<StorageSpec>,
+    /// `"none"` (the default), `"each_dof"`, `"chain"`, DOF pairs (an unknown spring
+    /// per element), or `{ known = <matrix> }`.
+    #[serde(default)]
+    pub stiffness: Option<StorageSpec>,
+    /// DOFs (1-based) with an unknown constant force, or `"each_dof"`.
+    #[serde(default)]
+    pub offsets: Option<OffsetsSpec>,
+}
+
+/// A stored-energy term of `[non_periodic]`.
+#[derive(Debug, Deserialize)]
+#[serde(untagged)]
+pub enum StorageSpec {
+    /// `"none"`, `"each_dof"`, `"chain"` or DOF pairs (1-based, 0 = ground).
+    Elements(ElementsSpec),
+    /// A known matrix.
+    Known {
+        /// The matrix (a name or rows).
+        known: MatrixRef,
+    },
+}
+
+/// The DOFs with a constant force.
+#[derive(Debug, Deserialize)]
+#[serde(untagged)]
+pub enum OffsetsSpec {
+    /// `"each_dof"` or `"none"`.
+    Named(String),
+    /// DOFs, 1-based.
+    Dofs(Vec<usize>),
 }
 
 /// `[system]`: what stores energy in measured data (never used by the fit).
@@ -260,8 +305,9 @@ pub struct BoundSpec {
 pub struct IdentificationSpec {
     /// Quadrature rule.
     pub quadrature: Quadrature,
-    /// Velocity source.
-    pub velocity: VelocityName,
+    /// Velocity source (default: harmonic projection; central difference for
+    /// `[non_periodic]`).
+    pub velocity: Option<VelocityName>,
     /// K for spectral or harmonic-projection velocities.
     pub harmonics: Option<usize>,
     /// Noise correction: `"auto"` (with harmonic projection), `"ignore"`, `"correct"`.
@@ -325,7 +371,7 @@ impl Default for IdentificationSpec {
     fn default() -> Self {
         IdentificationSpec {
             quadrature: Quadrature::default(),
-            velocity: VelocityName::default(),
+            velocity: None,
             harmonics: None,
             noise: crate::noise::NoiseTreatment::default(),
             weighting: crate::fit::Weighting::default(),

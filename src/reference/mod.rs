@@ -3,6 +3,7 @@
 //! with the paper's settings and identifies it; none contains an expected answer other
 //! than the paper's printed values, which are only compared against.
 
+pub mod drive;
 pub mod four_mass;
 pub mod noisy_chain;
 pub mod string;

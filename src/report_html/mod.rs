@@ -113,7 +113,21 @@ impl HtmlReport<'_> {
             table.push_str("<th>true</th><th>error</th>");
         }
         table.push_str("</tr>\n");
-        for c in &self.report.coefficients {
+        let damping = self.report.coefficients.len();
+        let columns = if self.truth.is_some() { 6 } else { 4 };
+        for (k, c) in self
+            .report
+            .coefficients
+            .iter()
+            .chain(&self.report.nuisance)
+            .enumerate()
+        {
+            if k == damping {
+                let _ = writeln!(
+                    table,
+                    "<tr><th colspan=\"{columns}\">stored energy and constant forces (nuisance unknowns of the non-periodic balance)</th></tr>"
+                );
+            }
             let (se, interval) = match c.std_error {
                 Some(se) => (
                     format!("{se:.3e}"),

@@ -23,7 +23,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::{Error, Result, check_finite};
 use crate::model::DampingModel;
 use crate::record::{Forcing, Record, RecordParts};
-use rk4::Rk4;
+pub(crate) use rk4::Rk4;
 
 /// `f(x, out)`: adds a conservative force f_c(x) to `out`.
 pub type ConservativeFn = dyn Fn(&[f64], &mut [f64]) + Send + Sync;
