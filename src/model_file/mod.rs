@@ -395,7 +395,10 @@ fn non_periodic_settings(
         Some(StorageSpec::Elements(other)) => {
             return Err(Error::UnknownName {
                 what: "mass".into(),
-                name: format!("{other:?}"),
+                name: match other {
+                    ElementsSpec::Named(name) => name.clone(),
+                    ElementsSpec::Pairs(_) => "a list of DOF pairs".into(),
+                },
                 known: "\"each_dof\", \"none\", { known = <matrix> }".into(),
             });
         }
