@@ -29,6 +29,7 @@ const EXAMPLES: &str = "Examples:
   dampid identify models/four_mass_pod.toml      # the same chain reduced to two POMs (paper 3.1)
   dampid identify models/string.toml             # the string with eight sensors (paper 3.2.1)
   dampid identify models/four_mass_harmonic.toml # the harmonic approximation (paper eq. 4)
+  dampid identify models/drive_nonperiodic.toml  # non-periodic closed-loop motion; mass as a nuisance estimate
   dampid pod models/data/chain3/record_1.csv --prefix x   # energy table of the POMs of columns x1, x2, …
   dampid compare models/measured_chain.toml models/measured_chain_no_friction.toml   # is friction needed?
   dampid design models/per_dashpot.toml          # choose experiments that separate the coefficients

@@ -348,10 +348,6 @@ impl Regressor {
     pub fn nuisance_count(&self) -> usize {
         self.nuisance
     }
-    /// Whether column `k` is a damping coefficient (not a nuisance unknown).
-    pub fn is_damping_column(&self, k: usize) -> bool {
-        k < self.columns.len() - self.nuisance
-    }
 }
 
 /// What the windows of one record share: the kernel's plan and the quadrature weights
