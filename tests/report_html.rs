@@ -77,6 +77,7 @@ fn noise_robust_report_shows_the_noise_and_the_model_check() {
         regressor: &regressor,
         report: &report,
         truth: None,
+        pod: None,
     }
     .render()
     .unwrap();
