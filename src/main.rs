@@ -329,6 +329,7 @@ fn identify(
             regressor: &regressor,
             report: &report,
             truth: job.truth.as_deref(),
+            pod: job.pod.as_ref(),
         }
         .render()?;
         std::fs::create_dir_all(folder)

@@ -42,6 +42,9 @@ fn identify_writes_an_html_report_with_plots() {
     ] {
         assert!(page.contains(needle), "missing {needle}");
     }
+    // No [pod] in the model file: no POM section.
+    assert!(!page.contains("Proper orthogonal modes"));
+    assert!(!page.contains("POM"));
     // Self-contained: no scripts, stylesheets or images fetched from anywhere (the only
     // URL is the SVG namespace, which is a name, not a fetch).
     for fetch in ["<script", "<link", "src=", "href=", "url("] {
@@ -49,6 +52,63 @@ fn identify_writes_an_html_report_with_plots() {
             !page.contains(fetch),
             "the report must not load anything: found {fetch}"
         );
+    }
+    std::fs::remove_dir_all(&folder).ok();
+}
+
+/// A model file with `[pod]` (one basis per record) adds the POM section: a summary of
+/// every basis, and for the first three a table of the modes, the retained shapes and the
+/// energy shares.
+#[test]
+fn pod_report_shows_the_proper_orthogonal_modes() {
+    let folder = std::env::temp_dir().join(format!("dampid-html-pod-{}", std::process::id()));
+    let output = Command::new(env!("CARGO_BIN_EXE_dampid"))
+        .args(["identify", "models/four_mass_pod.toml", "--report"])
+        .arg(&folder)
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let page = std::fs::read_to_string(folder.join("report.html")).unwrap();
+    let (fit, pom) = page
+        .split_once("<h2>Proper orthogonal modes</h2>")
+        .expect("a POM section");
+    assert_eq!(
+        fit.matches("<svg").count(),
+        3,
+        "balance, residuals, the quadratic law"
+    );
+    assert_eq!(
+        pom.matches("<svg").count(),
+        6,
+        "shapes and energy shares of the first three of four bases"
+    );
+    for needle in [
+        "One basis per record (4 bases)",
+        "the first 3 are drawn",
+        // The summary lists all four amplitudes' bases; the paper's dominant shares.
+        "Record 4 (a=1 ω=0.618 on DOF 4)",
+        "98.8196%",
+        "97.0052%",
+        "2 of 4 modes retained",
+        "<th>cumulative share</th>",
+        "Retained POM shapes: Record 1 (a=0.25 ω=0.618 on DOF 4)",
+        "POM 1 (98.8196%)",
+        "POM 2 (",
+        "DOF (sensor)",
+        "Energy share per POM: Record 3 (a=0.75 ω=0.618 on DOF 4)",
+        "retained: 2 mode(s)",
+        "discarded: 2 mode(s)",
+    ] {
+        assert!(pom.contains(needle), "missing {needle}");
+    }
+    // Only the retained modes are drawn as shapes.
+    assert!(!pom.contains("POM 3 ("));
+    for fetch in ["<script", "<link", "src=", "href=", "url("] {
+        assert!(!page.contains(fetch), "the report must not load {fetch}");
     }
     std::fs::remove_dir_all(&folder).ok();
 }
@@ -77,6 +137,7 @@ fn noise_robust_report_shows_the_noise_and_the_model_check() {
         regressor: &regressor,
         report: &report,
         truth: None,
+        pod: None,
     }
     .render()
     .unwrap();

@@ -2,14 +2,18 @@
 //! errors and 95% intervals (θ ± 1.96 se), the warnings in words, the conditioning, and
 //! inline SVG plots: measured input work against identified dissipated work per window,
 //! the residuals with their bias, and each identified damping law θ f(v) against the
-//! relative velocity with its uncertainty band. Nothing is loaded from outside the file.
+//! relative velocity with its uncertainty band. When identification ran on proper
+//! orthogonal mode coordinates, a section shows the modes, their energy shares and the
+//! retained shapes ([`pom`]). Nothing is loaded from outside the file.
 
 mod plots;
+mod pom;
 
 use std::fmt::Write as _;
 
 use crate::error::Result;
 use crate::model::DampingModel;
+use crate::pod::Reduction;
 use crate::record::{Record, col};
 use crate::regressor::Regressor;
 use crate::report::FitReport;
@@ -32,6 +36,8 @@ pub struct HtmlReport<'a> {
     pub report: &'a FitReport,
     /// True coefficients, when the records were simulated.
     pub truth: Option<&'a [(String, f64)]>,
+    /// The POD reduction the records came from, when the model file asked for one.
+    pub pod: Option<&'a Reduction>,
 }
 
 impl HtmlReport<'_> {
@@ -95,6 +101,9 @@ impl HtmlReport<'_> {
         for svg in self.force_law_plots()? {
             page.push_str(&svg);
             page.push('\n');
+        }
+        if let Some(reduction) = self.pod {
+            page.push_str(&pom::section(reduction)?);
         }
         let json = serde_json::to_string_pretty(report).unwrap_or_default();
         let _ = write!(
@@ -222,7 +231,6 @@ const STYLE: &str = "body{font-family:sans-serif;max-width:60em;margin:2em auto;
 table{border-collapse:collapse}td,th{border:1px solid #bbb;padding:.25em .6em;text-align:right}\
 th{background:#eee}.warning{background:#fff3cd;border:1px solid #e0c060;padding:.5em}svg{display:block;margin:1em 0}";
 
-/// Escapes text for HTML.
 /// The noise-robust pipeline's model check and, per window, the harmonics kept and the
 /// estimated noise.
 fn noise_section(noise: &crate::report::NoiseSummary) -> String {
@@ -267,6 +275,7 @@ fn noise_section(noise: &crate::report::NoiseSummary) -> String {
     section
 }
 
+/// Escapes text for HTML.
 fn escape(text: &str) -> String {
     text.replace('&', "&amp;")
         .replace('<', "&lt;")
