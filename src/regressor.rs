@@ -358,7 +358,7 @@ struct RecordShared<'m> {
 }
 
 /// The quadrature weights of every record's windows. Every window of a record spans the
-/// same k periods, and the weights scale with the step, w(kT, h, T) = h w(kT/h, 1, T/h),
+/// same k periods. Spectral weights scale with the step, w(kT, h, T) = h w(kT/h, 1, T/h),
 /// so they are computed once per distinct (kT/h, T/h): once for a stepped-sine table
 /// sampled at a fixed number of samples per period, however many points it has (the
 /// spectral rule costs a QR of the Fourier basis).
@@ -367,15 +367,33 @@ fn record_weights(
     windows: &[Window],
     settings: &RegressorSettings,
 ) -> Result<Vec<Vec<f64>>> {
+    let span_of = |index: usize, record: &Record| {
+        windows
+            .iter()
+            .find(|w| w.record == index)
+            .map_or(settings.windows.cycles as f64 * record.period(), |w| w.span)
+    };
+    if settings.quadrature != Quadrature::Spectral {
+        // Rectangular and trapezoid weights cost one write per sample: made directly at
+        // each record's step, with no shared copy to scale.
+        return records
+            .iter()
+            .enumerate()
+            .map(|(index, record)| {
+                settings
+                    .quadrature
+                    .weights(span_of(index, record), record.step(), record.period())
+            })
+            .collect();
+    }
     let ratios: Vec<(f64, f64)> = records
         .iter()
         .enumerate()
         .map(|(index, record)| {
-            let span = windows
-                .iter()
-                .find(|w| w.record == index)
-                .map_or(settings.windows.cycles as f64 * record.period(), |w| w.span);
-            (span / record.step(), record.period() / record.step())
+            (
+                span_of(index, record) / record.step(),
+                record.period() / record.step(),
+            )
         })
         .collect();
     let key = |(span, period): (f64, f64)| (span.to_bits(), period.to_bits());

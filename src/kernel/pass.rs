@@ -17,7 +17,8 @@
 //!
 //! so the result depends only on the window and never on the number of threads or on
 //! how the tasks were scheduled: it is bitwise reproducible. Partial sums are held for
-//! [`WAVE`] blocks at a time, so memory stays bounded for any record length.
+//! a wave of blocks at a time (at most [`PARTIALS_BUDGET`] values, or [`MIN_WAVE`] blocks),
+//! so memory stays bounded for any record length.
 //!
 //! Inside the longest run of equal weights (all of a rectangular rule, the interior of a
 //! trapezoid) a block's sum is w Σ_i g(i), without reading or multiplying the weights;
@@ -42,8 +43,13 @@ pub(crate) static BLOCK_SIZE: std::sync::LazyLock<usize> = std::sync::LazyLock::
         .unwrap_or(4096)
 });
 
-/// Blocks whose partial sums are held at once.
-const WAVE: usize = 16;
+/// Partial sums held at once (8 MiB): a wave takes as many blocks as fit, at least
+/// [`MIN_WAVE`], so that a long window with few sums is one parallel call rather than
+/// many small ones (each a hand-off to the pool).
+const PARTIALS_BUDGET: usize = 1 << 20;
+
+/// Blocks per wave at least.
+const MIN_WAVE: usize = 16;
 
 /// Runs of equal weights shorter than this are summed with per-sample weights.
 const MIN_UNIFORM_RUN: usize = 64;
@@ -64,9 +70,10 @@ pub(crate) fn window_sums(plan: &Plan<'_>, samples: &WindowSamples<'_>) -> Vec<f
     let blocks = m.div_ceil(block_len);
     let parallel = m.saturating_mul(slots) >= PARALLEL_WORK;
     let uniform = uniform_run(samples.weights);
-    let mut partials = vec![0.0; WAVE.min(blocks) * slots];
-    for wave_start in (0..blocks).step_by(WAVE) {
-        let wave = WAVE.min(blocks - wave_start);
+    let wave_len = (PARTIALS_BUDGET / slots).max(MIN_WAVE);
+    let mut partials = vec![0.0; wave_len.min(blocks) * slots];
+    for wave_start in (0..blocks).step_by(wave_len) {
+        let wave = wave_len.min(blocks - wave_start);
         let partials = &mut partials[..wave * slots];
         let block_task = |(offset, block_sums): (usize, &mut [f64])| {
             let block = wave_start + offset;
