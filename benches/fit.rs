@@ -26,36 +26,14 @@ use dampid::prelude::*;
 use dampid::regressor::RowLabel;
 use faer::Mat;
 
+mod support;
+use support::SplitMix64;
+
 /// Coefficients P per size (2001 is the baseline's `--solve --dofs 1000`).
 const SIZES: [usize; 4] = [101, 301, 1001, 2001];
 
 /// Sizes of the active-set group (larger ones take tens of seconds per fit).
 const ACTIVE_SIZES: [usize; 3] = [101, 301, 1001];
-
-/// SplitMix64, as in benches/regressor.rs.
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        let unit = (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64);
-        lo + (hi - lo) * unit
-    }
-
-    /// Standard normal by Box–Muller.
-    fn normal(&mut self) -> f64 {
-        let u1 = self.uniform(0.0, 1.0).max(f64::MIN_POSITIVE);
-        let u2 = self.uniform(0.0, 1.0);
-        (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
-    }
-}
 
 /// The regressor (2P × P) and the true θ; with `active`, every third θ_j is 0 and b
 /// carries uniform noise of ±5e-4.

@@ -31,30 +31,15 @@ use dampid::prelude::*;
 use faer::Mat;
 use rayon::prelude::*;
 
+mod support;
+use support::SplitMix64;
+
 const STEP: f64 = 0.01;
 const DOFS: [usize; 4] = [10, 100, 1000, 3000];
 const SAMPLES: [usize; 3] = [10_000, 100_000, 1_000_000];
 
 /// Cells left out: n·N above this (see the module doc).
 const MAX_ELEMENTS: usize = 300_000_000;
-
-/// SplitMix64, as in benches/regressor.rs.
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        let unit = (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64);
-        lo + (hi - lo) * unit
-    }
-}
 
 fn record(dofs: usize, samples: usize) -> Record {
     let mut rng = SplitMix64(dofs as u64 * 1_000_003 + samples as u64);

@@ -32,31 +32,15 @@ use dampid::prelude::*;
 use faer::Mat;
 use rayon::prelude::*;
 
+mod support;
+use support::SplitMix64;
+
 /// Sampling step, as in the baseline.
 const STEP: f64 = 0.01;
 
 /// Sizes timed: (DOFs n, samples N). The first is the baseline's default; the other two
 /// scale one dimension down by 10 each, so the scaling in n and in N is visible.
 const SIZES: [(usize, usize); 3] = [(1000, 100_000), (100, 100_000), (1000, 10_000)];
-
-/// SplitMix64: a tiny deterministic generator, enough for phases and amplitudes.
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform on [lo, hi), from the top 53 bits.
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        let unit = (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64);
-        lo + (hi - lo) * unit
-    }
-}
 
 /// Velocities V (N × n) and the dense force F (N × n), generated like the baseline's
 /// `make_data`: v_i(t) = Σ_{k ∈ {1,3,5}} a_{k,i} cos(k t + φ_{k,i}) with φ uniform on

@@ -22,13 +22,10 @@ use std::path::PathBuf;
 use dampid::error::Result;
 use dampid::fit::{FitSettings, solve};
 use dampid::io::csv_table::Table;
-use dampid::model::DampingModel;
 use dampid::nonperiodic::{NonPeriodicSettings, StorageModel, build};
 use dampid::record::Record;
-use dampid::reference::drive::{DriveSettings, closed_loop_drive};
+use dampid::reference::drive::{DriveSettings, closed_loop_drive, drive_model};
 use dampid::report::FitReport;
-use dampid::terms::laws::{Coulomb, Linear};
-use dampid::terms::{Coefficients, Element, Term};
 
 /// The drive of the bundled record: 20 s at h = 2 ms, with sensor noise.
 fn drive() -> DriveSettings {
@@ -65,17 +62,7 @@ fn write_csv(record: &Record, folder: &PathBuf) -> Result<PathBuf> {
 fn main() -> Result<()> {
     let settings = drive();
     let record = closed_loop_drive(&settings)?;
-    let model = DampingModel::new()
-        .with(Term::on_elements(
-            Linear,
-            Element::each_dof(1),
-            Coefficients::Shared("viscous".into()),
-        ))
-        .with(Term::on_elements(
-            Coulomb,
-            Element::each_dof(1),
-            Coefficients::Shared("coulomb".into()),
-        ));
+    let model = drive_model();
     let balance = NonPeriodicSettings {
         storage: StorageModel {
             offsets: vec![0],

@@ -108,6 +108,19 @@ pub struct RowLabel {
     pub cycles: usize,
 }
 
+impl RowLabel {
+    /// The label of `window` of `record`.
+    pub(crate) fn of(window: &Window, record: &Record) -> Self {
+        RowLabel {
+            record: record.label().to_string(),
+            record_index: window.record,
+            window: window.index,
+            start_time: record.start_time() + window.start as f64 * record.step(),
+            cycles: window.cycles,
+        }
+    }
+}
+
 /// The regressor A (equations × coefficients), right-hand side b, and their labels.
 #[derive(Debug, Clone)]
 pub struct Regressor {
@@ -184,16 +197,7 @@ impl Regressor {
         let rhs = rows.iter().map(|(_, b)| *b).collect();
         let labels = windows
             .iter()
-            .map(|w| {
-                let record = &records[w.record];
-                RowLabel {
-                    record: record.label().to_string(),
-                    record_index: w.record,
-                    window: w.index,
-                    start_time: record.start_time() + w.start as f64 * record.step(),
-                    cycles: w.cycles,
-                }
-            })
+            .map(|w| RowLabel::of(w, &records[w.record]))
             .collect();
         let mut regressor = Self::from_parts(matrix, rhs, columns, labels)?;
         regressor.noise = noise;

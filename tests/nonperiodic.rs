@@ -14,27 +14,13 @@ use dampid::model::DampingModel;
 use dampid::model_file::parse;
 use dampid::nonperiodic::{Kinetic, NonPeriodicSettings, Potential, StorageModel, build};
 use dampid::record::{Forcing, Record, RecordParts};
-use dampid::reference::drive::{DriveSettings, closed_loop_drive};
+use dampid::reference::drive::{DriveSettings, closed_loop_drive, drive_model};
 use dampid::report::FitReport;
 use dampid::simulate::{HarmonicForce, SimSettings, System, simulate};
-use dampid::terms::laws::{Coulomb, Linear};
+use dampid::terms::laws::Linear;
 use dampid::terms::{Coefficients, Element, Term};
 use dampid::velocity::VelocitySource;
 use faer::Mat;
-
-fn drive_model() -> DampingModel {
-    DampingModel::new()
-        .with(Term::on_elements(
-            Linear,
-            Element::each_dof(1),
-            Coefficients::Shared("viscous".into()),
-        ))
-        .with(Term::on_elements(
-            Coulomb,
-            Element::each_dof(1),
-            Coefficients::Shared("coulomb".into()),
-        ))
-}
 
 /// 0.25 s windows, an unknown mass and an unknown constant force on DOF 1.
 fn drive_balance() -> NonPeriodicSettings {

@@ -192,16 +192,7 @@ pub fn build(
     let rhs = rows.iter().map(|(_, b)| *b).collect();
     let labels = windows
         .iter()
-        .map(|w| {
-            let record = &records[w.record];
-            RowLabel {
-                record: record.label().to_string(),
-                record_index: w.record,
-                window: w.index,
-                start_time: record.start_time() + w.start as f64 * record.step(),
-                cycles: 0,
-            }
-        })
+        .map(|w| RowLabel::of(w, &records[w.record]))
         .collect();
     Regressor::from_parts(matrix, rhs, columns, labels)?.with_nuisance_count(nuisance.len())
 }

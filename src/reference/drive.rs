@@ -23,8 +23,11 @@ use rand::{Rng, SeedableRng};
 use rand_distr::{Distribution, Normal};
 
 use crate::error::{Error, Result};
+use crate::model::DampingModel;
 use crate::record::{Forcing, Record, RecordParts};
 use crate::simulate::Rk4;
+use crate::terms::laws::{Coulomb, Linear};
+use crate::terms::{Coefficients, Element, Term};
 
 /// The drive, its controller, the moves and the recording.
 #[derive(Debug, Clone, PartialEq)]
@@ -172,6 +175,22 @@ impl DriveSettings {
         truth.push(("offset[1]".to_string(), self.offset));
         truth
     }
+}
+
+/// The drive's damping model: a shared `viscous` linear term and a shared `coulomb`
+/// Coulomb term on DOF 1 (the names [`DriveSettings::truth`] uses).
+pub fn drive_model() -> DampingModel {
+    DampingModel::new()
+        .with(Term::on_elements(
+            Linear,
+            Element::each_dof(1),
+            Coefficients::Shared("viscous".into()),
+        ))
+        .with(Term::on_elements(
+            Coulomb,
+            Element::each_dof(1),
+            Coefficients::Shared("coulomb".into()),
+        ))
 }
 
 /// Simulates the drive and returns its record: position x (with measured velocity,
