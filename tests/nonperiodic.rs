@@ -486,3 +486,25 @@ forces = [{{ column = "force", dof = 1 }}]
     ));
     std::fs::remove_dir_all(folder).ok();
 }
+
+/// The HTML report of a non-periodic fit lists the nuisance estimates apart and labels
+/// the balance plot with the stored energy it includes.
+#[test]
+fn html_report_of_a_non_periodic_fit() {
+    let folder = scratch("html");
+    let output = Command::new(env!("CARGO_BIN_EXE_dampid"))
+        .args(["identify", "models/drive_nonperiodic.toml", "--report"])
+        .arg(&folder)
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let page = std::fs::read_to_string(folder.join("report.html")).unwrap();
+    assert!(page.contains("nuisance unknowns of the non-periodic balance"));
+    assert!(page.contains("dissipated + stored work"));
+    assert!(page.matches("<svg").count() >= 3);
+    std::fs::remove_dir_all(folder).ok();
+}

@@ -173,8 +173,8 @@ pub fn build(
                 record.dofs(),
             ));
         }
-        model.validate(dofs)?;
     }
+    model.validate(dofs)?;
     settings.storage.validate(dofs)?;
     let mut windows = Vec::new();
     for (index, record) in records.iter().enumerate() {

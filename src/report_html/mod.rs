@@ -91,7 +91,11 @@ impl HtmlReport<'_> {
             singular.join(", ")
         );
         page.push_str("<h2>Energy balance</h2>\n");
-        page.push_str(&plots::work_balance(input, &dissipated)?);
+        page.push_str(&plots::work_balance(
+            input,
+            &dissipated,
+            !report.nuisance.is_empty(),
+        )?);
         page.push_str("\n<h2>Residuals</h2>\n");
         page.push_str(&plots::residuals(&report.residuals)?);
         if let Some(noise) = &report.noise {

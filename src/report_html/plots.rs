@@ -141,16 +141,25 @@ fn padded(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
     (lo - pad)..(hi + pad)
 }
 
-/// Measured input work against identified dissipated work per window, with y = x.
-pub(crate) fn work_balance(input: &[f64], dissipated: &[f64]) -> Result<String> {
+/// Measured input work against identified dissipated work per window, with y = x; with
+/// `stored`, the identified work also holds the change of stored energy and the work of
+/// constant forces (the non-periodic balance).
+pub(crate) fn work_balance(input: &[f64], dissipated: &[f64], stored: bool) -> Result<String> {
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
         let range = padded(input.iter().chain(dissipated).copied());
-        let axes = (
-            "input work ∮ vᵀr dt",
-            "identified dissipated work Σ θ_k A_k",
-        );
+        let axes = if stored {
+            (
+                "input work ∫ vᵀr dt",
+                "identified dissipated + stored work Σ θ_k A_k",
+            )
+        } else {
+            (
+                "input work ∮ vᵀr dt",
+                "identified dissipated work Σ θ_k A_k",
+            )
+        };
         let mut chart = frame(
             &root,
             "Energy balance per window",
