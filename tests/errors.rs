@@ -1807,6 +1807,33 @@ fn window_shorter_than_one_step_is_invalid_not_an_endless_loop() {
 }
 
 #[test]
+fn mat_file_whose_dimensions_overflow_is_a_data_error() {
+    // Found by the `mat` fuzz target: a numeric matrix of 65536 × 65536 makes the MAT
+    // parser (matfile 0.5) multiply its dimensions as i32, a panic under overflow checks.
+    let mut bytes = vec![b' '; 116];
+    bytes.extend_from_slice(&[0; 8]); // subsystem data offset
+    bytes.extend_from_slice(&[0x00, 0x01]); // version
+    bytes.extend_from_slice(b"IM"); // little endian
+    let tag = |kind: u32, size: u32| [kind.to_le_bytes(), size.to_le_bytes()].concat();
+    bytes.extend(tag(14, 56)); // miMATRIX of 56 bytes:
+    bytes.extend(tag(6, 8)); // array flags (miUINT32): class 6 = double, nzmax 0
+    bytes.extend_from_slice(&[6, 0, 0, 0, 0, 0, 0, 0]);
+    bytes.extend(tag(5, 8)); // dimensions (miINT32): 65536 × 65536
+    bytes.extend_from_slice(&[65536i32.to_le_bytes(), 65536i32.to_le_bytes()].concat());
+    bytes.extend(tag(1, 1)); // name (miINT8) "x", padded to 8
+    bytes.extend_from_slice(b"x\0\0\0\0\0\0\0");
+    bytes.extend(tag(9, 0)); // real part (miDOUBLE), empty
+    let path = std::env::temp_dir().join(format!("dampid-dims-{}.mat", std::process::id()));
+    std::fs::write(&path, &bytes).unwrap();
+    let result = dampid::io::mat::read_mat(&path);
+    std::fs::remove_file(&path).unwrap();
+    assert!(
+        matches!(&result, Err(Error::Data { file, row: 0, .. }) if file.ends_with(".mat")),
+        "{result:?}"
+    );
+}
+
+#[test]
 fn mat_file_whose_element_size_overflows_is_a_data_error() {
     // Found by the `mat` fuzz target: a data element claiming 0xFFFFFFFF bytes made the
     // MAT parser (matfile 0.5) overflow while rounding the size up to its padding, a
