@@ -46,6 +46,21 @@ fn relative_error(report: &FitReport, name: &str, truth: f64) -> f64 {
     (estimate - truth).abs() / truth.abs()
 }
 
+/// Runs the dampid binary with `args` and returns its output, which must be a success.
+fn dampid(args: &[&str]) -> std::process::Output {
+    let output = Command::new(env!("CARGO_BIN_EXE_dampid"))
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "dampid {}: {}",
+        args.join(" "),
+        String::from_utf8_lossy(&output.stderr)
+    );
+    output
+}
+
 fn scratch(name: &str) -> PathBuf {
     let folder =
         std::env::temp_dir().join(format!("dampid-nonperiodic-{name}-{}", std::process::id()));
@@ -131,15 +146,7 @@ forces = [{ column = "force", dof = 1 }]
 /// apart from the damping coefficients, near the simulation's 2 kg.
 #[test]
 fn bundled_drive_model_runs_from_the_command_line() {
-    let output = Command::new(env!("CARGO_BIN_EXE_dampid"))
-        .args(["identify", "models/drive_nonperiodic.toml", "--json"])
-        .output()
-        .unwrap();
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
+    let output = dampid(&["identify", "models/drive_nonperiodic.toml", "--json"]);
     let json: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
     let value_of = |list: &str, name: &str| {
         json["report"][list]
@@ -492,16 +499,12 @@ forces = [{{ column = "force", dof = 1 }}]
 #[test]
 fn html_report_of_a_non_periodic_fit() {
     let folder = scratch("html");
-    let output = Command::new(env!("CARGO_BIN_EXE_dampid"))
-        .args(["identify", "models/drive_nonperiodic.toml", "--report"])
-        .arg(&folder)
-        .output()
-        .unwrap();
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
+    dampid(&[
+        "identify",
+        "models/drive_nonperiodic.toml",
+        "--report",
+        folder.to_str().unwrap(),
+    ]);
     let page = std::fs::read_to_string(folder.join("report.html")).unwrap();
     assert!(page.contains("nuisance unknowns of the non-periodic balance"));
     assert!(page.contains("dissipated + stored work"));
