@@ -19,10 +19,10 @@ use serde::{Deserialize, Serialize};
 
 use crate::derivative_free;
 use crate::error::{Error, Result};
-use crate::kernel::{Plan, WindowSamples};
+use crate::kernel::{Plan, WindowSamples, worth_parallel};
 use crate::model::DampingModel;
 use crate::noise::{self, NoiseModel, NoiseTreatment};
-use crate::quadrature::Quadrature;
+use crate::quadrature::{Quadrature, WindowWeights};
 use crate::record::Record;
 use crate::velocity::VelocitySource;
 use crate::window::{Window, WindowSpec};
@@ -179,18 +179,32 @@ impl Regressor {
             (rows, Some(noise))
         } else {
             let weights = record_weights(records, &windows, settings)?;
-            let shared: Vec<RecordShared<'_>> = records
-                .par_iter()
-                .zip(weights)
-                .map(|(record, weights)| RecordShared {
-                    plan: Plan::new(model, record),
-                    weights,
+            // Small builds stay on the calling thread: every parallel call below would
+            // otherwise be a hand-off to the pool costing more than its work.
+            let sample_sums: usize = records
+                .iter()
+                .map(|r| {
+                    r.samples()
+                        .saturating_mul(columns.len() + r.forcing().signals.ncols())
                 })
-                .collect();
-            let rows = windows
-                .par_iter()
-                .map(|w| window_row(&shared[w.record], model, &records[w.record], w, settings))
-                .collect::<Result<_>>()?;
+                .sum();
+            let parallel = worth_parallel(sample_sums);
+            let share = |(record, weights): (&Record, WindowWeights)| RecordShared {
+                plan: Plan::new(model, record),
+                weights,
+            };
+            let shared: Vec<RecordShared<'_>> = if parallel {
+                records.par_iter().zip(weights).map(share).collect()
+            } else {
+                records.iter().zip(weights).map(share).collect()
+            };
+            let row =
+                |w: &Window| window_row(&shared[w.record], model, &records[w.record], w, settings);
+            let rows = if parallel {
+                windows.par_iter().map(row).collect::<Result<_>>()?
+            } else {
+                windows.iter().map(row).collect::<Result<_>>()?
+            };
             (rows, None)
         };
         let matrix = Mat::from_fn(rows.len(), columns.len(), |r, k| rows[r].0[k]);
@@ -358,7 +372,7 @@ impl Regressor {
 /// (every window of a record spans the same k periods).
 struct RecordShared<'m> {
     plan: Plan<'m>,
-    weights: Vec<f64>,
+    weights: WindowWeights,
 }
 
 /// The quadrature weights of every record's windows. Every window of a record spans the
@@ -370,7 +384,7 @@ fn record_weights(
     records: &[Record],
     windows: &[Window],
     settings: &RegressorSettings,
-) -> Result<Vec<Vec<f64>>> {
+) -> Result<Vec<WindowWeights>> {
     let span_of = |index: usize, record: &Record| {
         windows
             .iter()
@@ -378,15 +392,17 @@ fn record_weights(
             .map_or(settings.windows.cycles as f64 * record.period(), |w| w.span)
     };
     if settings.quadrature != Quadrature::Spectral {
-        // Rectangular and trapezoid weights cost one write per sample: made directly at
-        // each record's step, with no shared copy to scale.
+        // Rectangular and trapezoid weights are a few numbers each (no per-sample
+        // vector): made directly at each record's step.
         return records
             .iter()
             .enumerate()
             .map(|(index, record)| {
-                settings
-                    .quadrature
-                    .weights(span_of(index, record), record.step(), record.period())
+                settings.quadrature.window_weights(
+                    span_of(index, record),
+                    record.step(),
+                    record.period(),
+                )
             })
             .collect();
     }
@@ -419,7 +435,7 @@ fn record_weights(
                 .iter()
                 .position(|&d| key(d) == key(ratio))
                 .expect("every ratio is in the distinct list");
-            per_step[unit].iter().map(|w| w * record.step()).collect()
+            WindowWeights::PerSample(per_step[unit].iter().map(|w| w * record.step()).collect())
         })
         .collect())
 }

@@ -258,6 +258,9 @@ fn matches_direct_sums(model: &DampingModel) {
 
 #[test]
 fn fused_kernel_is_bitwise_independent_of_thread_count() {
+    // Windows of 20 periods (12,566 samples) × about 150 sums: past the kernel's
+    // threshold (2^20 sample-sums), so 2 and 3 threads run the parallel path and 1 thread
+    // the sequential one.
     let model = model(true);
     let record = record(30_000);
     let settings = settings(Quadrature::Trapezoid, 20, None);

@@ -17,6 +17,9 @@ mod plan;
 
 use faer::MatRef;
 
+use crate::quadrature::WindowWeights;
+
+pub(crate) use pass::worth_parallel;
 pub(crate) use plan::Plan;
 
 /// The samples of one window that the kernel reads: displacements and velocities
@@ -25,7 +28,7 @@ pub(crate) struct WindowSamples<'a> {
     pub(crate) x: MatRef<'a, f64>,
     pub(crate) v: MatRef<'a, f64>,
     pub(crate) signals: MatRef<'a, f64>,
-    pub(crate) weights: &'a [f64],
+    pub(crate) weights: &'a WindowWeights,
 }
 
 impl Plan<'_> {

@@ -1,6 +1,6 @@
 //! One pass over a window: every sum of the plan, block by block.
 //!
-//! The window's m samples are cut into blocks of [`BLOCK`] samples (the last may be
+//! The window's m samples are cut into blocks of [`BLOCK_SIZE`] samples (the last may be
 //! shorter); the plan's sums into segments. A task evaluates one segment over one block,
 //!
 //! ```text
@@ -8,8 +8,9 @@
 //! ```
 //!
 //! reading each velocity column of the block once from memory (the plan orders the sums
-//! so that the others find it in cache). Tasks run in parallel on rayon's pool, and the
-//! totals are added in block order,
+//! so that the others find it in cache). The tasks of all blocks form one flat list that
+//! runs in parallel on rayon's pool (on the calling thread when the window is small, see
+//! [`worth_parallel`]), and the totals are added in block order,
 //!
 //! ```text
 //!   S[s] = ((P[0][s] + P[1][s]) + P[2][s]) + …,
@@ -20,9 +21,9 @@
 //! a wave of blocks at a time (at most [`PARTIALS_BUDGET`] values, or [`MIN_WAVE`] blocks),
 //! so memory stays bounded for any record length.
 //!
-//! Inside the longest run of equal weights (all of a rectangular rule, the interior of a
-//! trapezoid) a block's sum is w Σ_i g(i), without reading or multiplying the weights;
-//! the few samples outside it keep their own weights.
+//! Inside the interior of a rectangular or trapezoid rule, where every weight is h, a
+//! block's sum is h Σ_i g(i), without reading or multiplying weights; the few samples at
+//! the ends keep their own weights.
 
 use std::ops::Range;
 
@@ -51,12 +52,19 @@ const PARTIALS_BUDGET: usize = 1 << 20;
 /// Blocks per wave at least.
 const MIN_WAVE: usize = 16;
 
-/// Runs of equal weights shorter than this are summed with per-sample weights.
-const MIN_UNIFORM_RUN: usize = 64;
+/// Work of fewer sample-sums than this runs on the calling thread (same blocks and
+/// order, so the same result): handing it to the pool costs more than it saves. On this
+/// machine's 2 threads, 3.2e5 sample-sums took 72 µs on one thread and 112 µs on two;
+/// 3e6 took 1.02 ms on one and 0.91 ms on two.
+const PARALLEL_WORK: usize = 1 << 20;
 
-/// Windows with fewer sample-sums than this run on the calling thread (same blocks and
-/// order, so the same result).
-const PARALLEL_WORK: usize = 1 << 16;
+/// Whether `sample_sums` (samples × sums) is worth spreading over rayon's pool: enough
+/// work, and more than one thread to take it. A one-thread pool only adds the hand-off
+/// (a futex wake and a context switch each way), which a profile of a 0.3 ms build
+/// showed as 45 % of its time.
+pub(crate) fn worth_parallel(sample_sums: usize) -> bool {
+    sample_sums >= PARALLEL_WORK && rayon::current_num_threads() > 1
+}
 
 /// S[s] for every sum of `plan` over the window `samples`.
 pub(crate) fn window_sums(plan: &Plan<'_>, samples: &WindowSamples<'_>) -> Vec<f64> {
@@ -68,35 +76,38 @@ pub(crate) fn window_sums(plan: &Plan<'_>, samples: &WindowSamples<'_>) -> Vec<f
     }
     let block_len = *BLOCK_SIZE;
     let blocks = m.div_ceil(block_len);
-    let parallel = m.saturating_mul(slots) >= PARALLEL_WORK;
-    let uniform = uniform_run(samples.weights);
+    let parallel = worth_parallel(m.saturating_mul(slots));
     let wave_len = (PARTIALS_BUDGET / slots).max(MIN_WAVE);
     let mut partials = vec![0.0; wave_len.min(blocks) * slots];
     for wave_start in (0..blocks).step_by(wave_len) {
         let wave = wave_len.min(blocks - wave_start);
         let partials = &mut partials[..wave * slots];
-        let block_task = |(offset, block_sums): (usize, &mut [f64])| {
-            let block = wave_start + offset;
-            let rows = block * block_len..((block + 1) * block_len).min(m);
-            let tasks = split_segments(block_sums, &plan.segments);
-            let segment_task = |(range, out): (&Range<usize>, &mut [f64])| {
-                for (sum, out) in plan.sums[range.clone()].iter().zip(out) {
-                    *out = block_sum(sum, samples, rows.clone(), &uniform);
-                }
-            };
-            if parallel {
-                plan.segments.par_iter().zip(tasks).for_each(segment_task);
-            } else {
-                plan.segments.iter().zip(tasks).for_each(segment_task);
+        // One task per (block, segment), each writing its own slots of `partials`.
+        let tasks: Vec<Task<'_, '_>> = partials
+            .chunks_mut(slots)
+            .enumerate()
+            .flat_map(|(offset, block_sums)| {
+                let block = wave_start + offset;
+                let rows = block * block_len..((block + 1) * block_len).min(m);
+                plan.segments
+                    .iter()
+                    .zip(split_segments(block_sums, &plan.segments))
+                    .map(move |(segment, out)| Task {
+                        rows: rows.clone(),
+                        sums: &plan.sums[segment.clone()],
+                        out,
+                    })
+            })
+            .collect();
+        let run = |task: Task<'_, '_>| {
+            for (sum, out) in task.sums.iter().zip(task.out) {
+                *out = block_sum(sum, samples, task.rows.clone());
             }
         };
         if parallel {
-            partials
-                .par_chunks_mut(slots)
-                .enumerate()
-                .for_each(block_task);
+            tasks.into_par_iter().for_each(run);
         } else {
-            partials.chunks_mut(slots).enumerate().for_each(block_task);
+            tasks.into_iter().for_each(run);
         }
         for block_sums in partials.chunks(slots) {
             for (total, part) in totals.iter_mut().zip(block_sums) {
@@ -105,6 +116,14 @@ pub(crate) fn window_sums(plan: &Plan<'_>, samples: &WindowSamples<'_>) -> Vec<f
         }
     }
     totals
+}
+
+/// The sums of one segment over the samples of one block, and where their partial
+/// sums go.
+struct Task<'p, 'o> {
+    rows: Range<usize>,
+    sums: &'p [Sum<'p>],
+    out: &'o mut [f64],
 }
 
 /// The block's output slice cut into one piece per segment.
@@ -118,63 +137,15 @@ fn split_segments<'a>(mut out: &'a mut [f64], segments: &[Range<usize>]) -> Vec<
     pieces
 }
 
-/// The longest run of equal weights that contains the window's middle sample (all of
-/// a rectangular rule, the interior of a trapezoid); `None` when it is short (a spectral
-/// rule).
-fn uniform_run(weights: &[f64]) -> Option<(f64, Range<usize>)> {
-    let middle = weights.len() / 2;
-    let value = *weights.get(middle)?;
-    let start = weights[..middle]
-        .iter()
-        .rposition(|w| *w != value)
-        .map_or(0, |i| i + 1);
-    let end = weights[middle..]
-        .iter()
-        .position(|w| *w != value)
-        .map_or(weights.len(), |i| middle + i);
-    (end - start >= MIN_UNIFORM_RUN).then_some((value, start..end))
-}
-
-/// One sum over the samples `rows` of the window: the part inside the uniform run with
-/// its one weight, the parts before and after it with their own weights.
-fn block_sum(
-    sum: &Sum<'_>,
-    samples: &WindowSamples<'_>,
-    rows: Range<usize>,
-    uniform: &Option<(f64, Range<usize>)>,
-) -> f64 {
-    let Some((weight, run)) = uniform else {
-        return run_sum(
-            sum,
-            samples,
-            rows.clone(),
-            Weights::PerSample(&samples.weights[rows]),
-        );
-    };
-    let inner = run.start.clamp(rows.start, rows.end)..run.end.clamp(rows.start, rows.end);
-    let mut total = 0.0;
-    if rows.start < inner.start {
-        let before = rows.start..inner.start;
-        total += run_sum(
-            sum,
-            samples,
-            before.clone(),
-            Weights::PerSample(&samples.weights[before]),
-        );
-    }
-    if !inner.is_empty() {
-        total += run_sum(sum, samples, inner.clone(), Weights::Uniform(*weight));
-    }
-    if inner.end < rows.end {
-        let after = inner.end..rows.end;
-        total += run_sum(
-            sum,
-            samples,
-            after.clone(),
-            Weights::PerSample(&samples.weights[after]),
-        );
-    }
-    total
+/// One sum over the samples `rows` of the window, piece by piece of its weights (the
+/// interior of a rectangular or trapezoid rule with its one weight, the ends and the
+/// spectral rule sample by sample).
+fn block_sum(sum: &Sum<'_>, samples: &WindowSamples<'_>, rows: Range<usize>) -> f64 {
+    samples
+        .weights
+        .pieces(rows)
+        .map(|piece| run_sum(sum, samples, piece.rows, piece.weights))
+        .sum()
 }
 
 /// One sum over the samples `rows`, with their weights.

@@ -208,9 +208,11 @@ fn window_row(
     settings: &NonPeriodicSettings,
 ) -> Result<(Vec<f64>, f64)> {
     let count = (w.span / record.step()).round() as usize + 1;
-    let mut weights = settings.quadrature.weights(w.span, record.step(), w.span)?;
     // The rectangular rule reads L samples; the end sample is still needed for its state.
-    weights.resize(count, 0.0);
+    let weights = settings
+        .quadrature
+        .window_weights(w.span, record.step(), w.span)?
+        .padded_to(count);
     let v = settings
         .velocity
         .window_velocities(record, w.start, count)?;

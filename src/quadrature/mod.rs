@@ -16,10 +16,14 @@
 //!   band-limited periodic integrands whatever φ; when φ = 0 it agrees with the
 //!   rectangular rule on periodic data.
 
+mod weights;
+
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 use crate::fourier::{HarmonicBasis, default_harmonics};
+
+pub(crate) use weights::WindowWeights;
 
 /// A quadrature rule for window integrals.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -60,6 +64,17 @@ impl Quadrature {
 
     /// The weights w_i, i = 0..samples(span, step), for a window of `span` = kT.
     pub fn weights(&self, span: f64, step: f64, period: f64) -> Result<Vec<f64>> {
+        Ok(self.window_weights(span, step, period)?.to_vec())
+    }
+
+    /// The same weights held compactly: the rectangular and trapezoid rules as their
+    /// few end weights and the interior h, the spectral rule sample by sample.
+    pub(crate) fn window_weights(
+        &self,
+        span: f64,
+        step: f64,
+        period: f64,
+    ) -> Result<WindowWeights> {
         if !(span.is_finite() && span > 0.0) {
             return Err(Error::invalid(
                 "window span",
@@ -77,25 +92,24 @@ impl Quadrature {
         let (whole, frac) = Self::length(span, step);
         let count = self.samples(span, step);
         Ok(match self {
-            Quadrature::Rectangular => vec![step; count],
+            Quadrature::Rectangular => WindowWeights::banded(vec![], step, vec![], count),
             Quadrature::Trapezoid => {
-                let mut w = vec![step; count];
-                w[0] = step / 2.0;
-                w[whole] = step / 2.0;
-                if whole == 0 {
-                    w[0] = 0.0; // no whole interval, only the partial one
-                }
+                // Samples 0 and `whole` end the whole intervals (the same sample when
+                // there is none); the partial interval adds to `whole` and `whole + 1`.
+                let mut ends = vec![step / 2.0; count - whole];
+                ends[0] = if whole == 0 { 0.0 } else { step / 2.0 };
                 if frac > 0.0 {
-                    w[whole] += frac * step * (1.0 - frac / 2.0);
-                    w[whole + 1] = frac * frac * step / 2.0;
+                    ends[0] += frac * step * (1.0 - frac / 2.0);
+                    ends[1] = frac * frac * step / 2.0;
                 }
-                w
+                let head = if whole == 0 { vec![] } else { vec![step / 2.0] };
+                WindowWeights::banded(head, step, ends, count)
             }
             Quadrature::Spectral => {
                 let omega = 2.0 * std::f64::consts::PI / period;
                 let basis =
                     HarmonicBasis::new(omega, default_harmonics(period / step), step, count)?;
-                basis.integration_weights(span)
+                WindowWeights::PerSample(basis.integration_weights(span))
             }
         })
     }
