@@ -4,12 +4,14 @@
 use dampid::bootstrap::{BootstrapSettings, bootstrap, identify_with_bootstrap};
 use dampid::fit::{FitMethod, FitSettings};
 use dampid::prelude::*;
-use dampid::regressor::RowLabel;
 use dampid::simulate::{HarmonicForce, SimSettings, System, simulate};
 use faer::Mat;
 use rand::SeedableRng;
 use rand::rngs::StdRng;
 use rand_distr::{Distribution, Normal};
+
+mod support;
+use support::regressors::row_labels;
 
 /// True Rayleigh coefficients of the 2-DOF chain.
 const C0: f64 = 0.05;
@@ -196,15 +198,7 @@ fn consistent_rows_give_a_point_interval() {
     let rows = [[1.0, 0.0], [0.0, 1.0], [1.0, 1.0], [2.0, 1.0], [1.0, 3.0]];
     let a = Mat::from_fn(5, 2, |i, j| rows[i][j]);
     let b = rows.iter().map(|r| 2.0 * r[0] + 3.0 * r[1]).collect();
-    let labels = (0..5)
-        .map(|i| RowLabel {
-            record: format!("r{i}"),
-            record_index: i,
-            window: 0,
-            start_time: 0.0,
-            cycles: 1,
-        })
-        .collect();
+    let labels = row_labels(5);
     let r = Regressor::from_parts(a, b, vec!["a".into(), "b".into()], labels).unwrap();
     let boot = bootstrap(&r, &FitSettings::default(), &BootstrapSettings::default()).unwrap();
     // No two rows are proportional, so only a replicate that draws one row five times

@@ -2,18 +2,13 @@
 //! steady, and progress bars that stay silent when stderr is not a terminal.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 use dampid::model_file::load;
 use dampid::pod::{Pod, PodBasis, PodSettings, Retain};
 use dampid::pod_files::{Columns, pod_of_files};
 
-fn dampid(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_dampid"))
-        .args(args)
-        .output()
-        .expect("the dampid binary runs")
-}
+mod support;
+use support::cli::{dampid, dampid_json, dampid_ok};
 
 fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
@@ -100,9 +95,7 @@ fn shared_pod_stacks_files() {
 /// `dampid pod --json` prints what the library function returns.
 #[test]
 fn pod_command_prints_the_energy_table() {
-    let out = dampid(&["pod", RECORD, "--prefix", "x", "--json"]);
-    assert!(out.status.success(), "{}", text(&out.stderr));
-    let value: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let value = dampid_json(&["pod", RECORD, "--prefix", "x", "--json"]);
     let shares: Vec<f64> = value["decompositions"][0]["report"]["modes"]
         .as_array()
         .unwrap()
@@ -122,8 +115,7 @@ fn pod_command_prints_the_energy_table() {
         .map(|m| m.energy_share)
         .collect();
     assert_eq!(shares, expected);
-    let table = dampid(&["pod", RECORD, "--columns", "x1,x2,x3"]);
-    assert!(table.status.success());
+    let table = dampid_ok(&["pod", RECORD, "--columns", "x1,x2,x3"]);
     let printed = text(&table.stdout);
     assert!(
         printed.contains("x1, x2, x3") && printed.contains("cumulative"),
@@ -162,8 +154,7 @@ fn unsteady_windows_exit_with_2_unless_accepted() {
             );
         }
     }
-    let accepted = dampid(&["identify", path, "--accept-transient"]);
-    assert!(accepted.status.success(), "{}", text(&accepted.stderr));
+    let accepted = dampid_ok(&["identify", path, "--accept-transient"]);
     assert!(text(&accepted.stdout).contains("not in steady state, accepted"));
     std::fs::remove_dir_all(&folder).ok();
 }
@@ -172,33 +163,22 @@ fn unsteady_windows_exit_with_2_unless_accepted() {
 /// nothing there (indicatif's stderr target hides itself).
 #[test]
 fn progress_bars_are_silent_when_stderr_is_not_a_terminal() {
-    let out = dampid(&["identify", "models/four_mass.toml"]);
-    assert!(out.status.success());
+    let out = dampid_ok(&["identify", "models/four_mass.toml"]);
     assert_eq!(text(&out.stderr), "");
-    let check = dampid(&["check", "models/measured_chain.toml"]);
-    assert!(check.status.success());
+    let check = dampid_ok(&["check", "models/measured_chain.toml"]);
     assert_eq!(text(&check.stderr), "");
 }
 
 /// `identify --bootstrap N` adds percentile intervals from N resampled refits.
 #[test]
 fn identify_with_bootstrap_prints_intervals() {
-    let output = std::process::Command::new(env!("CARGO_BIN_EXE_dampid"))
-        .args([
-            "identify",
-            "models/measured_chain.toml",
-            "--bootstrap",
-            "200",
-            "--json",
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    let json: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let json = dampid_json(&[
+        "identify",
+        "models/measured_chain.toml",
+        "--bootstrap",
+        "200",
+        "--json",
+    ]);
     assert_eq!(json["report"]["bootstrap"]["replicates"], 200);
     for c in json["report"]["coefficients"].as_array().unwrap() {
         let (lower, upper) = (

@@ -1,31 +1,23 @@
 //! Nested-model comparison: AIC, BIC and the F-test on the change in residual, by hand
 //! and on simulated data with and without Coulomb friction.
 
-use std::process::Command;
-
 use dampid::compare::{CompareSettings, Verdict, Which, compare_regressors};
 use dampid::prelude::*;
-use dampid::regressor::RowLabel;
 use dampid::simulate::{HarmonicForce, SimSettings, System, simulate};
 use faer::Mat;
 use rand::SeedableRng;
 use rand::rngs::StdRng;
 use rand_distr::{Distribution, Normal};
 
+mod support;
+use support::cli::dampid_json;
+use support::regressors::row_labels;
+
 fn regressor(columns: &[(&str, &[f64])], b: &[f64]) -> Regressor {
     let m = b.len();
     let a = Mat::from_fn(m, columns.len(), |i, j| columns[j].1[i]);
-    let labels = (0..m)
-        .map(|i| RowLabel {
-            record: format!("r{i}"),
-            record_index: i,
-            window: 0,
-            start_time: 0.0,
-            cycles: 1,
-        })
-        .collect();
     let names = columns.iter().map(|(n, _)| n.to_string()).collect();
-    Regressor::from_parts(a, b.to_vec(), names, labels).unwrap()
+    Regressor::from_parts(a, b.to_vec(), names, row_labels(m)).unwrap()
 }
 
 const X: [f64; 4] = [1.0, 1.0, 1.0, 1.0];
@@ -228,21 +220,12 @@ fn coulomb_term_is_needed_only_when_the_data_have_friction() {
 /// `dampid compare` on the bundled measured data, whose generator has friction 0.05.
 #[test]
 fn compare_command_says_friction_is_needed() {
-    let output = Command::new(env!("CARGO_BIN_EXE_dampid"))
-        .args([
-            "compare",
-            "models/measured_chain_no_friction.toml",
-            "models/measured_chain.toml",
-            "--json",
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    let json: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let json = dampid_json(&[
+        "compare",
+        "models/measured_chain_no_friction.toml",
+        "models/measured_chain.toml",
+        "--json",
+    ]);
     assert_eq!(json["verdict"], "larger_needed");
     assert_eq!(json["nested_in"], "first");
     assert_eq!(json["second"]["coefficients"][4], "friction");
@@ -261,15 +244,7 @@ fn empty_regressors_are_typed_errors() {
         ),
         Err(Error::TooFewEquations { equations: 0, .. })
     ));
-    let labels = (0..4)
-        .map(|i| RowLabel {
-            record: format!("r{i}"),
-            record_index: i,
-            window: 0,
-            start_time: 0.0,
-            cycles: 1,
-        })
-        .collect();
+    let labels = row_labels(4);
     let no_columns =
         Regressor::from_parts(Mat::zeros(4, 0), B.to_vec(), Vec::new(), labels).unwrap();
     let x = regressor(&[("x", &X)], &B);

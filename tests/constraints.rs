@@ -6,21 +6,15 @@ use std::path::Path;
 use dampid::fit::{self, LinearConstraint, LinearTerm, Relation, SolverSettings};
 use dampid::model_file::parse;
 use dampid::prelude::*;
-use dampid::regressor::RowLabel;
 use faer::Mat;
+
+mod support;
+use support::regressors::row_labels;
 
 /// A = [[1, 0], [0, 1], [1, 1]], b = [2, 1, 3]: least squares θ = (2, 1).
 fn regressor() -> Regressor {
     let rows = [[1.0, 0.0], [0.0, 1.0], [1.0, 1.0]];
-    let labels = (0..3)
-        .map(|i| RowLabel {
-            record: format!("r{i}"),
-            record_index: i,
-            window: 0,
-            start_time: 0.0,
-            cycles: 1,
-        })
-        .collect();
+    let labels = row_labels(3);
     Regressor::from_parts(
         Mat::from_fn(3, 2, |i, j| rows[i][j]),
         vec![2.0, 1.0, 3.0],

@@ -2,13 +2,15 @@
 //! coefficients, reports the conditioning after each addition, and stops at a target.
 
 use std::path::Path;
-use std::process::Command;
 
 use dampid::design::{Criterion, DesignSettings, design, select, simulate_candidates};
 use dampid::model_file::parse;
 use dampid::prelude::*;
 use dampid::simulate::{HarmonicForce, SimSettings, System};
 use faer::Mat;
+
+mod support;
+use support::cli::dampid_json;
 
 fn chain2() -> Mat<f64> {
     Mat::from_fn(2, 2, |i, j| if i == j { 2.0 } else { -1.0 })
@@ -253,16 +255,7 @@ fn design_section_in_a_model_file() {
 /// condition number below 100 after it.
 #[test]
 fn design_command_adds_one_experiment() {
-    let output = Command::new(env!("CARGO_BIN_EXE_dampid"))
-        .args(["design", "models/rayleigh_chain6_design.toml", "--json"])
-        .output()
-        .unwrap();
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    let json: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let json = dampid_json(&["design", "models/rayleigh_chain6_design.toml", "--json"]);
     assert_eq!(json["chosen"].as_array().unwrap().len(), 1);
     let last = &json["steps"][1];
     assert_eq!(last["rank"], 2);

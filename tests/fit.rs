@@ -4,25 +4,10 @@
 use dampid::diagnostics::diagnose;
 use dampid::fit::{self, BoundSide, FitMethod, SolverSettings};
 use dampid::prelude::*;
-use dampid::regressor::RowLabel;
 use dampid::report::Warning;
-use faer::Mat;
 
-fn regressor(rows: &[&[f64]], b: &[f64]) -> Regressor {
-    let p = rows[0].len();
-    let a = Mat::from_fn(rows.len(), p, |i, j| rows[i][j]);
-    let labels = (0..rows.len())
-        .map(|i| RowLabel {
-            record: format!("r{i}"),
-            record_index: i,
-            window: 0,
-            start_time: 0.0,
-            cycles: 1,
-        })
-        .collect();
-    let names = (0..p).map(|j| format!("t{j}")).collect();
-    Regressor::from_parts(a, b.to_vec(), names, labels).unwrap()
-}
+mod support;
+use support::regressors::from_rows;
 
 fn constrained(r: &Regressor, constraints: Constraints, solver: SolverSettings) -> Fit {
     fit::constrained(r, &constraints, &solver).unwrap()
@@ -33,7 +18,7 @@ fn constrained(r: &Regressor, constraints: Constraints, solver: SolverSettings) 
 /// KKT: ∂/∂θ₂ at (0.9, 0) = 2(0.2) + 2(0.1) = 0.6 ≥ 0.
 #[test]
 fn nonnegative_fit_where_least_squares_goes_negative() {
-    let r = regressor(&[&[1.0, 0.0], &[0.0, 1.0], &[1.0, 1.0]], &[1.0, -0.2, 0.8]);
+    let r = from_rows(&[&[1.0, 0.0], &[0.0, 1.0], &[1.0, 1.0]], &[1.0, -0.2, 0.8]);
     let ls = fit::least_squares(&r, 1e-12).unwrap();
     assert!((ls.coefficients[0] - 1.0).abs() < 1e-12 && (ls.coefficients[1] + 0.2).abs() < 1e-12);
     let nn = constrained(&r, Constraints::nonnegative(), SolverSettings::default());
@@ -64,7 +49,7 @@ fn nonnegative_fit_where_least_squares_goes_negative() {
 fn polish_makes_a_zero_coefficient_exactly_zero() {
     let a: [&[f64]; 4] = [&[1.0, 0.3], &[2.0, 0.1], &[0.5, 0.9], &[1.5, 0.4]];
     let b: Vec<f64> = a.iter().map(|row| 2.0 * row[0]).collect();
-    let r = regressor(&a, &b);
+    let r = from_rows(&a, &b);
     let rough = constrained(
         &r,
         Constraints::nonnegative(),
@@ -87,7 +72,7 @@ fn polish_makes_a_zero_coefficient_exactly_zero() {
 /// θ₁ = 1.5 ⇒ minimize (θ₂−1)² + (1.5+θ₂−3)² ⇒ θ₂ = 1.25.
 #[test]
 fn upper_bound_and_fixed_value() {
-    let r = regressor(&[&[1.0, 0.0], &[0.0, 1.0], &[1.0, 1.0]], &[2.0, 1.0, 3.0]);
+    let r = from_rows(&[&[1.0, 0.0], &[0.0, 1.0], &[1.0, 1.0]], &[2.0, 1.0, 3.0]);
     let bounded = Constraints {
         bounds: vec![Bound {
             name: "t0".into(),
@@ -118,7 +103,7 @@ fn upper_bound_and_fixed_value() {
 /// Bounds that the solution does not touch leave the least-squares answer unchanged.
 #[test]
 fn inactive_bounds_equal_least_squares() {
-    let r = regressor(
+    let r = from_rows(
         &[&[1.0, 0.2], &[0.3, 1.0], &[1.0, 1.0], &[0.7, 0.1]],
         &[1.1, 0.9, 2.2, 0.8],
     );
@@ -142,7 +127,7 @@ fn inactive_bounds_equal_least_squares() {
 /// A solver stopped after one iteration says so, and the report warns in words.
 #[test]
 fn unconverged_solver_is_reported_not_hidden() {
-    let r = regressor(&[&[1.0, 0.0], &[0.0, 1.0], &[1.0, 1.0]], &[1.0, -0.2, 0.8]);
+    let r = from_rows(&[&[1.0, 0.0], &[0.0, 1.0], &[1.0, 1.0]], &[1.0, -0.2, 0.8]);
     let fit = constrained(
         &r,
         Constraints::nonnegative(),
@@ -163,7 +148,7 @@ fn unconverged_solver_is_reported_not_hidden() {
 /// s² = 5/3, Var θ = s²/4 = 5/12. Residual bias: mean 0.
 #[test]
 fn standard_error_of_a_mean() {
-    let r = regressor(&[&[1.0], &[1.0], &[1.0], &[1.0]], &[1.0, 2.0, 3.0, 4.0]);
+    let r = from_rows(&[&[1.0], &[1.0], &[1.0], &[1.0]], &[1.0, 2.0, 3.0, 4.0]);
     let fit = fit::least_squares(&r, 1e-12).unwrap();
     let d = diagnose(&r, &fit, 1e-12);
     assert!((fit.coefficients[0] - 2.5).abs() < 1e-14);
@@ -178,7 +163,7 @@ fn standard_error_of_a_mean() {
 /// the report says the values are not estimates.
 #[test]
 fn rank_deficient_regressor_is_flagged() {
-    let r = regressor(&[&[1.0, 2.0], &[2.0, 4.0], &[3.0, 6.0]], &[1.0, 2.0, 3.0]);
+    let r = from_rows(&[&[1.0, 2.0], &[2.0, 4.0], &[3.0, 6.0]], &[1.0, 2.0, 3.0]);
     let fit = fit::least_squares(&r, 1e-10).unwrap();
     let report = FitReport::new(&r, fit.clone(), diagnose(&r, &fit, 1e-10));
     assert_eq!(report.rank, 1);
@@ -194,7 +179,7 @@ fn rank_deficient_regressor_is_flagged() {
 /// The JSON report carries the keys the issue names.
 #[test]
 fn report_json_has_documented_keys() {
-    let r = regressor(&[&[1.0, 0.2], &[0.3, 1.0], &[1.0, 1.0]], &[1.1, 0.9, 2.2]);
+    let r = from_rows(&[&[1.0, 0.2], &[0.3, 1.0], &[1.0, 1.0]], &[1.1, 0.9, 2.2]);
     let fit = fit::least_squares(&r, 1e-12).unwrap();
     let report = FitReport::new(&r, fit.clone(), diagnose(&r, &fit, 1e-12));
     let json = serde_json::to_value(&report).unwrap();

@@ -2,32 +2,17 @@
 //! noise, near-null directions and determined combinations by name, variance inflation
 //! factors, and what the report and `dampid check` say in words.
 
-use std::process::Command;
-
 use dampid::diagnostics::diagnose;
 use dampid::fit;
 use dampid::identifiability::{IdentifiabilitySettings, analyse};
 use dampid::prelude::*;
-use dampid::regressor::RowLabel;
 use dampid::report::Warning;
 use dampid::simulate::{HarmonicForce, SimSettings, System, simulate};
 use faer::Mat;
 
-fn regressor(rows: &[&[f64]], b: &[f64]) -> Regressor {
-    let p = rows[0].len();
-    let a = Mat::from_fn(rows.len(), p, |i, j| rows[i][j]);
-    let labels = (0..rows.len())
-        .map(|i| RowLabel {
-            record: format!("r{i}"),
-            record_index: i,
-            window: 0,
-            start_time: 0.0,
-            cycles: 1,
-        })
-        .collect();
-    let names = (0..p).map(|j| format!("t{j}")).collect();
-    Regressor::from_parts(a, b.to_vec(), names, labels).unwrap()
-}
+mod support;
+use support::cli::dampid_ok;
+use support::regressors::from_rows;
 
 /// Column t1 = 0.2 · column t0, b = 1.4 · column t0 (θ = (1, 2)). With unit-norm columns
 /// A_s = [u, u]: v_1 = (1, 1)/√2, v_2 = (1, −1)/√2. The null direction Δθ ∝ v_2/S =
@@ -36,7 +21,7 @@ fn regressor(rows: &[&[f64]], b: &[f64]) -> Regressor {
 /// θ the minimum-norm solution picks.
 #[test]
 fn proportional_columns_name_the_trade_off_and_the_determined_combination() {
-    let r = regressor(
+    let r = from_rows(
         &[&[1.0, 0.2], &[2.0, 0.4], &[3.0, 0.6], &[4.0, 0.8]],
         &[1.4, 2.8, 4.2, 5.6],
     );
@@ -62,7 +47,7 @@ fn proportional_columns_name_the_trade_off_and_the_determined_combination() {
 #[test]
 fn variance_inflation_of_two_columns_at_thirty_degrees() {
     let (c, s) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
-    let r = regressor(&[&[1.0, c], &[0.0, s], &[0.0, 0.0]], &[1.0 + c, s, 0.0]);
+    let r = from_rows(&[&[1.0, c], &[0.0, s], &[0.0, 0.0]], &[1.0 + c, s, 0.0]);
     let id = analyse(&r, 1e-10);
     for vif in &id.variance_inflation {
         assert!((vif.unwrap() - 4.0).abs() < 1e-12, "{vif:?}");
@@ -89,7 +74,7 @@ fn a_direction_below_three_noise_levels_is_practically_zero() {
         let rows: Vec<[f64; 2]> = (0..4).map(|i| [e[i], e[i] + delta * f[i]]).collect();
         let row_refs: Vec<&[f64]> = rows.iter().map(|r| r.as_slice()).collect();
         let b: Vec<f64> = (0..4).map(|i| e[i] + eta * g[i]).collect();
-        let r = regressor(&row_refs, &b);
+        let r = from_rows(&row_refs, &b);
         let id = analyse(&r, 1e-10);
         let s = eta / (1.0 + eta * eta).sqrt() / 2f64.sqrt();
         assert!((id.noise_level.unwrap() - s).abs() < 1e-12 * s.max(1.0));
@@ -105,7 +90,7 @@ fn a_direction_below_three_noise_levels_is_practically_zero() {
 /// the floor ε·σ_1 (ε = 1e-6) still counts σ_2/σ_1 = 1e-8 as zero.
 #[test]
 fn the_precision_floor_applies_when_the_residual_is_tiny() {
-    let r = regressor(
+    let r = from_rows(
         &[&[1.0, 1.0], &[1.0, 1.0 + 1e-8], &[1.0, 1.0]],
         &[2.0, 2.0, 2.0],
     );
@@ -135,7 +120,7 @@ fn the_precision_floor_applies_when_the_residual_is_tiny() {
 /// Under constraints the warning says the constraints place the solution.
 #[test]
 fn the_report_says_the_values_are_not_estimates() {
-    let r = regressor(
+    let r = from_rows(
         &[&[1.0, 0.2], &[2.0, 0.4], &[3.0, 0.6], &[4.0, 0.8]],
         &[1.4, 2.8, 4.2, 5.6],
     );
@@ -249,11 +234,7 @@ fn first_resonance_of_a_rayleigh_chain_determines_c0_plus_lambda1_c1() {
 /// `dampid check` names the trade-off and the determined combination before any fit.
 #[test]
 fn check_reports_identifiability_in_words() {
-    let output = Command::new(env!("CARGO_BIN_EXE_dampid"))
-        .args(["check", "models/rayleigh_chain6_resonance.toml"])
-        .output()
-        .unwrap();
-    assert!(output.status.success());
+    let output = dampid_ok(&["check", "models/rayleigh_chain6_resonance.toml"]);
     let text = String::from_utf8_lossy(&output.stdout);
     for needle in [
         "these data cannot separate c0 and c1",

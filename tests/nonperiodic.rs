@@ -5,7 +5,6 @@
 //! added spring), and a typed error for each kind of bad input.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use dampid::error::Error;
 use dampid::fit::{Constraints, FitSettings, solve};
@@ -21,6 +20,9 @@ use dampid::terms::laws::Linear;
 use dampid::terms::{Coefficients, Element, Term};
 use dampid::velocity::VelocitySource;
 use faer::Mat;
+
+mod support;
+use support::cli::{dampid_json, dampid_ok};
 
 /// 0.25 s windows, an unknown mass and an unknown constant force on DOF 1.
 fn drive_balance() -> NonPeriodicSettings {
@@ -47,20 +49,6 @@ fn relative_error(report: &FitReport, name: &str, truth: f64) -> f64 {
 }
 
 /// Runs the dampid binary with `args` and returns its output, which must be a success.
-fn dampid(args: &[&str]) -> std::process::Output {
-    let output = Command::new(env!("CARGO_BIN_EXE_dampid"))
-        .args(args)
-        .output()
-        .unwrap();
-    assert!(
-        output.status.success(),
-        "dampid {}: {}",
-        args.join(" "),
-        String::from_utf8_lossy(&output.stderr)
-    );
-    output
-}
-
 fn scratch(name: &str) -> PathBuf {
     let folder =
         std::env::temp_dir().join(format!("dampid-nonperiodic-{name}-{}", std::process::id()));
@@ -146,8 +134,7 @@ forces = [{ column = "force", dof = 1 }]
 /// apart from the damping coefficients, near the simulation's 2 kg.
 #[test]
 fn bundled_drive_model_runs_from_the_command_line() {
-    let output = dampid(&["identify", "models/drive_nonperiodic.toml", "--json"]);
-    let json: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let json = dampid_json(&["identify", "models/drive_nonperiodic.toml", "--json"]);
     let value_of = |list: &str, name: &str| {
         json["report"][list]
             .as_array()
@@ -499,7 +486,7 @@ forces = [{{ column = "force", dof = 1 }}]
 #[test]
 fn html_report_of_a_non_periodic_fit() {
     let folder = scratch("html");
-    dampid(&[
+    dampid_ok(&[
         "identify",
         "models/drive_nonperiodic.toml",
         "--report",

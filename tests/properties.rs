@@ -22,10 +22,10 @@ use std::f64::consts::PI;
 
 use dampid::fit::{self, SolverSettings};
 use dampid::prelude::*;
-use dampid::regressor::RowLabel;
 use faer::Mat;
 use proptest::prelude::*;
 use support::Harmonic;
+use support::regressors::row_labels;
 
 const CASES: u32 = 32;
 
@@ -482,15 +482,7 @@ proptest! {
     ) {
         let matrix = Mat::from_fn(rows, cols, |i, j| a[i * cols + j]);
         let names: Vec<String> = (0..cols).map(|j| format!("t{j}")).collect();
-        let labels = (0..rows)
-            .map(|i| RowLabel {
-                record: format!("r{i}"),
-                record_index: i,
-                window: 0,
-                start_time: 0.0,
-                cycles: 1,
-            })
-            .collect();
+        let labels = row_labels(rows);
         let regressor = Regressor::from_parts(matrix, b, names.clone(), labels).unwrap();
         let ls = fit::least_squares(&regressor, 1e-10).unwrap();
         let ls_report = FitReport::new(

@@ -1,27 +1,19 @@
 //! `dampid identify --report DIR` writes a self-contained HTML report with the plots.
 
-use std::process::Command;
+mod support;
+use support::cli::{dampid_json, dampid_ok};
 
 #[test]
 fn identify_writes_an_html_report_with_plots() {
     let folder = std::env::temp_dir().join(format!("dampid-html-{}", std::process::id()));
-    let output = Command::new(env!("CARGO_BIN_EXE_dampid"))
-        .args([
-            "identify",
-            "models/measured_chain.toml",
-            "--json",
-            "--report",
-        ])
-        .arg(&folder)
-        .output()
-        .unwrap();
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
     // stdout stays pure JSON.
-    let json: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let json = dampid_json(&[
+        "identify",
+        "models/measured_chain.toml",
+        "--json",
+        "--report",
+        folder.to_str().unwrap(),
+    ]);
     assert_eq!(json["report"]["status"], "solved");
 
     let page = std::fs::read_to_string(folder.join("report.html")).unwrap();
@@ -62,16 +54,12 @@ fn identify_writes_an_html_report_with_plots() {
 #[test]
 fn pod_report_shows_the_proper_orthogonal_modes() {
     let folder = std::env::temp_dir().join(format!("dampid-html-pod-{}", std::process::id()));
-    let output = Command::new(env!("CARGO_BIN_EXE_dampid"))
-        .args(["identify", "models/four_mass_pod.toml", "--report"])
-        .arg(&folder)
-        .output()
-        .unwrap();
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
+    dampid_ok(&[
+        "identify",
+        "models/four_mass_pod.toml",
+        "--report",
+        folder.to_str().unwrap(),
+    ]);
     let page = std::fs::read_to_string(folder.join("report.html")).unwrap();
     let (fit, pom) = page
         .split_once("<h2>Proper orthogonal modes</h2>")

@@ -2,9 +2,11 @@
 //! the commands it shows, and what it says the outputs contain.
 
 use std::path::Path;
-use std::process::Command;
 
 use dampid::model_file::load;
+
+mod support;
+use support::cli::{dampid_json, dampid_ok};
 
 const TRUTH: [(&str, f64); 5] = [
     ("dashpot[0-1]", 0.10),
@@ -13,13 +15,6 @@ const TRUTH: [(&str, f64); 5] = [
     ("dashpot[3-4]", 0.08),
     ("friction", 0.05),
 ];
-
-fn dampid(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_dampid"))
-        .args(args)
-        .output()
-        .expect("the dampid binary runs")
-}
 
 /// First try: four records at the first resonance. The periods are detected from the
 /// force (2π/0.765367 to 1e-6), every window is steady, and the report flags the four
@@ -55,8 +50,7 @@ fn first_try_is_flagged_as_not_identifiable() {
             identifiability.unidentifiable
         );
     }
-    let checked = dampid(&["check", "models/walkthrough_first_try.toml"]);
-    assert!(checked.status.success());
+    let checked = dampid_ok(&["check", "models/walkthrough_first_try.toml"]);
     let printed = String::from_utf8_lossy(&checked.stdout);
     assert!(
         printed.contains("period detected from the force"),
@@ -83,21 +77,15 @@ fn walkthrough_model_file_identifies_the_chain() {
     assert!(report.coefficients.iter().all(|c| c.std_error.is_some()));
 
     let folder = std::env::temp_dir().join(format!("dampid-walkthrough-{}", std::process::id()));
-    let out = dampid(&[
+    dampid_ok(&[
         "identify",
         "models/walkthrough.toml",
         "--report",
         folder.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let page = std::fs::read_to_string(folder.join("report.html")).unwrap();
     assert!(page.contains("<svg"));
-    let json = dampid(&["identify", "models/walkthrough.toml", "--json"]);
-    let value: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
+    let value = dampid_json(&["identify", "models/walkthrough.toml", "--json"]);
     assert_eq!(value["report"]["coefficients"].as_array().unwrap().len(), 5);
     std::fs::remove_dir_all(&folder).ok();
 }
@@ -134,12 +122,7 @@ fn every_walkthrough_command_works() {
                 })
                 .collect();
             let args: Vec<&str> = args.iter().map(String::as_str).collect();
-            let out = dampid(&args);
-            assert!(
-                out.status.success(),
-                "{line}: {}",
-                String::from_utf8_lossy(&out.stderr)
-            );
+            dampid_ok(&args);
             commands += 1;
         } else if let Some(file) = line.strip_prefix("head -3 ") {
             let text = std::fs::read_to_string(file).unwrap();

@@ -3,6 +3,9 @@
 
 #![allow(dead_code)]
 
+pub mod cli;
+pub mod regressors;
+
 use dampid::prelude::*;
 use faer::Mat;
 
