@@ -19,7 +19,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::derivative_free;
 use crate::error::{Error, Result};
-use crate::kernel::{Plan, WindowSamples, worth_parallel};
+use crate::kernel::{Plan, WindowSamples, build_in_parallel};
 use crate::model::DampingModel;
 use crate::noise::{self, NoiseModel, NoiseTreatment};
 use crate::quadrature::{Quadrature, WindowWeights};
@@ -181,14 +181,7 @@ impl Regressor {
             let weights = record_weights(records, &windows, settings)?;
             // Small builds stay on the calling thread: every parallel call below would
             // otherwise be a hand-off to the pool costing more than its work.
-            let sample_sums: usize = records
-                .iter()
-                .map(|r| {
-                    r.samples()
-                        .saturating_mul(columns.len() + r.forcing().signals.ncols())
-                })
-                .sum();
-            let parallel = worth_parallel(sample_sums);
+            let parallel = build_in_parallel(records, columns.len());
             let share = |(record, weights): (&Record, WindowWeights)| RecordShared {
                 plan: Plan::new(model, record),
                 weights,

@@ -18,8 +18,8 @@ mod plan;
 use faer::MatRef;
 
 use crate::quadrature::WindowWeights;
+use crate::record::Record;
 
-pub(crate) use pass::worth_parallel;
 pub(crate) use plan::Plan;
 
 /// The samples of one window that the kernel reads: displacements and velocities
@@ -29,6 +29,20 @@ pub(crate) struct WindowSamples<'a> {
     pub(crate) v: MatRef<'a, f64>,
     pub(crate) signals: MatRef<'a, f64>,
     pub(crate) weights: &'a WindowWeights,
+}
+
+/// Whether building the rows of `records` with `columns` coefficients is worth spreading
+/// over rayon's pool (see [`pass::worth_parallel`]); small builds run on the calling
+/// thread.
+pub(crate) fn build_in_parallel(records: &[Record], columns: usize) -> bool {
+    let sample_sums = records
+        .iter()
+        .map(|r| {
+            r.samples()
+                .saturating_mul(columns + r.forcing().signals.ncols())
+        })
+        .fold(0usize, usize::saturating_add);
+    pass::worth_parallel(sample_sums)
 }
 
 impl Plan<'_> {

@@ -41,7 +41,7 @@ use rayon::prelude::*;
 
 use crate::derivative_free;
 use crate::error::{Error, Result};
-use crate::kernel::{Plan, WindowSamples};
+use crate::kernel::{Plan, WindowSamples, build_in_parallel};
 use crate::model::DampingModel;
 use crate::quadrature::Quadrature;
 use crate::record::Record;
@@ -181,11 +181,13 @@ pub fn build(
         windows.extend(settings.windows(record, index)?);
     }
     let plans: Vec<Plan<'_>> = records.iter().map(|r| Plan::new(model, r)).collect();
-    let rows: Vec<(Vec<f64>, f64)> = windows
-        .par_iter()
-        .map(|w| window_row(&plans[w.record], model, &records[w.record], w, settings))
-        .collect::<Result<_>>()?;
     let mut columns = model.coefficient_names();
+    let row = |w: &Window| window_row(&plans[w.record], model, &records[w.record], w, settings);
+    let rows: Vec<(Vec<f64>, f64)> = if build_in_parallel(records, columns.len()) {
+        windows.par_iter().map(row).collect::<Result<_>>()?
+    } else {
+        windows.iter().map(row).collect::<Result<_>>()?
+    };
     let nuisance = settings.storage.coefficient_names(dofs);
     columns.extend(nuisance.iter().cloned());
     let matrix = Mat::from_fn(rows.len(), columns.len(), |r, k| rows[r].0[k]);
