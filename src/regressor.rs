@@ -146,8 +146,10 @@ impl Regressor {
                 what: "record list".into(),
             });
         }
+        let columns = model.coefficient_names();
+        model.validate_names(&columns)?;
         for record in records {
-            model.validate(record.dofs())?;
+            model.validate_terms(record.dofs())?;
         }
         let mut windows: Vec<Window> = Vec::new();
         for (index, record) in records.iter().enumerate() {
@@ -157,7 +159,6 @@ impl Regressor {
                     .windows(record, index, settings.quadrature)?,
             );
         }
-        let columns = model.coefficient_names();
         let noise_robust = settings.noise_robust()?;
         let (rows, noise): (Vec<(Vec<f64>, f64)>, Option<NoiseModel>) = if noise_robust {
             let robust: Vec<noise::RobustRow> = windows

@@ -81,7 +81,16 @@ impl ElementTerm {
             Coefficients::PerElement(prefix) => self
                 .elements
                 .iter()
-                .map(|e| format!("{prefix}[{}]", e.label))
+                .map(|e| {
+                    // "prefix[label]" without the format machinery: thousands of
+                    // columns name themselves on every build.
+                    let mut name = String::with_capacity(prefix.len() + e.label.len() + 2);
+                    name.push_str(prefix);
+                    name.push('[');
+                    name.push_str(&e.label);
+                    name.push(']');
+                    name
+                })
                 .collect(),
         }
     }
