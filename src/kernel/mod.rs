@@ -8,9 +8,11 @@
 //! instead of one pass per term. `plan.rs` lists the weighted sums the row needs (one
 //! per element, per Gram entry of a sparse matrix term, per force channel) in the order
 //! that reads each velocity column once; `pass.rs` evaluates them block by block in
-//! parallel with a fixed reduction order; `gram.rs` forms G = Vᵀ W V for dense matrix
+//! parallel with a fixed reduction order, the sums of one column in one loop
+//! (`fused.rs`); `gram.rs` forms G = Vᵀ W V for dense matrix
 //! terms. Force channels that are zero over the whole record are never read.
 
+mod fused;
 mod gram;
 mod pass;
 mod plan;

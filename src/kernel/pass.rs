@@ -1,14 +1,16 @@
 //! One pass over a window: every sum of the plan, block by block.
 //!
 //! The window's m samples are cut into blocks of [`BLOCK_SIZE`] samples (the last may be
-//! shorter); the plan's sums into segments. A task evaluates one segment over one block,
+//! shorter); the plan's groups (the sums of one velocity column) into segments. A task
+//! evaluates one segment over one block,
 //!
 //! ```text
 //!   P[b][s] = Σ_{i ∈ block b} w_i g_s(i)     for every sum s of the segment,
 //! ```
 //!
-//! reading each velocity column of the block once from memory (the plan orders the sums
-//! so that the others find it in cache). The tasks of all blocks form one flat list that
+//! group by group, reading each velocity column of the block once from memory: a
+//! group's sums with a closed form run in one loop (`fused.rs`), the others one by one
+//! through their law's `power_sum` while the column is in cache. The tasks of all blocks form one flat list that
 //! runs in parallel on rayon's pool (on the calling thread when the window is small, see
 //! [`worth_parallel`]), and the totals are added in block order,
 //!
@@ -30,6 +32,7 @@ use std::ops::Range;
 use rayon::prelude::*;
 
 use crate::kernel::WindowSamples;
+use crate::kernel::fused;
 use crate::kernel::plan::{Plan, Sum};
 use crate::record::col;
 use crate::terms::lanes;
@@ -83,7 +86,7 @@ pub(crate) fn window_sums(plan: &Plan<'_>, samples: &WindowSamples<'_>) -> Vec<f
         let wave = wave_len.min(blocks - wave_start);
         let partials = &mut partials[..wave * slots];
         // One task per (block, segment), each writing its own slots of `partials`.
-        let tasks: Vec<Task<'_, '_>> = partials
+        let tasks: Vec<Task<'_>> = partials
             .chunks_mut(slots)
             .enumerate()
             .flat_map(|(offset, block_sums)| {
@@ -91,17 +94,26 @@ pub(crate) fn window_sums(plan: &Plan<'_>, samples: &WindowSamples<'_>) -> Vec<f
                 let rows = block * block_len..((block + 1) * block_len).min(m);
                 plan.segments
                     .iter()
-                    .zip(split_segments(block_sums, &plan.segments))
+                    .zip(split_segments(block_sums, plan))
                     .map(move |(segment, out)| Task {
                         rows: rows.clone(),
-                        sums: &plan.sums[segment.clone()],
+                        groups: segment.clone(),
                         out,
                     })
             })
             .collect();
-        let run = |task: Task<'_, '_>| {
-            for (sum, out) in task.sums.iter().zip(task.out) {
-                *out = block_sum(sum, samples, task.rows.clone());
+        let run = |task: Task<'_>| {
+            let first_slot = plan.groups[task.groups.start].slots.start;
+            for g in task.groups {
+                let group = &plan.groups[g];
+                let out = &mut task.out[group.slots.start - first_slot..][..group.slots.len()];
+                let (fused_out, single_out) = out.split_at_mut(group.fused);
+                let (fused, single) = plan.sums[group.slots.clone()].split_at(group.fused);
+                let ahead = plan.groups.get(g + 1).map(|next| next.column);
+                fused::group_sums(fused, samples, task.rows.clone(), ahead, fused_out);
+                for (sum, out) in single.iter().zip(single_out) {
+                    *out = block_sum(sum, samples, task.rows.clone());
+                }
             }
         };
         if parallel {
@@ -118,26 +130,26 @@ pub(crate) fn window_sums(plan: &Plan<'_>, samples: &WindowSamples<'_>) -> Vec<f
     totals
 }
 
-/// The sums of one segment over the samples of one block, and where their partial
-/// sums go.
-struct Task<'p, 'o> {
+/// The groups of one segment over the samples of one block, and where their partial
+/// sums go (the segment's slots).
+struct Task<'o> {
     rows: Range<usize>,
-    sums: &'p [Sum<'p>],
+    groups: Range<usize>,
     out: &'o mut [f64],
 }
 
 /// The block's output slice cut into one piece per segment.
-fn split_segments<'a>(mut out: &'a mut [f64], segments: &[Range<usize>]) -> Vec<&'a mut [f64]> {
-    let mut pieces = Vec::with_capacity(segments.len());
-    for range in segments {
-        let (piece, rest) = out.split_at_mut(range.len());
+fn split_segments<'a>(mut out: &'a mut [f64], plan: &Plan<'_>) -> Vec<&'a mut [f64]> {
+    let mut pieces = Vec::with_capacity(plan.segments.len());
+    for segment in &plan.segments {
+        let (piece, rest) = out.split_at_mut(plan.segment_slots(segment).len());
         pieces.push(piece);
         out = rest;
     }
     pieces
 }
 
-/// One sum over the samples `rows` of the window, piece by piece of its weights (the
+/// One sum that is not fusable over the samples `rows` of the window, piece by piece of its weights (the
 /// interior of a rectangular or trapezoid rule with its one weight, the ends and the
 /// spectral rule sample by sample).
 fn block_sum(sum: &Sum<'_>, samples: &WindowSamples<'_>, rows: Range<usize>) -> f64 {

@@ -18,8 +18,9 @@
 //! The sums are ordered by the last (highest) velocity column they read, so that a pass
 //! over a block of samples brings each column in from memory once and every other sum
 //! that reads it finds it in cache (on a chain: the dashpot (j−1, j), the damper on j
-//! and the force on j all run while v_j is fresh). Consecutive runs of sums form the
-//! segments that are evaluated as separate tasks.
+//! and the force on j all run while v_j is fresh). The sums of one last column form a
+//! group, whose sums with a closed form run in one loop (`fused.rs`); consecutive runs
+//! of groups form the segments that are evaluated as separate tasks.
 //!
 //! Matrix terms whose combined pattern is dense use the Gram matrix instead: G = Vᵀ W V
 //! by one matrix product per window (see `gram.rs`), then A = tr(C₀ᵀ G). The choice is
@@ -70,6 +71,27 @@ impl Sum<'_> {
             Sum::Work { dof, .. } => dof,
         }
     }
+
+    /// Whether the sum can run in the fused loop of its group (`fused.rs`): a law with a
+    /// closed power form in the velocity alone, a Gram entry or a force channel's work.
+    pub(crate) fn fusable(&self) -> bool {
+        match self {
+            Sum::Power { law, .. } => law.power_form().is_some() && !law.uses_displacement(),
+            Sum::Product { .. } | Sum::Work { .. } => true,
+        }
+    }
+}
+
+/// The sums of one velocity column: every sum whose last column is `column`, the
+/// [`Sum::fusable`] ones first.
+#[derive(Debug, Clone)]
+pub(crate) struct Group {
+    /// The group's slots.
+    pub(crate) slots: Range<usize>,
+    /// How many of them, from the first, run in one fused loop.
+    pub(crate) fused: usize,
+    /// The column that the group brings in.
+    pub(crate) column: usize,
 }
 
 /// A linear combination Σ factor · S[slot].
@@ -83,7 +105,9 @@ type MatrixEntries = Vec<(usize, usize, f64)>;
 pub(crate) struct Plan<'m> {
     /// The sums, in pass order; a sum's index is its slot.
     pub(crate) sums: Vec<Sum<'m>>,
-    /// Consecutive ranges of slots, each evaluated as one task per block of samples.
+    /// The sums cut by last column, in pass order.
+    pub(crate) groups: Vec<Group>,
+    /// Consecutive ranges of groups, each evaluated as one task per block of samples.
     pub(crate) segments: Vec<Range<usize>>,
     /// Per regressor column, its combination of sums (empty for Gram columns).
     columns: Vec<Combination>,
@@ -170,9 +194,10 @@ impl<'m> Plan<'m> {
             }
         }
 
-        // Pass order: by last column read, ties in the order made (stable sort).
+        // Pass order: by last column read, the fusable sums of a column first, ties in
+        // the order made (stable sort).
         let mut order: Vec<usize> = (0..sums.len()).collect();
-        order.sort_by_key(|&s| sums[s].last_column());
+        order.sort_by_key(|&s| (sums[s].last_column(), !sums[s].fusable()));
         let mut slot_of = vec![0; sums.len()];
         for (slot, &made) in order.iter().enumerate() {
             slot_of[made] = slot;
@@ -181,9 +206,11 @@ impl<'m> Plan<'m> {
         for (slot, _) in columns.iter_mut().flatten().chain(input.iter_mut()) {
             *slot = slot_of[*slot];
         }
-        let segments = segments(&sums);
+        let groups = groups(&sums);
+        let segments = segments(&groups);
         Plan {
             sums,
+            groups,
             segments,
             columns,
             gram_terms,
@@ -248,19 +275,51 @@ fn use_gram(dofs: usize, entries: &[MatrixEntries]) -> bool {
     distinct.len() as f64 > GRAM_DENSITY * all as f64
 }
 
-/// Cuts the sums into runs of at least [`SEGMENT_SUMS`], only where the last column
-/// changes (so the sums that share a column run together).
-fn segments(sums: &[Sum<'_>]) -> Vec<Range<usize>> {
-    let mut segments = Vec::new();
-    let mut start = 0;
-    for s in 1..sums.len() {
-        if s - start >= SEGMENT_SUMS && sums[s].last_column() != sums[s - 1].last_column() {
-            segments.push(start..s);
-            start = s;
+/// Cuts the sums (in pass order) where the last column changes.
+fn groups(sums: &[Sum<'_>]) -> Vec<Group> {
+    let mut groups: Vec<Group> = Vec::new();
+    for (slot, sum) in sums.iter().enumerate() {
+        let column = sum.last_column();
+        match groups.last_mut() {
+            Some(group) if group.column == column => group.slots.end = slot + 1,
+            _ => groups.push(Group {
+                slots: slot..slot + 1,
+                fused: 0,
+                column,
+            }),
         }
     }
-    if start < sums.len() {
-        segments.push(start..sums.len());
+    for group in &mut groups {
+        group.fused = sums[group.slots.clone()]
+            .iter()
+            .take_while(|sum| sum.fusable())
+            .count();
+    }
+    groups
+}
+
+/// Cuts the groups into runs of at least [`SEGMENT_SUMS`] sums.
+fn segments(groups: &[Group]) -> Vec<Range<usize>> {
+    let mut segments = Vec::new();
+    let mut start = 0;
+    for g in 1..groups.len() {
+        if groups[g].slots.start - groups[start].slots.start >= SEGMENT_SUMS {
+            segments.push(start..g);
+            start = g;
+        }
+    }
+    if start < groups.len() {
+        segments.push(start..groups.len());
     }
     segments
+}
+
+impl Plan<'_> {
+    /// The slots of the groups `segment`.
+    pub(crate) fn segment_slots(&self, segment: &Range<usize>) -> Range<usize> {
+        if segment.is_empty() {
+            return 0..0;
+        }
+        self.groups[segment.start].slots.start..self.groups[segment.end - 1].slots.end
+    }
 }

@@ -99,7 +99,7 @@ fn dispatch(op: impl Loop) -> f64 {
 /// which the compiler keeps the accumulators in four 4-wide registers for every loop
 /// below; pairwise trees made it shuffle partial sums inside some loops.)
 #[inline(always)]
-fn combine(lanes: [f64; LANES]) -> f64 {
+pub(crate) fn combine(lanes: [f64; LANES]) -> f64 {
     let mut total = 0.0;
     for lane in lanes {
         total += lane;

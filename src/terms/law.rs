@@ -5,7 +5,9 @@
 //!
 //! The regressor evaluates every law block by block over a window (`src/kernel/`): it
 //! calls [`Law::power_sum`] on consecutive runs of samples and adds the results, so a
-//! law's sums must be plain sums over the samples they are given.
+//! law's sums must be plain sums over the samples they are given. A law whose power has
+//! one of the closed forms of [`PowerForm`] says so in [`Law::power_form`], and the
+//! kernel then evaluates it in one loop with the other sums of the same velocity column.
 
 use std::fmt;
 
@@ -77,6 +79,16 @@ pub trait Law: Send + Sync + fmt::Debug {
     /// total variation of the displacement, a form that needs no velocity.
     fn is_total_variation(&self) -> bool {
         false
+    }
+
+    /// The power v f(v) as one of the closed forms the regressor kernel knows, when the
+    /// law depends on the velocity alone and has one. The kernel then evaluates the law
+    /// together with the other sums that read the same velocity column, in one loop,
+    /// instead of calling [`Law::power_sum`] (`src/kernel/fused.rs`); the default,
+    /// `None`, keeps the call. A law that returns `Some` must have
+    /// [`Law::uses_displacement`] false and a `power_sum` that is the same sum.
+    fn power_form(&self) -> Option<PowerForm> {
+        None
     }
 
     /// Σ_i w_i v_i f(x_i, v_i) over one run of samples of one element, for relative
@@ -162,6 +174,34 @@ pub enum ElementMotion<'a> {
         /// Velocities of DOF b.
         v_b: &'a [f64],
     },
+}
+
+/// The power g(v) = v f(v) of a velocity-only law in a closed form
+/// ([`Law::power_form`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub enum PowerForm {
+    /// g = v² (linear viscous).
+    Square,
+    /// g = v² |v| (quadratic, f = v |v|).
+    AbsCube,
+    /// g = |v| (Coulomb, f = sign v).
+    Abs,
+    /// g = |v|^q (power law f = |v|^(q−1) sign v).
+    AbsPow(f64),
+}
+
+impl PowerForm {
+    /// g(v).
+    #[inline(always)]
+    pub fn power(self, v: f64) -> f64 {
+        match self {
+            PowerForm::Square => v * v,
+            PowerForm::AbsCube => v * v * v.abs(),
+            PowerForm::Abs => v.abs(),
+            PowerForm::AbsPow(q) => v.abs().powf(q),
+        }
+    }
 }
 
 /// Quadrature weights over a run of samples.

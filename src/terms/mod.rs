@@ -16,7 +16,7 @@ use faer::Mat;
 
 pub use element::Element;
 pub use element_term::{Coefficients, ElementTerm};
-pub use law::{ElementMotion, Law, Weights};
+pub use law::{ElementMotion, Law, PowerForm, Weights};
 pub use matrix_term::{MatrixKind, MatrixTerm};
 
 use crate::error::Result;

@@ -2,7 +2,7 @@
 //! ∫ |v| dt = 4X (the total distance travelled).
 
 use crate::terms::lanes;
-use crate::terms::law::{ElementMotion, Law, Weights, sign};
+use crate::terms::law::{ElementMotion, Law, PowerForm, Weights, sign};
 
 /// Coulomb friction, f(v) = sign(v) with sign(0) = 0.
 #[derive(Debug, Clone, Copy, Default)]
@@ -16,15 +16,18 @@ impl Law for Coulomb {
         sign(v)
     }
     fn weighted_power(&self, _x: &[f64], v: &[f64], w: &[f64]) -> f64 {
-        lanes::sum(Weights::PerSample(w), v, |v| v.abs())
+        lanes::sum(Weights::PerSample(w), v, |v| PowerForm::Abs.power(v))
     }
     fn power_sum(&self, motion: ElementMotion<'_>, weights: Weights<'_>) -> f64 {
-        lanes::velocity_power(motion, weights, |v| v.abs())
+        lanes::velocity_power(motion, weights, |v| PowerForm::Abs.power(v))
     }
     /// None: Coulomb work is read as the total variation of the (denoised)
     /// displacement, which zero-mean noise leaves unbiased to first order.
     fn noise_bias(&self, _x: f64, _v: f64, _var_x: f64, _var_v: f64) -> f64 {
         0.0
+    }
+    fn power_form(&self) -> Option<PowerForm> {
+        Some(PowerForm::Abs)
     }
     fn power_slope(&self, _x: f64, v: f64, _dx: f64, _dv: f64) -> (f64, f64) {
         (0.0, sign(v))

@@ -2,7 +2,7 @@
 //! ∫ v² dt = π ω X².
 
 use crate::terms::lanes;
-use crate::terms::law::{ElementMotion, Law, Weights};
+use crate::terms::law::{ElementMotion, Law, PowerForm, Weights};
 
 /// Viscous damping, f(v) = v.
 #[derive(Debug, Clone, Copy, Default)]
@@ -16,14 +16,17 @@ impl Law for Linear {
         v
     }
     fn weighted_power(&self, _x: &[f64], v: &[f64], w: &[f64]) -> f64 {
-        lanes::sum(Weights::PerSample(w), v, |v| v * v)
+        lanes::sum(Weights::PerSample(w), v, |v| PowerForm::Square.power(v))
     }
     fn power_sum(&self, motion: ElementMotion<'_>, weights: Weights<'_>) -> f64 {
-        lanes::velocity_power(motion, weights, |v| v * v)
+        lanes::velocity_power(motion, weights, |v| PowerForm::Square.power(v))
     }
     /// E[(v + δv)²] − v² = σ_v², exactly.
     fn noise_bias(&self, _x: f64, _v: f64, _var_x: f64, var_v: f64) -> f64 {
         var_v
+    }
+    fn power_form(&self) -> Option<PowerForm> {
+        Some(PowerForm::Square)
     }
     fn power_slope(&self, _x: f64, v: f64, _dx: f64, _dv: f64) -> (f64, f64) {
         (0.0, 2.0 * v)

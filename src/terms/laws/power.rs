@@ -4,7 +4,7 @@
 
 use crate::error::{Error, Result};
 use crate::terms::lanes;
-use crate::terms::law::{ElementMotion, Law, Weights, sign};
+use crate::terms::law::{ElementMotion, Law, PowerForm, Weights, sign};
 
 /// Power-law damping, f(v) = |v|^p sign(v), p ≥ 0.
 #[derive(Debug, Clone, Copy)]
@@ -40,11 +40,11 @@ impl Law for PowerLaw {
     }
     fn weighted_power(&self, _x: &[f64], v: &[f64], w: &[f64]) -> f64 {
         let q = self.exponent + 1.0;
-        lanes::sum(Weights::PerSample(w), v, |v| v.abs().powf(q))
+        lanes::sum(Weights::PerSample(w), v, |v| PowerForm::AbsPow(q).power(v))
     }
     fn power_sum(&self, motion: ElementMotion<'_>, weights: Weights<'_>) -> f64 {
         let q = self.exponent + 1.0;
-        lanes::velocity_power(motion, weights, |v| v.abs().powf(q))
+        lanes::velocity_power(motion, weights, |v| PowerForm::AbsPow(q).power(v))
     }
     fn noise_bias(&self, x: f64, v: f64, _var_x: f64, var_v: f64) -> f64 {
         if self.exponent == 0.0 {
@@ -54,6 +54,9 @@ impl Law for PowerLaw {
             let s = (3.0 * var_v).sqrt();
             (self.power(x, v + s) - 2.0 * self.power(x, v) + self.power(x, v - s)) / 6.0
         }
+    }
+    fn power_form(&self) -> Option<PowerForm> {
+        Some(PowerForm::AbsPow(self.exponent + 1.0))
     }
     fn power_slope(&self, _x: f64, v: f64, _dx: f64, _dv: f64) -> (f64, f64) {
         // d/dv |v|^{p+1} = (p + 1)|v|^p sign(v)

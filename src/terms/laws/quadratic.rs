@@ -2,7 +2,7 @@
 //! x = X cos ωt, ∫ |v|³ dt = (8/3) ω² X³.
 
 use crate::terms::lanes;
-use crate::terms::law::{ElementMotion, Law, Weights};
+use crate::terms::law::{ElementMotion, Law, PowerForm, Weights};
 
 /// Quadratic damping, f(v) = v|v|.
 #[derive(Debug, Clone, Copy, Default)]
@@ -16,10 +16,13 @@ impl Law for Quadratic {
         v * v.abs()
     }
     fn weighted_power(&self, _x: &[f64], v: &[f64], w: &[f64]) -> f64 {
-        lanes::sum(Weights::PerSample(w), v, |v| v * v * v.abs())
+        lanes::sum(Weights::PerSample(w), v, |v| PowerForm::AbsCube.power(v))
     }
     fn power_sum(&self, motion: ElementMotion<'_>, weights: Weights<'_>) -> f64 {
-        lanes::velocity_power(motion, weights, |v| v * v * v.abs())
+        lanes::velocity_power(motion, weights, |v| PowerForm::AbsCube.power(v))
+    }
+    fn power_form(&self) -> Option<PowerForm> {
+        Some(PowerForm::AbsCube)
     }
     fn power_slope(&self, _x: f64, v: f64, _dx: f64, _dv: f64) -> (f64, f64) {
         (0.0, 3.0 * v * v.abs())
