@@ -3,14 +3,18 @@
 //!
 //! ```sh
 //! RAYON_NUM_THREADS=1 cargo bench --bench grid      # and/or with 2 threads
-//! cargo run --release --example grid_plot [-- CRITERION_DIR [SVG_PATH]]
+//! cargo run --release --example grid_plot [-- CRITERION_DIR [SVG_PATH [RUN,RUN,…]]]
 //! ```
 //!
-//! Reads `<CRITERION_DIR>/grid/t{T}/n{n}_N{N}/new/{estimates,sample}.json` (default
-//! CRITERION_DIR: `$CARGO_TARGET_DIR/criterion` or `target/criterion`), prints a
-//! Markdown table per thread count (median and fastest sample, ns per element, and the
-//! ratio of each cell's cost per element to the median cost per element over all its
-//! cells: 1 is exactly linear), and draws time against n·N on log-log axes with the
+//! Reads `<CRITERION_DIR>/grid/t{T}/n{n}_N{N}/<RUN>/{estimates,sample}.json` (default
+//! CRITERION_DIR: `$CARGO_TARGET_DIR/criterion` or `target/criterion`; default RUN:
+//! `new`, criterion's latest; several runs are the baselines of
+//! `cargo bench --bench grid -- --save-baseline RUN`, and a cell's time is then the
+//! median over the runs of criterion's medians), prints a Markdown table per thread
+//! count (median and fastest sample, ns per element, and the ratio of each cell's cost
+//! per element to the median cost per element over all its cells: 1 is exactly
+//! linear), the exponent p of the least-squares fit ln t = ln c + p ln(n·N) over the
+//! cells (1 is linear growth), and draws time against n·N on log-log axes with the
 //! line t = c·n·N through each thread count's median cost per element
 //! (`docs/benchmarks/regressor_grid.svg` by default).
 
@@ -35,8 +39,40 @@ impl Cell {
     }
 }
 
-fn read_cell(dir: &Path, dofs: usize, samples: usize) -> Option<Cell> {
-    let base = dir.join(format!("n{dofs}_N{samples}")).join("new");
+/// The cell as measured in each of `runs`, with its time the median over the runs (and
+/// the fastest sample of all of them); `None` if a run lacks it.
+fn read_runs(dir: &Path, dofs: usize, samples: usize, runs: &[String]) -> Option<Cell> {
+    let cells: Vec<Cell> = runs
+        .iter()
+        .map(|run| read_cell(dir, dofs, samples, run))
+        .collect::<Option<_>>()?;
+    Some(Cell {
+        dofs,
+        samples,
+        median: median(cells.iter().map(|c| c.median).collect()),
+        fastest: cells
+            .iter()
+            .map(|c| c.fastest)
+            .fold(f64::INFINITY, f64::min),
+    })
+}
+
+/// The exponent p of the least-squares line ln t = ln c + p ln(n·N) through the cells.
+fn growth_exponent(cells: &[Cell]) -> f64 {
+    let points: Vec<(f64, f64)> = cells
+        .iter()
+        .map(|c| (c.work().ln(), c.median.ln()))
+        .collect();
+    let count = points.len() as f64;
+    let mean_x = points.iter().map(|p| p.0).sum::<f64>() / count;
+    let mean_y = points.iter().map(|p| p.1).sum::<f64>() / count;
+    let sxy: f64 = points.iter().map(|p| (p.0 - mean_x) * (p.1 - mean_y)).sum();
+    let sxx: f64 = points.iter().map(|p| (p.0 - mean_x).powi(2)).sum();
+    sxy / sxx
+}
+
+fn read_cell(dir: &Path, dofs: usize, samples: usize, run: &str) -> Option<Cell> {
+    let base = dir.join(format!("n{dofs}_N{samples}")).join(run);
     let estimates: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(base.join("estimates.json")).ok()?).ok()?;
     let sample: serde_json::Value =
@@ -78,6 +114,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .get(1)
         .map(PathBuf::from)
         .unwrap_or_else(|| PathBuf::from("docs/benchmarks/regressor_grid.svg"));
+    let runs: Vec<String> = args.get(2).map_or_else(
+        || vec!["new".to_string()],
+        |list| list.split(',').map(str::to_string).collect(),
+    );
 
     let mut series: Vec<(usize, Vec<Cell>, f64)> = Vec::new();
     for threads in 1..=8 {
@@ -85,15 +125,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let cells: Vec<Cell> = DOFS
             .iter()
             .flat_map(|&n| SAMPLES.iter().map(move |&s| (n, s)))
-            .filter_map(|(n, s)| read_cell(&dir, n, s))
+            .filter_map(|(n, s)| read_runs(&dir, n, s, &runs))
             .collect();
         if cells.is_empty() {
             continue;
         }
         let per_element = median(cells.iter().map(|c| c.median / c.work()).collect());
+        let within = cells
+            .iter()
+            .filter(|c| (c.median / c.work() / per_element - 1.0).abs() <= 0.2)
+            .count();
         println!(
-            "\n{threads} thread(s): median cost {:.3} ns per element\n",
-            per_element * 1e9
+            "\n{threads} thread(s), runs {}: median cost {:.3} ns per element; {within} of {} \
+             cells within 20 % of it; time grows as (n·N)^{:.3}\n",
+            runs.join(", "),
+            per_element * 1e9,
+            cells.len(),
+            growth_exponent(&cells)
         );
         println!(
             "| n | N | n·N | median s | fastest s | ns per element (median) | relative to the median cost |"
