@@ -292,7 +292,7 @@ fn add_power(
 }
 
 /// Σ w_i g(i) over the last `rows` (fewer than 16), in sample order as `terms::lanes`
-/// adds its tail.
+/// adds its tail. Without weights w_i = 1, and 1 · x is exactly x.
 fn tail_sum(member: &Member<'_>, rows: Range<usize>, w: Option<&[f64]>) -> f64 {
     let p = &member.p[rows.clone()];
     let q = if member.q.is_empty() {
@@ -300,19 +300,15 @@ fn tail_sum(member: &Member<'_>, rows: Range<usize>, w: Option<&[f64]>) -> f64 {
     } else {
         &member.q[rows.clone()]
     };
-    let term = |i: usize| match member.term {
-        Term::Power(form) => form.power(p[i]),
-        Term::PowerOfDifference(form) => form.power(p[i] - q[i]),
-        Term::Product => match w {
-            // (w p) q, as `lanes::dot` multiplies.
-            Some(w) => w[i] * p[i] * q[i],
-            None => p[i] * q[i],
-        },
-    };
     (0..rows.len())
-        .map(|i| match (member.term, w) {
-            (Term::Product, _) | (_, None) => term(i),
-            (_, Some(w)) => w[i] * term(i),
+        .map(|i| {
+            let w = w.map_or(1.0, |w| w[i]);
+            match member.term {
+                Term::Power(form) => w * form.power(p[i]),
+                Term::PowerOfDifference(form) => w * form.power(p[i] - q[i]),
+                // (w p) q, as `lanes::dot` multiplies.
+                Term::Product => w * p[i] * q[i],
+            }
         })
         .sum()
 }
@@ -356,7 +352,7 @@ mod tests {
         assert!(sums.len() > MAX_MEMBERS);
         assert!(sums.iter().all(Sum::fusable));
 
-        let banded = WindowWeights::banded(vec![0.3, 0.6], 1.0, vec![0.6, 0.3, 0.1], samples);
+        let banded = WindowWeights::banded(vec![0.3, 0.6], 0.01, vec![0.6, 0.3, 0.1], samples);
         let per_sample =
             WindowWeights::PerSample((0..samples).map(|i| 0.5 + (i % 7) as f64 * 0.1).collect());
         for weights in [&banded, &per_sample] {

@@ -102,20 +102,7 @@ pub(crate) fn window_sums(plan: &Plan<'_>, samples: &WindowSamples<'_>) -> Vec<f
                     })
             })
             .collect();
-        let run = |task: Task<'_>| {
-            let first_slot = plan.groups[task.groups.start].slots.start;
-            for g in task.groups {
-                let group = &plan.groups[g];
-                let out = &mut task.out[group.slots.start - first_slot..][..group.slots.len()];
-                let (fused_out, single_out) = out.split_at_mut(group.fused);
-                let (fused, single) = plan.sums[group.slots.clone()].split_at(group.fused);
-                let ahead = plan.groups.get(g + 1).map(|next| next.column);
-                fused::group_sums(fused, samples, task.rows.clone(), ahead, fused_out);
-                for (sum, out) in single.iter().zip(single_out) {
-                    *out = block_sum(sum, samples, task.rows.clone());
-                }
-            }
-        };
+        let run = |task: Task<'_>| run_task(plan, samples, task);
         if parallel {
             tasks.into_par_iter().for_each(run);
         } else {
@@ -136,6 +123,23 @@ struct Task<'o> {
     rows: Range<usize>,
     groups: Range<usize>,
     out: &'o mut [f64],
+}
+
+/// The sums of the task's groups over its block: each group's fusable sums in one loop
+/// (with a prefetch of the next group's column), the others one by one.
+fn run_task(plan: &Plan<'_>, samples: &WindowSamples<'_>, task: Task<'_>) {
+    let first_slot = plan.groups[task.groups.start].slots.start;
+    for g in task.groups {
+        let group = &plan.groups[g];
+        let out = &mut task.out[group.slots.start - first_slot..][..group.slots.len()];
+        let (fused_out, single_out) = out.split_at_mut(group.fused);
+        let (fused, single) = plan.sums[group.slots.clone()].split_at(group.fused);
+        let ahead = plan.groups.get(g + 1).map(|next| next.column);
+        fused::group_sums(fused, samples, task.rows.clone(), ahead, fused_out);
+        for (sum, out) in single.iter().zip(single_out) {
+            *out = block_sum(sum, samples, task.rows.clone());
+        }
+    }
 }
 
 /// The block's output slice cut into one piece per segment.
