@@ -594,17 +594,14 @@ fn pod(
 fn compare(first: &Path, second: &Path, as_json: bool) -> anyhow::Result<Outcome> {
     let job = load_job(first)?;
     let other = load_job(second)?;
-    if job.non_periodic.is_some() {
-        bail!(
-            "{}: compare works on periodic windows; it does not support [non_periodic] yet",
-            first.display()
-        );
-    }
-    let comparison = dampid::compare::compare(
-        (&first.display().to_string(), &job.model),
-        (&second.display().to_string(), &other.model),
-        &job.records,
-        &job.settings.regressor,
+    // Both models on the first file's records, windows and mode (in the non-periodic
+    // mode both regressors carry the same nuisance columns).
+    let comparison = dampid::compare::compare_regressors(
+        (&first.display().to_string(), &job.regressor()?),
+        (
+            &second.display().to_string(),
+            &job.regressor_of(&other.model)?,
+        ),
         &dampid::compare::CompareSettings {
             rank_tolerance: job.settings.fit.rank_tolerance,
             ..Default::default()

@@ -423,6 +423,44 @@ fn bad_settings_and_records_get_typed_errors() {
     ));
 }
 
+/// `dampid compare` in the non-periodic mode, on the bundled drive record (simulated
+/// with viscous 8 N s/m and Coulomb 3 N): viscous friction alone leaves a residual the
+/// noise cannot explain, so the Coulomb term is needed. Both regressors carry the same
+/// mass and offset columns, so the models are nested and the F-test is on the damping.
+#[test]
+fn compare_command_in_the_non_periodic_mode() {
+    let bundled = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/drive_nonperiodic.toml");
+    let text = std::fs::read_to_string(&bundled).unwrap();
+    let coulomb = "[[terms]]\nkind = \"law\"\nlaw = \"coulomb\"\nelements = \"each_dof\"\ncoefficient = \"coulomb\"\n";
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/data/drive/drive.csv");
+    assert!(text.contains(coulomb) && text.contains("file = \"data/drive/drive.csv\""));
+    let viscous_only = text.replace(coulomb, "").replace(
+        "file = \"data/drive/drive.csv\"",
+        &format!("file = {:?}", data.display().to_string()),
+    );
+    let folder = scratch("compare");
+    let viscous = folder.join("viscous_only.toml");
+    std::fs::write(&viscous, viscous_only).unwrap();
+
+    let args: [&std::ffi::OsStr; 4] = [
+        "compare".as_ref(),
+        viscous.as_os_str(),
+        bundled.as_os_str(),
+        "--json".as_ref(),
+    ];
+    let json = dampid_json(&args);
+    assert_eq!(json["nested_in"], "first", "{json}");
+    assert_eq!(json["verdict"], "larger_needed", "{json}");
+    let second: Vec<&str> = json["second"]["coefficients"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c.as_str().unwrap())
+        .collect();
+    assert_eq!(second, ["viscous", "coulomb", "mass[1]", "offset[1]"]);
+    std::fs::remove_dir_all(folder).ok();
+}
+
 /// Malformed `[non_periodic]` sections are model-file errors with a line, or name the
 /// unknown value.
 #[test]

@@ -97,9 +97,15 @@ impl Job {
     /// The regressor the job identifies from: periodic windows
     /// ([`Regressor::build`]) or the non-periodic balance ([`crate::nonperiodic::build`]).
     pub fn regressor(&self) -> Result<Regressor> {
+        self.regressor_of(&self.model)
+    }
+
+    /// The regressor of another damping `model` on this job's records, windows and
+    /// mode (to compare models on the same equations).
+    pub fn regressor_of(&self, model: &DampingModel) -> Result<Regressor> {
         match &self.non_periodic {
-            Some(settings) => crate::nonperiodic::build(&self.model, &self.records, settings),
-            None => Regressor::build(&self.model, &self.records, &self.settings.regressor),
+            Some(settings) => crate::nonperiodic::build(model, &self.records, settings),
+            None => Regressor::build(model, &self.records, &self.settings.regressor),
         }
     }
 }
