@@ -1638,46 +1638,28 @@ fn large_but_finite_records_give_the_right_number() {
 }
 
 #[test]
-fn infinite_lower_bound_is_rejected() {
-    // Interval [inf, inf] passes `lower > upper` and counts as fixed (lower == upper).
-    let settings = two_windows(Constraints {
-        bounds: vec![Bound {
-            name: "c[1]".into(),
-            lower: Some(f64::INFINITY),
-            upper: None,
-        }],
-        ..Constraints::default()
-    });
-    let result = identify(&per_dof_model(), &[record()], &settings);
-    assert!(
-        matches!(
-            &result,
-            Err(Error::InfeasibleBounds { name, .. } | Error::InvalidParameter { name, .. })
-                if name.contains("c[1]")
-        ),
-        "{result:?}"
-    );
-}
-
-#[test]
-fn infinite_negative_upper_bound_is_rejected() {
-    let settings = two_windows(Constraints {
-        bounds: vec![Bound {
-            name: "c[1]".into(),
-            lower: None,
-            upper: Some(f64::NEG_INFINITY),
-        }],
-        ..Constraints::default()
-    });
-    let result = identify(&per_dof_model(), &[record()], &settings);
-    assert!(
-        matches!(
-            &result,
-            Err(Error::InfeasibleBounds { name, .. } | Error::InvalidParameter { name, .. })
-                if name.contains("c[1]")
-        ),
-        "{result:?}"
-    );
+fn infinite_bounds_that_admit_no_value_are_rejected() {
+    // [inf, inf] passes `lower > upper` and would count as fixed (lower == upper);
+    // [−inf, −inf] likewise from above.
+    for (lower, upper) in [(Some(f64::INFINITY), None), (None, Some(f64::NEG_INFINITY))] {
+        let settings = two_windows(Constraints {
+            bounds: vec![Bound {
+                name: "c[1]".into(),
+                lower,
+                upper,
+            }],
+            ..Constraints::default()
+        });
+        let result = identify(&per_dof_model(), &[record()], &settings);
+        assert!(
+            matches!(
+                &result,
+                Err(Error::InfeasibleBounds { name, .. } | Error::InvalidParameter { name, .. })
+                    if name.contains("c[1]")
+            ),
+            "bounds {lower:?}..{upper:?}: {result:?}"
+        );
+    }
 }
 
 #[test]

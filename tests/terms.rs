@@ -134,14 +134,8 @@ fn input_work_is_pi_x_f_sin_psi() {
 fn matrix_term_and_dashpot_on_two_dofs() {
     let (x1, x2, phi, w) = (1.0, 0.6, 0.8, 1.5);
     let motion = Harmonic {
-        amplitudes: vec![x1, x2],
-        phases: vec![0.0, phi],
-        omega: w,
-        per_period: 256.0,
-        periods: 1.0,
-        force: 1.0,
-        force_phase: 0.0,
         force_dof: 1,
+        ..Harmonic::two_dofs([x1, x2], [0.0, phi], w, 256.0)
     };
     let record = motion.record();
     let c0 = Mat::from_fn(2, 2, |i, j| [[2.0, -0.5], [-1.0, 3.0]][i][j]);
@@ -174,16 +168,7 @@ fn matrix_term_and_dashpot_on_two_dofs() {
 #[test]
 fn stiffness_and_mass_proportional_terms() {
     let (x1, x2, phi, w) = (0.5, 1.2, 0.3, 0.8);
-    let motion = Harmonic {
-        amplitudes: vec![x1, x2],
-        phases: vec![0.0, phi],
-        omega: w,
-        per_period: 128.0,
-        periods: 1.0,
-        force: 1.0,
-        force_phase: 0.0,
-        force_dof: 0,
-    };
+    let motion = Harmonic::two_dofs([x1, x2], [0.0, phi], w, 128.0);
     let record = motion.record();
     let k = dampid::reference::chain_stiffness(2);
     let m = Mat::from_fn(2, 2, |i, j| if i == j { [2.0, 0.5][i] } else { 0.0 });
@@ -273,14 +258,9 @@ fn estimated_velocities_match_closed_forms() {
 #[test]
 fn distributed_load_input_work() {
     let motion = Harmonic {
-        amplitudes: vec![1.0, 0.4],
-        phases: vec![0.0, 0.0],
-        omega: 1.0,
-        per_period: 200.0,
-        periods: 1.0,
         force: 1.5,
         force_phase: 0.6,
-        force_dof: 0,
+        ..Harmonic::two_dofs([1.0, 0.4], [0.0, 0.0], 1.0, 200.0)
     };
     let parts = motion.record().into_parts();
     let distribution = Mat::from_fn(2, 1, |i, _| [0.5, 2.0][i]);
@@ -303,16 +283,7 @@ fn distributed_load_input_work() {
 #[test]
 fn element_weights_scale_each_element() {
     let (x1, x2, w) = (1.0, 0.5, 1.1);
-    let motion = Harmonic {
-        amplitudes: vec![x1, x2],
-        phases: vec![0.0, 0.4],
-        omega: w,
-        per_period: 128.0,
-        periods: 1.0,
-        force: 1.0,
-        force_phase: 0.0,
-        force_dof: 0,
-    };
+    let motion = Harmonic::two_dofs([x1, x2], [0.0, 0.4], w, 128.0);
     let model = DampingModel::new().with(Term::weighted(
         Linear,
         Element::each_dof(2),

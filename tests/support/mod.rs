@@ -36,6 +36,20 @@ impl Harmonic {
         }
     }
 
+    /// Two DOFs over one period, a unit force on DOF 0 in phase with the motion.
+    pub fn two_dofs(amplitudes: [f64; 2], phases: [f64; 2], omega: f64, per_period: f64) -> Self {
+        Harmonic {
+            amplitudes: amplitudes.to_vec(),
+            phases: phases.to_vec(),
+            omega,
+            per_period,
+            periods: 1.0,
+            force: 1.0,
+            force_phase: 0.0,
+            force_dof: 0,
+        }
+    }
+
     pub fn period(&self) -> f64 {
         2.0 * std::f64::consts::PI / self.omega
     }
