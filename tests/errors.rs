@@ -1637,6 +1637,42 @@ fn large_but_finite_records_give_the_right_number() {
     }
 }
 
+/// Entries near f64::MAX are finite, but a column's or the right-hand side's norm can
+/// overflow. The fit's scaling then falls back to the largest entry, so that a
+/// bound 0 (nonnegativity) or ±∞ (none) stays 0 or ±∞ instead of 0 · ∞ = NaN (the
+/// `identify` fuzz target found the panic this caused in the constrained fit). The
+/// system is consistent, and plain and nonnegative fits give θ = 1.
+#[test]
+fn regressor_whose_column_norm_overflows_fits_or_fails_cleanly() {
+    let huge = 1.5e308;
+    for (column, rhs) in [
+        (vec![huge, huge, huge], vec![huge, huge, huge]),
+        (vec![huge, huge, 1.0], vec![huge, huge, 1.0]),
+        (vec![1.0, 2.0, 3.0], vec![1.0, 2.0, 3.0]),
+    ] {
+        let regressor = Regressor::from_parts(
+            Mat::from_fn(3, 1, |i, _| column[i]),
+            rhs,
+            vec!["c".into()],
+            row_labels(3),
+        )
+        .unwrap();
+        for constraints in [Constraints::default(), Constraints::nonnegative()] {
+            let settings = FitSettings {
+                constraints,
+                ..FitSettings::default()
+            };
+            let fit = fit::solve(&regressor, &settings).unwrap();
+            let theta = fit.coefficients[0];
+            assert!(
+                fit.status.is_usable() && (theta - 1.0).abs() < 1e-9,
+                "{column:?}: θ = {theta}, {:?}",
+                fit.status
+            );
+        }
+    }
+}
+
 #[test]
 fn infinite_bounds_that_admit_no_value_are_rejected() {
     // [inf, inf] passes `lower > upper` and would count as fixed (lower == upper);

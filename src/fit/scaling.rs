@@ -2,7 +2,9 @@
 //! and β = ‖b‖₂, so that every column and the right-hand side have unit norm and the
 //! scaled coefficients θ_s = S θ / β are of order one. Conditioning is reported on A_s:
 //! it measures how well the data separate the coefficients, not their units.
-//! An all-zero column keeps scale 1 (and shows as a zero singular value).
+//! An all-zero column keeps scale 1 (and shows as a zero singular value). A column (or
+//! b) of finite entries whose 2-norm overflows (entries near f64::MAX) is scaled by its
+//! largest entry instead, so every scale is finite and positive.
 
 use faer::Mat;
 
@@ -21,16 +23,10 @@ pub(crate) struct Scaling {
 impl Scaling {
     pub fn of(a: &Mat<f64>, b: &[f64]) -> Self {
         let columns = (0..a.ncols())
-            .map(|j| {
-                let norm = a.col(j).norm_l2();
-                if norm > 0.0 { norm } else { 1.0 }
-            })
+            .map(|j| scale_of(a.col(j).norm_l2(), || a.col(j).norm_max()))
             .collect();
-        let rhs = norm(b);
-        Scaling {
-            columns,
-            rhs: if rhs > 0.0 { rhs } else { 1.0 },
-        }
+        let rhs = scale_of(norm(b), || faer::ColRef::from_slice(b).norm_max());
+        Scaling { columns, rhs }
     }
 
     /// A_s = A S⁻¹.
@@ -52,8 +48,27 @@ impl Scaling {
             .collect()
     }
 
-    /// θ_s from θ.
+    /// θ_s from θ. Zero and ±∞ (a bound at zero, or no bound) map to themselves: the
+    /// factor S_j/β is positive, and 0 · ∞ would be NaN if it overflowed.
     pub fn scale(&self, j: usize, theta: f64) -> f64 {
-        theta * self.columns[j] / self.rhs
+        if theta == 0.0 || theta.is_infinite() {
+            theta
+        } else {
+            theta * self.columns[j] / self.rhs
+        }
+    }
+}
+
+/// The 2-norm when it is finite and positive; else the largest entry (the norm
+/// overflowed); else 1 (all zero, or not finite).
+fn scale_of(norm: f64, largest: impl FnOnce() -> f64) -> f64 {
+    if norm.is_finite() && norm > 0.0 {
+        return norm;
+    }
+    let largest = largest();
+    if largest.is_finite() && largest > 0.0 {
+        largest
+    } else {
+        1.0
     }
 }
