@@ -1,8 +1,10 @@
 //! The whole pipeline on arbitrary records: a `Record` built from fuzzed dims, step,
 //! period and values (harmonic motion, constants, raw bytes, with any entry patched to
 //! NaN, ±Inf, zero or a huge value), an arbitrary damping model, arbitrary settings and
-//! constraints, then `identify`. Any `Err` is fine; a panic is a bug, and so is a fit
-//! that claims success with a non-finite coefficient.
+//! constraints, then `identify`, or in the non-periodic mode (arbitrary window, skip,
+//! rule, velocity, work form, kinetic and potential energy models and offsets)
+//! `nonperiodic::build` and the fit. Any `Err` is fine; a panic is a bug, and so is a
+//! fit that claims success with a non-finite coefficient.
 //!
 //! Sizes are capped (4 DOFs, 400 samples, 4 terms) to keep executions fast; the cap is
 //! the harness's, not the library's.
@@ -11,7 +13,10 @@
 
 use arbitrary::{Arbitrary, Unstructured};
 use dampid::fit::{Bound, Constraints, Fixed};
+use dampid::nonperiodic::{Kinetic, NonPeriodicSettings, Potential, StorageModel};
 use dampid::prelude::*;
+use dampid::regressor::WorkForm;
+use dampid::report::FitReport;
 use dampid::terms::laws::Expression;
 use faer::Mat;
 use libfuzzer_sys::fuzz_target;
@@ -172,6 +177,35 @@ struct Settings {
     solver_tolerance: Option<f64>,
     max_iterations: Option<u8>,
     polish: bool,
+    non_periodic: Option<NonPeriodicChoice>,
+}
+
+/// The non-periodic mode's settings.
+#[derive(Arbitrary, Debug)]
+struct NonPeriodicChoice {
+    /// Window in samples (tame: 1 + k) times the step, or a raw length.
+    window: Scalar,
+    skip: u16,
+    trapezoid: bool,
+    measured: bool,
+    derivative_free: bool,
+    kinetic: KineticChoice,
+    potential: PotentialChoice,
+    offsets: Vec<u8>,
+}
+
+#[derive(Arbitrary, Debug)]
+enum KineticChoice {
+    LumpedPerDof,
+    Known(MatrixChoice),
+    Neglected,
+}
+
+#[derive(Arbitrary, Debug)]
+enum PotentialChoice {
+    Neglected,
+    Chain,
+    Known(MatrixChoice),
 }
 
 #[derive(Arbitrary, Debug)]
@@ -423,6 +457,64 @@ fn settings(s: &Settings, names: &[String]) -> IdentifySettings {
     settings
 }
 
+fn non_periodic(choice: &NonPeriodicChoice, n: usize, step: f64) -> NonPeriodicSettings {
+    NonPeriodicSettings {
+        window: match choice.window {
+            Scalar::Tame(k) => (1.0 + f64::from(k)) * step,
+            Scalar::Raw(v) => v,
+        },
+        skip: usize::from(choice.skip),
+        quadrature: if choice.trapezoid {
+            Quadrature::Trapezoid
+        } else {
+            Quadrature::Rectangular
+        },
+        velocity: if choice.measured {
+            VelocitySource::Measured
+        } else {
+            VelocitySource::CentralDifference
+        },
+        work_form: if choice.derivative_free {
+            WorkForm::DerivativeFree
+        } else {
+            WorkForm::Velocity
+        },
+        storage: StorageModel {
+            kinetic: match &choice.kinetic {
+                KineticChoice::LumpedPerDof => Kinetic::LumpedPerDof,
+                KineticChoice::Known(m) => Kinetic::Known(matrix(m, n)),
+                KineticChoice::Neglected => Kinetic::Neglected,
+            },
+            potential: match &choice.potential {
+                PotentialChoice::Neglected => Potential::Neglected,
+                PotentialChoice::Chain => Potential::Elements(Element::chain_fixed_both_ends(n)),
+                PotentialChoice::Known(m) => Potential::Known(matrix(m, n)),
+            },
+            offsets: choice
+                .offsets
+                .iter()
+                .take(3)
+                .map(|&d| usize::from(d) % (n + 2))
+                .collect(),
+        },
+    }
+}
+
+/// A usable fit has finite coefficients; the report always formats.
+fn check(report: &FitReport) {
+    if report.status.is_usable() {
+        for c in &report.coefficients {
+            assert!(
+                c.value.is_finite(),
+                "usable fit with {} = {}",
+                c.name,
+                c.value
+            );
+        }
+    }
+    let _ = report.to_string();
+}
+
 fuzz_target!(|input: Input| {
     let n = input.dofs;
     let Ok(records) = input
@@ -445,17 +537,23 @@ fuzz_target!(|input: Input| {
         .into_iter()
         .fold(DampingModel::new(), DampingModel::with);
     let settings = settings(&input.settings, &model.coefficient_names());
-    if let Ok(report) = identify(&model, &records, &settings) {
-        if report.status.is_usable() {
-            for c in &report.coefficients {
-                assert!(
-                    c.value.is_finite(),
-                    "usable fit with {} = {}",
-                    c.name,
-                    c.value
-                );
+    match &input.settings.non_periodic {
+        None => {
+            if let Ok(report) = identify(&model, &records, &settings) {
+                check(&report);
             }
         }
-        let _ = report.to_string();
+        Some(choice) => {
+            let step = records.first().map_or(1.0, Record::step);
+            let np = non_periodic(choice, n, step);
+            let Ok(regressor) = dampid::nonperiodic::build(&model, &records, &np) else {
+                return;
+            };
+            if let Ok(fit) = dampid::fit::solve(&regressor, &settings.fit) {
+                let diagnostics =
+                    dampid::diagnostics::diagnose(&regressor, &fit, settings.fit.rank_tolerance);
+                check(&FitReport::new(&regressor, fit, diagnostics));
+            }
+        }
     }
 });
