@@ -218,6 +218,14 @@ impl<'m> Plan<'m> {
         }
     }
 
+    /// The slots of the groups `segment`.
+    pub(crate) fn segment_slots(&self, segment: &Range<usize>) -> Range<usize> {
+        if segment.is_empty() {
+            return 0..0;
+        }
+        self.groups[segment.start].slots.start..self.groups[segment.end - 1].slots.end
+    }
+
     /// Whether some matrix term reads the Gram matrix.
     pub(crate) fn needs_gram(&self) -> bool {
         !self.gram_terms.is_empty()
@@ -312,14 +320,4 @@ fn segments(groups: &[Group]) -> Vec<Range<usize>> {
         segments.push(start..groups.len());
     }
     segments
-}
-
-impl Plan<'_> {
-    /// The slots of the groups `segment`.
-    pub(crate) fn segment_slots(&self, segment: &Range<usize>) -> Range<usize> {
-        if segment.is_empty() {
-            return 0..0;
-        }
-        self.groups[segment.start].slots.start..self.groups[segment.end - 1].slots.end
-    }
 }
