@@ -40,7 +40,7 @@ impl Path {
     /// Samples read from the window's first: F + 1, and one more for interpolating the
     /// end point when φ > 0.
     pub(crate) fn samples(&self) -> usize {
-        self.whole + 1 + usize::from(self.frac > 0.0)
+        self.whole.saturating_add(1 + usize::from(self.frac > 0.0))
     }
 
     /// The value at t_E of a sampled signal (slice from the window's first sample, at

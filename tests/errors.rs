@@ -500,6 +500,45 @@ fn skip_beyond_record_is_too_short() {
     ));
 }
 
+/// A period so long against the step that span/h overflows to ∞ (6.4e288 over
+/// 6.9e-311): every rule and velocity source reports the record too short. (The
+/// `identify` fuzz target found that the rectangular rule took such a window as 0
+/// samples long, from φ = ∞ − ∞ = NaN, and the harmonic-projection row then overflowed
+/// a sample count.)
+#[test]
+fn period_beyond_any_record_is_too_short() {
+    let mut p = parts(N);
+    p.step = 6.9e-311;
+    p.period = 6.4e288;
+    let record = Record::new(p).unwrap();
+    for quadrature in [
+        Quadrature::Rectangular,
+        Quadrature::Trapezoid,
+        Quadrature::Spectral,
+    ] {
+        for velocity in [
+            VelocitySource::Measured,
+            VelocitySource::HarmonicProjection { harmonics: None },
+        ] {
+            let mut settings = measured();
+            settings.regressor.quadrature = quadrature;
+            settings.regressor.velocity = velocity;
+            let result = identify(&shared_model(), std::slice::from_ref(&record), &settings);
+            assert!(
+                matches!(
+                    result,
+                    Err(Error::RecordTooShort {
+                        needed: usize::MAX,
+                        available: N,
+                        ..
+                    })
+                ),
+                "{quadrature:?}, {velocity:?}: {result:?}"
+            );
+        }
+    }
+}
+
 #[test]
 fn invalid_window_spec_is_invalid_parameter() {
     let mut settings = measured();

@@ -43,6 +43,11 @@ impl Quadrature {
     /// integer snapped to it.
     pub(crate) fn length(span: f64, step: f64) -> (usize, f64) {
         let l = span / step;
+        if l.is_infinite() {
+            // A span no record holds (a huge period over a tiny step): saturate, as
+            // `samples` does, rather than make φ = ∞ − ∞ = NaN.
+            return (usize::MAX, 0.0);
+        }
         let whole = l.round();
         if (l - whole).abs() <= 1e-9 * l.max(1.0) {
             (whole as usize, 0.0)
