@@ -16,10 +16,11 @@ use dampid::fit::{Bound, Constraints, Fixed};
 use dampid::nonperiodic::{Kinetic, NonPeriodicSettings, Potential, StorageModel};
 use dampid::prelude::*;
 use dampid::regressor::WorkForm;
-use dampid::report::FitReport;
 use dampid::terms::laws::Expression;
 use faer::Mat;
 use libfuzzer_sys::fuzz_target;
+
+mod support;
 
 const MAX_DOFS: usize = 4;
 const MAX_SAMPLES: usize = 400;
@@ -500,21 +501,6 @@ fn non_periodic(choice: &NonPeriodicChoice, n: usize, step: f64) -> NonPeriodicS
     }
 }
 
-/// A usable fit has finite coefficients; the report always formats.
-fn check(report: &FitReport) {
-    if report.status.is_usable() {
-        for c in &report.coefficients {
-            assert!(
-                c.value.is_finite(),
-                "usable fit with {} = {}",
-                c.name,
-                c.value
-            );
-        }
-    }
-    let _ = report.to_string();
-}
-
 fuzz_target!(|input: Input| {
     let n = input.dofs;
     let Ok(records) = input
@@ -540,19 +526,14 @@ fuzz_target!(|input: Input| {
     match &input.settings.non_periodic {
         None => {
             if let Ok(report) = identify(&model, &records, &settings) {
-                check(&report);
+                support::check(&report);
             }
         }
         Some(choice) => {
             let step = records.first().map_or(1.0, Record::step);
             let np = non_periodic(choice, n, step);
-            let Ok(regressor) = dampid::nonperiodic::build(&model, &records, &np) else {
-                return;
-            };
-            if let Ok(fit) = dampid::fit::solve(&regressor, &settings.fit) {
-                let diagnostics =
-                    dampid::diagnostics::diagnose(&regressor, &fit, settings.fit.rank_tolerance);
-                check(&FitReport::new(&regressor, fit, diagnostics));
+            if let Ok(regressor) = dampid::nonperiodic::build(&model, &records, &np) {
+                support::fit_and_check(&regressor, &settings.fit);
             }
         }
     }
