@@ -20,8 +20,8 @@
 
 use std::f64::consts::PI;
 
-use dampid::bootstrap::{BootstrapSettings, identify_with_bootstrap};
-use dampid::design::{DesignSettings, design, simulate_candidates};
+use dampid::analysis::bootstrap::{BootstrapSettings, identify_with_bootstrap};
+use dampid::analysis::design::{DesignSettings, design, simulate_candidates};
 use dampid::prelude::*;
 use dampid::reference::chain_stiffness;
 use dampid::report::Warning;

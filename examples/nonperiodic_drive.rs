@@ -21,10 +21,10 @@ use std::path::PathBuf;
 
 use dampid::error::Result;
 use dampid::fit::{FitSettings, solve};
-use dampid::io::csv_table::Table;
-use dampid::nonperiodic::{NonPeriodicSettings, StorageModel, build};
+use dampid::io::table::Table;
 use dampid::record::Record;
 use dampid::reference::drive::{DriveSettings, closed_loop_drive, drive_model};
+use dampid::regressor::nonperiodic::{NonPeriodicSettings, StorageModel, build};
 use dampid::report::FitReport;
 
 /// The drive of the bundled record: 20 s at h = 2 ms, with sensor noise.
@@ -72,7 +72,7 @@ fn main() -> Result<()> {
     };
     let regressor = build(&model, std::slice::from_ref(&record), &balance)?;
     let fit = solve(&regressor, &FitSettings::default())?;
-    let diagnostics = dampid::diagnostics::diagnose(&regressor, &fit, 1e-10);
+    let diagnostics = dampid::analysis::diagnostics::diagnose(&regressor, &fit, 1e-10);
     let report = FitReport::new(&regressor, fit, diagnostics);
     println!("{report}");
     println!("against the simulation:");

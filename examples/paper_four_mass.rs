@@ -11,7 +11,7 @@
 //! Exits with status 1 when a case misses its tolerance (0.5% for the chain, 1% for the
 //! cubic spring over four cycles, 4% over one cycle).
 
-use dampid::quadrature::Quadrature;
+use dampid::prep::quadrature::Quadrature;
 use dampid::reference::FourMassSummary;
 
 fn main() -> Result<(), dampid::Error> {

@@ -29,8 +29,8 @@
 
 use std::f64::consts::PI;
 
-use dampid::pod::{PodBasis, PodReport, Reduction};
 use dampid::prelude::*;
+use dampid::prep::pod::{PodBasis, PodReport, Reduction};
 use dampid::reference::{
     FOUR_MASS_AMPLITUDES, FOUR_MASS_C, FOUR_MASS_D, FOUR_MASS_OMEGA, four_mass_model,
     four_mass_system,
@@ -257,7 +257,7 @@ pub fn run() -> Result<Study> {
 
     // POD checks: one basis per amplitude from all its samples.
     let mut pod_checks = Vec::new();
-    let per_record = dampid::pod::reduce(&records, &pod_settings(2, PodBasis::PerRecord))?;
+    let per_record = dampid::prep::pod::reduce(&records, &pod_settings(2, PodBasis::PerRecord))?;
     for (a, share) in PAPER_DOMINANT_SHARE {
         let index = FOUR_MASS_AMPLITUDES
             .iter()
@@ -337,7 +337,7 @@ pub fn run() -> Result<Study> {
         ),
     ];
     for (name, retained, velocity, basis, checked) in variants {
-        let reduction = dampid::pod::reduce(&records, &pod_settings(retained, basis))?;
+        let reduction = dampid::prep::pod::reduce(&records, &pod_settings(retained, basis))?;
         let report = identify(&model, &reduction.records, &identify_settings(velocity))?;
         let checks = if checked {
             coefficient_checks(&report, retained)

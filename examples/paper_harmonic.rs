@@ -29,8 +29,8 @@
 
 use std::path::{Path, PathBuf};
 
-use dampid::harmonic::{HarmonicApproximation, PhaseReading, SteppedSineTable};
 use dampid::prelude::*;
+use dampid::prep::harmonic::{HarmonicApproximation, PhaseReading, SteppedSineTable};
 use dampid::reference::{
     FOUR_MASS_AMPLITUDES, FOUR_MASS_C, FOUR_MASS_D, four_mass_model, four_mass_system,
 };

@@ -34,8 +34,8 @@
 //! times the two-mode fit's) with a larger relative residual and |residual bias|; with
 //! noise, the mean two-mode estimates over 100 draws within 3% of the truth.
 
-use dampid::pod::{PodReport, Reduction};
 use dampid::prelude::*;
+use dampid::prep::pod::{PodReport, Reduction};
 use dampid::reference::string::*;
 use faer::Mat;
 use rand::rngs::StdRng;

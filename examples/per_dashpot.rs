@@ -19,7 +19,7 @@
 
 use std::f64::consts::PI;
 
-use dampid::design::{DesignSettings, design, simulate_candidates};
+use dampid::analysis::design::{DesignSettings, design, simulate_candidates};
 use dampid::prelude::*;
 use dampid::reference::{FOUR_MASS_AMPLITUDES, FOUR_MASS_OMEGA, chain_stiffness};
 use dampid::report::Warning;

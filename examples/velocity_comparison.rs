@@ -19,8 +19,8 @@
 //! The measured table is in docs/velocities.md.
 
 use dampid::prelude::*;
+use dampid::prep::velocity::harmonic_selection;
 use dampid::reference::{FOUR_MASS_C, FOUR_MASS_D, four_mass_model, four_mass_records};
-use dampid::velocity::harmonic_selection;
 use faer::Mat;
 use rand::SeedableRng;
 use rand::rngs::StdRng;

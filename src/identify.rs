@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::diagnostics::diagnose;
+use crate::analysis::diagnostics::diagnose;
 use crate::error::Result;
 use crate::fit::{FitSettings, solve};
 use crate::model::DampingModel;

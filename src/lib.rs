@@ -41,66 +41,48 @@
 
 #![warn(missing_docs)]
 
-pub mod bootstrap;
-pub mod compare;
-mod derivative_free;
-pub mod design;
-pub mod diagnostics;
+pub mod analysis;
 pub mod error;
 pub mod fit;
-mod fourier;
-pub mod harmonic;
-pub mod identifiability;
 pub mod identify;
 pub mod interop;
 pub mod io;
-mod kernel;
 pub mod model;
 pub mod model_file;
-pub mod noise;
-pub mod nonperiodic;
-pub mod period;
-pub mod pod;
-pub mod pod_files;
+pub mod prep;
 pub mod progress;
-pub mod quadrature;
 pub mod record;
 pub mod reference;
 pub mod regressor;
 pub mod report;
-pub mod report_html;
 pub mod simulate;
-mod special;
-pub mod steady_state;
 pub mod terms;
-pub mod velocity;
-pub mod window;
 
 pub use error::{Error, Result};
 pub use identify::{IdentifySettings, identify};
 
 /// The names most programs need.
 pub mod prelude {
-    pub use crate::bootstrap::{BootstrapSettings, identify_with_bootstrap};
-    pub use crate::compare::{CompareSettings, Comparison, compare};
-    pub use crate::design::{Criterion, DesignReport, DesignSettings, design};
+    pub use crate::analysis::bootstrap::{BootstrapSettings, identify_with_bootstrap};
+    pub use crate::analysis::compare::{CompareSettings, Comparison, compare};
+    pub use crate::analysis::design::{Criterion, DesignReport, DesignSettings, design};
+    pub use crate::analysis::identifiability::Identifiability;
     pub use crate::error::{Error, Result};
     pub use crate::fit::{
         Bound, Constraints, Fit, FitSettings, FitStatus, Fixed, LinearConstraint, Relation,
     };
-    pub use crate::harmonic::{
-        HarmonicApproximation, PhaseReading, SteppedSinePoint, SteppedSineTable,
-    };
-    pub use crate::identifiability::Identifiability;
     pub use crate::identify::{IdentifySettings, identify};
     pub use crate::model::DampingModel;
-    pub use crate::pod::{Pod, PodBasis, PodSettings, Retain, reduce};
-    pub use crate::quadrature::Quadrature;
+    pub use crate::prep::harmonic::{
+        HarmonicApproximation, PhaseReading, SteppedSinePoint, SteppedSineTable,
+    };
+    pub use crate::prep::pod::{Pod, PodBasis, PodSettings, Retain, reduce};
+    pub use crate::prep::quadrature::Quadrature;
+    pub use crate::prep::velocity::VelocitySource;
+    pub use crate::prep::window::WindowSpec;
     pub use crate::record::{Forcing, Record, RecordParts};
     pub use crate::regressor::{Regressor, RegressorSettings};
     pub use crate::report::FitReport;
     pub use crate::terms::laws::{Coulomb, Custom, Linear, PowerLaw, Quadratic};
     pub use crate::terms::{Coefficients, Element, Law, Term};
-    pub use crate::velocity::VelocitySource;
-    pub use crate::window::WindowSpec;
 }

@@ -7,16 +7,16 @@ use std::process::ExitCode;
 
 use anyhow::{Context, bail};
 use clap::{Parser, Subcommand, ValueEnum};
-use dampid::io::csv_table::Table;
+use dampid::io::pod_files::{Columns, PodTables, pod_of_files};
+use dampid::io::table::Table;
 use dampid::model_file::{Job, load_with_progress};
-use dampid::pod::{PodBasis, PodSettings, Retain};
-use dampid::pod_files::{Columns, PodTables, pod_of_files};
-use dampid::quadrature::Quadrature;
+use dampid::prep::pod::{PodBasis, PodSettings, Retain};
+use dampid::prep::quadrature::Quadrature;
+use dampid::prep::steady_state::SteadyStateReport;
 use dampid::reference::FourMassSummary;
 use dampid::regressor::Regressor;
 use dampid::report::FitReport;
-use dampid::report_html::HtmlReport;
-use dampid::steady_state::SteadyStateReport;
+use dampid::report::html::HtmlReport;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::json;
 
@@ -310,14 +310,15 @@ fn identify(
     let regressor = build_regressor(&job)?;
     let fit = dampid::fit::solve(&regressor, &job.settings.fit)?;
     let diagnostics =
-        dampid::diagnostics::diagnose(&regressor, &fit, job.settings.fit.rank_tolerance);
+        dampid::analysis::diagnostics::diagnose(&regressor, &fit, job.settings.fit.rank_tolerance);
     let mut report = FitReport::new(&regressor, fit, diagnostics);
     if let Some(replicates) = bootstrap {
-        let settings = dampid::bootstrap::BootstrapSettings {
+        let settings = dampid::analysis::bootstrap::BootstrapSettings {
             replicates,
             ..Default::default()
         };
-        let intervals = dampid::bootstrap::bootstrap(&regressor, &job.settings.fit, &settings)?;
+        let intervals =
+            dampid::analysis::bootstrap::bootstrap(&regressor, &job.settings.fit, &settings)?;
         report = report.with_bootstrap(intervals);
     }
     let mut out = String::new();
@@ -499,7 +500,7 @@ fn check(path: &Path, accept_transient: bool) -> anyhow::Result<Outcome> {
     let fit = dampid::fit::least_squares(&regressor, job.settings.fit.rank_tolerance)
         .context("the regressor cannot be fitted")?;
     let diagnostics =
-        dampid::diagnostics::diagnose(&regressor, &fit, job.settings.fit.rank_tolerance);
+        dampid::analysis::diagnostics::diagnose(&regressor, &fit, job.settings.fit.rank_tolerance);
     let mut out = String::new();
     writeln!(out, "{}: model and data are valid", job.title)?;
     out.push_str(&head);
@@ -596,13 +597,13 @@ fn compare(first: &Path, second: &Path, as_json: bool) -> anyhow::Result<Outcome
     let other = load_job(second)?;
     // Both models on the first file's records, windows and mode (in the non-periodic
     // mode both regressors carry the same nuisance columns).
-    let comparison = dampid::compare::compare_regressors(
+    let comparison = dampid::analysis::compare::compare_regressors(
         (&first.display().to_string(), &job.regressor()?),
         (
             &second.display().to_string(),
             &job.regressor_of(&other.model)?,
         ),
-        &dampid::compare::CompareSettings {
+        &dampid::analysis::compare::CompareSettings {
             rank_tolerance: job.settings.fit.rank_tolerance,
             ..Default::default()
         },
@@ -636,8 +637,12 @@ fn design(path: &Path, as_json: bool) -> anyhow::Result<Outcome> {
         );
     }
     let settings = job.design.clone().unwrap_or_default();
-    let report =
-        dampid::design::select(&job.model, &job.records, &job.settings.regressor, &settings)?;
+    let report = dampid::analysis::design::select(
+        &job.model,
+        &job.records,
+        &job.settings.regressor,
+        &settings,
+    )?;
     let text = if as_json {
         format!("{}\n", serde_json::to_string_pretty(&report)?)
     } else {

@@ -1,7 +1,7 @@
 //! The window bootstrap: coverage of its percentile intervals on noisy data, results
 //! independent of the thread count, constrained fits, and bad settings.
 
-use dampid::bootstrap::{BootstrapSettings, bootstrap, identify_with_bootstrap};
+use dampid::analysis::bootstrap::{BootstrapSettings, bootstrap, identify_with_bootstrap};
 use dampid::fit::{FitMethod, FitSettings};
 use dampid::prelude::*;
 use dampid::simulate::{HarmonicForce, SimSettings, System, simulate};
@@ -98,7 +98,7 @@ fn settings() -> IdentifySettings {
             },
             quadrature: Quadrature::Spectral,
             velocity: VelocitySource::HarmonicProjection { harmonics: Some(1) },
-            noise: dampid::noise::NoiseTreatment::Ignore,
+            noise: dampid::regressor::robust::NoiseTreatment::Ignore,
             ..Default::default()
         },
         ..IdentifySettings::default()

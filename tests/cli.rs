@@ -3,9 +3,9 @@
 
 use std::path::{Path, PathBuf};
 
+use dampid::io::pod_files::{Columns, pod_of_files};
 use dampid::model_file::load;
-use dampid::pod::{Pod, PodBasis, PodSettings, Retain};
-use dampid::pod_files::{Columns, pod_of_files};
+use dampid::prep::pod::{Pod, PodBasis, PodSettings, Retain};
 
 mod support;
 use support::cli::{dampid, dampid_json, dampid_ok};

@@ -1,7 +1,7 @@
 //! Nested-model comparison: AIC, BIC and the F-test on the change in residual, by hand
 //! and on simulated data with and without Coulomb friction.
 
-use dampid::compare::{CompareSettings, Verdict, Which, compare_regressors};
+use dampid::analysis::compare::{CompareSettings, Verdict, Which, compare_regressors};
 use dampid::prelude::*;
 use dampid::simulate::{HarmonicForce, SimSettings, System, simulate};
 use faer::Mat;

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use dampid::design::{Criterion, DesignSettings, design, select, simulate_candidates};
+use dampid::analysis::design::{Criterion, DesignSettings, design, select, simulate_candidates};
 use dampid::model_file::parse;
 use dampid::prelude::*;
 use dampid::simulate::{HarmonicForce, SimSettings, System};

@@ -18,7 +18,7 @@ use std::f64::consts::PI;
 use std::sync::Arc;
 
 use dampid::fit::{self, SolverSettings};
-use dampid::io::csv_table::Table;
+use dampid::io::table::Table;
 use dampid::prelude::*;
 use dampid::record::LoadDistribution;
 use dampid::regressor::RowLabel;
@@ -1401,7 +1401,7 @@ fn system_matrices_and_coefficients_are_checked() {
 fn constant_force_has_no_period() {
     for level in [0.0, 2.5] {
         let force = Mat::from_fn(N, 1, |_, _| level);
-        match dampid::period::detect_period(force.as_ref(), H, "still") {
+        match dampid::prep::period::detect_period(force.as_ref(), H, "still") {
             Err(Error::NoPeriod {
                 record, explained, ..
             }) => {
@@ -1425,11 +1425,11 @@ fn growing_record_is_not_steady() -> Error {
     p.velocities = Some(Mat::from_fn(N, 2, |i, j| grow(i) * v[(i, j)]));
     p.label = "growing".into();
     let record = Record::new(p).unwrap();
-    let report = dampid::steady_state::check(
+    let report = dampid::prep::steady_state::check(
         &[record],
         &measured().regressor,
         None,
-        &dampid::steady_state::SteadyStateSettings::default(),
+        &dampid::prep::steady_state::SteadyStateSettings::default(),
     )
     .unwrap();
     report.enforce().unwrap_err()
@@ -1533,7 +1533,8 @@ fn every_variant_is_reachable() {
             .column("y")
             .unwrap_err(),
         Table::parse("t,x\n0,abc\n", "t.csv").unwrap_err(),
-        dampid::period::detect_period(Mat::<f64>::zeros(N, 1).as_ref(), H, "still").unwrap_err(),
+        dampid::prep::period::detect_period(Mat::<f64>::zeros(N, 1).as_ref(), H, "still")
+            .unwrap_err(),
         growing_record_is_not_steady(),
     ];
     let mut seen: Vec<&str> = errors.iter().map(variant).collect();

@@ -1,7 +1,7 @@
 //! Least-squares and constrained fits on regressors small enough to solve by hand, and
 //! the report's diagnostics.
 
-use dampid::diagnostics::diagnose;
+use dampid::analysis::diagnostics::diagnose;
 use dampid::fit::{self, BoundSide, FitMethod, SolverSettings};
 use dampid::prelude::*;
 use dampid::report::Warning;

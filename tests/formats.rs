@@ -5,8 +5,8 @@
 use std::path::Path;
 
 use dampid::Error;
-use dampid::io::csv_table::Table;
 use dampid::io::read_table;
+use dampid::io::table::Table;
 
 fn csv_rows() -> Table {
     let full = Table::read(Path::new("models/data/chain3/record_1.csv")).unwrap();

@@ -12,13 +12,13 @@ mod support;
 use std::f64::consts::PI;
 
 use dampid::Error;
-use dampid::harmonic::{
+use dampid::prelude::*;
+use dampid::prep::harmonic::{
     HarmonicApproximation, PhaseReading, SteppedSinePoint, SteppedSineTable, fundamentals,
 };
-use dampid::prelude::*;
+use dampid::prep::velocity::harmonic_selection;
 use dampid::reference::{FOUR_MASS_AMPLITUDES, four_mass_model, four_mass_system};
 use dampid::simulate::{SimSettings, simulate};
-use dampid::velocity::harmonic_selection;
 use faer::Mat;
 use rand::SeedableRng;
 use rand::rngs::StdRng;

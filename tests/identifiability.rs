@@ -2,9 +2,9 @@
 //! noise, near-null directions and determined combinations by name, variance inflation
 //! factors, and what the report and `dampid check` say in words.
 
-use dampid::diagnostics::diagnose;
+use dampid::analysis::diagnostics::diagnose;
+use dampid::analysis::identifiability::{IdentifiabilitySettings, analyse};
 use dampid::fit;
-use dampid::identifiability::{IdentifiabilitySettings, analyse};
 use dampid::prelude::*;
 use dampid::report::Warning;
 use dampid::simulate::{HarmonicForce, SimSettings, System, simulate};
@@ -96,7 +96,7 @@ fn the_precision_floor_applies_when_the_residual_is_tiny() {
     );
     let id = analyse(&r, 1e-12);
     assert!(!id.separable());
-    let loose = dampid::identifiability::analyse_with(
+    let loose = dampid::analysis::identifiability::analyse_with(
         &r,
         1e-12,
         &IdentifiabilitySettings {

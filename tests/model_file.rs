@@ -6,9 +6,9 @@ use std::path::Path;
 use dampid::Error;
 use dampid::identify;
 use dampid::model_file::{load, parse};
-use dampid::quadrature::Quadrature;
+use dampid::prep::quadrature::Quadrature;
+use dampid::prep::velocity::VelocitySource;
 use dampid::reference::{four_mass_cases, run_four_mass_case};
-use dampid::velocity::VelocitySource;
 
 fn run(path: &str) -> dampid::report::FitReport {
     let job = load(Path::new(path)).unwrap();
@@ -279,8 +279,8 @@ fn string_model_file_matches_the_example() {
 /// example's library path is repeated here (its `run` is private to the example).
 #[test]
 fn harmonic_model_file_matches_the_example() {
-    use dampid::harmonic::{HarmonicApproximation, SteppedSineTable};
     use dampid::prelude::*;
+    use dampid::prep::harmonic::{HarmonicApproximation, SteppedSineTable};
     use dampid::reference::{FOUR_MASS_AMPLITUDES, four_mass_model, four_mass_system};
     use dampid::simulate::{SimSettings, simulate};
 

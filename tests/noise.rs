@@ -5,12 +5,12 @@
 use std::sync::OnceLock;
 
 use dampid::fit::{Constraints, Weighting};
-use dampid::noise::NoiseTreatment;
 use dampid::prelude::*;
 use dampid::reference::{
     FOUR_MASS_AMPLITUDES, four_mass_model, four_mass_system, noise_study, noise_study_settings,
     noisy_chain_model, noisy_chain_records, noisy_chain_truth, with_displacement_noise,
 };
+use dampid::regressor::robust::NoiseTreatment;
 use dampid::simulate::{SimSettings, simulate};
 
 /// The 24 clean experiments, 8 recorded cycles each (a study of c cycles reads the

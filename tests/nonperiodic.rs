@@ -1,4 +1,4 @@
-//! The non-periodic mode (`dampid::nonperiodic`) against simulations whose truth is
+//! The non-periodic mode (`dampid::regressor::nonperiodic`) against simulations whose truth is
 //! known: a closed-loop drive with viscous and Coulomb friction and a constant force
 //! (from a model file and from the command line), the start-up transient of a two-mass
 //! chain (masses and springs unknown, or known), the invariants (force scaling, an
@@ -8,17 +8,19 @@ use std::path::{Path, PathBuf};
 
 use dampid::error::Error;
 use dampid::fit::{Constraints, FitSettings, solve};
-use dampid::io::csv_table::Table;
+use dampid::io::table::Table;
 use dampid::model::DampingModel;
 use dampid::model_file::parse;
-use dampid::nonperiodic::{Kinetic, NonPeriodicSettings, Potential, StorageModel, build};
+use dampid::prep::velocity::VelocitySource;
 use dampid::record::{Forcing, Record, RecordParts};
 use dampid::reference::drive::{DriveSettings, closed_loop_drive, drive_model};
+use dampid::regressor::nonperiodic::{
+    Kinetic, NonPeriodicSettings, Potential, StorageModel, build,
+};
 use dampid::report::FitReport;
 use dampid::simulate::{HarmonicForce, SimSettings, System, simulate};
 use dampid::terms::laws::Linear;
 use dampid::terms::{Coefficients, Element, Term};
-use dampid::velocity::VelocitySource;
 use faer::Mat;
 
 mod support;
@@ -37,7 +39,8 @@ fn drive_balance() -> NonPeriodicSettings {
 
 fn fit(regressor: &dampid::regressor::Regressor, fit: &FitSettings) -> FitReport {
     let solution = solve(regressor, fit).unwrap();
-    let diagnostics = dampid::diagnostics::diagnose(regressor, &solution, fit.rank_tolerance);
+    let diagnostics =
+        dampid::analysis::diagnostics::diagnose(regressor, &solution, fit.rank_tolerance);
     FitReport::new(regressor, solution, diagnostics)
 }
 
@@ -395,7 +398,7 @@ fn bad_settings_and_records_get_typed_errors() {
     );
     assert_eq!(
         name_of(with(
-            &|s| s.quadrature = dampid::quadrature::Quadrature::Spectral
+            &|s| s.quadrature = dampid::prep::quadrature::Quadrature::Spectral
         )),
         "quadrature"
     );

@@ -2,7 +2,7 @@
 //! and must land within its tolerance of the truth (c = 0.15, d = 0.10).
 
 use dampid::prelude::*;
-use dampid::quadrature::Quadrature;
+use dampid::prep::quadrature::Quadrature;
 use dampid::reference::{
     FOUR_MASS_C, FOUR_MASS_D, FourMassSummary, chain_stiffness, four_mass_records,
 };

@@ -10,8 +10,8 @@
 
 use std::f64::consts::PI;
 
-use dampid::pod::{PodBasis, Reduction};
 use dampid::prelude::*;
+use dampid::prep::pod::{PodBasis, Reduction};
 use dampid::reference::string::{
     STRING_AMPLITUDES, STRING_C, STRING_D, StringSystem, simulate_string, string_identify_settings,
     string_model, string_records, string_sim_settings, with_displacement_noise,

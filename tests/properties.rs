@@ -488,7 +488,7 @@ proptest! {
         let ls_report = FitReport::new(
             &regressor,
             ls.clone(),
-            dampid::diagnostics::diagnose(&regressor, &ls, 1e-10),
+            dampid::analysis::diagnostics::diagnose(&regressor, &ls, 1e-10),
         );
         prop_assume!(kappa(&ls_report) < 1e6);
         let bounds = names

@@ -106,7 +106,7 @@ fn pod_report_shows_the_proper_orthogonal_modes() {
 #[test]
 fn noise_robust_report_shows_the_noise_and_the_model_check() {
     use dampid::identify::identify_with_regressor;
-    use dampid::report_html::HtmlReport;
+    use dampid::report::html::HtmlReport;
     let text = std::fs::read_to_string("models/measured_chain.toml")
         .unwrap()
         .replace(

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use dampid::Error;
 use dampid::model_file::{load, parse};
-use dampid::period::detect_period;
+use dampid::prep::period::detect_period;
 use faer::Mat;
 
 /// A clean sinusoid with 37.29 samples per period (not a whole number) over 26.8
@@ -170,7 +170,7 @@ fn transient_from_rest_is_rejected_and_skipping_it_passes() {
 #[test]
 fn state_criterion_sees_the_transient_too() {
     let job = parse(&from_rest(0, false), "rest.toml", Path::new(".")).unwrap();
-    let without_energy = dampid::steady_state::check(
+    let without_energy = dampid::prep::steady_state::check(
         &job.source_records,
         &job.source_windows,
         None,
@@ -274,7 +274,7 @@ fn short_windows_up_to_the_end_of_a_short_record() {
             quadrature,
             ..RegressorSettings::default()
         };
-        let report = dampid::steady_state::check(
+        let report = dampid::prep::steady_state::check(
             std::slice::from_ref(&record),
             &settings,
             None,
@@ -301,7 +301,7 @@ fn short_windows_up_to_the_end_of_a_short_record() {
         ..RegressorSettings::default()
     };
     let report =
-        dampid::steady_state::check(&[coarse], &settings, None, &Default::default()).unwrap();
+        dampid::prep::steady_state::check(&[coarse], &settings, None, &Default::default()).unwrap();
     assert_eq!(
         report.windows.last().unwrap().window,
         report.windows.len() - 1

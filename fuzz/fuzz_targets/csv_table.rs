@@ -3,7 +3,7 @@
 
 #![no_main]
 
-use dampid::io::csv_table::Table;
+use dampid::io::table::Table;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|bytes: &[u8]| {

@@ -13,7 +13,7 @@ pub fn write(bytes: &[u8], extension: &str) -> PathBuf {
 }
 
 /// Checks the invariants every table read from a file must hold.
-pub fn check(table: &dampid::io::csv_table::Table) {
+pub fn check(table: &dampid::io::table::Table) {
     assert_eq!(table.headers.len(), table.columns.len());
     let rows = table.columns.first().map_or(0, Vec::len);
     for (header, column) in table.headers.iter().zip(&table.columns) {

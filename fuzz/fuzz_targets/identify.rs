@@ -13,7 +13,7 @@
 
 use arbitrary::{Arbitrary, Unstructured};
 use dampid::fit::{Bound, Constraints, Fixed};
-use dampid::nonperiodic::{Kinetic, NonPeriodicSettings, Potential, StorageModel};
+use dampid::regressor::nonperiodic::{Kinetic, NonPeriodicSettings, Potential, StorageModel};
 use dampid::prelude::*;
 use dampid::regressor::WorkForm;
 use dampid::terms::laws::Expression;
@@ -532,7 +532,7 @@ fuzz_target!(|input: Input| {
         Some(choice) => {
             let step = records.first().map_or(1.0, Record::step);
             let np = non_periodic(choice, n, step);
-            if let Ok(regressor) = dampid::nonperiodic::build(&model, &records, &np) {
+            if let Ok(regressor) = dampid::regressor::nonperiodic::build(&model, &records, &np) {
                 support::fit_and_check(&regressor, &settings.fit);
             }
         }

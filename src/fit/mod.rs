@@ -118,7 +118,7 @@ pub enum Weighting {
     Ordinary,
     /// Each equation weighted by the inverse standard deviation of its residual,
     /// propagated from the estimated sensor noise (needs the noise-robust pipeline;
-    /// see [`crate::noise`]).
+    /// see [`crate::regressor::robust`]).
     Propagated,
 }
 

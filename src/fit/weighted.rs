@@ -1,6 +1,6 @@
 //! Weighted least squares with propagated variances. Equation r's residual
 //! e_r = b_r − A_r θ has, to first order in the sensor noise, variance
-//! s_r²(θ) = Var e_r(θ) ([`crate::noise::RowNoise::variance`]). The fit minimises
+//! s_r²(θ) = Var e_r(θ) ([`crate::regressor::robust::RowNoise::variance`]). The fit minimises
 //!
 //! ```text
 //!   Σ_r (e_r / s_r)²,
@@ -11,12 +11,12 @@
 //! w_r = 1/s_r(θ), refit, until θ moves by less than 10⁻¹⁰ relative or after
 //! [`ITERATIONS`] fits. Bounds and constraints apply to every fit (clarabel works on the
 //! weighted rows). The plug-in covariance (Aᵀ W A)⁻¹ with W = diag(1/s_r²) is in
-//! [`crate::diagnostics`].
+//! [`crate::analysis::diagnostics`].
 
 use crate::error::Result;
 use crate::fit::{Fit, FitSettings, solve_rows};
-use crate::noise::NoiseModel;
 use crate::regressor::Regressor;
+use crate::regressor::robust::NoiseModel;
 
 /// Most fits of the reweighting iteration.
 pub(crate) const ITERATIONS: usize = 6;

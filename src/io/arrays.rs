@@ -4,7 +4,7 @@
 //! stored k × N with k < N is taken transposed. Every column must have the same length.
 
 use crate::error::{Error, Result};
-use crate::io::csv_table::Table;
+use crate::io::table::Table;
 
 /// Array data in column-major order with its shape (rows, columns).
 pub(crate) struct NamedArray {

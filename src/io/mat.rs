@@ -8,7 +8,7 @@ use matfile::{MatFile, NumericData};
 
 use crate::error::{Error, Result};
 use crate::io::arrays::{NamedArray, table_from_arrays};
-use crate::io::csv_table::Table;
+use crate::io::table::Table;
 
 fn real_values(data: &NumericData) -> Option<Vec<f64>> {
     macro_rules! convert {

@@ -1,22 +1,23 @@
-//! Reading and writing measurement files. Every format becomes a [`csv_table::Table`] of
+//! Reading and writing measurement files. Every format becomes a [`table::Table`] of
 //! named numeric columns, which model files refer to by name.
 //!
 //! | extension | reader | columns |
 //! |---|---|---|
-//! | `.csv` | [`csv_table::Table::read`] | header names |
+//! | `.csv` | [`table::Table::read`] | header names |
 //! | `.npy` | [`npy::read_npy`] | the file stem (`x`, or `x[1]`…`x[k]` for N × k) |
 //! | `.npz` | [`npy::read_npz`] | each array's name, as above |
 //! | `.mat` | [`mat::read_mat`] | each real numeric variable's name, as above |
 
 mod arrays;
-pub mod csv_table;
 pub mod mat;
 pub mod npy;
+pub mod pod_files;
+pub mod table;
 
 use std::path::Path;
 
 use crate::error::{Error, Result};
-use csv_table::Table;
+use table::Table;
 
 /// Reads a data file by its extension.
 pub fn read_table(path: &Path) -> Result<Table> {

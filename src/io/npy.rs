@@ -9,7 +9,7 @@ use npyz::{DType, NpyFile, Order, TypeChar};
 
 use crate::error::{Error, Result};
 use crate::io::arrays::{NamedArray, table_from_arrays};
-use crate::io::csv_table::Table;
+use crate::io::table::Table;
 
 fn data_error(file: &str, column: &str, message: impl std::fmt::Display) -> Error {
     Error::Data {

@@ -18,28 +18,28 @@ use toml::Spanned;
 
 pub use spec::*;
 
-use crate::design::DesignSettings;
+use crate::analysis::design::DesignSettings;
 use crate::error::{Error, Result};
 use crate::fit::{Bound, Constraints, Fixed, LinearConstraint, LinearTerm};
-use crate::harmonic::{HarmonicApproximation, SteppedSineTable};
 use crate::identify::IdentifySettings;
-use crate::io::csv_table::Table;
+use crate::io::table::Table;
 use crate::model::DampingModel;
-use crate::nonperiodic::{Kinetic, NonPeriodicSettings, Potential, StorageModel};
-use crate::period::{PeriodEstimate, detect_period};
-use crate::pod::Reduction;
+use crate::prep::harmonic::{HarmonicApproximation, SteppedSineTable};
+use crate::prep::period::{PeriodEstimate, detect_period};
+use crate::prep::pod::Reduction;
+use crate::prep::steady_state::{SteadyStateReport, SteadyStateSettings, StoredEnergy};
+use crate::prep::velocity::VelocitySource;
+use crate::prep::window::WindowSpec;
 use crate::progress::Progress;
 use crate::record::{Forcing, Record, RecordParts};
 use crate::reference::chain_stiffness;
+use crate::regressor::nonperiodic::{Kinetic, NonPeriodicSettings, Potential, StorageModel};
 use crate::regressor::{Regressor, RegressorSettings};
 use crate::simulate::{
     ConservativeForce, HarmonicForce, SimSettings, System, simulate_with_progress,
 };
-use crate::steady_state::{SteadyStateReport, SteadyStateSettings, StoredEnergy};
 use crate::terms::laws::{Coulomb, Expression, Linear, PowerLaw, Quadratic};
 use crate::terms::{Coefficients, Element, Term};
-use crate::velocity::VelocitySource;
-use crate::window::WindowSpec;
 
 /// Everything a model file asks for, ready to run.
 #[derive(Debug)]
@@ -79,13 +79,13 @@ pub struct Job {
 
 impl Job {
     /// How far each window of the source records is from periodic motion
-    /// ([`crate::steady_state`]); `None` in the non-periodic mode, whose balance holds
+    /// ([`crate::prep::steady_state`]); `None` in the non-periodic mode, whose balance holds
     /// over any window.
     pub fn steady_state(&self) -> Result<Option<SteadyStateReport>> {
         if self.non_periodic.is_some() {
             return Ok(None);
         }
-        crate::steady_state::check(
+        crate::prep::steady_state::check(
             &self.source_records,
             &self.source_windows,
             self.stored_energy.as_ref(),
@@ -95,7 +95,7 @@ impl Job {
     }
 
     /// The regressor the job identifies from: periodic windows
-    /// ([`Regressor::build`]) or the non-periodic balance ([`crate::nonperiodic::build`]).
+    /// ([`Regressor::build`]) or the non-periodic balance ([`crate::regressor::nonperiodic::build`]).
     pub fn regressor(&self) -> Result<Regressor> {
         self.regressor_of(&self.model)
     }
@@ -104,7 +104,7 @@ impl Job {
     /// mode (to compare models on the same equations).
     pub fn regressor_of(&self, model: &DampingModel) -> Result<Regressor> {
         match &self.non_periodic {
-            Some(settings) => crate::nonperiodic::build(model, &self.records, settings),
+            Some(settings) => crate::regressor::nonperiodic::build(model, &self.records, settings),
             None => Regressor::build(model, &self.records, &self.settings.regressor),
         }
     }
@@ -245,7 +245,7 @@ impl Context<'_> {
             .as_ref()
             .map(|p| {
                 self.at(p, |p| {
-                    crate::pod::reduce(&records, &reduction::pod_settings(p)?)
+                    crate::prep::pod::reduce(&records, &reduction::pod_settings(p)?)
                 })
             })
             .transpose()?;

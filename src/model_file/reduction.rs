@@ -4,8 +4,8 @@
 
 use super::spec::{HarmonicApproximationSpec, PhaseName, PodSpec};
 use crate::error::{Error, Result};
-use crate::harmonic::{HarmonicApproximation, PhaseReading};
-use crate::pod::{PodSettings, Retain};
+use crate::prep::harmonic::{HarmonicApproximation, PhaseReading};
+use crate::prep::pod::{PodSettings, Retain};
 
 /// `[pod]` as settings.
 pub(super) fn pod_settings(spec: &PodSpec) -> Result<PodSettings> {

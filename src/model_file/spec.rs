@@ -7,9 +7,9 @@ use std::collections::BTreeMap;
 use serde::Deserialize;
 use toml::Spanned;
 
-use crate::design::Criterion;
+use crate::analysis::design::Criterion;
 use crate::fit::Relation;
-use crate::quadrature::Quadrature;
+use crate::prep::quadrature::Quadrature;
 
 /// A whole model file.
 #[derive(Debug, Deserialize)]
@@ -42,7 +42,7 @@ pub struct ModelFileSpec {
     /// Identify by the synchronous harmonic approximation (paper eq. 4).
     pub harmonic_approximation: Option<Spanned<HarmonicApproximationSpec>>,
     /// Identify from records that are not periodic, with stored energy and constant
-    /// forces as extra unknowns (`dampid::nonperiodic`).
+    /// forces as extra unknowns (`dampid::regressor::nonperiodic`).
     pub non_periodic: Option<Spanned<NonPeriodicSpec>>,
 }
 
@@ -111,7 +111,7 @@ pub struct PodSpec {
     pub energy: Option<f64>,
     /// One basis per record (default, the paper's) or one shared by all.
     #[serde(default)]
-    pub basis: crate::pod::PodBasis,
+    pub basis: crate::prep::pod::PodBasis,
     /// Remove the column means before the decomposition (the paper does not).
     #[serde(default)]
     pub remove_mean: bool,
@@ -311,7 +311,7 @@ pub struct IdentificationSpec {
     /// K for spectral or harmonic-projection velocities.
     pub harmonics: Option<usize>,
     /// Noise correction: `"auto"` (with harmonic projection), `"ignore"`, `"correct"`.
-    pub noise: crate::noise::NoiseTreatment,
+    pub noise: crate::regressor::robust::NoiseTreatment,
     /// Equation weights: `"auto"`, `"ordinary"`, `"propagated"`.
     pub weighting: crate::fit::Weighting,
     /// Input and Coulomb work: `"velocity"` or `"derivative_free"`.
@@ -373,7 +373,7 @@ impl Default for IdentificationSpec {
             quadrature: Quadrature::default(),
             velocity: None,
             harmonics: None,
-            noise: crate::noise::NoiseTreatment::default(),
+            noise: crate::regressor::robust::NoiseTreatment::default(),
             weighting: crate::fit::Weighting::default(),
             work_form: crate::regressor::WorkForm::default(),
             cycles: 1,
@@ -383,8 +383,8 @@ impl Default for IdentificationSpec {
             bounds: BTreeMap::new(),
             fixed: BTreeMap::new(),
             constraints: Vec::new(),
-            max_energy_mismatch: crate::steady_state::DEFAULT_MAX_ENERGY_MISMATCH,
-            max_state_mismatch: crate::steady_state::DEFAULT_MAX_STATE_MISMATCH,
+            max_energy_mismatch: crate::prep::steady_state::DEFAULT_MAX_ENERGY_MISMATCH,
+            max_state_mismatch: crate::prep::steady_state::DEFAULT_MAX_STATE_MISMATCH,
             accept_transient: false,
         }
     }
@@ -474,7 +474,7 @@ pub struct RecordSpec {
     /// Driving period T …
     pub period: Option<f64>,
     /// … or driving frequency ω (rad per unit time); with neither, the period is
-    /// detected from the force columns (`dampid::period`).
+    /// detected from the force columns (`dampid::prep::period`).
     pub frequency: Option<f64>,
 }
 

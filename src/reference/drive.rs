@@ -1,5 +1,5 @@
 //! A closed-loop linear drive: the reference case of the non-periodic mode
-//! ([`crate::nonperiodic`]). A carriage of mass m on a guide with viscous friction c,
+//! ([`crate::regressor::nonperiodic`]). A carriage of mass m on a guide with viscous friction c,
 //! Coulomb friction F_c and a constant force f₀ (the weight on an inclined axis),
 //!
 //! ```text

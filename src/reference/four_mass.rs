@@ -17,15 +17,15 @@ use serde_json::{Value, json};
 use crate::error::Result;
 use crate::identify::{IdentifySettings, identify};
 use crate::model::DampingModel;
-use crate::quadrature::Quadrature;
+use crate::prep::quadrature::Quadrature;
+use crate::prep::velocity::VelocitySource;
+use crate::prep::window::WindowSpec;
 use crate::record::Record;
 use crate::regressor::RegressorSettings;
 use crate::report::FitReport;
 use crate::simulate::{ConservativeForce, HarmonicForce, SimSettings, System, simulate};
 use crate::terms::laws::Quadratic;
 use crate::terms::{Coefficients, Term};
-use crate::velocity::VelocitySource;
-use crate::window::WindowSpec;
 
 /// True linear damping coefficient of the four-mass chain.
 pub const FOUR_MASS_C: f64 = 0.15;

@@ -223,9 +223,9 @@ pub fn noise_study(
 /// equation, one equation per record.
 pub fn noise_study_settings(cycles: usize, robust: bool) -> crate::identify::IdentifySettings {
     use crate::fit::Weighting;
-    use crate::noise::NoiseTreatment;
-    use crate::velocity::VelocitySource;
-    use crate::window::WindowSpec;
+    use crate::prep::velocity::VelocitySource;
+    use crate::prep::window::WindowSpec;
+    use crate::regressor::robust::NoiseTreatment;
     let mut settings = crate::identify::IdentifySettings::default();
     settings.regressor.windows = WindowSpec {
         skip: 0,

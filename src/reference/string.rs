@@ -54,14 +54,14 @@ use serde::{Deserialize, Serialize};
 use crate::error::{Error, Result};
 use crate::identify::IdentifySettings;
 use crate::model::DampingModel;
-use crate::quadrature::Quadrature;
+use crate::prep::quadrature::Quadrature;
+use crate::prep::velocity::VelocitySource;
+use crate::prep::window::WindowSpec;
 use crate::record::{Forcing, Record, RecordParts};
 use crate::regressor::RegressorSettings;
 use crate::simulate::SimSettings;
 use crate::terms::laws::Quadratic;
 use crate::terms::{Coefficients, Element, Term};
-use crate::velocity::VelocitySource;
-use crate::window::WindowSpec;
 
 /// True linear damping coefficient c.
 pub const STRING_C: f64 = 0.4;

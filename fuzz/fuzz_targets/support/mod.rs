@@ -11,7 +11,7 @@ pub fn fit_and_check(regressor: &Regressor, settings: &FitSettings) {
     let Ok(fit) = dampid::fit::solve(regressor, settings) else {
         return;
     };
-    let diagnostics = dampid::diagnostics::diagnose(regressor, &fit, settings.rank_tolerance);
+    let diagnostics = dampid::analysis::diagnostics::diagnose(regressor, &fit, settings.rank_tolerance);
     check(&FitReport::new(regressor, fit, diagnostics));
 }
 

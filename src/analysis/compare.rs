@@ -1,0 +1,479 @@
+//! Comparing two damping models on the same equations: is the Coulomb term needed? Is
+//! one shared quadratic coefficient enough, or one per dashpot?
+//!
+//! Both models are fitted by least squares on the same windows (same b). With m
+//! equations, k_i the numerical rank of model i's column-scaled regressor and RSS_i its
+//! residual sum of squares (in the units of b):
+//!
+//! ```text
+//!   AIC = m ln(RSS/m) + 2k,        BIC = m ln(RSS/m) + k ln m        (lower is better)
+//! ```
+//!
+//! (Gaussian equation errors of one variance). The models are *nested* when every
+//! column of the smaller one lies in the column space of the larger one (relative
+//! residual of its projection below `nesting_tolerance`): a subset of terms, or one
+//! shared coefficient whose column is the sum of per-element columns. For nested models
+//! with d₁ = k_L − k_S > 0 and d₂ = m − k_L > 0 the F-test on the change in residual,
+//!
+//! ```text
+//!   F = ((RSS_S − RSS_L)/d₁) / (RSS_L/d₂),   p = P(F_{d₁,d₂} > F)
+//! ```
+//!
+//! (its upper tail from statrs, `src/special.rs`) decides: the
+//! larger model is needed when p < level (default 0.05), else the smaller suffices.
+//! AIC and BIC are reported beside it, and the conclusion says when they disagree. The
+//! F-test assumes errors of one variance; equations of very different amplitude violate
+//! that, so read p as a guide, not an exact probability.
+
+use std::fmt;
+
+use faer::Mat;
+use serde::{Deserialize, Serialize};
+
+use crate::analysis::stats::f_upper_tail;
+use crate::error::{Error, Result};
+use crate::fit::scaling::Scaling;
+use crate::model::DampingModel;
+use crate::record::Record;
+use crate::regressor::{Regressor, RegressorSettings};
+
+/// Settings of a comparison.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct CompareSettings {
+    /// Significance level of the F-test (default 0.05).
+    pub level: f64,
+    /// Numerical rank tolerance relative to σ_1 (default 1e-10).
+    pub rank_tolerance: f64,
+    /// Largest relative residual of a smaller model's column projected on the larger
+    /// model's column space for the models to count as nested (default 1e-6).
+    pub nesting_tolerance: f64,
+}
+
+impl Default for CompareSettings {
+    fn default() -> Self {
+        CompareSettings {
+            level: 0.05,
+            rank_tolerance: 1e-10,
+            nesting_tolerance: 1e-6,
+        }
+    }
+}
+
+impl CompareSettings {
+    /// Checks the settings themselves.
+    pub fn validate(&self) -> Result<()> {
+        if !(self.level > 0.0 && self.level < 1.0) {
+            return Err(Error::invalid(
+                "significance level",
+                self.level,
+                "must be in (0, 1)",
+            ));
+        }
+        if !(self.rank_tolerance > 0.0 && self.rank_tolerance < 1.0) {
+            return Err(Error::invalid(
+                "rank_tolerance",
+                self.rank_tolerance,
+                "must be in (0, 1)",
+            ));
+        }
+        if !(self.nesting_tolerance > 0.0 && self.nesting_tolerance < 1.0) {
+            return Err(Error::invalid(
+                "nesting_tolerance",
+                self.nesting_tolerance,
+                "must be in (0, 1)",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// One model's least-squares fit in the comparison.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ModelFit {
+    /// The model's label (e.g. its file).
+    pub label: String,
+    /// Its coefficient names.
+    pub coefficients: Vec<String>,
+    /// Least-squares values (minimum norm when rank deficient).
+    pub values: Vec<f64>,
+    /// k: numerical rank of its column-scaled regressor.
+    pub parameters: usize,
+    /// RSS = ‖b − Aθ‖².
+    pub residual_sum_of_squares: f64,
+    /// ‖b − Aθ‖/‖b‖.
+    pub relative_residual: f64,
+    /// Akaike information criterion.
+    pub aic: f64,
+    /// Bayesian (Schwarz) information criterion.
+    pub bic: f64,
+}
+
+/// Which of the two models.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Which {
+    /// The first model given.
+    First,
+    /// The second model given.
+    Second,
+}
+
+/// The F-test of nested models.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct FTest {
+    /// F.
+    pub statistic: f64,
+    /// d₁ = k_L − k_S.
+    pub numerator_degrees: usize,
+    /// d₂ = m − k_L.
+    pub denominator_degrees: usize,
+    /// P(F_{d₁,d₂} > F).
+    pub p_value: f64,
+}
+
+/// What the comparison concludes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Verdict {
+    /// Nested, and the larger model's extra terms reduce the residual significantly.
+    LargerNeeded,
+    /// Nested, and the smaller model explains the data as well, within the noise.
+    SmallerSuffices,
+    /// Nested, but the larger model adds nothing these data can see (same rank).
+    Equivalent,
+    /// Nested, but no equations to spare for the test (m = k_L).
+    NoRedundancy,
+    /// Not nested: only the information criteria compare them.
+    NotNested,
+}
+
+/// The comparison of two models on the same equations.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Comparison {
+    /// Equations m.
+    pub equations: usize,
+    /// The first model's fit.
+    pub first: ModelFit,
+    /// The second model's fit.
+    pub second: ModelFit,
+    /// The smaller of two nested models, if they are nested.
+    pub nested_in: Option<Which>,
+    /// The F-test, for nested models with d₁, d₂ > 0.
+    pub f_test: Option<FTest>,
+    /// Significance level.
+    pub level: f64,
+    /// The model AIC prefers.
+    pub aic_prefers: Which,
+    /// The model BIC prefers.
+    pub bic_prefers: Which,
+    /// The conclusion.
+    pub verdict: Verdict,
+    /// The conclusion in words.
+    pub text: String,
+}
+
+impl Comparison {
+    /// The fit of `which`.
+    pub fn model(&self, which: Which) -> &ModelFit {
+        match which {
+            Which::First => &self.first,
+            Which::Second => &self.second,
+        }
+    }
+}
+
+/// Builds both regressors from `records` and compares the models.
+pub fn compare(
+    first: (&str, &DampingModel),
+    second: (&str, &DampingModel),
+    records: &[Record],
+    regressor: &RegressorSettings,
+    settings: &CompareSettings,
+) -> Result<Comparison> {
+    let a = Regressor::build(first.1, records, regressor)?;
+    let b = Regressor::build(second.1, records, regressor)?;
+    compare_regressors((first.0, &a), (second.0, &b), settings)
+}
+
+/// The least-squares fit of one regressor at its numerical rank, with the orthonormal
+/// basis of its column space (for the nesting test).
+struct Solved {
+    fit: ModelFit,
+    basis: Mat<f64>,
+}
+
+fn solve(label: &str, r: &Regressor, tolerance: f64) -> Result<Solved> {
+    let a = r.matrix();
+    let (m, p) = a.shape();
+    if p == 0 {
+        return Err(Error::Empty {
+            what: format!("the coefficients of model {label}"),
+        });
+    }
+    if m == 0 {
+        return Err(Error::TooFewEquations {
+            equations: 0,
+            coefficients: p,
+        });
+    }
+    let scaling = Scaling::of(a, r.rhs());
+    let a_s = scaling.matrix(a);
+    let b_s = scaling.rhs(r.rhs());
+    let svd = a_s.thin_svd().map_err(|e| Error::Numerical {
+        stage: "model comparison SVD".into(),
+        detail: format!("{e:?}"),
+    })?;
+    let (u, s, v) = (svd.U(), svd.S().column_vector(), svd.V());
+    let q = m.min(p);
+    let largest = if q > 0 { s[0] } else { 0.0 };
+    let rank = (0..q)
+        .filter(|&i| s[i] > tolerance * largest && s[i] > 0.0)
+        .count();
+    let mut theta_s = vec![0.0; p];
+    let mut fitted = vec![0.0; m];
+    for i in 0..rank {
+        let ub: f64 = (0..m).map(|r| u[(r, i)] * b_s[(r, 0)]).sum();
+        for (j, t) in theta_s.iter_mut().enumerate() {
+            *t += v[(j, i)] * ub / s[i];
+        }
+        for (row, value) in fitted.iter_mut().enumerate() {
+            *value += u[(row, i)] * ub;
+        }
+    }
+    let rss_s: f64 = (0..m).map(|i| (b_s[(i, 0)] - fitted[i]).powi(2)).sum();
+    let rss = rss_s * scaling.rhs * scaling.rhs;
+    let mf = m as f64;
+    let log_likelihood_term = mf * (rss.max(f64::MIN_POSITIVE) / mf).ln();
+    let basis = Mat::from_fn(m, rank, |i, k| u[(i, k)]);
+    Ok(Solved {
+        fit: ModelFit {
+            label: label.to_string(),
+            coefficients: r.columns().to_vec(),
+            values: scaling.unscale(&theta_s),
+            parameters: rank,
+            residual_sum_of_squares: rss,
+            relative_residual: rss_s.sqrt(),
+            aic: log_likelihood_term + 2.0 * rank as f64,
+            bic: log_likelihood_term + rank as f64 * mf.ln(),
+        },
+        basis,
+    })
+}
+
+/// Largest relative residual of `small`'s columns projected on the span of `basis`.
+fn nesting_residual(small: &Regressor, basis: &Mat<f64>) -> f64 {
+    let a = small.matrix();
+    let (m, p) = a.shape();
+    (0..p)
+        .map(|j| {
+            let column: Vec<f64> = (0..m).map(|i| a[(i, j)]).collect();
+            let norm = crate::fit::scaling::norm(&column);
+            if norm == 0.0 {
+                return 0.0;
+            }
+            let mut residual: Vec<f64> = column.iter().map(|c| c / norm).collect();
+            for k in 0..basis.ncols() {
+                let dot: f64 = (0..m).map(|i| basis[(i, k)] * residual[i]).sum();
+                for (i, r) in residual.iter_mut().enumerate() {
+                    *r -= dot * basis[(i, k)];
+                }
+            }
+            crate::fit::scaling::norm(&residual)
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Compares two models already turned into regressors on the same windows.
+pub fn compare_regressors(
+    first: (&str, &Regressor),
+    second: (&str, &Regressor),
+    settings: &CompareSettings,
+) -> Result<Comparison> {
+    settings.validate()?;
+    let (ra, rb) = (first.1, second.1);
+    if ra.equations() != rb.equations() {
+        return Err(Error::mismatch(
+            "equations of the two models (they must be built from the same windows)",
+            ra.equations(),
+            rb.equations(),
+        ));
+    }
+    if let Some(row) = (0..ra.equations()).find(|&i| ra.rhs()[i] != rb.rhs()[i]) {
+        return Err(Error::invalid(
+            &format!("input work of equation {row}"),
+            rb.rhs()[row],
+            &format!(
+                "differs between the two models' regressors ({}): they must be built from the same records and windows",
+                ra.rhs()[row]
+            ),
+        ));
+    }
+    let m = ra.equations();
+    let a = solve(first.0, ra, settings.rank_tolerance)?;
+    let b = solve(second.0, rb, settings.rank_tolerance)?;
+    // The candidate smaller model: fewer parameters (ties: fewer columns, then first).
+    let (small_which, small_r, large) =
+        if (b.fit.parameters, rb.columns().len()) < (a.fit.parameters, ra.columns().len()) {
+            (Which::Second, rb, &a)
+        } else {
+            (Which::First, ra, &b)
+        };
+    let nested = nesting_residual(small_r, &large.basis) <= settings.nesting_tolerance;
+    let (small_fit, large_fit) = match small_which {
+        Which::First => (&a.fit, &b.fit),
+        Which::Second => (&b.fit, &a.fit),
+    };
+    let large_which = other(small_which);
+    let d1 = large_fit.parameters.saturating_sub(small_fit.parameters);
+    let d2 = m.saturating_sub(large_fit.parameters);
+    let f_test = (nested && d1 > 0 && d2 > 0).then(|| {
+        let reduction =
+            (small_fit.residual_sum_of_squares - large_fit.residual_sum_of_squares).max(0.0);
+        let statistic = if large_fit.residual_sum_of_squares > 0.0 {
+            (reduction / d1 as f64) / (large_fit.residual_sum_of_squares / d2 as f64)
+        } else if reduction > 0.0 {
+            f64::INFINITY
+        } else {
+            0.0
+        };
+        FTest {
+            statistic,
+            numerator_degrees: d1,
+            denominator_degrees: d2,
+            p_value: f_upper_tail(statistic, d1 as f64, d2 as f64),
+        }
+    });
+    let prefers = |x: f64, y: f64| if y < x { Which::Second } else { Which::First };
+    let aic_prefers = prefers(a.fit.aic, b.fit.aic);
+    let bic_prefers = prefers(a.fit.bic, b.fit.bic);
+    let verdict = match (nested, &f_test) {
+        (false, _) => Verdict::NotNested,
+        (true, Some(t)) if t.p_value < settings.level => Verdict::LargerNeeded,
+        (true, Some(_)) => Verdict::SmallerSuffices,
+        (true, None) if d1 == 0 => Verdict::Equivalent,
+        (true, None) => Verdict::NoRedundancy,
+    };
+    let mut comparison = Comparison {
+        equations: m,
+        first: a.fit,
+        second: b.fit,
+        nested_in: nested.then_some(small_which),
+        f_test,
+        level: settings.level,
+        aic_prefers,
+        bic_prefers,
+        verdict,
+        text: String::new(),
+    };
+    comparison.text = conclusion(&comparison, small_which, large_which);
+    Ok(comparison)
+}
+
+fn other(which: Which) -> Which {
+    match which {
+        Which::First => Which::Second,
+        Which::Second => Which::First,
+    }
+}
+
+fn conclusion(c: &Comparison, small: Which, large: Which) -> String {
+    let (s, l) = (c.model(small), c.model(large));
+    let extra: Vec<&str> = l
+        .coefficients
+        .iter()
+        .filter(|n| !s.coefficients.contains(n))
+        .map(String::as_str)
+        .collect();
+    let extra = if !extra.is_empty() && s.coefficients.iter().all(|n| l.coefficients.contains(n)) {
+        format!(
+            "its extra terms ({})",
+            crate::analysis::identifiability::list(&extra)
+        )
+    } else {
+        "its extra freedom".to_string()
+    };
+    let mut text = match (c.verdict, &c.f_test) {
+        (Verdict::LargerNeeded, Some(t)) => format!(
+            "{} is needed: {extra} reduce the residual sum of squares from {:.4e} to {:.4e} (F = {:.4e} with ({}, {}) degrees of freedom, p = {:.3e} < {})",
+            l.label,
+            s.residual_sum_of_squares,
+            l.residual_sum_of_squares,
+            t.statistic,
+            t.numerator_degrees,
+            t.denominator_degrees,
+            t.p_value,
+            c.level
+        ),
+        (Verdict::SmallerSuffices, Some(t)) => format!(
+            "{} suffices: the extra terms of {} do not reduce the residual beyond the noise (F = {:.4e} with ({}, {}) degrees of freedom, p = {:.3} ≥ {})",
+            s.label,
+            l.label,
+            t.statistic,
+            t.numerator_degrees,
+            t.denominator_degrees,
+            t.p_value,
+            c.level
+        ),
+        (Verdict::Equivalent, _) => format!(
+            "{} adds nothing these data can see: both models span the same equations",
+            l.label
+        ),
+        (Verdict::NoRedundancy, _) => format!(
+            "the models are nested, but {} fits the {} equations exactly: no equations are left to test it; add windows or records",
+            l.label, c.equations
+        ),
+        _ => "the models are not nested, so no F-test; compare them by AIC and BIC".to_string(),
+    };
+    let name = |w: Which| c.model(w).label.clone();
+    match (c.aic_prefers == c.bic_prefers, c.verdict) {
+        (true, Verdict::LargerNeeded) if c.aic_prefers != large => text.push_str(&format!(
+            "; but AIC and BIC prefer {}: the improvement is small for its cost",
+            name(c.aic_prefers)
+        )),
+        (true, Verdict::SmallerSuffices) if c.aic_prefers != small => {
+            text.push_str(&format!("; but AIC and BIC prefer {}", name(c.aic_prefers)))
+        }
+        (true, _) => text.push_str(&format!("; AIC and BIC prefer {}", name(c.aic_prefers))),
+        (false, _) => text.push_str(&format!(
+            "; AIC prefers {}, BIC prefers {}",
+            name(c.aic_prefers),
+            name(c.bic_prefers)
+        )),
+    }
+    text
+}
+
+impl fmt::Display for Comparison {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(f, "{} equations", self.equations)?;
+        let width = self
+            .first
+            .label
+            .chars()
+            .count()
+            .max(self.second.label.chars().count())
+            .max(5);
+        writeln!(
+            f,
+            "{:<width$} {:>6} {:>13} {:>11} {:>13} {:>13}",
+            "model", "k", "RSS", "rel. resid.", "AIC", "BIC"
+        )?;
+        for m in [&self.first, &self.second] {
+            writeln!(
+                f,
+                "{:<width$} {:>6} {:>13.4e} {:>11.3e} {:>13.4e} {:>13.4e}",
+                m.label, m.parameters, m.residual_sum_of_squares, m.relative_residual, m.aic, m.bic
+            )?;
+        }
+        match self.nested_in {
+            Some(w) => writeln!(
+                f,
+                "{} is nested in {}",
+                self.model(w).label,
+                self.model(other(w)).label
+            )?,
+            None => writeln!(f, "the models are not nested")?,
+        }
+        writeln!(f, "{}", self.text)
+    }
+}

@@ -1,0 +1,286 @@
+//! What the data say about a fit.
+//!
+//! - Residuals e = b − A θ (input work minus identified dissipated work, per window),
+//!   the relative residual ‖e‖/‖b‖, and the residual bias: mean(e)/mean(|b|) with the
+//!   counts of positive and negative residuals. A model that misses a mechanism leaves
+//!   residuals of one sign (the paper's one-mode string fit is "negatively biased").
+//! - Conditioning of the column-scaled regressor A_s (unit-norm columns): its singular
+//!   values, κ = σ_1/σ_p, and the numerical rank (σ_i > tol·σ_1). κ near 1 means the
+//!   columns are nearly orthogonal; κ ≫ 1 means some combination of coefficients is
+//!   barely determined by the data.
+//! - Standard errors from the residual variance when there is redundancy: with F the
+//!   coefficients not held at a bound, s² = ‖e‖²/(m − |F|) and
+//!   Cov(θ_F) = s² (A_Fᵀ A_F)⁻¹ = s² S⁻¹ V Σ⁻² Vᵀ S⁻¹ from the SVD of the scaled A_F;
+//!   the correlation matrix follows. Coefficients held at a bound get none.
+//! - With propagated weights (the noise-robust pipeline), every quantity above except
+//!   the residuals is computed on the weighted rows e_r/s_r, and the plug-in covariance
+//!   (A_Fᵀ W A_F)⁻¹, W = diag(1/s_r²), gives standard errors that need no residual
+//!   variance. The weighted residual sum of squares χ² = Σ (e_r/s_r)² against its
+//!   m − |F| degrees of freedom checks the model: a χ² far above its degrees of freedom
+//!   (upper-tail probability below 1%) says the residuals are larger than the noise
+//!   explains, so the model misses a mechanism or the noise is not white.
+//! - Identifiability (see [`crate::analysis::identifiability`]): practically zero singular values
+//!   against the noise level of the equations, near-null directions and determined
+//!   combinations by name, variance inflation factors.
+
+use std::fmt;
+
+use faer::Mat;
+use serde::{Deserialize, Serialize};
+
+use crate::analysis::identifiability::{Identifiability, analyse};
+use crate::fit::Fit;
+use crate::fit::scaling::{Scaling, norm};
+use crate::regressor::Regressor;
+
+/// Mean signed residual relative to the mean |b|, and the sign counts.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ResidualBias {
+    /// mean(e) / mean(|b|).
+    pub relative_mean: f64,
+    /// Residuals > 0 (input work exceeds identified dissipation).
+    pub positive: usize,
+    /// Residuals < 0.
+    pub negative: usize,
+}
+
+/// Correlation between the free coefficients.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Correlation {
+    /// Coefficient names, in matrix order.
+    pub names: Vec<String>,
+    /// Row-major correlation matrix.
+    pub matrix: Vec<Vec<f64>>,
+}
+
+impl fmt::Display for Correlation {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let width = self.names.iter().map(|n| n.len()).max().unwrap_or(0).max(7);
+        writeln!(f, "correlation of the estimates:")?;
+        write!(f, "  {:width$}", "")?;
+        for n in &self.names {
+            write!(f, " {n:>width$}")?;
+        }
+        writeln!(f)?;
+        for (n, row) in self.names.iter().zip(&self.matrix) {
+            write!(f, "  {n:<width$}")?;
+            for r in row {
+                write!(f, " {r:>width$.3}")?;
+            }
+            writeln!(f)?;
+        }
+        Ok(())
+    }
+}
+
+/// Diagnostics of one fit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Diagnostics {
+    /// e = b − A θ.
+    pub residuals: Vec<f64>,
+    /// ‖e‖ / ‖b‖.
+    pub relative_residual: f64,
+    /// Bias of the residuals.
+    pub residual_bias: ResidualBias,
+    /// Singular values of the column-scaled regressor, descending.
+    pub singular_values: Vec<f64>,
+    /// σ_1/σ_p; infinite when the regressor is rank deficient.
+    pub condition_number: f64,
+    /// Numerical rank.
+    pub rank: usize,
+    /// Standard error per coefficient (None when not estimable).
+    pub std_errors: Vec<Option<f64>>,
+    /// Correlation of the free coefficients, when standard errors exist.
+    pub correlation: Option<Correlation>,
+    /// What the data can and cannot determine.
+    pub identifiability: Identifiability,
+    /// With propagated weights: the model-adequacy check and plug-in standard errors.
+    pub weighted: Option<WeightedDiagnostics>,
+}
+
+/// Diagnostics of a fit weighted by propagated residual variances.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct WeightedDiagnostics {
+    /// χ² = Σ_r (e_r/s_r)².
+    pub chi_square: f64,
+    /// m − |F|.
+    pub degrees_of_freedom: usize,
+    /// P(χ²_dof > χ²): small values (< 0.01) say the residuals exceed the noise. None
+    /// without degrees of freedom.
+    pub p_value: Option<f64>,
+    /// Plug-in standard errors √diag((A_Fᵀ W A_F)⁻¹) (None for coefficients at a bound).
+    pub plug_in_std_errors: Vec<Option<f64>>,
+    /// s_r, the propagated standard deviation of each equation's residual.
+    pub residual_std: Vec<f64>,
+}
+
+/// Computes the diagnostics of `fit` on `regressor` (on its weighted rows when the fit
+/// was weighted).
+pub fn diagnose(regressor: &Regressor, fit: &Fit, rank_tolerance: f64) -> Diagnostics {
+    let Some(std) = &fit.residual_std else {
+        return diagnose_rows(regressor, fit, rank_tolerance, None);
+    };
+    let weights = crate::fit::inverse_std(std);
+    let Ok(weighted) = regressor.weighted(&weights) else {
+        return diagnose_rows(regressor, fit, rank_tolerance, None);
+    };
+    let physical = diagnose_rows(regressor, fit, rank_tolerance, None);
+    let mut diagnostics = diagnose_rows(&weighted, fit, rank_tolerance, Some(std));
+    diagnostics.residuals = physical.residuals;
+    diagnostics.relative_residual = physical.relative_residual;
+    diagnostics.residual_bias = physical.residual_bias;
+    diagnostics
+}
+
+fn diagnose_rows(
+    regressor: &Regressor,
+    fit: &Fit,
+    rank_tolerance: f64,
+    residual_std: Option<&Vec<f64>>,
+) -> Diagnostics {
+    let a = regressor.matrix();
+    let b = regressor.rhs();
+    let (m, p) = a.shape();
+    let theta = Mat::from_fn(p, 1, |j, _| fit.coefficients[j]);
+    let fitted = a * &theta;
+    let residuals: Vec<f64> = (0..m).map(|i| b[i] - fitted[(i, 0)]).collect();
+    let b_norm = norm(b);
+    let relative_residual = if b_norm > 0.0 {
+        norm(&residuals) / b_norm
+    } else {
+        norm(&residuals)
+    };
+    let mean_abs_b = b.iter().map(|v| v.abs()).sum::<f64>() / m.max(1) as f64;
+    let mean_e = residuals.iter().sum::<f64>() / m.max(1) as f64;
+    let residual_bias = ResidualBias {
+        relative_mean: if mean_abs_b > 0.0 {
+            mean_e / mean_abs_b
+        } else {
+            mean_e
+        },
+        positive: residuals.iter().filter(|e| **e > 0.0).count(),
+        negative: residuals.iter().filter(|e| **e < 0.0).count(),
+    };
+
+    let scaling = Scaling::of(a, b);
+    let singular_values = scaling.matrix(a).singular_values().unwrap_or_default();
+    let (rank, condition_number) = rank_and_condition(&singular_values, rank_tolerance);
+
+    let free: Vec<usize> = (0..p)
+        .filter(|j| !fit.active.iter().any(|c| c.name == regressor.columns()[*j]))
+        .collect();
+    let unit = unit_covariance(a, &scaling, &free, rank_tolerance);
+    let dof = m.saturating_sub(free.len());
+    let (std_errors, correlation) = unit
+        .as_ref()
+        .filter(|_| dof > 0)
+        .map(|cov| {
+            let variance = residuals.iter().map(|e| e * e).sum::<f64>() / dof as f64;
+            let (se, corr) = standard_errors(cov, variance, &free, p, regressor.columns());
+            (se, Some(corr))
+        })
+        .unwrap_or((vec![None; p], None));
+    let weighted = residual_std.map(|std| {
+        let chi_square: f64 = residuals.iter().map(|e| e * e).sum();
+        let plug_in_std_errors = match &unit {
+            Some(cov) => standard_errors(cov, 1.0, &free, p, regressor.columns()).0,
+            None => vec![None; p],
+        };
+        WeightedDiagnostics {
+            chi_square,
+            degrees_of_freedom: dof,
+            p_value: (dof > 0)
+                .then(|| crate::analysis::stats::chi_square_upper_tail(chi_square, dof as f64)),
+            plug_in_std_errors,
+            residual_std: std.clone(),
+        }
+    });
+    Diagnostics {
+        residuals,
+        relative_residual,
+        residual_bias,
+        singular_values,
+        condition_number,
+        rank,
+        std_errors,
+        correlation,
+        identifiability: analyse(regressor, rank_tolerance),
+        weighted,
+    }
+}
+
+fn rank_and_condition(s: &[f64], tolerance: f64) -> (usize, f64) {
+    let Some(&largest) = s.first() else {
+        return (0, f64::INFINITY);
+    };
+    let rank = s
+        .iter()
+        .filter(|v| **v > tolerance * largest && **v > 0.0)
+        .count();
+    let condition = if rank == s.len() {
+        largest / s[s.len() - 1]
+    } else {
+        f64::INFINITY
+    };
+    (rank, condition)
+}
+
+/// (A_Fᵀ A_F)⁻¹ = S⁻¹ V Σ⁻² Vᵀ S⁻¹ of the free columns (from the SVD of the scaled
+/// A_F), when m > |F| and the free columns have full rank.
+fn unit_covariance(
+    a: &Mat<f64>,
+    scaling: &Scaling,
+    free: &[usize],
+    rank_tolerance: f64,
+) -> Option<Mat<f64>> {
+    let m = a.nrows();
+    let f = free.len();
+    if f == 0 || m <= f {
+        return None;
+    }
+    let a_free = Mat::from_fn(m, f, |i, k| a[(i, free[k])] / scaling.columns[free[k]]);
+    let svd = a_free.thin_svd().ok()?;
+    let (s, v) = (svd.S().column_vector(), svd.V());
+    let (rank, _) = rank_and_condition(&(0..f).map(|i| s[i]).collect::<Vec<_>>(), rank_tolerance);
+    if rank < f {
+        return None;
+    }
+    Some(Mat::from_fn(f, f, |j, k| {
+        let sum: f64 = (0..f).map(|i| v[(j, i)] * v[(k, i)] / (s[i] * s[i])).sum();
+        sum / (scaling.columns[free[j]] * scaling.columns[free[k]])
+    }))
+}
+
+/// Standard errors (one per coefficient, None when not free) and the correlation of
+/// the free coefficients for Cov(θ_F) = `variance` · `unit`.
+fn standard_errors(
+    unit: &Mat<f64>,
+    variance: f64,
+    free: &[usize],
+    coefficients: usize,
+    names: &[String],
+) -> (Vec<Option<f64>>, Correlation) {
+    let f = free.len();
+    let mut std_errors = vec![None; coefficients];
+    for (k, &j) in free.iter().enumerate() {
+        std_errors[j] = Some((variance * unit[(k, k)]).max(0.0).sqrt());
+    }
+    let matrix = (0..f)
+        .map(|j| {
+            (0..f)
+                .map(|k| {
+                    let denom = (unit[(j, j)] * unit[(k, k)]).sqrt();
+                    if denom > 0.0 {
+                        unit[(j, k)] / denom
+                    } else if j == k {
+                        1.0
+                    } else {
+                        0.0
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    let names = free.iter().map(|&j| names[j].clone()).collect();
+    (std_errors, Correlation { names, matrix })
+}

@@ -1,0 +1,12 @@
+//! Analyses of a regressor and its fit: diagnostics (residuals, conditioning, standard
+//! errors), identifiability (near-null directions and determined combinations by
+//! name), the window bootstrap, model comparison and experiment design. They read a
+//! [`crate::regressor::Regressor`] and a [`crate::fit::Fit`]; nothing in the chain
+//! before them imports them.
+
+pub mod bootstrap;
+pub mod compare;
+pub mod design;
+pub mod diagnostics;
+pub mod identifiability;
+pub(crate) mod stats;

@@ -1,0 +1,708 @@
+//! Least-squares Fourier series in the harmonics of the driving frequency ω:
+//!
+//!   x(t) ≈ a_0 + Σ_{k ∈ S} (a_k cos kωt + b_k sin kωt),
+//!
+//! over a set S of harmonic orders (usually 1..K), fitted over the samples of a window
+//! of whole periods. The basis is exactly T-periodic whatever the sampling step, so it
+//! serves windows whose period is not a whole number of samples (the four-mass case has
+//! T/h = 101.67). Its derivative gives spectral velocities, and its mean a_0 times the
+//! window span gives the spectral quadrature rule. When T/h is an integer and
+//! K < T/(2h), the fit reproduces the truncated discrete Fourier series.
+//!
+//! Harmonic k as a phasor: a_k cos θ + b_k sin θ = A_k cos(θ − φ_k) with
+//! A_k = √(a_k² + b_k²) and φ_k = atan2(b_k, a_k) (a phase lag).
+//!
+//! **Noise floor and automatic harmonic selection** ([`select_harmonics`]). Fit every
+//! harmonic 1..K_max (K_max the default count, 45% of Nyquist, at most 100) over the m samples of the
+//! window's P whole periods. For white noise of variance σ² each coefficient has
+//! variance ≈ 2σ²/m, so a bin that carries noise only has power P = a² + b² ~
+//! exponential with mean 4σ²/m, whose median is (4σ²/m)·ln 2. The noise bins are:
+//!
+//! - with P ≥ 2, the bins of the fit's residual at the frequencies jω/P that are not
+//!   harmonics of ω (j not a multiple of P, jω/P below K_max ω; at most
+//!   [`MAX_NOISE_BINS`], evenly strided), plus the harmonics in the upper half of the
+//!   band (K_max/2 < k ≤ K_max). The residual has no periodic content left, so a
+//!   transient or a strong harmonic cannot leak into these bins;
+//! - with P = 1 (no bins between harmonics), the harmonics 2..K_max.
+//!
+//! Per channel the per-bin noise power is estimated robustly as
+//!
+//!   P̂_noise = median over the noise bins of P / ln 2,   σ̂_A = √P̂_noise,
+//!
+//! (a median ignores the minority of bins that carry signal or leakage), floored at
+//! 10⁻¹² max_k A_k for round-off. The per-sample noise standard deviation follows as
+//! σ̂ = σ̂_A √m / 2. Harmonic k is kept when A_k > 3.5 σ̂_A in any channel; the
+//! fundamental is always kept. A noise-only bin passes with probability
+//! exp(−3.5²) ≈ 5·10⁻⁶.
+
+use faer::{Mat, MatRef};
+
+use crate::error::{Error, Result};
+
+/// Amplitude over the per-bin noise amplitude above which a harmonic is kept.
+pub(crate) const NOISE_THRESHOLD: f64 = 3.5;
+
+/// Round-off floor of the noise amplitude, relative to a channel's largest harmonic.
+const ROUND_OFF: f64 = 1e-12;
+
+/// Most harmonics the noise-floor selection fits (K_max = min(45% of Nyquist, 100)):
+/// structural responses rarely carry measurable content above the 100th harmonic of
+/// the drive, and the fit's cost grows with K_max³.
+pub(crate) const MAX_SELECTED_HARMONICS: usize = 100;
+
+/// Most residual bins between harmonics read for the noise floor (a median over 256
+/// exponential powers has a relative standard error of about 9%).
+pub(crate) const MAX_NOISE_BINS: usize = 256;
+
+/// Default number of harmonics for a period of `samples_per_period` samples: 45% of
+/// the Nyquist count, leaving a margin so that the basis stays well conditioned when
+/// the period is not a whole number of samples.
+pub(crate) fn default_harmonics(samples_per_period: f64) -> usize {
+    ((0.45 * samples_per_period).floor() as usize).max(1)
+}
+
+/// A harmonic A cos(ωt − φ): amplitude A ≥ 0 and phase lag φ in (−π, π].
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Phasor {
+    /// Amplitude A.
+    pub amplitude: f64,
+    /// Phase lag φ (rad).
+    pub phase: f64,
+}
+
+impl Phasor {
+    /// The phasor of a cos θ + b sin θ.
+    pub(crate) fn from_cos_sin(a: f64, b: f64) -> Self {
+        Phasor {
+            amplitude: a.hypot(b),
+            phase: b.atan2(a),
+        }
+    }
+}
+
+/// φ wrapped into (−π, π].
+pub(crate) fn wrap_phase(phase: f64) -> f64 {
+    let two_pi = 2.0 * std::f64::consts::PI;
+    let wrapped = phase - two_pi * (phase / two_pi).round();
+    if wrapped <= -std::f64::consts::PI {
+        wrapped + two_pi
+    } else {
+        wrapped
+    }
+}
+
+/// The samples of a window that cover its whole periods.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct WholePeriods {
+    /// Whole driving periods k.
+    pub(crate) periods: usize,
+    /// Samples t_0 .. t_0 + kT, i.e. ⌊kT/h⌋ + 1 (fewer when the record ends first).
+    pub(crate) samples: usize,
+}
+
+impl WholePeriods {
+    /// The whole periods of a window of `count` samples that may read up to `available`
+    /// samples: k = round(count·h/T) (the quadrature rules read between ⌊kT/h⌋ and
+    /// ⌊kT/h⌋ + 2 samples), and the samples inside [t_0, t_0 + kT].
+    pub(crate) fn of_window(
+        count: usize,
+        available: usize,
+        step: f64,
+        period: f64,
+    ) -> Result<Self> {
+        let per_period = period / step;
+        let periods = (count as f64 / per_period).round() as usize;
+        if periods == 0 {
+            return Err(Error::invalid(
+                "samples per window",
+                count as f64,
+                &format!(
+                    "a harmonic fit needs a window of whole periods, and {count} samples cover less than half of one period of {per_period:.3} samples"
+                ),
+            ));
+        }
+        let length = periods as f64 * per_period;
+        let whole = if (length - length.round()).abs() <= 1e-9 * length.max(1.0) {
+            length.round()
+        } else {
+            length.floor()
+        };
+        let samples = (whole as usize + 1).min(available.max(count));
+        if samples < 3 {
+            return Err(Error::invalid(
+                "samples per window",
+                samples as f64,
+                "a harmonic fit needs at least 3 samples (a mean and one harmonic)",
+            ));
+        }
+        Ok(WholePeriods { periods, samples })
+    }
+}
+
+/// A harmonic basis on the times t_i = i h, i = 0..m, with harmonic orders S.
+pub(crate) struct HarmonicBasis {
+    omega: f64,
+    orders: Vec<usize>,
+    step: f64,
+    samples: usize,
+}
+
+impl HarmonicBasis {
+    /// Harmonics 1..=K. Checks that the fit is overdetermined and below the Nyquist
+    /// frequency.
+    pub(crate) fn new(omega: f64, harmonics: usize, step: f64, samples: usize) -> Result<Self> {
+        let columns = 2 * harmonics + 1;
+        if harmonics == 0 {
+            return Err(Error::invalid("harmonics", 0.0, "must be at least 1"));
+        }
+        if samples < columns {
+            return Err(Error::invalid(
+                "harmonics",
+                harmonics as f64,
+                &format!(
+                    "a window of {samples} samples can fit at most {} harmonics",
+                    (samples.saturating_sub(1)) / 2
+                ),
+            ));
+        }
+        Self::with_orders(omega, (1..=harmonics).collect(), step, samples)
+    }
+
+    /// The harmonic orders `orders` (ascending, distinct, ≥ 1).
+    pub(crate) fn with_orders(
+        omega: f64,
+        orders: Vec<usize>,
+        step: f64,
+        samples: usize,
+    ) -> Result<Self> {
+        let Some(&highest) = orders.last() else {
+            return Err(Error::invalid("harmonics", 0.0, "must be at least 1"));
+        };
+        if orders[0] == 0 || orders.windows(2).any(|w| w[0] >= w[1]) {
+            return Err(Error::invalid(
+                "harmonics",
+                orders[0] as f64,
+                "harmonic orders must be ascending, distinct and at least 1",
+            ));
+        }
+        let columns = 2 * orders.len() + 1;
+        if samples < columns {
+            return Err(Error::invalid(
+                "harmonics",
+                orders.len() as f64,
+                &format!(
+                    "a window of {samples} samples can fit at most {} harmonics",
+                    (samples.saturating_sub(1)) / 2
+                ),
+            ));
+        }
+        let nyquist = std::f64::consts::PI / step;
+        if highest as f64 * omega >= nyquist {
+            return Err(Error::invalid(
+                "harmonics",
+                highest as f64,
+                &format!(
+                    "harmonic {highest} of ω = {omega} is above the Nyquist frequency {nyquist}"
+                ),
+            ));
+        }
+        Ok(HarmonicBasis {
+            omega,
+            orders,
+            step,
+            samples,
+        })
+    }
+
+    pub(crate) fn columns(&self) -> usize {
+        2 * self.orders.len() + 1
+    }
+
+    /// Angular frequency of column j ≥ 1 and whether it is a cosine.
+    fn column(&self, j: usize) -> (f64, bool) {
+        let order = self.orders[(j - 1) / 2] as f64;
+        (order * self.omega, j % 2 == 1)
+    }
+
+    /// rows × (2|S|+1) design matrix [1, cos k₁ωt, sin k₁ωt, cos k₂ωt, …] at t_i = i h.
+    pub(crate) fn design(&self, rows: usize) -> Mat<f64> {
+        let mut design = Mat::zeros(rows, self.columns());
+        for i in 0..rows {
+            design[(i, 0)] = 1.0;
+            self.for_each_phasor(i, |q, cos, sin| {
+                design[(i, 2 * q + 1)] = cos;
+                design[(i, 2 * q + 2)] = sin;
+            });
+        }
+        design
+    }
+
+    /// Calls `f(q, cos k_q ωt_i, sin k_q ωt_i)` for every order of S at t_i = i h, from
+    /// the powers of the phasor e^{iωt_i} (one sine and cosine per sample; the
+    /// recurrence loses about k·ε, far below any noise).
+    fn for_each_phasor(&self, i: usize, mut f: impl FnMut(usize, f64, f64)) {
+        let angle = self.omega * i as f64 * self.step;
+        let (s1, c1) = angle.sin_cos();
+        let (mut c, mut s) = (1.0, 0.0);
+        let mut q = 0;
+        for k in 1..=*self.orders.last().unwrap_or(&0) {
+            (c, s) = (c * c1 - s * s1, s * c1 + c * s1);
+            if self.orders[q] == k {
+                f(q, c, s);
+                q += 1;
+            }
+        }
+    }
+
+    /// BᵀB of the design over the fitted samples, in closed form: with θ = ωh and the
+    /// sums C(α) = Σ_{i<m} cos αi = cos((m−1)α/2) sin(mα/2)/sin(α/2) and
+    /// S(α) = Σ_{i<m} sin αi = sin((m−1)α/2) sin(mα/2)/sin(α/2) (C(0) = m, S(0) = 0),
+    /// ⟨cos k, cos l⟩ = ½[C((k−l)θ) + C((k+l)θ)], ⟨sin k, sin l⟩ = ½[C((k−l)θ) − C((k+l)θ)],
+    /// ⟨cos k, sin l⟩ = ½[S((k+l)θ) − S((k−l)θ)], ⟨1, cos k⟩ = C(kθ), ⟨1, sin k⟩ = S(kθ).
+    fn gram(&self) -> Mat<f64> {
+        let m = self.samples as f64;
+        let theta = self.omega * self.step;
+        let sums = |order: i64| -> (f64, f64) {
+            if order == 0 {
+                return (m, 0.0);
+            }
+            let alpha = order as f64 * theta;
+            let ratio = (m * alpha / 2.0).sin() / (alpha / 2.0).sin();
+            let (s, c) = ((m - 1.0) * alpha / 2.0).sin_cos();
+            (c * ratio, s * ratio)
+        };
+        let p = self.columns();
+        let mut g = Mat::zeros(p, p);
+        g[(0, 0)] = m;
+        for (q, &k) in self.orders.iter().enumerate() {
+            let (ck, sk) = sums(k as i64);
+            g[(0, 2 * q + 1)] = ck;
+            g[(0, 2 * q + 2)] = sk;
+            for (r, &l) in self.orders.iter().enumerate().skip(q) {
+                let (cd, sd) = sums(k as i64 - l as i64);
+                let (cs, ss) = sums((k + l) as i64);
+                g[(2 * q + 1, 2 * r + 1)] = 0.5 * (cd + cs);
+                g[(2 * q + 2, 2 * r + 2)] = 0.5 * (cd - cs);
+                g[(2 * q + 1, 2 * r + 2)] = 0.5 * (ss - sd);
+                g[(2 * q + 2, 2 * r + 1)] = 0.5 * (ss + sd);
+            }
+        }
+        for j in 0..p {
+            for i in 0..j {
+                g[(j, i)] = g[(i, j)];
+            }
+        }
+        g
+    }
+
+    /// R (upper triangular) with RᵀR = BᵀB: the R of a QR factorization of the design.
+    /// From the Cholesky factor of the closed-form Gram matrix (the harmonic basis over
+    /// whole periods is nearly orthogonal, so BᵀB is well conditioned), or from a QR
+    /// of the design if Cholesky fails.
+    pub(crate) fn r_factor(&self) -> Mat<f64> {
+        match self.gram().llt(faer::Side::Lower) {
+            Ok(llt) => llt.L().transpose().to_owned(),
+            Err(_) => self.design(self.samples).qr().thin_R().to_owned(),
+        }
+    }
+
+    /// Bᵀ values for `values` (m × n), by the phasor recurrence.
+    fn transpose_times(&self, values: MatRef<'_, f64>) -> Mat<f64> {
+        let n = values.ncols();
+        let mut out = Mat::zeros(self.columns(), n);
+        let mut row = vec![0.0; self.columns()];
+        for i in 0..self.samples {
+            row[0] = 1.0;
+            self.for_each_phasor(i, |q, cos, sin| {
+                row[2 * q + 1] = cos;
+                row[2 * q + 2] = sin;
+            });
+            for c in 0..n {
+                let x = values[(i, c)];
+                if x != 0.0 {
+                    for (k, b) in row.iter().enumerate() {
+                        out[(k, c)] += b * x;
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// The design row [1, cos k₁ωt, sin k₁ωt, …] at time t (from the first sample).
+    pub(crate) fn row_at(&self, t: f64) -> Vec<f64> {
+        (0..self.columns())
+            .map(|j| {
+                if j == 0 {
+                    return 1.0;
+                }
+                let (kw, cosine) = self.column(j);
+                if cosine {
+                    (kw * t).cos()
+                } else {
+                    (kw * t).sin()
+                }
+            })
+            .collect()
+    }
+
+    /// The derivative of the design row at time t.
+    pub(crate) fn derivative_row_at(&self, t: f64) -> Vec<f64> {
+        (0..self.columns())
+            .map(|j| {
+                if j == 0 {
+                    return 0.0;
+                }
+                let (kw, cosine) = self.column(j);
+                if cosine {
+                    -kw * (kw * t).sin()
+                } else {
+                    kw * (kw * t).cos()
+                }
+            })
+            .collect()
+    }
+
+    /// The time derivative of the design matrix at t_i = i h, i = 0..rows.
+    pub(crate) fn derivative_design(&self, rows: usize) -> Mat<f64> {
+        let mut design = Mat::zeros(rows, self.columns());
+        for i in 0..rows {
+            self.for_each_phasor(i, |q, cos, sin| {
+                let kw = self.orders[q] as f64 * self.omega;
+                design[(i, 2 * q + 1)] = -kw * sin;
+                design[(i, 2 * q + 2)] = kw * cos;
+            });
+        }
+        design
+    }
+
+    /// Least-squares coefficients ((2|S|+1) × n: a_0, then a_k, b_k per order) of every
+    /// column of `values` (m × n).
+    /// By the normal equations RᵀR c = Bᵀx with R from [`HarmonicBasis::r_factor`]:
+    /// O(m p n + p³) instead of the O(m p²) of a QR of the design.
+    pub(crate) fn fit(&self, values: MatRef<'_, f64>) -> Mat<f64> {
+        self.fit_with(&self.r_factor(), values)
+    }
+
+    /// [`HarmonicBasis::fit`] with R already computed. Each column is fitted relative
+    /// to its first sample (added back to a_0), so that a constant signal gives exactly
+    /// zero harmonics and a large offset costs no accuracy.
+    pub(crate) fn fit_with(&self, r: &Mat<f64>, values: MatRef<'_, f64>) -> Mat<f64> {
+        let first: Vec<f64> = (0..values.ncols())
+            .map(|j| {
+                if values.nrows() > 0 {
+                    values[(0, j)]
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let shifted = Mat::from_fn(values.nrows(), values.ncols(), |i, j| {
+            values[(i, j)] - first[j]
+        });
+        let mut c = self.transpose_times(shifted.as_ref());
+        r.transpose().solve_lower_triangular_in_place(c.as_mut());
+        r.solve_upper_triangular_in_place(c.as_mut());
+        for (j, offset) in first.iter().enumerate() {
+            c[(0, j)] += offset;
+        }
+        c
+    }
+
+    /// The phasor of the `index`-th order of S in every column of `coefficients`.
+    pub(crate) fn phasors(&self, coefficients: &Mat<f64>, index: usize) -> Vec<Phasor> {
+        (0..coefficients.ncols())
+            .map(|c| {
+                Phasor::from_cos_sin(
+                    coefficients[(2 * index + 1, c)],
+                    coefficients[(2 * index + 2, c)],
+                )
+            })
+            .collect()
+    }
+
+    /// The derivative of the fitted series at t_i = i h, i = 0..rows (rows may exceed
+    /// the fitted samples: the series is periodic).
+    pub(crate) fn derivative(&self, coefficients: &Mat<f64>, rows: usize) -> Mat<f64> {
+        self.derivative_design(rows) * coefficients
+    }
+
+    /// Fits every column of `values` (m × n) and returns the derivative of the fitted
+    /// series at the same samples (m × n).
+    pub(crate) fn differentiate(&self, values: MatRef<'_, f64>) -> Mat<f64> {
+        let coefficients = self.fit(values);
+        self.derivative(&coefficients, self.samples)
+    }
+
+    /// Weights w (length m) such that Σ w_i p(t_i) = span · a_0(p): the integral over
+    /// the window of the fitted periodic series. w = span · Q R^{-T} e_0 for B = QR.
+    ///
+    /// Since Q = B R⁻¹, w = span · B z with z = R⁻¹ R⁻ᵀ e_0: two triangular solves and
+    /// one product, without forming Q.
+    pub(crate) fn integration_weights(&self, span: f64) -> Vec<f64> {
+        let design = self.design(self.samples);
+        let r = self.r_factor();
+        let mut z = Mat::<f64>::zeros(self.columns(), 1);
+        z[(0, 0)] = 1.0;
+        r.transpose().solve_lower_triangular_in_place(z.as_mut());
+        r.solve_upper_triangular_in_place(z.as_mut());
+        let w = design * z;
+        (0..self.samples).map(|i| span * w[(i, 0)]).collect()
+    }
+}
+
+/// Which harmonics stand above the noise floor of a window, and the evidence.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct HarmonicSelection {
+    /// Whole driving periods in the window.
+    pub periods: usize,
+    /// Samples fitted (those inside the whole periods).
+    pub samples: usize,
+    /// Harmonic orders kept, ascending; always starts with 1.
+    pub kept: Vec<usize>,
+    /// Per channel, the estimated per-bin noise amplitude σ̂_A.
+    pub noise_amplitude: Vec<f64>,
+    /// Per channel, the estimated noise standard deviation per sample, σ̂ = σ̂_A √m / 2.
+    pub noise_std: Vec<f64>,
+    /// Per channel, the amplitude A_k of harmonics k = 1..=K_max of the full fit.
+    pub amplitudes: Vec<Vec<f64>>,
+}
+
+/// Selects the harmonics of ω = 2π/`period` that stand above the noise floor in any
+/// column of `x` (m × n samples of `periods` whole periods), by the rule of the module
+/// doc.
+pub(crate) fn select_harmonics(
+    x: MatRef<'_, f64>,
+    step: f64,
+    period: f64,
+    periods: usize,
+) -> Result<HarmonicSelection> {
+    let m = x.nrows();
+    let omega = 2.0 * std::f64::consts::PI / period;
+    let most = default_harmonics(period / step)
+        .min(MAX_SELECTED_HARMONICS)
+        .min((m.saturating_sub(1)) / 2);
+    let basis = HarmonicBasis::new(omega, most, step, m)?;
+    let coefficients = basis.fit(x);
+    let between = if periods >= 2 {
+        let residual = x - basis.design(m) * &coefficients;
+        Some(between_harmonics(
+            residual.as_ref(),
+            step,
+            omega,
+            periods,
+            most,
+        ))
+    } else {
+        None
+    };
+    let mut kept = vec![1];
+    let mut noise_amplitude = Vec::with_capacity(x.ncols());
+    let mut amplitudes = Vec::with_capacity(x.ncols());
+    let mut above = vec![false; most + 1];
+    for channel in 0..x.ncols() {
+        let amps: Vec<f64> = (0..most)
+            .map(|k| coefficients[(2 * k + 1, channel)].hypot(coefficients[(2 * k + 2, channel)]))
+            .collect();
+        let mut powers: Vec<f64> = match &between {
+            // the upper half of the band, then the residual bins between harmonics
+            Some(bins) => amps[most / 2..]
+                .iter()
+                .map(|a| a * a)
+                .chain(bins.iter().map(|powers| powers[channel]))
+                .collect(),
+            None => amps[1..].iter().map(|a| a * a).collect(),
+        };
+        let floor = ROUND_OFF * amps.iter().cloned().fold(0.0, f64::max);
+        let noise = median(&mut powers).map_or(floor, |median| {
+            (median / std::f64::consts::LN_2).sqrt().max(floor)
+        });
+        for (k, a) in amps.iter().enumerate().skip(1) {
+            if *a > NOISE_THRESHOLD * noise {
+                above[k + 1] = true;
+            }
+        }
+        noise_amplitude.push(noise);
+        amplitudes.push(amps);
+    }
+    kept.extend((2..=most).filter(|&k| above[k]));
+    let noise_std = noise_amplitude
+        .iter()
+        .map(|a| a * (m as f64).sqrt() / 2.0)
+        .collect();
+    Ok(HarmonicSelection {
+        periods,
+        samples: m,
+        kept,
+        noise_amplitude,
+        noise_std,
+        amplitudes,
+    })
+}
+
+/// The median of `values` (reordered), or None when empty.
+fn median(values: &mut [f64]) -> Option<f64> {
+    if values.is_empty() {
+        return None;
+    }
+    values.sort_by(f64::total_cmp);
+    let mid = values.len() / 2;
+    Some(if values.len() % 2 == 1 {
+        values[mid]
+    } else {
+        0.5 * (values[mid - 1] + values[mid])
+    })
+}
+
+/// Powers a² + b² per channel of the residual (m × n) at the frequencies jω/P between
+/// the harmonics, j = 1..P·K with j not a multiple of P, at most [`MAX_NOISE_BINS`] of
+/// them evenly strided; a = (2/m) Σ r_i cos(jωt_i/P), b likewise with sin. The sines
+/// and cosines come from powers of the phasor e^{iωt_i/P}, one sincos per sample.
+fn between_harmonics(
+    residual: MatRef<'_, f64>,
+    step: f64,
+    omega: f64,
+    periods: usize,
+    most: usize,
+) -> Vec<Vec<f64>> {
+    let (m, n) = residual.shape();
+    let all: Vec<usize> = (1..periods * most).filter(|j| j % periods != 0).collect();
+    let stride = all.len().div_ceil(MAX_NOISE_BINS).max(1);
+    let bins: Vec<usize> = all.into_iter().step_by(stride).collect();
+    let Some(&highest) = bins.last() else {
+        return Vec::new();
+    };
+    // sums[b][c] = (Σ r cos, Σ r sin) for bin b and channel c
+    let mut sums = vec![vec![(0.0, 0.0); n]; bins.len()];
+    let base = omega / periods as f64 * step;
+    let row: Vec<&[f64]> = (0..n).map(|c| crate::record::col(residual, c)).collect();
+    for i in 0..m {
+        let (s1, c1) = (base * i as f64).sin_cos();
+        let (mut cos, mut sin) = (1.0, 0.0);
+        let mut b = 0;
+        for j in 1..=highest {
+            (cos, sin) = (cos * c1 - sin * s1, sin * c1 + cos * s1);
+            if bins[b] == j {
+                for (sum, r) in sums[b].iter_mut().zip(&row) {
+                    sum.0 += cos * r[i];
+                    sum.1 += sin * r[i];
+                }
+                b += 1;
+            }
+        }
+    }
+    let scale = 2.0 / m as f64;
+    sums.into_iter()
+        .map(|per_channel| {
+            per_channel
+                .into_iter()
+                .map(|(a, b)| (scale * a).powi(2) + (scale * b).powi(2))
+                .collect()
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// x = 1 + 0.5 cos ωt − 0.2 sin 3ωt sampled with T/h = 37.3 (not an integer):
+    /// the derivative must be exact to round-off, v = −0.5ω sin ωt − 0.6ω cos 3ωt.
+    #[test]
+    fn differentiates_band_limited_signal_exactly_on_incommensurate_grid() {
+        let omega = 2.0 * std::f64::consts::PI / 3.73;
+        let h = 0.1;
+        let m = 75; // two periods (74.6 samples) and a bit
+        let x = Mat::from_fn(m, 1, |i, _| {
+            let t = i as f64 * h;
+            1.0 + 0.5 * (omega * t).cos() - 0.2 * (3.0 * omega * t).sin()
+        });
+        let basis = HarmonicBasis::new(omega, 8, h, m).unwrap();
+        let v = basis.differentiate(x.as_ref());
+        for i in 0..m {
+            let t = i as f64 * h;
+            let exact = -0.5 * omega * (omega * t).sin() - 0.6 * omega * (3.0 * omega * t).cos();
+            assert!((v[(i, 0)] - exact).abs() < 1e-10, "sample {i}");
+        }
+    }
+
+    /// ∫_0^T cos²(ωt) dt = T/2 exactly from samples that do not close the period.
+    #[test]
+    fn integration_weights_are_exact_for_trigonometric_polynomials() {
+        let period = 3.73;
+        let omega = 2.0 * std::f64::consts::PI / period;
+        let h = 0.1;
+        let m = 38; // t = 0 .. 3.7 < T
+        let basis = HarmonicBasis::new(omega, 5, h, m).unwrap();
+        let w = basis.integration_weights(period);
+        let integral: f64 = (0..m)
+            .map(|i| w[i] * (omega * i as f64 * h).cos().powi(2))
+            .sum();
+        assert!((integral - period / 2.0).abs() < 1e-12);
+    }
+
+    /// A chosen set of orders {1, 4} fits x = cos ωt + 0.1 sin 4ωt exactly and gives its
+    /// phasors: 0.1 sin θ = 0.1 cos(θ − π/2).
+    #[test]
+    fn fits_a_set_of_orders_and_reads_phasors() {
+        let omega = 2.0 * std::f64::consts::PI / 2.91;
+        let (h, m) = (0.1, 30);
+        let x = Mat::from_fn(m, 1, |i, _| {
+            let t = i as f64 * h;
+            (omega * t).cos() + 0.1 * (4.0 * omega * t).sin()
+        });
+        let basis = HarmonicBasis::with_orders(omega, vec![1, 4], h, m).unwrap();
+        let c = basis.fit(x.as_ref());
+        let first = basis.phasors(&c, 0)[0];
+        let fourth = basis.phasors(&c, 1)[0];
+        assert!((first.amplitude - 1.0).abs() < 1e-12 && first.phase.abs() < 1e-12);
+        assert!((fourth.amplitude - 0.1).abs() < 1e-12);
+        assert!((fourth.phase - std::f64::consts::FRAC_PI_2).abs() < 1e-10);
+        assert!(HarmonicBasis::with_orders(omega, vec![2, 2], h, m).is_err());
+        assert!(HarmonicBasis::with_orders(omega, vec![], h, m).is_err());
+    }
+
+    /// Each rule's window of k periods maps back to k whole periods and the ⌊kT/h⌋ + 1
+    /// samples inside them (T/h = 101.67: 102 samples for one period, 204 for two).
+    #[test]
+    fn whole_periods_of_every_rule() {
+        let (h, period) = (0.1, 10.167);
+        for cycles in [1usize, 2, 7] {
+            let span = cycles as f64 * period;
+            let inside = (span / h).floor() as usize + 1;
+            for rule in [
+                crate::prep::quadrature::Quadrature::Rectangular,
+                crate::prep::quadrature::Quadrature::Trapezoid,
+                crate::prep::quadrature::Quadrature::Spectral,
+            ] {
+                let count = rule.samples(span, h);
+                let whole = WholePeriods::of_window(count, 10_000, h, period).unwrap();
+                assert_eq!(whole.periods, cycles, "{rule:?}");
+                assert_eq!(whole.samples, inside, "{rule:?}");
+            }
+        }
+        assert!(WholePeriods::of_window(40, 10_000, h, period).is_err());
+    }
+
+    #[test]
+    fn wraps_phases_into_the_half_open_interval() {
+        use std::f64::consts::PI;
+        assert_eq!(wrap_phase(PI), PI);
+        assert!((wrap_phase(-PI) - PI).abs() < 1e-15);
+        assert!((wrap_phase(3.0 * PI / 2.0) + PI / 2.0).abs() < 1e-15);
+        assert!((wrap_phase(0.3 + 4.0 * PI) - 0.3).abs() < 1e-14);
+    }
+
+    #[test]
+    fn rejects_more_harmonics_than_samples_allow() {
+        assert!(matches!(
+            HarmonicBasis::new(1.0, 10, 0.01, 15),
+            Err(Error::InvalidParameter { .. })
+        ));
+        // harmonic 40 of ω = 1 is above Nyquist π/0.1 ≈ 31.4
+        assert!(matches!(
+            HarmonicBasis::new(1.0, 40, 0.1, 1000),
+            Err(Error::InvalidParameter { .. })
+        ));
+    }
+}

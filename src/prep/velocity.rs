@@ -1,0 +1,226 @@
+//! Velocities for a window's samples: measured, or estimated from displacements.
+//!
+//! - **Central differences**: v_i = (x_{i+1} − x_{i−1}) / 2h, second order, using the
+//!   record's samples just outside the window when they exist and the one-sided
+//!   second-order forms (∓3x_i ± 4x_{i±1} ∓ x_{i±2}) / 2h at the record's ends. The
+//!   error on a harmonic of frequency kω is a relative −(kωh)²/6.
+//! - **Spectral**: the derivative of the least-squares Fourier series in the harmonics
+//!   of the driving frequency fitted over the window (see `src/fourier.rs`). Exact for
+//!   periodic, band-limited motion whether or not the period is a whole number of
+//!   samples; with K below the default it also low-pass filters sensor noise.
+//! - **Harmonic projection**: the window's whole periods t_0 .. t_0 + kT (k = the
+//!   periods the quadrature rule spans, ⌊kT/h⌋ + 1 samples) are projected by least
+//!   squares onto a Fourier series in harmonics of ω = 2π/T,
+//!
+//!   ```text
+//!     x(t) ≈ a_0 + Σ_{q ∈ S} (a_q cos qωt + b_q sin qωt),
+//!     v(t) = Σ_{q ∈ S} qω (b_q cos qωt − a_q sin qωt),
+//!   ```
+//!
+//!   and the series' derivative is evaluated at every sample the rule reads. With
+//!   `harmonics: Some(K)`, S = {1..K}. With `harmonics: None`, S is chosen from the
+//!   noise floor of the window ([`harmonic_selection`]): fit every harmonic up to
+//!   K_max = 45% of Nyquist; per displacement channel, estimate the per-bin noise
+//!   amplitude σ̂_A from the median power of the out-of-band harmonics 2..K_max,
+//!   σ̂_A² = median P_q / ln 2 (the median of an exponential is its mean times ln 2;
+//!   the few harmonics that carry signal do not move a median), floored at 10⁻¹² of the
+//!   channel's largest harmonic for round-off; keep harmonic q when its amplitude
+//!   A_q = √(a_q² + b_q²) exceeds 3.5 σ̂_A in any channel, and always keep the
+//!   fundamental. A noise-only harmonic passes with probability e^{−3.5²} ≈ 5·10⁻⁶, so
+//!   S holds the harmonics the motion really has, and noise in the others is dropped:
+//!   for white displacement noise σ the velocity noise is σ ω √(Σ_{q∈S} q² · 2/m)
+//!   instead of ≈ σ/(h√2) for central differences. `docs/velocities.md` compares the
+//!   three estimators on noisy data.
+
+use faer::{Mat, MatRef};
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::prep::fourier::{HarmonicBasis, WholePeriods, default_harmonics, select_harmonics};
+use crate::record::{Record, col};
+
+pub use crate::prep::fourier::HarmonicSelection;
+
+/// A window's velocities: borrowed from the record when measured, else estimated.
+pub enum WindowVelocities<'a> {
+    /// A view into the record's measured velocities.
+    Measured(MatRef<'a, f64>),
+    /// Velocities estimated for this window.
+    Estimated(Mat<f64>),
+}
+
+impl WindowVelocities<'_> {
+    /// The velocities as a view (samples × DOFs).
+    pub fn as_ref(&self) -> MatRef<'_, f64> {
+        match self {
+            WindowVelocities::Measured(v) => *v,
+            WindowVelocities::Estimated(v) => v.as_ref(),
+        }
+    }
+}
+
+/// Where the velocities come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum VelocitySource {
+    /// The record's measured (or simulated) velocities.
+    Measured,
+    /// Central differences of the displacements.
+    CentralDifference,
+    /// Derivative of a least-squares Fourier series in harmonics of the drive.
+    /// `harmonics: None` uses 45% of the Nyquist count for the period.
+    Spectral {
+        /// Number of harmonics K.
+        harmonics: Option<usize>,
+    },
+    /// Derivative of the least-squares projection of the window's whole periods on
+    /// harmonics of the drive (the default: with `NoiseTreatment::Auto` it runs the
+    /// noise-robust pipeline, see [`crate::regressor::robust`]). `harmonics: None` keeps the harmonics that stand above
+    /// the noise floor (see the module doc); `Some(K)` keeps 1..K.
+    HarmonicProjection {
+        /// Number of harmonics K, or `None` to choose them from the noise floor.
+        harmonics: Option<usize>,
+    },
+}
+
+impl Default for VelocitySource {
+    /// Harmonic projection on the harmonics above the noise floor.
+    fn default() -> Self {
+        VelocitySource::HarmonicProjection { harmonics: None }
+    }
+}
+
+impl VelocitySource {
+    /// Velocities (count × n) for samples `start..start + count` of `record`.
+    pub fn window_velocities<'a>(
+        &self,
+        record: &'a Record,
+        start: usize,
+        count: usize,
+    ) -> Result<WindowVelocities<'a>> {
+        let n = record.dofs();
+        match *self {
+            VelocitySource::Measured => {
+                let v = record
+                    .velocities()
+                    .ok_or_else(|| Error::MissingVelocities {
+                        record: record.label().to_string(),
+                    })?;
+                Ok(WindowVelocities::Measured(v.subrows(start, count)))
+            }
+            VelocitySource::CentralDifference => {
+                let x = record.displacements();
+                let last = record.samples() - 1;
+                let h2 = 2.0 * record.step();
+                let mut v = Mat::zeros(count, n);
+                for j in 0..n {
+                    let xj = col(x, j);
+                    let vj = v.col_as_slice_mut(j);
+                    // The one-sided forms are written in differences, so that a
+                    // constant signal gives exactly zero (−3a + 4a − a does not).
+                    for (k, out) in vj.iter_mut().enumerate() {
+                        let i = start + k;
+                        *out = if i == 0 {
+                            (4.0 * (xj[1] - xj[0]) - (xj[2] - xj[0])) / h2
+                        } else if i == last {
+                            (4.0 * (xj[last] - xj[last - 1]) - (xj[last] - xj[last - 2])) / h2
+                        } else {
+                            (xj[i + 1] - xj[i - 1]) / h2
+                        };
+                    }
+                }
+                Ok(WindowVelocities::Estimated(without_round_off(
+                    v, record, start,
+                )))
+            }
+            VelocitySource::Spectral { harmonics } => {
+                let omega = 2.0 * std::f64::consts::PI / record.period();
+                let k =
+                    harmonics.unwrap_or_else(|| default_harmonics(record.period() / record.step()));
+                let basis = HarmonicBasis::new(omega, k, record.step(), count)?;
+                let v = basis.differentiate(record.displacements().subrows(start, count));
+                Ok(WindowVelocities::Estimated(without_round_off(
+                    v, record, start,
+                )))
+            }
+            VelocitySource::HarmonicProjection { harmonics } => {
+                let whole = whole_periods(record, start, count)?;
+                let x = record.displacements().subrows(start, whole.samples);
+                let orders = match harmonics {
+                    // K = 0 gives no orders, which the basis rejects.
+                    Some(k) => (1..=k).collect(),
+                    None => {
+                        select_harmonics(x, record.step(), record.period(), whole.periods)?.kept
+                    }
+                };
+                let omega = 2.0 * std::f64::consts::PI / record.period();
+                let basis =
+                    HarmonicBasis::with_orders(omega, orders, record.step(), whole.samples)?;
+                let coefficients = basis.fit(x);
+                let v = basis.derivative(&coefficients, count);
+                Ok(WindowVelocities::Estimated(without_round_off(
+                    v, record, start,
+                )))
+            }
+        }
+    }
+}
+
+/// An estimated velocity no larger than this times max|x|/h over the window is the
+/// round-off of differentiating a displacement that does not move.
+const ROUND_OFF_VELOCITY: f64 = 8.0 * f64::EPSILON;
+
+/// Zeroes the estimated velocities (window rows from `start`) of every DOF whose
+/// displacement does not move beyond round-off: a constant signal (a still DOF, a stuck
+/// sensor) then does exactly zero work, instead of round-off velocities that column
+/// scaling would turn into a coefficient of any size.
+fn without_round_off(mut v: Mat<f64>, record: &Record, start: usize) -> Mat<f64> {
+    let x = record.displacements();
+    for j in 0..v.ncols() {
+        let xj = col(x, j);
+        let end = start.saturating_add(v.nrows()).min(xj.len());
+        let largest = xj[start.min(end)..end]
+            .iter()
+            .fold(0.0f64, |m, a| m.max(a.abs()));
+        let floor = ROUND_OFF_VELOCITY * largest / record.step();
+        let vj = v.col_as_slice_mut(j);
+        if vj.iter().all(|a| a.abs() <= floor) {
+            vj.fill(0.0);
+        }
+    }
+    v
+}
+
+/// The whole periods of the window of `count` samples from `start` of `record`.
+fn whole_periods(record: &Record, start: usize, count: usize) -> Result<WholePeriods> {
+    if start.saturating_add(count) > record.samples() {
+        return Err(Error::RecordTooShort {
+            record: record.label().to_string(),
+            needed: start.saturating_add(count),
+            available: record.samples(),
+        });
+    }
+    WholePeriods::of_window(
+        count,
+        record.samples() - start,
+        record.step(),
+        record.period(),
+    )
+}
+
+/// The harmonics that [`VelocitySource::HarmonicProjection`] with `harmonics: None`
+/// keeps for the window of `count` samples from `start` of `record`, with the noise
+/// floor and harmonic amplitudes of every displacement channel (see the module doc).
+pub fn harmonic_selection(
+    record: &Record,
+    start: usize,
+    count: usize,
+) -> Result<HarmonicSelection> {
+    let whole = whole_periods(record, start, count)?;
+    select_harmonics(
+        record.displacements().subrows(start, whole.samples),
+        record.step(),
+        record.period(),
+        whole.periods,
+    )
+}

@@ -1,0 +1,117 @@
+//! Windows of whole driving periods. Window j of a record starts at sample
+//! s_j = skip + round(j · kT/h) and spans kT in time; the quadrature rule decides which
+//! samples inside it are read and with which weights.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::prep::quadrature::Quadrature;
+use crate::record::Record;
+
+/// How to cut records into windows.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct WindowSpec {
+    /// Samples to skip at the start of each record (transient).
+    pub skip: usize,
+    /// Whole driving periods per window (k ≥ 1).
+    pub cycles: usize,
+    /// How many windows per record: `None` takes as many as fit, `Some(j)` requires j.
+    pub count: Option<usize>,
+}
+
+impl Default for WindowSpec {
+    /// One window of one period per record, starting at the first sample.
+    fn default() -> Self {
+        WindowSpec {
+            skip: 0,
+            cycles: 1,
+            count: Some(1),
+        }
+    }
+}
+
+/// One window: the source of one equation of the regressor.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Window {
+    /// Index of the record in the list given to the regressor.
+    pub record: usize,
+    /// Index of the window within its record.
+    pub index: usize,
+    /// First sample.
+    pub start: usize,
+    /// Time span kT.
+    pub span: f64,
+    /// Whole periods k.
+    pub cycles: usize,
+}
+
+impl WindowSpec {
+    /// Checks the settings themselves.
+    pub fn validate(&self) -> Result<()> {
+        if self.cycles == 0 {
+            return Err(Error::invalid(
+                "cycles",
+                0.0,
+                "a window needs at least one whole period",
+            ));
+        }
+        if self.count == Some(0) {
+            return Err(Error::invalid("count", 0.0, "ask for at least one window"));
+        }
+        Ok(())
+    }
+
+    /// The windows of `record` (its index in the list is `record_index`).
+    pub fn windows(
+        &self,
+        record: &Record,
+        record_index: usize,
+        quadrature: Quadrature,
+    ) -> Result<Vec<Window>> {
+        self.validate()?;
+        let span = self.cycles as f64 * record.period();
+        let length = span / record.step();
+        // A window shorter than one step would not advance from one window to the
+        // next: with `count: None` the loop below would never end. The quadrature rules
+        // reject such a window anyway; say so before cutting any.
+        if length.is_nan() || length < 1.0 {
+            return Err(Error::invalid(
+                "window span",
+                span,
+                &format!(
+                    "is shorter than one sample step h = {}; record with a smaller step",
+                    record.step()
+                ),
+            ));
+        }
+        let needed_by_rule = quadrature.samples(span, record.step());
+        // Saturating arithmetic: absurd skips, counts or spans must end in
+        // RecordTooShort, never in an overflow.
+        let start_of = |j: usize| {
+            self.skip
+                .saturating_add((j as f64 * length).round() as usize)
+        };
+        let fits = |j: usize| start_of(j).saturating_add(needed_by_rule) <= record.samples();
+        let wanted = self.count.unwrap_or(usize::MAX);
+        let mut windows = Vec::new();
+        while windows.len() < wanted && fits(windows.len()) {
+            let index = windows.len();
+            windows.push(Window {
+                record: record_index,
+                index,
+                start: start_of(index),
+                span,
+                cycles: self.cycles,
+            });
+        }
+        let required = self.count.unwrap_or(1);
+        if windows.len() < required {
+            return Err(Error::RecordTooShort {
+                record: record.label().to_string(),
+                needed: start_of(required - 1).saturating_add(needed_by_rule),
+                available: record.samples(),
+            });
+        }
+        Ok(windows)
+    }
+}

@@ -1,0 +1,100 @@
+//! Noise-robust identification: the energy balance squares sensor noise, so columns
+//! built from noisy velocity estimates are biased and equations of very different
+//! accuracy are mixed. For periodic records whose velocities are estimated by harmonic
+//! projection ([`crate::prep::velocity::VelocitySource::HarmonicProjection`]) this module
+//!
+//! 1. estimates the noise of every displacement and force channel over the window's
+//!    whole periods from the out-of-band spectrum, by a median (see
+//!    [`crate::prep::velocity::harmonic_selection`]), and keeps the harmonics that stand above
+//!    it in any channel (one set per window, so that relative velocities of nearly
+//!    rigid DOF pairs are not biased by per-channel masks);
+//! 2. projects each displacement channel on the kept harmonics,
+//!    x̂ = B c, c = (BᵀB)⁻¹ Bᵀ x with B = QR the m × p design of the whole periods;
+//!    v̂ = D c with D the derivative design. White noise of variance σ_j² on channel j
+//!    gives Cov(c) = σ_j² (RᵀR)⁻¹, so at sample i
+//!    Var v̂_ij = σ_j² ‖R⁻ᵀ d_i‖² and Var x̂_ij = σ_j² ‖R⁻ᵀ b_i‖²;
+//! 3. evaluates every term on (x̂, v̂) and subtracts its expected noise contribution,
+//!    Σ_i w_i E[p(x̂ + δx, v̂ + δv) − p(x̂, v̂)] ([`crate::terms::Law::noise_bias`]):
+//!    σ_v² for v² (linear laws, dashpots), 3σ_v²|v| for |v|³ (quadratic), Σ_j C₀,jj
+//!    Var v̂_j for a matrix term. Coulomb columns are the exact total variation of the
+//!    projected displacement (no velocity difference, no quadrature error at the kinks
+//!    of |v̂|), which zero-mean noise leaves unbiased to first order; the input work
+//!    ∫ rᵀ v̂ dt = ∫ rᵀ dx̂ needs no correction either (the noise is independent of r);
+//! 4. propagates the noise to first order into each equation's residual
+//!    e = b − Σ_k θ_k A_k: every column and the input work is a smooth function of the
+//!    projection coefficients c_j of each channel, so δe = Σ_j u_j(θ)ᵀ δc_j with
+//!    u_j(θ) = ∂b/∂c_j − Σ_k θ_k ∂A_k/∂c_j, and
+//!
+//!    ```text
+//!      Var e(θ) = Σ_j σ_j² ‖R⁻ᵀ u_j(θ)‖² + Σ_k σ_{f,k}² ‖∂b/∂s_k‖²,
+//!    ```
+//!
+//!    the last term for noise σ_{f,k} on force channel k. [`RowNoise`] stores the
+//!    whitened vectors z = σ_j R⁻ᵀ ∂(·)/∂c_j per channel, so Var e(θ) is a sum of
+//!    squares of z_b − Σ θ_k z_k. The fit then weights each equation by 1/√Var e(θ),
+//!    iterated from a row-normalised start ([`crate::fit::Weighting`]), and the plug-in
+//!    covariance (Aᵀ W A)⁻¹ gives standard errors.
+//!
+//! Without noise (σ = 0 to round-off) the corrections vanish and the weights only
+//! rebalance equations that are all exact.
+
+mod projected;
+mod row;
+mod sensitivity;
+
+pub(crate) use row::{RobustRow, robust_row};
+pub use sensitivity::{ChannelSensitivity, RowNoise};
+
+use serde::{Deserialize, Serialize};
+
+/// Whether columns are corrected for sensor noise.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum NoiseTreatment {
+    /// Correct when the velocities come from harmonic projection, else ignore.
+    #[default]
+    Auto,
+    /// The plain pipeline: columns as sampled, no noise estimate, no propagation.
+    Ignore,
+    /// The noise-robust pipeline (needs harmonic-projection velocities).
+    Correct,
+}
+
+/// What the noise-robust pipeline found in one window.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct WindowNoise {
+    /// The record's label.
+    pub record: String,
+    /// The window's index within its record.
+    pub window: usize,
+    /// Harmonic orders kept for the velocities.
+    pub harmonics: Vec<usize>,
+    /// Estimated noise standard deviation per displacement channel (per sample).
+    pub displacement_noise: Vec<f64>,
+    /// Estimated noise standard deviation per force channel (per sample).
+    pub force_noise: Vec<f64>,
+}
+
+/// The noise model of a regressor: one [`RowNoise`] and one [`WindowNoise`] per row.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NoiseModel {
+    /// First-order noise sensitivities of each equation.
+    pub rows: Vec<RowNoise>,
+    /// What was estimated per window.
+    pub windows: Vec<WindowNoise>,
+}
+
+impl NoiseModel {
+    /// The standard deviation of each equation's residual at coefficients `theta`.
+    pub fn residual_std(&self, theta: &[f64]) -> Vec<f64> {
+        self.rows.iter().map(|r| r.variance(theta).sqrt()).collect()
+    }
+
+    /// The rows `indices` (with repeats), for resampling.
+    pub fn select(&self, indices: &[usize]) -> Self {
+        NoiseModel {
+            rows: indices.iter().map(|&i| self.rows[i].clone()).collect(),
+            windows: indices.iter().map(|&i| self.windows[i].clone()).collect(),
+        }
+    }
+}

@@ -1,0 +1,438 @@
+//! One equation of the noise-robust pipeline: the window projected on its kept
+//! harmonics, every term's column on (x̂, v̂) less its expected noise contribution, the
+//! input work, and the first-order sensitivities of all of them to the noise of each
+//! channel (formulas in the module doc of [`crate::regressor::robust`]).
+
+use std::collections::BTreeMap;
+
+use faer::Mat;
+
+use crate::error::{Error, Result};
+use crate::model::DampingModel;
+use crate::prep::fourier::{WholePeriods, select_harmonics};
+use crate::prep::velocity::VelocitySource;
+use crate::prep::window::Window;
+use crate::record::{LoadDistribution, Record, col};
+use crate::regressor::derivative_free::{Path, stieltjes};
+use crate::regressor::robust::WindowNoise;
+use crate::regressor::robust::projected::ProjectedWindow;
+use crate::regressor::robust::sensitivity::{ChannelSensitivity, RowNoise};
+use crate::regressor::{RegressorSettings, WorkForm};
+use crate::terms::{Coefficients, ElementTerm, MatrixTerm, Term};
+
+/// A row of the noise-robust pipeline.
+pub(crate) struct RobustRow {
+    pub(crate) columns: Vec<f64>,
+    pub(crate) input: f64,
+    pub(crate) noise: RowNoise,
+    pub(crate) window: WindowNoise,
+}
+
+/// Gradients ∂(·)/∂c_j in the projection coefficients of each channel j, collected for
+/// the input work (slot 0) and each column k (slot k + 1).
+struct Gradients {
+    p: usize,
+    by_channel: BTreeMap<usize, BTreeMap<usize, Vec<f64>>>,
+}
+
+impl Gradients {
+    fn new(p: usize) -> Self {
+        Gradients {
+            p,
+            by_channel: BTreeMap::new(),
+        }
+    }
+
+    fn slot(&mut self, channel: usize, slot: usize) -> &mut Vec<f64> {
+        let p = self.p;
+        self.by_channel
+            .entry(channel)
+            .or_default()
+            .entry(slot)
+            .or_insert_with(|| vec![0.0; p])
+    }
+
+    /// Adds Σ_i g_i rows_i to the gradient of (`channel`, `slot`).
+    fn add_rows(&mut self, channel: usize, slot: usize, rows: &Mat<f64>, g: &[f64]) {
+        let u = rows_times(rows, g);
+        self.add(channel, slot, &u, 1.0);
+    }
+
+    fn add(&mut self, channel: usize, slot: usize, u: &[f64], scale: f64) {
+        for (t, u) in self.slot(channel, slot).iter_mut().zip(u) {
+            *t += scale * u;
+        }
+    }
+
+    fn whiten(self, projected: &ProjectedWindow, sigma: &[f64]) -> Vec<ChannelSensitivity> {
+        self.by_channel
+            .into_iter()
+            .map(|(channel, slots)| {
+                let mut input = Vec::new();
+                let mut columns = Vec::new();
+                for (slot, u) in slots {
+                    let z = projected.whiten(&u, sigma[channel]);
+                    if slot == 0 {
+                        input = z;
+                    } else {
+                        columns.push((slot - 1, z));
+                    }
+                }
+                ChannelSensitivity {
+                    channel,
+                    input,
+                    columns,
+                }
+            })
+            .collect()
+    }
+}
+
+/// Σ_i g_i rows_i (a p-vector) for `rows` (≥ len(g) × p).
+fn rows_times(rows: &Mat<f64>, g: &[f64]) -> Vec<f64> {
+    (0..rows.ncols())
+        .map(|k| {
+            let column = col(rows.as_ref(), k);
+            g.iter().zip(column).map(|(g, b)| g * b).sum()
+        })
+        .collect()
+}
+
+/// Σ over the path's intervals of a_j (row(t_{j+1}) − row(t_j)), the gradient in the
+/// projection coefficients of Σ_j a_j Δx̂_j.
+fn path_gradient(path: Path, projected: &ProjectedWindow, a: impl Fn(usize) -> f64) -> Vec<f64> {
+    let p = projected.columns();
+    let design = &projected.design;
+    let mut u = vec![0.0; p];
+    for j in 0..path.whole {
+        let aj = a(j);
+        if aj != 0.0 {
+            for (k, uk) in u.iter_mut().enumerate() {
+                *uk += aj * (design[(j + 1, k)] - design[(j, k)]);
+            }
+        }
+    }
+    if path.frac > 0.0 {
+        let aj = a(path.whole);
+        for (k, uk) in u.iter_mut().enumerate() {
+            *uk += aj * (projected.end_row[k] - design[(path.whole, k)]);
+        }
+    }
+    u
+}
+
+/// The generalized forces r = D s (rows × n) over samples `start..start + rows`.
+fn generalized_forces(record: &Record, start: usize, rows: usize) -> Mat<f64> {
+    let forcing = record.forcing();
+    let mut r = Mat::zeros(rows, record.dofs());
+    for k in 0..forcing.signals.ncols() {
+        let s = &forcing.signals.col_as_slice(k)[start..start + rows];
+        match &forcing.distribution {
+            LoadDistribution::Dofs(dofs) => {
+                let target = r.col_as_slice_mut(dofs[k]);
+                for (t, s) in target.iter_mut().zip(s) {
+                    *t += s;
+                }
+            }
+            LoadDistribution::Matrix(d) => {
+                for dof in 0..d.nrows() {
+                    let weight = d[(dof, k)];
+                    if weight != 0.0 {
+                        let target = r.col_as_slice_mut(dof);
+                        for (t, s) in target.iter_mut().zip(s) {
+                            *t += weight * s;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    r
+}
+
+/// The noise standard deviation of each force channel over the window's whole periods.
+fn force_noise(record: &Record, start: usize, count: usize) -> Result<Vec<f64>> {
+    let signals = &record.forcing().signals;
+    if signals.ncols() == 0 {
+        return Ok(Vec::new());
+    }
+    let available = record.samples() - start;
+    let whole = WholePeriods::of_window(count, available, record.step(), record.period())?;
+    let block = signals.as_ref().subrows(start, whole.samples);
+    Ok(select_harmonics(block, record.step(), record.period(), whole.periods)?.noise_std)
+}
+
+/// The equation of window `w` of `record`.
+pub(crate) fn robust_row(
+    model: &DampingModel,
+    record: &Record,
+    w: &Window,
+    settings: &RegressorSettings,
+) -> Result<RobustRow> {
+    let weights = settings
+        .quadrature
+        .weights(w.span, record.step(), record.period())?;
+    let count = weights.len();
+    let path = Path::of(w.span, record.step());
+    let rows = count.max(path.samples());
+    let harmonics = match settings.velocity {
+        VelocitySource::HarmonicProjection { harmonics } => harmonics,
+        _ => None,
+    };
+    let projected = ProjectedWindow::new(record, w.start, count, rows, w.span, harmonics)?;
+    let sigma = projected.selection.noise_std.clone();
+    let force_sigma = force_noise(record, w.start, count)?;
+    let forces = generalized_forces(record, w.start, rows);
+    let derivative_free = settings.work_form == WorkForm::DerivativeFree;
+    let mut gradients = Gradients::new(projected.columns());
+
+    // Input work and its force-noise variance.
+    let n = record.dofs();
+    let mut input = 0.0;
+    // ∂b/∂r_{j,i}: per DOF j, per sample i
+    let mut force_gradient = Mat::<f64>::zeros(rows, n);
+    for j in 0..n {
+        let r = col(forces.as_ref(), j);
+        if r.iter().all(|v| *v == 0.0) {
+            continue;
+        }
+        let x = col(projected.x.as_ref(), j);
+        let v = col(projected.v.as_ref(), j);
+        let g = force_gradient.col_as_slice_mut(j);
+        if derivative_free {
+            let x_end = projected.end_value(j);
+            input += stieltjes(path, r, path.end(r), x, x_end);
+            let mean = |i: usize| {
+                if i < path.whole {
+                    0.5 * (r[i] + r[i + 1])
+                } else {
+                    0.5 * (r[i] + path.end(r))
+                }
+            };
+            let u = path_gradient(path, &projected, mean);
+            gradients.add(j, 0, &u, 1.0);
+            for i in 0..path.whole {
+                let dx = 0.5 * (x[i + 1] - x[i]);
+                g[i] += dx;
+                g[i + 1] += dx;
+            }
+            if path.frac > 0.0 {
+                let f = path.whole;
+                let dx = 0.5 * (x_end - x[f]);
+                g[f] += dx + dx * (1.0 - path.frac);
+                g[f + 1] += dx * path.frac;
+            }
+        } else {
+            let g_rows: Vec<f64> = (0..count).map(|i| weights[i] * r[i]).collect();
+            input += g_rows.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
+            gradients.add_rows(j, 0, &projected.derivative, &g_rows);
+            for i in 0..count {
+                g[i] = weights[i] * v[i];
+            }
+        }
+    }
+    let force_variance = force_channel_variance(record, &force_gradient, &force_sigma);
+
+    // Columns.
+    let mut columns = vec![0.0; model.coefficient_count()];
+    for (term, range) in model.term_columns() {
+        match term {
+            Term::Matrix(t) => matrix_column(
+                t,
+                &projected,
+                &weights,
+                &sigma,
+                range.start,
+                &mut columns,
+                &mut gradients,
+            ),
+            Term::Elements(t) => element_columns(
+                t,
+                &projected,
+                &weights,
+                w.span,
+                &sigma,
+                range.start,
+                &mut columns,
+                &mut gradients,
+            ),
+        }
+    }
+    if let Some((k, value)) = columns.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        return Err(Error::NonFinite {
+            what: format!("bias-corrected column '{}'", model.coefficient_names()[k]),
+            row: w.index,
+            column: k,
+            value: *value,
+        });
+    }
+    let channels = gradients.whiten(&projected, &sigma);
+    Ok(RobustRow {
+        columns,
+        input,
+        noise: RowNoise {
+            channels,
+            force_variance,
+        },
+        window: WindowNoise {
+            record: record.label().to_string(),
+            window: w.index,
+            harmonics: projected.selection.kept.clone(),
+            displacement_noise: sigma,
+            force_noise: force_sigma,
+        },
+    })
+}
+
+/// Σ_k σ_{f,k}² Σ_i (Σ_j D_jk ∂b/∂r_{j,i})².
+fn force_channel_variance(record: &Record, force_gradient: &Mat<f64>, sigma: &[f64]) -> f64 {
+    let forcing = record.forcing();
+    let rows = force_gradient.nrows();
+    let mut total = 0.0;
+    for (k, s) in sigma.iter().enumerate() {
+        if *s == 0.0 {
+            continue;
+        }
+        let sum_sq: f64 = match &forcing.distribution {
+            LoadDistribution::Dofs(dofs) => col(force_gradient.as_ref(), dofs[k])
+                .iter()
+                .map(|g| g * g)
+                .sum(),
+            LoadDistribution::Matrix(d) => (0..rows)
+                .map(|i| {
+                    let g: f64 = (0..d.nrows())
+                        .map(|j| d[(j, k)] * force_gradient[(i, j)])
+                        .sum();
+                    g * g
+                })
+                .sum(),
+        };
+        total += s * s * sum_sq;
+    }
+    total
+}
+
+/// A matrix term: Σ_i w_i v̂_iᵀ C₀ v̂_i − Σ_i w_i Var(v̂_i) Σ_j C₀,jj σ_j².
+fn matrix_column(
+    term: &MatrixTerm,
+    projected: &ProjectedWindow,
+    weights: &[f64],
+    sigma: &[f64],
+    column: usize,
+    columns: &mut [f64],
+    gradients: &mut Gradients,
+) {
+    let c0 = term.matrix();
+    let n = c0.nrows();
+    let count = weights.len();
+    let v = projected.v.as_ref();
+    // (C₀ + C₀ᵀ) v̂_i, per sample, column-major (count × n)
+    let mut cv = Mat::<f64>::zeros(count, n);
+    let mut value = 0.0;
+    for a in 0..n {
+        for b in 0..n {
+            let c = c0[(a, b)];
+            if c == 0.0 {
+                continue;
+            }
+            let (va, vb) = (col(v, a), col(v, b));
+            for i in 0..count {
+                value += weights[i] * c * va[i] * vb[i];
+            }
+            for i in 0..count {
+                cv[(i, a)] += c * vb[i];
+                cv[(i, b)] += c * va[i];
+            }
+        }
+    }
+    let diagonal_noise: f64 = (0..n).map(|j| c0[(j, j)] * sigma[j] * sigma[j]).sum();
+    let bias: f64 = (0..count)
+        .map(|i| weights[i] * projected.var_v[i])
+        .sum::<f64>()
+        * diagonal_noise;
+    columns[column] = value - bias;
+    for j in 0..n {
+        let g: Vec<f64> = (0..count).map(|i| weights[i] * cv[(i, j)]).collect();
+        if g.iter().any(|g| *g != 0.0) {
+            gradients.add_rows(j, column + 1, &projected.derivative, &g);
+        }
+    }
+}
+
+/// A law on elements: per element Σ_i w_i [p(x̂, v̂) − E(noise contribution)] on
+/// relative motion, or for Coulomb the exact total variation of the relative x̂.
+#[allow(clippy::too_many_arguments)]
+fn element_columns(
+    term: &ElementTerm,
+    projected: &ProjectedWindow,
+    weights: &[f64],
+    span: f64,
+    sigma: &[f64],
+    first: usize,
+    columns: &mut [f64],
+    gradients: &mut Gradients,
+) {
+    let law = term.law();
+    let count = weights.len();
+    let rows = projected.x.nrows();
+    let (x, v) = (projected.x.as_ref(), projected.v.as_ref());
+    let mut xr = vec![0.0; rows];
+    let mut vr = vec![0.0; rows];
+    for (e, element) in term.elements().iter().enumerate() {
+        let weight = term.weights().map_or(1.0, |w| w[e]);
+        let column = match term.coefficients() {
+            Coefficients::Shared(_) => first,
+            Coefficients::PerElement(_) => first + e,
+        };
+        let (xa, va) = (col(x, element.a), col(v, element.a));
+        let mut variance = sigma[element.a].powi(2);
+        let mut terms = vec![(element.a, 1.0)];
+        match element.b {
+            None => {
+                xr.copy_from_slice(xa);
+                vr.copy_from_slice(va);
+            }
+            Some(b) => {
+                let (xb, vb) = (col(x, b), col(v, b));
+                for i in 0..rows {
+                    xr[i] = xa[i] - xb[i];
+                    vr[i] = va[i] - vb[i];
+                }
+                variance += sigma[b].powi(2);
+                terms.push((b, -1.0));
+            }
+        }
+        let u = if law.is_total_variation() {
+            // ∫ |v̂| dt exactly: the total variation of the projected displacement
+            let (tv, u) = projected.total_variation(&projected.combination(&terms), &vr, span);
+            columns[column] += weight * tv;
+            u
+        } else {
+            let mut value = 0.0;
+            let mut g_v = vec![0.0; count];
+            let mut g_x = vec![0.0; count];
+            for i in 0..count {
+                let var_x = variance * projected.var_x[i];
+                let var_v = variance * projected.var_v[i];
+                let p = law.power(xr[i], vr[i]);
+                let bias = law.noise_bias(xr[i], vr[i], var_x, var_v);
+                value += weights[i] * (p - bias);
+                let (sx, sv) = law.power_slope(xr[i], vr[i], var_x.sqrt(), var_v.sqrt());
+                g_v[i] = weights[i] * sv;
+                g_x[i] = weights[i] * sx;
+            }
+            columns[column] += weight * value;
+            let mut u = rows_times(&projected.derivative, &g_v);
+            if g_x.iter().any(|g| *g != 0.0) {
+                for (u, d) in u.iter_mut().zip(rows_times(&projected.design, &g_x)) {
+                    *u += d;
+                }
+            }
+            u
+        };
+        gradients.add(element.a, column + 1, &u, weight);
+        if let Some(b) = element.b {
+            gradients.add(b, column + 1, &u, -weight);
+        }
+    }
+}
