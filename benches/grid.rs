@@ -105,11 +105,7 @@ fn model(dofs: usize) -> DampingModel {
 
 fn settings() -> RegressorSettings {
     RegressorSettings::plain(
-        WindowSpec {
-            skip: 0,
-            cycles: 1,
-            count: Some(1),
-        },
+        WindowSpec::cycles(1).first(1),
         Quadrature::Rectangular,
         VelocitySource::Measured,
     )

@@ -107,11 +107,7 @@ fn make_model(dofs: usize) -> DampingModel {
 /// One window over all N samples (period N h), rectangular weights h, measured velocities.
 fn settings() -> RegressorSettings {
     RegressorSettings {
-        windows: WindowSpec {
-            skip: 0,
-            cycles: 1,
-            count: Some(1),
-        },
+        windows: WindowSpec::cycles(1).first(1).into(),
         quadrature: Quadrature::Rectangular,
         velocity: VelocitySource::Measured,
         ..RegressorSettings::default()

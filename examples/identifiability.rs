@@ -20,11 +20,12 @@
 
 use std::f64::consts::PI;
 
-use dampid::analysis::bootstrap::{BootstrapSettings, identify_with_bootstrap};
+use dampid::analysis::bootstrap::BootstrapSettings;
 use dampid::analysis::design::{DesignSettings, design, simulate_candidates};
+use dampid::identify::identify_with_bootstrap;
 use dampid::prelude::*;
-use dampid::reference::chain_stiffness;
 use dampid::report::Warning;
+use dampid::simulate::chain_stiffness;
 use dampid::simulate::{HarmonicForce, SimSettings, System};
 use faer::Mat;
 use serde_json::json;
@@ -78,11 +79,7 @@ fn main() -> Result<()> {
     };
     let settings = IdentifySettings {
         regressor: RegressorSettings {
-            windows: WindowSpec {
-                skip: 0,
-                cycles: 2,
-                count: None,
-            },
+            windows: WindowSpec::cycles(2).into(),
             quadrature: Quadrature::Trapezoid,
             velocity: VelocitySource::Spectral { harmonics: None },
             ..Default::default()

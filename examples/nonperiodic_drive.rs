@@ -20,12 +20,12 @@
 use std::path::PathBuf;
 
 use dampid::error::Result;
-use dampid::fit::{FitSettings, solve};
-use dampid::io::table::Table;
+use dampid::identify::{IdentifySettings, identify};
 use dampid::record::Record;
 use dampid::reference::drive::{DriveSettings, closed_loop_drive, drive_model};
-use dampid::regressor::nonperiodic::{NonPeriodicSettings, StorageModel, build};
-use dampid::report::FitReport;
+use dampid::regressor::RegressorSettings;
+use dampid::regressor::SpanWindows;
+use dampid::regressor::nonperiodic::StorageModel;
 
 /// The drive of the bundled record: 20 s at h = 2 ms, with sensor noise.
 fn drive() -> DriveSettings {
@@ -51,7 +51,7 @@ fn write_csv(record: &Record, folder: &PathBuf) -> Result<PathBuf> {
     let time = (0..n).map(|i| i as f64 * record.step()).collect();
     let x = record.displacements().col(0).iter().copied().collect();
     let force = record.forcing().signals.col_as_slice(0).to_vec();
-    Table::write(
+    dampid::io::csv::write(
         &path,
         &["t".into(), "x".into(), "force".into()],
         &[time, x, force],
@@ -63,17 +63,18 @@ fn main() -> Result<()> {
     let settings = drive();
     let record = closed_loop_drive(&settings)?;
     let model = drive_model();
-    let balance = NonPeriodicSettings {
-        storage: StorageModel {
-            offsets: vec![0],
-            ..StorageModel::default()
-        },
-        ..NonPeriodicSettings::new(0.25)
+    // 0.25 s windows; an unknown mass and an unknown constant force on the carriage.
+    let balance = IdentifySettings {
+        regressor: RegressorSettings::non_periodic(SpanWindows {
+            storage: StorageModel {
+                offsets: vec![0],
+                ..StorageModel::default()
+            },
+            ..SpanWindows::new(0.25)
+        }),
+        ..IdentifySettings::default()
     };
-    let regressor = build(&model, std::slice::from_ref(&record), &balance)?;
-    let fit = solve(&regressor, &FitSettings::default())?;
-    let diagnostics = dampid::analysis::diagnostics::diagnose(&regressor, &fit, 1e-10);
-    let report = FitReport::new(&regressor, fit, diagnostics);
+    let report = identify(&model, std::slice::from_ref(&record), &balance)?;
     println!("{report}");
     println!("against the simulation:");
     for (name, truth) in settings.truth() {

@@ -170,11 +170,7 @@ pub fn records(samples: usize) -> Result<Vec<Record>> {
 fn identify_settings(velocity: VelocitySource) -> IdentifySettings {
     IdentifySettings {
         regressor: RegressorSettings {
-            windows: WindowSpec {
-                skip: 0,
-                cycles: CYCLES,
-                count: Some(1),
-            },
+            windows: WindowSpec::cycles(CYCLES).first(1).into(),
             quadrature: Quadrature::Rectangular,
             velocity,
             ..Default::default()

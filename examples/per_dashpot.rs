@@ -21,8 +21,9 @@ use std::f64::consts::PI;
 
 use dampid::analysis::design::{DesignSettings, design, simulate_candidates};
 use dampid::prelude::*;
-use dampid::reference::{FOUR_MASS_AMPLITUDES, FOUR_MASS_OMEGA, chain_stiffness};
+use dampid::reference::{FOUR_MASS_AMPLITUDES, FOUR_MASS_OMEGA};
 use dampid::report::Warning;
+use dampid::simulate::chain_stiffness;
 use dampid::simulate::{HarmonicForce, SimSettings, System};
 use faer::Mat;
 use serde_json::json;
@@ -69,11 +70,7 @@ fn main() -> Result<()> {
     };
     let settings = IdentifySettings {
         regressor: RegressorSettings {
-            windows: WindowSpec {
-                skip: 0,
-                cycles: 2,
-                count: None,
-            },
+            windows: WindowSpec::cycles(2).into(),
             quadrature: Quadrature::Trapezoid,
             velocity: VelocitySource::Spectral { harmonics: None },
             ..Default::default()

@@ -114,7 +114,7 @@ fn main() -> Result<()> {
             let mut rng = StdRng::seed_from_u64(1000 + l as u64);
             let settings = IdentifySettings {
                 regressor: RegressorSettings {
-                    windows: WindowSpec::default(),
+                    windows: WindowSpec::default().into(),
                     quadrature,
                     velocity,
                     ..Default::default()

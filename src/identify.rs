@@ -1,7 +1,21 @@
-//! The one-call entry point: records → regressor → fit → diagnostics → report.
+//! The pipeline: records → regressor → fit → diagnostics → report, for every mode
+//! (windows of whole periods, with or without the noise-robust rows, and fixed spans of
+//! non-periodic records with stored-energy unknowns: [`crate::regressor::Windows`]).
+//!
+//! Three levels, as faer offers one-call methods over public building blocks:
+//!
+//! | call | from | to |
+//! |---|---|---|
+//! | [`identify`] | model, records, settings | report |
+//! | [`identify_with_regressor`] | model, records, settings | regressor (for plots) and report |
+//! | [`identify_regressor`] | a regressor built by hand or by [`Regressor::build`] | report |
+//!
+//! [`identify_with_bootstrap`] adds percentile intervals from refits on resampled
+//! windows ([`crate::analysis::bootstrap`]). The stages themselves stay public:
+//! [`Regressor::build`], [`crate::fit::solve`], [`crate::analysis::diagnostics::diagnose`]
+//! and [`FitReport::new`].
 
-use serde::{Deserialize, Serialize};
-
+use crate::analysis::bootstrap::{BootstrapSettings, bootstrap};
 use crate::analysis::diagnostics::diagnose;
 use crate::error::Result;
 use crate::fit::{FitSettings, solve};
@@ -11,7 +25,19 @@ use crate::regressor::{Regressor, RegressorSettings};
 use crate::report::FitReport;
 
 /// Settings for [`identify`].
-#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+///
+/// | setting | default | what |
+/// |---|---|---|
+/// | `regressor.windows` | one window of one period per record | [`crate::regressor::Windows`]: whole periods, or fixed spans of non-periodic records |
+/// | `regressor.quadrature` | trapezoid | rule for the window integrals |
+/// | `regressor.velocity` | harmonic projection | measured, central differences, spectral, harmonic projection |
+/// | `regressor.noise` | auto | the noise-robust rows with harmonic projection |
+/// | `regressor.work_form` | velocity | ∫ vᵀr dt, or the derivative-free ∫ rᵀdx |
+/// | `fit.constraints` | none | bounds, fixed values, linear relations (clarabel) |
+/// | `fit.weighting` | auto | propagated weights when the rows carry a noise model |
+/// | `fit.rank_tolerance` | 1e-10 | singular values below it, relative to σ₁, count as zero |
+/// | `fit.solver` | tolerance 1e-10, 200 iterations, polish | the constrained solver |
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct IdentifySettings {
     /// Windows, quadrature and velocity source.
     pub regressor: RegressorSettings,
@@ -36,8 +62,27 @@ pub fn identify_with_regressor(
 ) -> Result<(Regressor, FitReport)> {
     settings.fit.validate()?;
     let regressor = Regressor::build(model, records, &settings.regressor)?;
-    let fit = solve(&regressor, &settings.fit)?;
-    let diagnostics = diagnose(&regressor, &fit, settings.fit.rank_tolerance);
-    let report = FitReport::new(&regressor, fit, diagnostics);
+    let report = identify_regressor(&regressor, &settings.fit)?;
     Ok((regressor, report))
+}
+
+/// Fits `regressor` and diagnoses the fit: the middle level, for regressors built by
+/// hand or kept from [`Regressor::build`].
+pub fn identify_regressor(regressor: &Regressor, settings: &FitSettings) -> Result<FitReport> {
+    settings.validate()?;
+    let fit = solve(regressor, settings)?;
+    let diagnostics = diagnose(regressor, &fit, settings.rank_tolerance);
+    Ok(FitReport::new(regressor, fit, diagnostics))
+}
+
+/// [`identify`] followed by a bootstrap of the same regressor and fit settings: the
+/// report carries the confidence intervals.
+pub fn identify_with_bootstrap(
+    model: &DampingModel,
+    records: &[Record],
+    settings: &IdentifySettings,
+    bootstrap_settings: &BootstrapSettings,
+) -> Result<FitReport> {
+    let (regressor, report) = identify_with_regressor(model, records, settings)?;
+    Ok(report.with_bootstrap(bootstrap(&regressor, &settings.fit, bootstrap_settings)?))
 }

@@ -63,7 +63,7 @@ pub use identify::{IdentifySettings, identify};
 
 /// The names most programs need.
 pub mod prelude {
-    pub use crate::analysis::bootstrap::{BootstrapSettings, identify_with_bootstrap};
+    pub use crate::analysis::bootstrap::BootstrapSettings;
     pub use crate::analysis::compare::{CompareSettings, Comparison, compare};
     pub use crate::analysis::design::{Criterion, DesignReport, DesignSettings, design};
     pub use crate::analysis::identifiability::Identifiability;
@@ -71,7 +71,10 @@ pub mod prelude {
     pub use crate::fit::{
         Bound, Constraints, Fit, FitSettings, FitStatus, Fixed, LinearConstraint, Relation,
     };
-    pub use crate::identify::{IdentifySettings, identify};
+    pub use crate::identify::{
+        IdentifySettings, identify, identify_regressor, identify_with_bootstrap,
+        identify_with_regressor,
+    };
     pub use crate::model::DampingModel;
     pub use crate::prep::harmonic::{
         HarmonicApproximation, PhaseReading, SteppedSinePoint, SteppedSineTable,

@@ -8,7 +8,6 @@ use std::process::ExitCode;
 use anyhow::{Context, bail};
 use clap::{Parser, Subcommand, ValueEnum};
 use dampid::io::pod_files::{Columns, PodTables, pod_of_files};
-use dampid::io::table::Table;
 use dampid::model_file::{Job, load_with_progress};
 use dampid::prep::pod::{PodBasis, PodSettings, Retain};
 use dampid::prep::quadrature::Quadrature;
@@ -308,10 +307,7 @@ fn identify(
     let (job, steady) = load_steady_job(path, accept_transient)?;
     job.settings.fit.validate()?;
     let regressor = build_regressor(&job)?;
-    let fit = dampid::fit::solve(&regressor, &job.settings.fit)?;
-    let diagnostics =
-        dampid::analysis::diagnostics::diagnose(&regressor, &fit, job.settings.fit.rank_tolerance);
-    let mut report = FitReport::new(&regressor, fit, diagnostics);
+    let mut report = dampid::identify::identify_regressor(&regressor, &job.settings.fit)?;
     if let Some(replicates) = bootstrap {
         let settings = dampid::analysis::bootstrap::BootstrapSettings {
             replicates,
@@ -404,11 +400,11 @@ fn write_preamble(
     steady: Option<&SteadyStateReport>,
 ) -> std::fmt::Result {
     write_periods(out, job)?;
-    if let Some(settings) = &job.non_periodic {
+    if let Some(spans) = job.settings.regressor.windows.spans() {
         writeln!(
             out,
             "non-periodic energy balance: windows of {} time units, stored energy and constant forces as unknowns",
-            settings.window
+            spans.length
         )?;
     }
     let rejected: Vec<_> = steady.iter().flat_map(|s| s.rejected()).collect();
@@ -484,7 +480,11 @@ fn check(path: &Path, accept_transient: bool) -> anyhow::Result<Outcome> {
         None => writeln!(
             head,
             "non-periodic mode: windows of {} time units, no steady state needed",
-            job.non_periodic.as_ref().map_or(0.0, |s| s.window)
+            job.settings
+                .regressor
+                .windows
+                .spans()
+                .map_or(0.0, |s| s.length)
         )?,
     }
     if let Some(Err(e)) = steady.as_ref().map(|s| s.enforce()) {
@@ -630,7 +630,7 @@ fn design(path: &Path, as_json: bool) -> anyhow::Result<Outcome> {
             path.display()
         );
     }
-    if job.non_periodic.is_some() {
+    if job.settings.regressor.windows.spans().is_some() {
         bail!(
             "{}: design works on periodic windows; it does not support [non_periodic] yet",
             path.display()
@@ -668,31 +668,8 @@ fn write_records(path: &Path, folder: &Path) -> anyhow::Result<Outcome> {
     std::fs::create_dir_all(folder).with_context(|| format!("creating {}", folder.display()))?;
     let mut out = String::new();
     for (k, record) in job.source_records.iter().enumerate() {
-        let n = record.dofs();
-        let samples = record.samples();
-        let mut headers = vec!["t".to_string()];
-        let mut columns = vec![
-            (0..samples)
-                .map(|i| record.start_time() + i as f64 * record.step())
-                .collect::<Vec<_>>(),
-        ];
-        for j in 0..n {
-            headers.push(format!("x{}", j + 1));
-            columns.push(record.displacements().col(j).iter().copied().collect());
-        }
-        if let Some(v) = record.velocities() {
-            for j in 0..n {
-                headers.push(format!("v{}", j + 1));
-                columns.push(v.col(j).iter().copied().collect());
-            }
-        }
-        let signals = &record.forcing().signals;
-        for c in 0..signals.ncols() {
-            headers.push(format!("f{}", c + 1));
-            columns.push(signals.col(c).iter().copied().collect());
-        }
         let file = folder.join(format!("record_{}.csv", k + 1));
-        Table::write(&file, &headers, &columns)?;
+        dampid::io::records::write_record(&file, record)?;
         writeln!(
             out,
             "{} ({}, period {:.6})",

@@ -1,8 +1,9 @@
 //! The window bootstrap: coverage of its percentile intervals on noisy data, results
 //! independent of the thread count, constrained fits, and bad settings.
 
-use dampid::analysis::bootstrap::{BootstrapSettings, bootstrap, identify_with_bootstrap};
+use dampid::analysis::bootstrap::{BootstrapSettings, bootstrap};
 use dampid::fit::{FitMethod, FitSettings};
+use dampid::identify::identify_with_bootstrap;
 use dampid::prelude::*;
 use dampid::simulate::{HarmonicForce, SimSettings, System, simulate};
 use faer::Mat;
@@ -91,14 +92,10 @@ fn noisy(records: &[Record], seed: u64) -> Vec<Record> {
 fn settings() -> IdentifySettings {
     IdentifySettings {
         regressor: RegressorSettings {
-            windows: WindowSpec {
-                skip: 0,
-                cycles: 1,
-                count: None,
-            },
+            windows: WindowSpec::cycles(1).into(),
             quadrature: Quadrature::Spectral,
             velocity: VelocitySource::HarmonicProjection { harmonics: Some(1) },
-            noise: dampid::regressor::robust::NoiseTreatment::Ignore,
+            noise: dampid::regressor::NoiseTreatment::Ignore,
             ..Default::default()
         },
         ..IdentifySettings::default()

@@ -174,11 +174,7 @@ fn noisy_records(friction: f64, seed: u64) -> Vec<Record> {
 
 fn regressor_settings() -> RegressorSettings {
     RegressorSettings {
-        windows: WindowSpec {
-            skip: 0,
-            cycles: 1,
-            count: None,
-        },
+        windows: WindowSpec::cycles(1).into(),
         quadrature: Quadrature::Trapezoid,
         velocity: VelocitySource::HarmonicProjection { harmonics: None },
         ..Default::default()

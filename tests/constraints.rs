@@ -174,7 +174,7 @@ fn constraints_in_a_model_file() {
     assert_eq!(linear[1].relation, Relation::AtMost);
     assert_eq!(linear[1].value, 0.0);
     let mut settings = job.settings.clone();
-    settings.regressor.windows.count = None;
+    settings.regressor.windows.cycles_mut().unwrap().count = None;
     let report = identify(&job.model, &job.records, &settings).unwrap();
     assert_eq!(report.status, FitStatus::Solved);
     let (d01, d23) = (

@@ -211,7 +211,7 @@ fn constant_signal_is_rank_zero_without_nan() {
     })
     .unwrap();
     let mut settings = IdentifySettings::default(); // central differences
-    settings.regressor.windows.count = None; // as many windows as fit: 2 equations
+    settings.regressor.windows.cycles_mut().unwrap().count = None; // as many windows as fit: 2 equations
     for velocity in [
         VelocitySource::CentralDifference,
         VelocitySource::Spectral { harmonics: None },

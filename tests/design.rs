@@ -60,11 +60,7 @@ fn simulation() -> SimSettings {
 
 fn regressor_settings() -> RegressorSettings {
     RegressorSettings {
-        windows: WindowSpec {
-            skip: 0,
-            cycles: 1,
-            count: None,
-        },
+        windows: WindowSpec::cycles(1).into(),
         quadrature: Quadrature::Trapezoid,
         velocity: VelocitySource::Measured,
         ..Default::default()

@@ -18,7 +18,6 @@ use std::f64::consts::PI;
 use std::sync::Arc;
 
 use dampid::fit::{self, SolverSettings};
-use dampid::io::table::Table;
 use dampid::prelude::*;
 use dampid::record::LoadDistribution;
 use dampid::regressor::RowLabel;
@@ -474,11 +473,7 @@ fn record_shorter_than_one_window_is_too_short() {
 #[test]
 fn too_many_requested_windows_is_too_short() {
     let mut settings = measured();
-    settings.regressor.windows = WindowSpec {
-        skip: 0,
-        cycles: 1,
-        count: Some(3),
-    };
+    settings.regressor.windows = WindowSpec::cycles(1).first(3).into();
     // Window 2 starts at sample 200 and reads 101 samples.
     assert!(matches!(
         identify(&shared_model(), &[record()], &settings),
@@ -489,7 +484,7 @@ fn too_many_requested_windows_is_too_short() {
 #[test]
 fn skip_beyond_record_is_too_short() {
     let mut settings = measured();
-    settings.regressor.windows.skip = 500;
+    settings.regressor.windows.cycles_mut().unwrap().skip = 500;
     assert!(matches!(
         identify(&shared_model(), &[record()], &settings),
         Err(Error::RecordTooShort {
@@ -542,7 +537,7 @@ fn period_beyond_any_record_is_too_short() {
 #[test]
 fn invalid_window_spec_is_invalid_parameter() {
     let mut settings = measured();
-    settings.regressor.windows.cycles = 0;
+    settings.regressor.windows.cycles_mut().unwrap().cycles = 0;
     assert_invalid(
         identify(&shared_model(), &[record()], &settings),
         "cycles",
@@ -550,7 +545,7 @@ fn invalid_window_spec_is_invalid_parameter() {
     );
 
     let mut settings = measured();
-    settings.regressor.windows.count = Some(0);
+    settings.regressor.windows.cycles_mut().unwrap().count = Some(0);
     assert_invalid(
         identify(&shared_model(), &[record()], &settings),
         "count",
@@ -804,7 +799,7 @@ fn per_element_labels_that_collide_are_duplicate() {
 /// Two windows (count: None) so that the per-DOF model passes the equation count.
 fn two_windows(constraints: Constraints) -> IdentifySettings {
     let mut settings = measured();
-    settings.regressor.windows.count = None;
+    settings.regressor.windows.cycles_mut().unwrap().count = None;
     settings.fit.constraints = constraints;
     settings
 }
@@ -1425,9 +1420,11 @@ fn growing_record_is_not_steady() -> Error {
     p.velocities = Some(Mat::from_fn(N, 2, |i, j| grow(i) * v[(i, j)]));
     p.label = "growing".into();
     let record = Record::new(p).unwrap();
+    let settings = measured().regressor;
     let report = dampid::prep::steady_state::check(
         &[record],
-        &measured().regressor,
+        settings.windows.cycles().unwrap(),
+        settings.quadrature,
         None,
         &dampid::prep::steady_state::SteadyStateSettings::default(),
     )
@@ -1528,11 +1525,11 @@ fn every_variant_is_reachable() {
         simulate(&singular, &sim_settings()).unwrap_err(),
         dampid::terms::laws::Expression::parse("abs(v)*q").unwrap_err(),
         dampid::model_file::parse("dofs = ", "bad.toml", std::path::Path::new(".")).unwrap_err(),
-        Table::parse("t,x\n0,1\n", "t.csv")
+        dampid::io::csv::parse("t,x\n0,1\n", "t.csv")
             .unwrap()
             .column("y")
             .unwrap_err(),
-        Table::parse("t,x\n0,abc\n", "t.csv").unwrap_err(),
+        dampid::io::csv::parse("t,x\n0,abc\n", "t.csv").unwrap_err(),
         dampid::prep::period::detect_period(Mat::<f64>::zeros(N, 1).as_ref(), H, "still")
             .unwrap_err(),
         growing_record_is_not_steady(),
@@ -1589,7 +1586,7 @@ fn huge_period_is_too_short_not_a_panic() {
 #[test]
 fn huge_skip_is_too_short_not_a_panic() {
     let mut settings = measured();
-    settings.regressor.windows.skip = usize::MAX;
+    settings.regressor.windows.cycles_mut().unwrap().skip = usize::MAX;
     assert!(matches!(
         identify(&shared_model(), &[record()], &settings),
         Err(Error::RecordTooShort { available: N, needed, .. }) if needed > N
@@ -1599,7 +1596,7 @@ fn huge_skip_is_too_short_not_a_panic() {
 #[test]
 fn huge_window_count_is_too_short_not_a_panic() {
     let mut settings = measured();
-    settings.regressor.windows.count = Some(usize::MAX);
+    settings.regressor.windows.cycles_mut().unwrap().count = Some(usize::MAX);
     assert!(matches!(
         identify(&shared_model(), &[record()], &settings),
         Err(Error::RecordTooShort { available: N, needed, .. }) if needed > N
@@ -1782,7 +1779,7 @@ fn malformed_model_file_names_file_line_and_column() {
 
 #[test]
 fn missing_column_lists_the_columns() {
-    let table = Table::parse("t,x1\n0,1\n", "d.csv").unwrap();
+    let table = dampid::io::csv::parse("t,x1\n0,1\n", "d.csv").unwrap();
     match table.column("x2") {
         Err(Error::UnknownName { what, name, known }) => {
             assert!(what.contains("d.csv"));
@@ -1794,7 +1791,7 @@ fn missing_column_lists_the_columns() {
 
 #[test]
 fn bad_data_cell_names_row_and_column() {
-    match Table::parse("t,x1\n0,1\n0.1,inf\n", "d.csv") {
+    match dampid::io::csv::parse("t,x1\n0,1\n0.1,inf\n", "d.csv") {
         Err(Error::Data {
             file, row, column, ..
         }) => assert_eq!((file.as_str(), row, column.as_str()), ("d.csv", 2, "x1")),
@@ -1855,7 +1852,7 @@ fn window_shorter_than_one_step_is_invalid_not_an_endless_loop() {
         let record = Record::new(p).unwrap();
         let mut settings = measured();
         settings.regressor.quadrature = quadrature;
-        settings.regressor.windows.count = None;
+        settings.regressor.windows.cycles_mut().unwrap().count = None;
         assert_invalid(
             identify(&shared_model(), &[record], &settings),
             "window span",

@@ -9,7 +9,7 @@ use dampid::io::read_table;
 use dampid::io::table::Table;
 
 fn csv_rows() -> Table {
-    let full = Table::read(Path::new("models/data/chain3/record_1.csv")).unwrap();
+    let full = dampid::io::csv::read(Path::new("models/data/chain3/record_1.csv")).unwrap();
     Table {
         file: full.file.clone(),
         headers: full.headers.clone(),
@@ -95,7 +95,7 @@ frequency = 0.765367
     .unwrap();
     let csv = std::env::temp_dir().join(format!("dampid-formats-{}.csv", std::process::id()));
     let table = csv_rows();
-    Table::write(&csv, &table.headers, &table.columns).unwrap();
+    dampid::io::csv::write(&csv, &table.headers, &table.columns).unwrap();
     let job_csv = dampid::model_file::parse(
         &model(csv.to_str().unwrap(), ["x1", "x2", "x3"], "f1"),
         "m.toml",

@@ -202,11 +202,7 @@ fn first_resonance_of_a_rayleigh_chain_determines_c0_plus_lambda1_c1() {
     };
     let settings = IdentifySettings {
         regressor: RegressorSettings {
-            windows: WindowSpec {
-                skip: 0,
-                cycles: 1,
-                count: None,
-            },
+            windows: WindowSpec::cycles(1).into(),
             quadrature: Quadrature::Trapezoid,
             velocity: VelocitySource::Measured,
             ..Default::default()

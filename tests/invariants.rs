@@ -37,7 +37,8 @@ fn settings(
                 skip: 0,
                 cycles,
                 count,
-            },
+            }
+            .into(),
             quadrature,
             velocity,
             ..Default::default()

@@ -199,7 +199,8 @@ fn settings(quadrature: Quadrature, cycles: usize, count: Option<usize>) -> Regr
             skip: 3,
             cycles,
             count,
-        },
+        }
+        .into(),
         quadrature,
         velocity: VelocitySource::Measured,
         ..RegressorSettings::default()
@@ -229,7 +230,12 @@ fn matches_direct_sums(model: &DampingModel) {
     ] {
         let settings = settings(quadrature, cycles, count);
         let regressor = build(model, &record, &settings);
-        let windows = settings.windows.windows(&record, 0, quadrature).unwrap();
+        let windows = settings
+            .windows
+            .cycles()
+            .unwrap()
+            .windows(&record, 0, quadrature)
+            .unwrap();
         assert_eq!(regressor.equations(), windows.len());
         // Direct sums are slow (O(m n²) for the matrix terms): check a few windows.
         for (r, window) in windows.iter().enumerate().step_by(5).take(2) {

@@ -10,7 +10,7 @@ use dampid::reference::{
     FOUR_MASS_AMPLITUDES, four_mass_model, four_mass_system, noise_study, noise_study_settings,
     noisy_chain_model, noisy_chain_records, noisy_chain_truth, with_displacement_noise,
 };
-use dampid::regressor::robust::NoiseTreatment;
+use dampid::regressor::NoiseTreatment;
 use dampid::simulate::{SimSettings, simulate};
 
 /// The 24 clean experiments, 8 recorded cycles each (a study of c cycles reads the
@@ -102,7 +102,7 @@ fn clean_data_give_the_plain_estimates() {
     let chain = clean();
     let mut chain_settings = (plain_projection(), robust_projection());
     for s in [&mut chain_settings.0, &mut chain_settings.1] {
-        s.regressor.windows.cycles = 2;
+        s.regressor.windows.cycles_mut().unwrap().cycles = 2;
     }
     let mut four_mass_settings = (plain_projection(), robust_projection());
     for s in [&mut four_mass_settings.0, &mut four_mass_settings.1] {

@@ -7,16 +7,16 @@
 use std::path::{Path, PathBuf};
 
 use dampid::error::Error;
-use dampid::fit::{Constraints, FitSettings, solve};
-use dampid::io::table::Table;
+use dampid::fit::{Constraints, FitSettings};
+use dampid::identify::identify_regressor;
 use dampid::model::DampingModel;
 use dampid::model_file::parse;
 use dampid::prep::velocity::VelocitySource;
 use dampid::record::{Forcing, Record, RecordParts};
 use dampid::reference::drive::{DriveSettings, closed_loop_drive, drive_model};
-use dampid::regressor::nonperiodic::{
-    Kinetic, NonPeriodicSettings, Potential, StorageModel, build,
-};
+use dampid::regressor::SpanWindows;
+use dampid::regressor::nonperiodic::{Kinetic, Potential, StorageModel};
+use dampid::regressor::{Regressor, RegressorSettings};
 use dampid::report::FitReport;
 use dampid::simulate::{HarmonicForce, SimSettings, System, simulate};
 use dampid::terms::laws::Linear;
@@ -26,22 +26,40 @@ use faer::Mat;
 mod support;
 use support::cli::{dampid_json, dampid_ok};
 
+/// Windows of `length` with `storage`: trapezoid rule, central-difference velocities.
+fn spans(length: f64, storage: StorageModel) -> RegressorSettings {
+    RegressorSettings::non_periodic(SpanWindows {
+        storage,
+        ..SpanWindows::new(length)
+    })
+}
+
+/// The fixed spans of `settings`, to edit.
+fn span(settings: &mut RegressorSettings) -> &mut SpanWindows {
+    settings.windows.spans_mut().unwrap()
+}
+
 /// 0.25 s windows, an unknown mass and an unknown constant force on DOF 1.
-fn drive_balance() -> NonPeriodicSettings {
-    NonPeriodicSettings {
-        storage: StorageModel {
+fn drive_balance() -> RegressorSettings {
+    spans(
+        0.25,
+        StorageModel {
             offsets: vec![0],
             ..StorageModel::default()
         },
-        ..NonPeriodicSettings::new(0.25)
-    }
+    )
 }
 
-fn fit(regressor: &dampid::regressor::Regressor, fit: &FitSettings) -> FitReport {
-    let solution = solve(regressor, fit).unwrap();
-    let diagnostics =
-        dampid::analysis::diagnostics::diagnose(regressor, &solution, fit.rank_tolerance);
-    FitReport::new(regressor, solution, diagnostics)
+fn build(
+    model: &DampingModel,
+    records: &[Record],
+    settings: &RegressorSettings,
+) -> dampid::Result<Regressor> {
+    Regressor::build(model, records, settings)
+}
+
+fn fit(regressor: &Regressor, fit: &FitSettings) -> FitReport {
+    identify_regressor(regressor, fit).unwrap()
 }
 
 fn relative_error(report: &FitReport, name: &str, truth: f64) -> f64 {
@@ -61,7 +79,7 @@ fn scratch(name: &str) -> PathBuf {
 
 fn write_drive_csv(record: &Record, path: &Path) {
     let n = record.samples();
-    Table::write(
+    dampid::io::csv::write(
         path,
         &["t".into(), "x".into(), "force".into()],
         &[
@@ -221,14 +239,14 @@ fn an_added_spring_only_adds_a_stiffness_estimate() {
         .unwrap(),
         &FitSettings::default(),
     );
-    let balance = NonPeriodicSettings {
-        storage: StorageModel {
+    let balance = spans(
+        0.25,
+        StorageModel {
             potential: Potential::Elements(Element::each_dof(1)),
             offsets: vec![0],
             ..StorageModel::default()
         },
-        ..NonPeriodicSettings::new(0.25)
-    };
+    );
     let with = fit(
         &build(&model, &[closed_loop_drive(&sprung).unwrap()], &balance).unwrap(),
         &FitSettings::default(),
@@ -319,14 +337,16 @@ fn start_up_transient_of_a_two_mass_chain() {
         },
     )
     .unwrap();
-    let unknown = NonPeriodicSettings {
+    let unknown = RegressorSettings {
         velocity: VelocitySource::Measured,
-        storage: StorageModel {
-            kinetic: Kinetic::LumpedPerDof,
-            potential: Potential::Elements(Element::chain_fixed_both_ends(2)),
-            offsets: vec![],
-        },
-        ..NonPeriodicSettings::new(2.0)
+        ..spans(
+            2.0,
+            StorageModel {
+                kinetic: Kinetic::LumpedPerDof,
+                potential: Potential::Elements(Element::chain_fixed_both_ends(2)),
+                offsets: vec![],
+            },
+        )
     };
     let report = fit(
         &build(&model, std::slice::from_ref(&record), &unknown).unwrap(),
@@ -346,13 +366,11 @@ fn start_up_transient_of_a_two_mass_chain() {
         let error = relative_error(&report, name, value);
         assert!(error < 1e-3, "{name}: error {error:.2e}\n{report}");
     }
-    let known = NonPeriodicSettings {
-        storage: StorageModel {
-            kinetic: Kinetic::Known(mass),
-            potential: Potential::Known(stiffness),
-            offsets: vec![],
-        },
-        ..unknown
+    let mut known = unknown.clone();
+    span(&mut known).storage = StorageModel {
+        kinetic: Kinetic::Known(mass),
+        potential: Potential::Known(stiffness),
+        offsets: vec![],
     };
     let regressor = build(&model, std::slice::from_ref(&record), &known).unwrap();
     assert_eq!(regressor.nuisance_count(), 0);
@@ -381,7 +399,7 @@ fn short_record(samples: usize) -> Record {
 fn bad_settings_and_records_get_typed_errors() {
     let model = drive_model();
     let record = short_record(101);
-    let with = |f: &dyn Fn(&mut NonPeriodicSettings)| {
+    let with = |f: &dyn Fn(&mut RegressorSettings)| {
         let mut settings = drive_balance();
         f(&mut settings);
         build(&model, std::slice::from_ref(&record), &settings).unwrap_err()
@@ -402,18 +420,18 @@ fn bad_settings_and_records_get_typed_errors() {
         )),
         "quadrature"
     );
-    assert_eq!(name_of(with(&|s| s.window = f64::NAN)), "window");
-    assert_eq!(name_of(with(&|s| s.window = 0.001)), "window");
+    assert_eq!(name_of(with(&|s| span(s).length = f64::NAN)), "window");
+    assert_eq!(name_of(with(&|s| span(s).length = 0.001)), "window");
     assert!(matches!(
-        with(&|s| s.window = 5.0),
+        with(&|s| span(s).length = 5.0),
         Error::RecordTooShort { needed: 501, .. }
     ));
     assert!(matches!(
-        with(&|s| s.storage.offsets = vec![4]),
+        with(&|s| span(s).storage.offsets = vec![4]),
         Error::DofOutOfRange { dof: 4, .. }
     ));
     assert!(matches!(
-        with(&|s| s.storage.potential = Potential::Known(Mat::zeros(2, 2))),
+        with(&|s| span(s).storage.potential = Potential::Known(Mat::zeros(2, 2))),
         Error::DimensionMismatch { .. }
     ));
     assert!(matches!(

@@ -3,9 +3,8 @@
 
 use dampid::prelude::*;
 use dampid::prep::quadrature::Quadrature;
-use dampid::reference::{
-    FOUR_MASS_C, FOUR_MASS_D, FourMassSummary, chain_stiffness, four_mass_records,
-};
+use dampid::reference::{FOUR_MASS_C, FOUR_MASS_D, FourMassSummary, four_mass_records};
+use dampid::simulate::chain_stiffness;
 
 #[test]
 fn four_mass_cases_meet_their_tolerances_with_the_papers_rule() {
@@ -49,11 +48,7 @@ fn nonnegative_fit_holds_a_spurious_friction_term_at_zero() {
         ))
         .with(Term::per_dof(Coulomb, 4, Coefficients::Shared("mu".into())));
     let mut settings = IdentifySettings::default();
-    settings.regressor.windows = WindowSpec {
-        skip: 0,
-        cycles: 1,
-        count: Some(4),
-    };
+    settings.regressor.windows = WindowSpec::cycles(1).first(4).into();
     let ls = identify(&model, &records, &settings).unwrap();
     settings.fit.constraints = Constraints::nonnegative();
     let nn = identify(&model, &records, &settings).unwrap();

@@ -96,11 +96,7 @@ fn settings(
 ) -> IdentifySettings {
     let mut settings = IdentifySettings {
         regressor: RegressorSettings {
-            windows: WindowSpec {
-                skip: 0,
-                cycles,
-                count: Some(count),
-            },
+            windows: WindowSpec::cycles(cycles).first(count).into(),
             quadrature,
             velocity: VelocitySource::Measured,
             ..Default::default()

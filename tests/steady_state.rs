@@ -172,7 +172,8 @@ fn state_criterion_sees_the_transient_too() {
     let job = parse(&from_rest(0, false), "rest.toml", Path::new(".")).unwrap();
     let without_energy = dampid::prep::steady_state::check(
         &job.source_records,
-        &job.source_windows,
+        job.source_windows.windows.cycles().unwrap(),
+        job.source_windows.quadrature,
         None,
         &job.steady_state,
     )
@@ -244,7 +245,6 @@ forces = [{ column = "f1", dof = 1 }]
 #[test]
 fn short_windows_up_to_the_end_of_a_short_record() {
     use dampid::prelude::*;
-    use dampid::regressor::RegressorSettings;
     let (h, period, samples) = (0.1, 1.05, 40);
     let omega = 2.0 * PI / period;
     let x = Mat::from_fn(samples, 1, |i, _| (omega * i as f64 * h).cos());
@@ -265,18 +265,10 @@ fn short_windows_up_to_the_end_of_a_short_record() {
         Quadrature::Trapezoid,
         Quadrature::Spectral,
     ] {
-        let settings = RegressorSettings {
-            windows: WindowSpec {
-                skip: 0,
-                cycles: 1,
-                count: None,
-            },
-            quadrature,
-            ..RegressorSettings::default()
-        };
         let report = dampid::prep::steady_state::check(
             std::slice::from_ref(&record),
-            &settings,
+            &WindowSpec::cycles(1),
+            quadrature,
             None,
             &Default::default(),
         )
@@ -291,17 +283,14 @@ fn short_windows_up_to_the_end_of_a_short_record() {
     let mut parts = record.into_parts();
     parts.period = 0.15;
     let coarse = Record::new(parts).unwrap();
-    let settings = RegressorSettings {
-        windows: WindowSpec {
-            skip: 0,
-            cycles: 1,
-            count: None,
-        },
-        quadrature: Quadrature::Rectangular,
-        ..RegressorSettings::default()
-    };
-    let report =
-        dampid::prep::steady_state::check(&[coarse], &settings, None, &Default::default()).unwrap();
+    let report = dampid::prep::steady_state::check(
+        &[coarse],
+        &WindowSpec::cycles(1),
+        Quadrature::Rectangular,
+        None,
+        &Default::default(),
+    )
+    .unwrap();
     assert_eq!(
         report.windows.last().unwrap().window,
         report.windows.len() - 1

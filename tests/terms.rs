@@ -170,7 +170,7 @@ fn stiffness_and_mass_proportional_terms() {
     let (x1, x2, phi, w) = (0.5, 1.2, 0.3, 0.8);
     let motion = Harmonic::two_dofs([x1, x2], [0.0, phi], w, 128.0);
     let record = motion.record();
-    let k = dampid::reference::chain_stiffness(2);
+    let k = dampid::simulate::chain_stiffness(2);
     let m = Mat::from_fn(2, 2, |i, j| if i == j { [2.0, 0.5][i] } else { 0.0 });
     let model = DampingModel::new()
         .with(Term::stiffness_proportional("beta", k))

@@ -13,9 +13,11 @@
 
 use arbitrary::{Arbitrary, Unstructured};
 use dampid::fit::{Bound, Constraints, Fixed};
-use dampid::regressor::nonperiodic::{Kinetic, NonPeriodicSettings, Potential, StorageModel};
 use dampid::prelude::*;
+use dampid::regressor::SpanWindows;
 use dampid::regressor::WorkForm;
+use dampid::regressor::nonperiodic::{Kinetic, Potential, StorageModel};
+use dampid::regressor::{NoiseTreatment, RegressorSettings, Windows};
 use dampid::terms::laws::Expression;
 use faer::Mat;
 use libfuzzer_sys::fuzz_target;
@@ -252,7 +254,7 @@ impl<'a> Arbitrary<'a> for Input {
 fn matrix(choice: &MatrixChoice, n: usize) -> Mat<f64> {
     match choice {
         MatrixChoice::Identity => Mat::identity(n, n),
-        MatrixChoice::Chain => dampid::reference::chain_stiffness(n),
+        MatrixChoice::Chain => dampid::simulate::chain_stiffness(n),
         MatrixChoice::Raw { rows, cols, values } => {
             // Mostly n × n; any size up to MAX_DOFS + 1 otherwise.
             let r = if *rows < 200 {
@@ -421,7 +423,8 @@ fn settings(s: &Settings, names: &[String]) -> IdentifySettings {
         skip: usize::from(s.skip),
         cycles: usize::from(s.cycles % 8),
         count: s.count.map(usize::from),
-    };
+    }
+    .into();
     settings.fit.constraints = Constraints {
         nonnegative: s.nonnegative,
         bounds: s
@@ -458,13 +461,18 @@ fn settings(s: &Settings, names: &[String]) -> IdentifySettings {
     settings
 }
 
-fn non_periodic(choice: &NonPeriodicChoice, n: usize, step: f64) -> NonPeriodicSettings {
-    NonPeriodicSettings {
-        window: match choice.window {
-            Scalar::Tame(k) => (1.0 + f64::from(k)) * step,
-            Scalar::Raw(v) => v,
-        },
-        skip: usize::from(choice.skip),
+/// The fixed spans of the non-periodic mode, with their rule, velocities and work form.
+fn non_periodic(choice: &NonPeriodicChoice, n: usize, step: f64) -> RegressorSettings {
+    RegressorSettings {
+        windows: Windows::Spans(SpanWindows {
+            length: match choice.window {
+                Scalar::Tame(k) => (1.0 + f64::from(k)) * step,
+                Scalar::Raw(v) => v,
+            },
+            skip: usize::from(choice.skip),
+            storage: storage(choice, n),
+        }),
+        noise: NoiseTreatment::Auto,
         quadrature: if choice.trapezoid {
             Quadrature::Trapezoid
         } else {
@@ -480,24 +488,27 @@ fn non_periodic(choice: &NonPeriodicChoice, n: usize, step: f64) -> NonPeriodicS
         } else {
             WorkForm::Velocity
         },
-        storage: StorageModel {
-            kinetic: match &choice.kinetic {
-                KineticChoice::LumpedPerDof => Kinetic::LumpedPerDof,
-                KineticChoice::Known(m) => Kinetic::Known(matrix(m, n)),
-                KineticChoice::Neglected => Kinetic::Neglected,
-            },
-            potential: match &choice.potential {
-                PotentialChoice::Neglected => Potential::Neglected,
-                PotentialChoice::Chain => Potential::Elements(Element::chain_fixed_both_ends(n)),
-                PotentialChoice::Known(m) => Potential::Known(matrix(m, n)),
-            },
-            offsets: choice
-                .offsets
-                .iter()
-                .take(3)
-                .map(|&d| usize::from(d) % (n + 2))
-                .collect(),
+    }
+}
+
+fn storage(choice: &NonPeriodicChoice, n: usize) -> StorageModel {
+    StorageModel {
+        kinetic: match &choice.kinetic {
+            KineticChoice::LumpedPerDof => Kinetic::LumpedPerDof,
+            KineticChoice::Known(m) => Kinetic::Known(matrix(m, n)),
+            KineticChoice::Neglected => Kinetic::Neglected,
         },
+        potential: match &choice.potential {
+            PotentialChoice::Neglected => Potential::Neglected,
+            PotentialChoice::Chain => Potential::Elements(Element::chain_fixed_both_ends(n)),
+            PotentialChoice::Known(m) => Potential::Known(matrix(m, n)),
+        },
+        offsets: choice
+            .offsets
+            .iter()
+            .take(3)
+            .map(|&d| usize::from(d) % (n + 2))
+            .collect(),
     }
 }
 
@@ -522,19 +533,12 @@ fuzz_target!(|input: Input| {
     let model = terms
         .into_iter()
         .fold(DampingModel::new(), DampingModel::with);
-    let settings = settings(&input.settings, &model.coefficient_names());
-    match &input.settings.non_periodic {
-        None => {
-            if let Ok(report) = identify(&model, &records, &settings) {
-                support::check(&report);
-            }
-        }
-        Some(choice) => {
-            let step = records.first().map_or(1.0, Record::step);
-            let np = non_periodic(choice, n, step);
-            if let Ok(regressor) = dampid::regressor::nonperiodic::build(&model, &records, &np) {
-                support::fit_and_check(&regressor, &settings.fit);
-            }
-        }
+    let mut settings = settings(&input.settings, &model.coefficient_names());
+    if let Some(choice) = &input.settings.non_periodic {
+        let step = records.first().map_or(1.0, Record::step);
+        settings.regressor = non_periodic(choice, n, step);
+    }
+    if let Ok(report) = identify(&model, &records, &settings) {
+        support::check(&report);
     }
 });

@@ -79,7 +79,9 @@ fuzz_target!(|bytes: &[u8]| {
         return;
     };
     // As `dampid identify` does: periodic windows or the non-periodic balance.
-    if let Ok(regressor) = job.regressor() {
-        support::fit_and_check(&regressor, &job.settings.fit);
+    if let Ok(regressor) = job.regressor()
+        && let Ok(report) = dampid::identify::identify_regressor(&regressor, &job.settings.fit)
+    {
+        support::check(&report);
     }
 });

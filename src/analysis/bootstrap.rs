@@ -26,15 +26,10 @@ use rand::{Rng, SeedableRng};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::analysis::diagnostics::diagnose;
 use crate::error::{Error, Result};
 use crate::fit::scaling::Scaling;
 use crate::fit::{FitMethod, FitSettings, solve};
-use crate::identify::IdentifySettings;
-use crate::model::DampingModel;
-use crate::record::Record;
 use crate::regressor::Regressor;
-use crate::report::FitReport;
 
 /// How many replicates, from which seed, at which confidence level.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -242,22 +237,6 @@ fn quantile(values: &[f64], q: f64) -> f64 {
     let lo = h.floor() as usize;
     let hi = (lo + 1).min(values.len() - 1);
     values[lo] + (h - lo as f64) * (values[hi] - values[lo])
-}
-
-/// [`crate::identify()`] followed by a bootstrap of the same regressor and fit settings:
-/// the report carries the confidence intervals.
-pub fn identify_with_bootstrap(
-    model: &DampingModel,
-    records: &[Record],
-    settings: &IdentifySettings,
-    bootstrap_settings: &BootstrapSettings,
-) -> Result<FitReport> {
-    settings.fit.validate()?;
-    let regressor = Regressor::build(model, records, &settings.regressor)?;
-    let fit = solve(&regressor, &settings.fit)?;
-    let diagnostics = diagnose(&regressor, &fit, settings.fit.rank_tolerance);
-    let report = FitReport::new(&regressor, fit, diagnostics);
-    Ok(report.with_bootstrap(bootstrap(&regressor, &settings.fit, bootstrap_settings)?))
 }
 
 #[cfg(test)]

@@ -1,23 +1,30 @@
-//! Reading and writing measurement files. Every format becomes a [`table::Table`] of
-//! named numeric columns, which model files refer to by name.
+//! Reading and writing files. Every measurement format becomes a [`Table`] of named
+//! numeric columns, which model files refer to by name.
 //!
 //! | extension | reader | columns |
 //! |---|---|---|
-//! | `.csv` | [`table::Table::read`] | header names |
+//! | `.csv` | [`csv::read`] | header names |
 //! | `.npy` | [`npy::read_npy`] | the file stem (`x`, or `x[1]`…`x[k]` for N × k) |
 //! | `.npz` | [`npy::read_npz`] | each array's name, as above |
 //! | `.mat` | [`mat::read_mat`] | each real numeric variable's name, as above |
+//!
+//! Other files: [`records`] writes records as CSV (`dampid simulate`), [`stepped_sine`]
+//! reads and writes stepped-sine tables, [`pod_files`] runs the POD of record files
+//! (`dampid pod`).
 
 mod arrays;
+pub mod csv;
 pub mod mat;
 pub mod npy;
 pub mod pod_files;
+pub mod records;
+pub mod stepped_sine;
 pub mod table;
 
 use std::path::Path;
 
 use crate::error::{Error, Result};
-use table::Table;
+pub use table::Table;
 
 /// Reads a data file by its extension.
 pub fn read_table(path: &Path) -> Result<Table> {
@@ -25,7 +32,7 @@ pub fn read_table(path: &Path) -> Result<Table> {
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase());
     match extension.as_deref() {
-        Some("csv") | Some("txt") => Table::read(path),
+        Some("csv") | Some("txt") => csv::read(path),
         Some("npy") => npy::read_npy(path),
         Some("npz") => npy::read_npz(path),
         Some("mat") => mat::read_mat(path),

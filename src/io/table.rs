@@ -1,7 +1,7 @@
-//! CSV files with a header row: every column numeric. Errors name the file, the 1-based
-//! data row and the column.
+//! The common form of every data file: named numeric columns of one length, with the
+//! file they came from for error messages. Every reader in [`crate::io`] returns one.
 
-use std::path::Path;
+use faer::Mat;
 
 use crate::error::{Error, Result};
 
@@ -17,82 +17,6 @@ pub struct Table {
 }
 
 impl Table {
-    /// Reads a CSV file with a header row.
-    pub fn read(path: &Path) -> Result<Self> {
-        let file = path.display().to_string();
-        let reader = csv::ReaderBuilder::new()
-            .trim(csv::Trim::All)
-            .comment(Some(b'#'))
-            .from_path(path)
-            .map_err(|e| Error::Data {
-                file: file.clone(),
-                row: 0,
-                column: String::new(),
-                message: e.to_string(),
-            })?;
-        Self::from_reader(reader, file)
-    }
-
-    /// Reads CSV text with a header row (`file` names it in errors).
-    pub fn parse(text: &str, file: &str) -> Result<Self> {
-        let reader = csv::ReaderBuilder::new()
-            .trim(csv::Trim::All)
-            .comment(Some(b'#'))
-            .from_reader(text.as_bytes());
-        Self::from_reader(reader, file.to_string())
-    }
-
-    fn from_reader<R: std::io::Read>(mut reader: csv::Reader<R>, file: String) -> Result<Self> {
-        let data_error = |row: usize, column: &str, message: String| Error::Data {
-            file: file.clone(),
-            row,
-            column: column.to_string(),
-            message,
-        };
-        let headers: Vec<String> = reader
-            .headers()
-            .map_err(|e| data_error(0, "", e.to_string()))?
-            .iter()
-            .map(str::to_string)
-            .collect();
-        if headers.is_empty() || headers.iter().all(String::is_empty) {
-            return Err(data_error(0, "", "no header row".into()));
-        }
-        let mut columns = vec![Vec::new(); headers.len()];
-        for (index, record) in reader.records().enumerate() {
-            let row = index + 1;
-            let record = record.map_err(|e| data_error(row, "", e.to_string()))?;
-            if record.len() != headers.len() {
-                return Err(data_error(
-                    row,
-                    "",
-                    format!("{} fields, the header has {}", record.len(), headers.len()),
-                ));
-            }
-            for (k, field) in record.iter().enumerate() {
-                let value: f64 = field.parse().map_err(|_| {
-                    data_error(row, &headers[k], format!("'{field}' is not a number"))
-                })?;
-                if !value.is_finite() {
-                    return Err(data_error(
-                        row,
-                        &headers[k],
-                        format!("non-finite value {value}"),
-                    ));
-                }
-                columns[k].push(value);
-            }
-        }
-        if columns[0].is_empty() {
-            return Err(data_error(0, "", "no data rows".into()));
-        }
-        Ok(Table {
-            file,
-            headers,
-            columns,
-        })
-    }
-
     /// The column named `name`.
     pub fn column(&self, name: &str) -> Result<&[f64]> {
         self.headers
@@ -111,51 +35,43 @@ impl Table {
         self.columns[0].len()
     }
 
-    /// Writes `headers` and column-major `columns` as CSV.
-    pub fn write(path: &Path, headers: &[String], columns: &[Vec<f64>]) -> Result<()> {
-        let io_error = |e: &dyn std::fmt::Display| Error::Data {
-            file: path.display().to_string(),
-            row: 0,
-            column: String::new(),
-            message: e.to_string(),
-        };
-        let mut writer = csv::Writer::from_path(path).map_err(|e| io_error(&e))?;
-        writer.write_record(headers).map_err(|e| io_error(&e))?;
-        let rows = columns.first().map_or(0, Vec::len);
-        for i in 0..rows {
-            writer
-                .write_record(columns.iter().map(|c| format!("{:.10e}", c[i])))
-                .map_err(|e| io_error(&e))?;
-        }
-        writer.flush().map_err(|e| io_error(&e))
+    /// The columns `names` side by side, one row per sample.
+    pub fn matrix(&self, names: &[String]) -> Result<Mat<f64>> {
+        let columns = names
+            .iter()
+            .map(|name| self.column(name))
+            .collect::<Result<Vec<_>>>()?;
+        Ok(Mat::from_fn(self.rows(), columns.len(), |i, j| {
+            columns[j][i]
+        }))
     }
-}
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn reads_columns_and_names_bad_cells() {
-        let table = Table::parse("t, x1, f\n0, 1.0, 2\n0.1, 1.5, -2\n", "mem.csv").unwrap();
-        assert_eq!(table.column("x1").unwrap(), [1.0, 1.5]);
-        assert_eq!(table.rows(), 2);
-        match Table::parse("t,x\n0,1\n0.1,abc\n", "mem.csv") {
-            Err(Error::Data {
-                file,
-                row,
-                column,
-                message,
-            }) => {
-                assert_eq!((file.as_str(), row, column.as_str()), ("mem.csv", 2, "x"));
-                assert!(message.contains("abc"));
-            }
-            other => panic!("{other:?}"),
+    /// The step of the uniformly sampled time column `name`; rows whose spacing departs
+    /// from it by more than 1e-6 h are reported.
+    pub fn uniform_step(&self, name: &str) -> Result<f64> {
+        let table = self;
+        let t = table.column(name)?;
+        if t.len() < 2 {
+            return Err(Error::Data {
+                file: table.file.clone(),
+                row: 1,
+                column: name.to_string(),
+                message: "a time column needs at least two rows".into(),
+            });
         }
-        assert!(matches!(
-            Table::parse("t,x\n0,NaN\n", "mem.csv"),
-            Err(Error::Data { row: 1, .. })
-        ));
-        assert!(matches!(table.column("x9"), Err(Error::UnknownName { .. })));
+        let step = (t[t.len() - 1] - t[0]) / (t.len() - 1) as f64;
+        for (i, pair) in t.windows(2).enumerate() {
+            let dt = pair[1] - pair[0];
+            // Values are finite (the table rejects others), so a plain comparison is safe.
+            if (dt - step).abs() > 1e-6 * step.abs() || step <= 0.0 {
+                return Err(Error::Data {
+                    file: table.file.clone(),
+                    row: i + 2,
+                    column: name.to_string(),
+                    message: format!("time step {dt} departs from the uniform step {step}"),
+                });
+            }
+        }
+        Ok(step)
     }
 }

@@ -311,7 +311,7 @@ pub struct IdentificationSpec {
     /// K for spectral or harmonic-projection velocities.
     pub harmonics: Option<usize>,
     /// Noise correction: `"auto"` (with harmonic projection), `"ignore"`, `"correct"`.
-    pub noise: crate::regressor::robust::NoiseTreatment,
+    pub noise: crate::regressor::NoiseTreatment,
     /// Equation weights: `"auto"`, `"ordinary"`, `"propagated"`.
     pub weighting: crate::fit::Weighting,
     /// Input and Coulomb work: `"velocity"` or `"derivative_free"`.
@@ -373,7 +373,7 @@ impl Default for IdentificationSpec {
             quadrature: Quadrature::default(),
             velocity: None,
             harmonics: None,
-            noise: crate::regressor::robust::NoiseTreatment::default(),
+            noise: crate::regressor::NoiseTreatment::default(),
             weighting: crate::fit::Weighting::default(),
             work_form: crate::regressor::WorkForm::default(),
             cycles: 1,

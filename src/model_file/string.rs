@@ -3,7 +3,7 @@
 
 use std::collections::BTreeMap;
 
-use super::{Truth, truth_of};
+use super::records::{Truth, truth_of};
 use crate::error::{Error, Result};
 use crate::model::DampingModel;
 use crate::progress::Progress;

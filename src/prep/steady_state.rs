@@ -40,9 +40,8 @@ use serde::{Deserialize, Serialize};
 use crate::error::{Error, Result};
 use crate::prep::quadrature::Quadrature;
 use crate::prep::velocity::VelocitySource;
-use crate::prep::window::Window;
+use crate::prep::window::{Window, WindowSpec};
 use crate::record::{LoadDistribution, Record};
-use crate::regressor::RegressorSettings;
 
 /// Default largest |ΔE| / |W| of a steady window (1% of the input work).
 pub const DEFAULT_MAX_ENERGY_MISMATCH: f64 = 0.01;
@@ -281,25 +280,24 @@ impl fmt::Display for SteadyStateReport {
     }
 }
 
-/// Checks every window that `regressor` cuts from `records`; `energy` gives M and K when
-/// known.
+/// Checks every window that `windows` cuts from `records` for the rule `quadrature`;
+/// `energy` gives M and K when known.
 pub fn check(
     records: &[Record],
-    regressor: &RegressorSettings,
+    windows: &WindowSpec,
+    quadrature: Quadrature,
     energy: Option<&StoredEnergy>,
     settings: &SteadyStateSettings,
 ) -> Result<SteadyStateReport> {
     settings.validate()?;
+    let spec = windows;
     let mut windows = Vec::new();
     for (index, record) in records.iter().enumerate() {
         if let Some(e) = energy {
             e.validate(record.dofs())?;
         }
-        for window in regressor
-            .windows
-            .windows(record, index, regressor.quadrature)?
-        {
-            let mut checked = check_window(record, &window, regressor, energy)?;
+        for window in spec.windows(record, index, quadrature)? {
+            let mut checked = check_window(record, &window, quadrature, energy)?;
             checked.steady = match checked.energy_mismatch {
                 Some(e) => e <= settings.max_energy_mismatch,
                 None => checked.state_mismatch() <= settings.max_state_mismatch,
@@ -318,7 +316,7 @@ pub fn check(
 fn check_window(
     record: &Record,
     window: &Window,
-    regressor: &RegressorSettings,
+    quadrature: Quadrature,
     energy: Option<&StoredEnergy>,
 ) -> Result<WindowCheck> {
     let (start, span) = (window.start, window.span);
@@ -330,7 +328,7 @@ fn check_window(
     // Velocities for the stencil and for every sample the work's weights read.
     let work_samples = Quadrature::Trapezoid
         .samples(span, h)
-        .max(regressor.quadrature.samples(span, h));
+        .max(quadrature.samples(span, h));
     let last = stencil
         .last()
         .max(start.saturating_add(work_samples).saturating_sub(1))
@@ -391,7 +389,7 @@ fn check_window(
     };
     let displacement_mismatch = scale * relative(&x_end, &x_start, amplitude(x));
     let velocity_mismatch = scale * relative(&v_end, &v_start, amplitude(v));
-    let input_work = input_work(record, start, span, count, v, regressor.quadrature)?;
+    let input_work = input_work(record, start, span, count, v, quadrature)?;
     let energy_change =
         energy.map(|e| scale * (e.energy(&x_end, &v_end) - e.energy(&x_start, &v_start)));
     let energy_mismatch = energy_change.map(|de| {

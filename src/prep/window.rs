@@ -1,6 +1,11 @@
-//! Windows of whole driving periods. Window j of a record starts at sample
-//! s_j = skip + round(j · kT/h) and spans kT in time; the quadrature rule decides which
-//! samples inside it are read and with which weights.
+//! Windows: the stretches of a record that become equations.
+//!
+//! - Whole driving periods ([`WindowSpec`]): window j of a record starts at sample
+//!   s_j = skip + round(j · kT/h) and spans kT in time; the quadrature rule decides
+//!   which samples inside it are read and with which weights.
+//! - Fixed spans of a record that is not periodic ([`span_windows`]): window j spans
+//!   L = round(length/h) steps from s_j = skip + j L, so consecutive windows share
+//!   their end samples.
 
 use serde::{Deserialize, Serialize};
 
@@ -22,11 +27,7 @@ pub struct WindowSpec {
 impl Default for WindowSpec {
     /// One window of one period per record, starting at the first sample.
     fn default() -> Self {
-        WindowSpec {
-            skip: 0,
-            cycles: 1,
-            count: Some(1),
-        }
+        WindowSpec::cycles(1).first(1)
     }
 }
 
@@ -46,6 +47,28 @@ pub struct Window {
 }
 
 impl WindowSpec {
+    /// Windows of `k` whole periods from the first sample, as many per record as fit.
+    pub fn cycles(k: usize) -> Self {
+        WindowSpec {
+            skip: 0,
+            cycles: k,
+            count: None,
+        }
+    }
+
+    /// These windows after the first `samples` samples of each record (a transient).
+    pub fn skipping(mut self, samples: usize) -> Self {
+        self.skip = samples;
+        self
+    }
+
+    /// These windows, exactly `count` per record (a record too short for them is an
+    /// error).
+    pub fn first(mut self, count: usize) -> Self {
+        self.count = Some(count);
+        self
+    }
+
     /// Checks the settings themselves.
     pub fn validate(&self) -> Result<()> {
         if self.cycles == 0 {
@@ -114,4 +137,47 @@ impl WindowSpec {
         }
         Ok(windows)
     }
+}
+
+/// The windows of `length` time units over a record that is not periodic: consecutive,
+/// L = round(length/h) steps each, sharing their end samples, as many as fit after
+/// `skip` (the span is L h).
+pub fn span_windows(
+    record: &Record,
+    record_index: usize,
+    length: f64,
+    skip: usize,
+) -> Result<Vec<Window>> {
+    let steps = (length / record.step()).round();
+    if steps < 1.0 {
+        return Err(Error::invalid(
+            "window",
+            length,
+            &format!(
+                "is shorter than one sample step h = {} of record '{}'",
+                record.step(),
+                record.label()
+            ),
+        ));
+    }
+    let steps = steps as usize;
+    let span = steps as f64 * record.step();
+    let last = record.samples() - 1;
+    let count = last.saturating_sub(skip) / steps;
+    if count == 0 || skip >= last {
+        return Err(Error::RecordTooShort {
+            record: record.label().to_string(),
+            needed: skip.saturating_add(steps).saturating_add(1),
+            available: record.samples(),
+        });
+    }
+    Ok((0..count)
+        .map(|index| Window {
+            record: record_index,
+            index,
+            start: skip + index * steps,
+            span,
+            cycles: 0,
+        })
+        .collect())
 }

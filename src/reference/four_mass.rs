@@ -23,7 +23,9 @@ use crate::prep::window::WindowSpec;
 use crate::record::Record;
 use crate::regressor::RegressorSettings;
 use crate::report::FitReport;
-use crate::simulate::{ConservativeForce, HarmonicForce, SimSettings, System, simulate};
+use crate::simulate::{
+    ConservativeForce, HarmonicForce, SimSettings, System, chain_stiffness, simulate,
+};
 use crate::terms::laws::Quadratic;
 use crate::terms::{Coefficients, Term};
 
@@ -35,19 +37,6 @@ pub const FOUR_MASS_D: f64 = 0.10;
 pub const FOUR_MASS_OMEGA: f64 = 0.618;
 /// Forcing amplitudes.
 pub const FOUR_MASS_AMPLITUDES: [f64; 4] = [0.25, 0.5, 0.75, 1.0];
-
-/// K = tridiag(−1, 2, −1) for a chain of n unit springs fixed at both ends.
-pub fn chain_stiffness(n: usize) -> Mat<f64> {
-    Mat::from_fn(n, n, |i, j| {
-        if i == j {
-            2.0
-        } else if i.abs_diff(j) == 1 {
-            -1.0
-        } else {
-            0.0
-        }
-    })
-}
 
 /// The damping model of the four-mass chain: C = c K and d ẋ_i|ẋ_i| on every mass.
 pub fn four_mass_model() -> DampingModel {
@@ -183,11 +172,7 @@ pub fn run_four_mass_case(case: &FourMassCase, quadrature: Quadrature) -> Result
     let records = four_mass_records(case.cubic_spring, case.cycles)?;
     let settings = IdentifySettings {
         regressor: RegressorSettings {
-            windows: WindowSpec {
-                skip: 0,
-                cycles: case.cycles,
-                count: Some(1),
-            },
+            windows: WindowSpec::cycles(case.cycles).first(1).into(),
             quadrature,
             velocity: case.velocity,
             ..RegressorSettings::default()

@@ -17,7 +17,7 @@ use rand_distr::{Distribution, Normal};
 use crate::error::Result;
 use crate::model::DampingModel;
 use crate::record::Record;
-use crate::reference::chain_stiffness;
+use crate::simulate::chain_stiffness;
 use crate::simulate::{HarmonicForce, SimSettings, System, simulate};
 use crate::terms::laws::{Coulomb, Linear};
 use crate::terms::{Coefficients, Element, Term};
@@ -225,13 +225,9 @@ pub fn noise_study_settings(cycles: usize, robust: bool) -> crate::identify::Ide
     use crate::fit::Weighting;
     use crate::prep::velocity::VelocitySource;
     use crate::prep::window::WindowSpec;
-    use crate::regressor::robust::NoiseTreatment;
+    use crate::regressor::NoiseTreatment;
     let mut settings = crate::identify::IdentifySettings::default();
-    settings.regressor.windows = WindowSpec {
-        skip: 0,
-        cycles,
-        count: Some(1),
-    };
+    settings.regressor.windows = WindowSpec::cycles(cycles).first(1).into();
     if robust {
         settings.regressor.velocity = VelocitySource::HarmonicProjection { harmonics: None };
         settings.regressor.noise = NoiseTreatment::Correct;

@@ -478,11 +478,7 @@ pub fn with_displacement_noise(record: &Record, noise: &Mat<f64>) -> Result<Reco
 pub fn string_identify_settings(velocity: VelocitySource) -> IdentifySettings {
     IdentifySettings {
         regressor: RegressorSettings {
-            windows: WindowSpec {
-                skip: 0,
-                cycles: 10,
-                count: Some(1),
-            },
+            windows: WindowSpec::cycles(10).first(1).into(),
             quadrature: Quadrature::Rectangular,
             velocity,
             ..RegressorSettings::default()

@@ -7,16 +7,25 @@
 //! Mass and stiffness never appear: over whole periods of a periodic motion their
 //! stored energy returns to its start.
 //!
-//! With harmonic-projection velocities the rows come from the noise-robust pipeline
-//! ([`crate::regressor::robust`]): columns corrected for the expected noise contribution, and each
-//! row's first-order noise sensitivity kept for weighting the fit. With
-//! [`WorkForm::DerivativeFree`] the input work is ∫ rᵀ dx and (on raw samples) Coulomb
-//! columns are total variations of x ([`crate::regressor::derivative_free`]).
+//! One type, one [`Regressor::build`], three row builders:
+//!
+//! | windows | velocities | rows from |
+//! |---|---|---|
+//! | whole periods | measured, central differences, spectral | `periodic.rs`: one fused kernel pass per window (`kernel/`) |
+//! | whole periods | harmonic projection (noise `auto`) | [`robust`]: columns corrected for the expected noise contribution, each row's first-order noise sensitivity kept for weighting the fit |
+//! | fixed spans | measured, central differences | [`nonperiodic`]: the same kernel, plus nuisance columns for the change of stored energy and constant forces |
+//!
+//! With [`WorkForm::DerivativeFree`] the input work is ∫ rᵀ dx and (on raw samples)
+//! Coulomb columns are total variations of x ([`derivative_free`]).
 
 pub(crate) mod derivative_free;
 mod kernel;
 pub mod nonperiodic;
+mod periodic;
 pub mod robust;
+mod settings;
+
+pub use settings::{NoiseTreatment, RegressorSettings, SpanWindows, Windows, WorkForm};
 
 use faer::Mat;
 use rayon::prelude::*;
@@ -24,76 +33,24 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 use crate::model::DampingModel;
-use crate::prep::quadrature::{Quadrature, WindowWeights};
 use crate::prep::velocity::VelocitySource;
-use crate::prep::window::{Window, WindowSpec};
+use crate::prep::window::Window;
 use crate::record::Record;
-use crate::regressor::kernel::{Plan, WindowSamples, build_in_parallel};
-use robust::{NoiseModel, NoiseTreatment};
+use robust::NoiseModel;
 
-/// How records become equations.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
-pub struct RegressorSettings {
-    /// How records are cut into windows of whole periods.
-    pub windows: WindowSpec,
-    /// The quadrature rule for window integrals.
-    pub quadrature: Quadrature,
-    /// Where velocities come from.
-    pub velocity: VelocitySource,
-    /// Whether columns are corrected for sensor noise (the noise-robust pipeline).
-    #[serde(default)]
-    pub noise: NoiseTreatment,
-    /// Velocity-weighted or derivative-free forms of the input and Coulomb work.
-    #[serde(default)]
-    pub work_form: WorkForm,
-}
+/// One equation: the columns (one per coefficient) and the input work.
+pub(crate) type Row = (Vec<f64>, f64);
 
-/// How the input work (and, on raw samples, Coulomb columns) are integrated.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum WorkForm {
-    /// ∫ vᵀ r dt and ∫ |v| dt with the rule's weights. In the noise-robust pipeline v̂ is
-    /// the exact derivative of the projected displacement x̂, so this is ∫ rᵀ dx̂
-    /// integrated by the rule (spectrally accurate over whole periods), with no
-    /// difference of noisy samples.
-    #[default]
-    Velocity,
-    /// ∫ rᵀ dx as a trapezoidal Stieltjes sum and Coulomb work as the total variation of
-    /// the sampled x (see [`crate::regressor::derivative_free`]): no velocity estimate enters them.
-    /// Its relative error on a harmonic of phase step δ = kωh is about −δ²/6.
-    DerivativeFree,
-}
-
-impl RegressorSettings {
-    /// The paper's plain pipeline: `velocity` as given, no noise correction,
-    /// velocity-weighted work.
-    pub fn plain(windows: WindowSpec, quadrature: Quadrature, velocity: VelocitySource) -> Self {
-        RegressorSettings {
-            windows,
-            quadrature,
-            velocity,
-            noise: NoiseTreatment::Ignore,
-            work_form: WorkForm::Velocity,
-        }
-    }
-
-    /// Whether the noise-robust pipeline runs: `Auto` runs it with harmonic-projection
-    /// velocities; `Correct` with any other source is an error.
-    pub fn noise_robust(&self) -> Result<bool> {
-        let projected = matches!(self.velocity, VelocitySource::HarmonicProjection { .. });
-        match self.noise {
-            NoiseTreatment::Ignore => Ok(false),
-            NoiseTreatment::Auto => Ok(projected),
-            NoiseTreatment::Correct if projected => Ok(true),
-            NoiseTreatment::Correct => Err(Error::invalid(
-                "noise",
-                0.0,
-                &format!(
-                    "noise correction needs velocity = harmonic projection (the noise of a projection is known), not {:?}; set noise = ignore or change the velocity source",
-                    self.velocity
-                ),
-            )),
-        }
+/// `row` of every window, in window order; on the rayon pool when `parallel`.
+pub(crate) fn map_windows<T: Send>(
+    parallel: bool,
+    windows: &[Window],
+    row: impl Fn(&Window) -> Result<T> + Sync + Send,
+) -> Result<Vec<T>> {
+    if parallel {
+        windows.par_iter().map(row).collect()
+    } else {
+        windows.iter().map(row).collect()
     }
 }
 
@@ -139,12 +96,27 @@ pub struct Regressor {
 }
 
 impl Regressor {
-    /// Builds one row per window of every record.
+    /// Builds one row per window of every record: windows of whole periods (plain
+    /// or noise-robust rows) or fixed spans of non-periodic records, as `settings` say.
     pub fn build(
         model: &DampingModel,
         records: &[Record],
         settings: &RegressorSettings,
     ) -> Result<Self> {
+        let spec = match &settings.windows {
+            Windows::Spans(spans) => {
+                settings.validate()?;
+                return nonperiodic::build(
+                    model,
+                    records,
+                    spans,
+                    settings.quadrature,
+                    settings.velocity,
+                    settings.work_form,
+                );
+            }
+            Windows::Cycles(spec) => spec,
+        };
         if records.is_empty() {
             return Err(Error::Empty {
                 what: "record list".into(),
@@ -157,63 +129,43 @@ impl Regressor {
         }
         let mut windows: Vec<Window> = Vec::new();
         for (index, record) in records.iter().enumerate() {
-            windows.extend(
-                settings
-                    .windows
-                    .windows(record, index, settings.quadrature)?,
-            );
+            windows.extend(spec.windows(record, index, settings.quadrature)?);
         }
-        let noise_robust = settings.noise_robust()?;
-        let (rows, noise): (Vec<(Vec<f64>, f64)>, Option<NoiseModel>) = if noise_robust {
-            let robust: Vec<robust::RobustRow> = windows
-                .par_iter()
-                .map(|w| robust::robust_row(model, &records[w.record], w, settings))
-                .collect::<Result<_>>()?;
-            let mut rows = Vec::with_capacity(robust.len());
-            let mut model_rows = Vec::with_capacity(robust.len());
-            let mut summaries = Vec::with_capacity(robust.len());
-            for r in robust {
-                rows.push((r.columns, r.input));
-                model_rows.push(r.noise);
-                summaries.push(r.window);
-            }
-            let noise = NoiseModel {
-                rows: model_rows,
-                windows: summaries,
+        if settings.noise_robust()? {
+            let harmonics = match settings.velocity {
+                VelocitySource::HarmonicProjection { harmonics } => harmonics,
+                _ => None,
             };
-            (rows, Some(noise))
-        } else {
-            let weights = record_weights(records, &windows, settings)?;
-            // Small builds stay on the calling thread: every parallel call below would
-            // otherwise be a hand-off to the pool costing more than its work.
-            let parallel = build_in_parallel(records, columns.len());
-            let share = |(record, weights): (&Record, WindowWeights)| RecordShared {
-                plan: Plan::new(model, record),
-                weights,
-            };
-            let shared: Vec<RecordShared<'_>> = if parallel {
-                records.par_iter().zip(weights).map(share).collect()
-            } else {
-                records.iter().zip(weights).map(share).collect()
-            };
-            let row =
-                |w: &Window| window_row(&shared[w.record], model, &records[w.record], w, settings);
-            let rows = if parallel {
-                windows.par_iter().map(row).collect::<Result<_>>()?
-            } else {
-                windows.iter().map(row).collect::<Result<_>>()?
-            };
-            (rows, None)
-        };
+            let (rows, noise) = robust::rows(
+                model,
+                records,
+                &windows,
+                settings.quadrature,
+                harmonics,
+                settings.work_form,
+            )?;
+            let mut regressor = Self::assemble(records, &windows, rows, columns)?;
+            regressor.noise = Some(noise);
+            return Ok(regressor);
+        }
+        let rows = periodic::rows(model, records, &windows, spec, settings, columns.len())?;
+        Self::assemble(records, &windows, rows, columns)
+    }
+
+    /// The regressor of one row per window: the frame every row builder shares.
+    fn assemble(
+        records: &[Record],
+        windows: &[Window],
+        rows: Vec<Row>,
+        columns: Vec<String>,
+    ) -> Result<Self> {
         let matrix = Mat::from_fn(rows.len(), columns.len(), |r, k| rows[r].0[k]);
         let rhs = rows.iter().map(|(_, b)| *b).collect();
         let labels = windows
             .iter()
             .map(|w| RowLabel::of(w, &records[w.record]))
             .collect();
-        let mut regressor = Self::from_parts(matrix, rhs, columns, labels)?;
-        regressor.noise = noise;
-        Ok(regressor)
+        Self::from_parts(matrix, rhs, columns, labels)
     }
 
     /// A regressor from its parts (for research use and tests); validates shapes and
@@ -364,103 +316,4 @@ impl Regressor {
     pub fn nuisance_count(&self) -> usize {
         self.nuisance
     }
-}
-
-/// What the windows of one record share: the kernel's plan and the quadrature weights
-/// (every window of a record spans the same k periods).
-struct RecordShared<'m> {
-    plan: Plan<'m>,
-    weights: WindowWeights,
-}
-
-/// The quadrature weights of every record's windows. Every window of a record spans the
-/// same k periods. Spectral weights scale with the step, w(kT, h, T) = h w(kT/h, 1, T/h),
-/// so they are computed once per distinct (kT/h, T/h): once for a stepped-sine table
-/// sampled at a fixed number of samples per period, however many points it has (the
-/// spectral rule costs a QR of the Fourier basis).
-fn record_weights(
-    records: &[Record],
-    windows: &[Window],
-    settings: &RegressorSettings,
-) -> Result<Vec<WindowWeights>> {
-    let span_of = |index: usize, record: &Record| {
-        windows
-            .iter()
-            .find(|w| w.record == index)
-            .map_or(settings.windows.cycles as f64 * record.period(), |w| w.span)
-    };
-    if settings.quadrature != Quadrature::Spectral {
-        // Rectangular and trapezoid weights are a few numbers each (no per-sample
-        // vector): made directly at each record's step.
-        return records
-            .iter()
-            .enumerate()
-            .map(|(index, record)| {
-                settings.quadrature.window_weights(
-                    span_of(index, record),
-                    record.step(),
-                    record.period(),
-                )
-            })
-            .collect();
-    }
-    let ratios: Vec<(f64, f64)> = records
-        .iter()
-        .enumerate()
-        .map(|(index, record)| {
-            (
-                span_of(index, record) / record.step(),
-                record.period() / record.step(),
-            )
-        })
-        .collect();
-    let key = |(span, period): (f64, f64)| (span.to_bits(), period.to_bits());
-    let mut distinct: Vec<(f64, f64)> = Vec::new();
-    for &ratio in &ratios {
-        if !distinct.iter().any(|&d| key(d) == key(ratio)) {
-            distinct.push(ratio);
-        }
-    }
-    let per_step: Vec<Vec<f64>> = distinct
-        .par_iter()
-        .map(|&(span, period)| settings.quadrature.weights(span, 1.0, period))
-        .collect::<Result<_>>()?;
-    Ok(records
-        .iter()
-        .zip(&ratios)
-        .map(|(record, &ratio)| {
-            let unit = distinct
-                .iter()
-                .position(|&d| key(d) == key(ratio))
-                .expect("every ratio is in the distinct list");
-            WindowWeights::PerSample(per_step[unit].iter().map(|w| w * record.step()).collect())
-        })
-        .collect())
-}
-
-/// One row: every term's columns and the input work for window `w`, in one fused pass
-/// over the window's samples (`src/kernel/`).
-fn window_row(
-    shared: &RecordShared<'_>,
-    model: &DampingModel,
-    record: &Record,
-    w: &Window,
-    settings: &RegressorSettings,
-) -> Result<(Vec<f64>, f64)> {
-    let weights = &shared.weights;
-    let count = weights.len();
-    let v = settings
-        .velocity
-        .window_velocities(record, w.start, count)?;
-    let samples = WindowSamples {
-        x: record.displacements().subrows(w.start, count),
-        v: v.as_ref(),
-        signals: record.forcing().signals.as_ref().subrows(w.start, count),
-        weights,
-    };
-    let (mut row, mut input) = shared.plan.row(&samples);
-    if settings.work_form == WorkForm::DerivativeFree {
-        input = derivative_free::replace_with_raw(model, record, w, &mut row)?;
-    }
-    Ok((row, input))
 }

@@ -8,7 +8,10 @@
 //! recorded sample; `transient_steps` samples are dropped, then `recorded_steps`
 //! samples of x, x' and the force channels are recorded.
 
+mod matrices;
 mod rk4;
+
+pub use matrices::chain_stiffness;
 
 /// Mass matrices with a larger condition number are treated as singular.
 const MAX_MASS_CONDITION: f64 = 1e12;

@@ -87,7 +87,7 @@ pub fn row(
     velocity: VelocitySource,
 ) -> (Vec<f64>, f64) {
     let settings = RegressorSettings {
-        windows: WindowSpec::default(),
+        windows: WindowSpec::default().into(),
         quadrature,
         velocity,
         ..Default::default()

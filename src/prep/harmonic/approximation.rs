@@ -10,7 +10,8 @@
 //! with ψ_i = φ̄ for every DOF (the paper's synchronous motion) or ψ_i = φ_i (the
 //! non-synchronous reading [`PhaseReading::PerDof`]). The record goes through the
 //! ordinary regressor with the spectral rule and these exact velocities, one window
-//! of one period: row = (∮ ẋᵀ f_k dt)_k, right-hand side ∮ ẋᵀ r dt. For a synchronous
+//! of one period (`RegressorSettings::harmonic_approximation`; identify with
+//! `identify(&model, &approximation.records(&table)?, &settings)`): row = (∮ ẋᵀ f_k dt)_k, right-hand side ∮ ẋᵀ r dt. For a synchronous
 //! motion this is, to quadrature accuracy,
 //!
 //! ```text
@@ -49,17 +50,9 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
-use crate::fit::FitSettings;
-use crate::identify::{IdentifySettings, identify};
-use crate::model::DampingModel;
 use crate::prep::fourier::wrap_phase;
 use crate::prep::harmonic::table::{SteppedSinePoint, SteppedSineTable};
-use crate::prep::quadrature::Quadrature;
-use crate::prep::velocity::VelocitySource;
-use crate::prep::window::WindowSpec;
 use crate::record::{Forcing, Record, RecordParts};
-use crate::regressor::{Regressor, RegressorSettings};
-use crate::report::FitReport;
 
 use faer::Mat;
 
@@ -158,17 +151,6 @@ impl HarmonicApproximation {
         Ok(())
     }
 
-    /// How the synthesized records are integrated: one window of one period, the
-    /// spectral rule, the synthesized (exact) velocities.
-    pub fn regressor_settings() -> RegressorSettings {
-        RegressorSettings {
-            windows: WindowSpec::default(),
-            quadrature: Quadrature::Spectral,
-            velocity: VelocitySource::Measured,
-            ..RegressorSettings::default()
-        }
-    }
-
     /// The motion of `point` over one period as a record with exact velocities.
     pub fn synthesize(&self, point: &SteppedSinePoint) -> Result<Record> {
         self.validate()?;
@@ -206,25 +188,5 @@ impl HarmonicApproximation {
             .iter()
             .map(|point| self.synthesize(point))
             .collect()
-    }
-
-    /// The regressor of `model` on the synthesized motion: one row per point.
-    pub fn regressor(&self, model: &DampingModel, table: &SteppedSineTable) -> Result<Regressor> {
-        Regressor::build(model, &self.records(table)?, &Self::regressor_settings())
-    }
-
-    /// Identifies the coefficients of `model` from the harmonic approximation of every
-    /// point of `table`.
-    pub fn identify(
-        &self,
-        model: &DampingModel,
-        table: &SteppedSineTable,
-        fit: &FitSettings,
-    ) -> Result<FitReport> {
-        let settings = IdentifySettings {
-            regressor: Self::regressor_settings(),
-            fit: fit.clone(),
-        };
-        identify(model, &self.records(table)?, &settings)
     }
 }

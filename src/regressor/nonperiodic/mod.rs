@@ -32,133 +32,32 @@
 //! kinetic column directly, so measured or finite-difference velocities are used (a
 //! harmonic projection needs a period).
 
-mod storage;
+pub(crate) mod storage;
 
 pub use storage::{Kinetic, Potential, StorageModel};
-
-use faer::Mat;
-use rayon::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::model::DampingModel;
 use crate::prep::quadrature::Quadrature;
 use crate::prep::velocity::VelocitySource;
-use crate::prep::window::Window;
+use crate::prep::window::{Window, span_windows};
 use crate::record::Record;
 use crate::regressor::derivative_free;
 use crate::regressor::kernel::{Plan, WindowSamples, build_in_parallel};
-use crate::regressor::{Regressor, RowLabel, WorkForm};
+use crate::regressor::settings::{SpanWindows, WorkForm};
+use crate::regressor::{Regressor, Row, map_windows};
 use storage::Endpoints;
-
-/// How non-periodic records are cut into windows and what stores energy.
-#[derive(Debug, Clone, PartialEq)]
-pub struct NonPeriodicSettings {
-    /// Window length in time units (rounded to whole sample steps of each record).
-    pub window: f64,
-    /// Samples to skip at the start of each record.
-    pub skip: usize,
-    /// Rectangular or trapezoid (a spectral rule needs a period).
-    pub quadrature: Quadrature,
-    /// Measured or central-difference velocities.
-    pub velocity: VelocitySource,
-    /// Velocity-weighted or derivative-free input and Coulomb work.
-    pub work_form: WorkForm,
-    /// Kinetic and potential energy and constant forces.
-    pub storage: StorageModel,
-}
-
-impl NonPeriodicSettings {
-    /// Windows of `window` time units, trapezoid rule, central-difference velocities,
-    /// an unknown lumped mass per DOF and no springs or constant forces.
-    pub fn new(window: f64) -> Self {
-        NonPeriodicSettings {
-            window,
-            skip: 0,
-            quadrature: Quadrature::Trapezoid,
-            velocity: VelocitySource::CentralDifference,
-            work_form: WorkForm::Velocity,
-            storage: StorageModel::default(),
-        }
-    }
-
-    /// Checks the settings themselves (not against a record).
-    pub fn validate(&self) -> Result<()> {
-        if !(self.window.is_finite() && self.window > 0.0) {
-            return Err(Error::invalid(
-                "window",
-                self.window,
-                "the window length must be finite and positive",
-            ));
-        }
-        if self.quadrature == Quadrature::Spectral {
-            return Err(Error::invalid(
-                "quadrature",
-                f64::NAN,
-                "a spectral rule integrates whole periods; non-periodic windows take `trapezoid` or `rectangular`",
-            ));
-        }
-        if !matches!(
-            self.velocity,
-            VelocitySource::Measured | VelocitySource::CentralDifference
-        ) {
-            return Err(Error::invalid(
-                "velocity",
-                f64::NAN,
-                &format!(
-                    "{:?} needs a driving period; non-periodic windows take `measured` or `central_difference` velocities",
-                    self.velocity
-                ),
-            ));
-        }
-        Ok(())
-    }
-
-    /// The windows of `record`: consecutive, L = round(window/h) steps each, sharing
-    /// their end samples, as many as fit after `skip`.
-    fn windows(&self, record: &Record, record_index: usize) -> Result<Vec<Window>> {
-        let steps = (self.window / record.step()).round();
-        if steps < 1.0 {
-            return Err(Error::invalid(
-                "window",
-                self.window,
-                &format!(
-                    "is shorter than one sample step h = {} of record '{}'",
-                    record.step(),
-                    record.label()
-                ),
-            ));
-        }
-        let length = steps as usize;
-        let span = length as f64 * record.step();
-        let last = record.samples() - 1;
-        let count = last.saturating_sub(self.skip) / length;
-        if count == 0 || self.skip >= last {
-            return Err(Error::RecordTooShort {
-                record: record.label().to_string(),
-                needed: self.skip.saturating_add(length).saturating_add(1),
-                available: record.samples(),
-            });
-        }
-        Ok((0..count)
-            .map(|index| Window {
-                record: record_index,
-                index,
-                start: self.skip + index * length,
-                span,
-                cycles: 0,
-            })
-            .collect())
-    }
-}
 
 /// Builds the non-periodic regressor: the damping model's columns, then the nuisance
 /// columns of `settings.storage` ([`Regressor::nuisance_count`]), one row per window.
-pub fn build(
+pub(crate) fn build(
     model: &DampingModel,
     records: &[Record],
-    settings: &NonPeriodicSettings,
+    spans: &SpanWindows,
+    quadrature: Quadrature,
+    velocity: VelocitySource,
+    work_form: WorkForm,
 ) -> Result<Regressor> {
-    settings.validate()?;
     let Some(first) = records.first() else {
         return Err(Error::Empty {
             what: "record list".into(),
@@ -175,28 +74,33 @@ pub fn build(
         }
     }
     model.validate(dofs)?;
-    settings.storage.validate(dofs)?;
+    spans.storage.validate(dofs)?;
     let mut windows = Vec::new();
     for (index, record) in records.iter().enumerate() {
-        windows.extend(settings.windows(record, index)?);
+        windows.extend(span_windows(record, index, spans.length, spans.skip)?);
     }
     let plans: Vec<Plan<'_>> = records.iter().map(|r| Plan::new(model, r)).collect();
     let mut columns = model.coefficient_names();
-    let row = |w: &Window| window_row(&plans[w.record], model, &records[w.record], w, settings);
-    let rows: Vec<(Vec<f64>, f64)> = if build_in_parallel(records, columns.len()) {
-        windows.par_iter().map(row).collect::<Result<_>>()?
-    } else {
-        windows.iter().map(row).collect::<Result<_>>()?
+    let rule = Rule {
+        quadrature,
+        velocity,
+        work_form,
+        storage: &spans.storage,
     };
-    let nuisance = settings.storage.coefficient_names(dofs);
+    let rows = map_windows(build_in_parallel(records, columns.len()), &windows, |w| {
+        window_row(&plans[w.record], model, &records[w.record], w, &rule)
+    })?;
+    let nuisance = spans.storage.coefficient_names(dofs);
     columns.extend(nuisance.iter().cloned());
-    let matrix = Mat::from_fn(rows.len(), columns.len(), |r, k| rows[r].0[k]);
-    let rhs = rows.iter().map(|(_, b)| *b).collect();
-    let labels = windows
-        .iter()
-        .map(|w| RowLabel::of(w, &records[w.record]))
-        .collect();
-    Regressor::from_parts(matrix, rhs, columns, labels)?.with_nuisance_count(nuisance.len())
+    Regressor::assemble(records, &windows, rows, columns)?.with_nuisance_count(nuisance.len())
+}
+
+/// How each window's row is integrated.
+struct Rule<'a> {
+    quadrature: Quadrature,
+    velocity: VelocitySource,
+    work_form: WorkForm,
+    storage: &'a StorageModel,
 }
 
 /// One equation: damping columns and input work from the kernel over the window's
@@ -207,8 +111,8 @@ fn window_row(
     model: &DampingModel,
     record: &Record,
     w: &Window,
-    settings: &NonPeriodicSettings,
-) -> Result<(Vec<f64>, f64)> {
+    settings: &Rule<'_>,
+) -> Result<Row> {
     let count = (w.span / record.step()).round() as usize + 1;
     // The rectangular rule reads L samples; the end sample is still needed for its state.
     let weights = settings

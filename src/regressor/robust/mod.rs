@@ -42,22 +42,50 @@ mod projected;
 mod row;
 mod sensitivity;
 
-pub(crate) use row::{RobustRow, robust_row};
 pub use sensitivity::{ChannelSensitivity, RowNoise};
 
 use serde::{Deserialize, Serialize};
 
-/// Whether columns are corrected for sensor noise.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum NoiseTreatment {
-    /// Correct when the velocities come from harmonic projection, else ignore.
-    #[default]
-    Auto,
-    /// The plain pipeline: columns as sampled, no noise estimate, no propagation.
-    Ignore,
-    /// The noise-robust pipeline (needs harmonic-projection velocities).
-    Correct,
+use crate::error::Result;
+use crate::model::DampingModel;
+use crate::prep::quadrature::Quadrature;
+use crate::prep::window::Window;
+use crate::record::Record;
+use crate::regressor::settings::WorkForm;
+use crate::regressor::{Row, map_windows};
+
+/// The noise-robust rows of `windows` of `records` (in parallel), and their noise
+/// model. `harmonics`: `Some(K)` keeps harmonics 1..K, `None` those above the noise
+/// floor.
+pub(crate) fn rows(
+    model: &DampingModel,
+    records: &[Record],
+    windows: &[Window],
+    quadrature: Quadrature,
+    harmonics: Option<usize>,
+    work_form: WorkForm,
+) -> Result<(Vec<Row>, NoiseModel)> {
+    let robust = map_windows(true, windows, |w| {
+        row::robust_row(
+            model,
+            &records[w.record],
+            w,
+            quadrature,
+            harmonics,
+            work_form,
+        )
+    })?;
+    let mut rows = Vec::with_capacity(robust.len());
+    let mut noise = NoiseModel {
+        rows: Vec::with_capacity(robust.len()),
+        windows: Vec::with_capacity(robust.len()),
+    };
+    for r in robust {
+        rows.push((r.columns, r.input));
+        noise.rows.push(r.noise);
+        noise.windows.push(r.window);
+    }
+    Ok((rows, noise))
 }
 
 /// What the noise-robust pipeline found in one window.

@@ -10,18 +10,18 @@ use faer::Mat;
 use crate::error::{Error, Result};
 use crate::model::DampingModel;
 use crate::prep::fourier::{WholePeriods, select_harmonics};
-use crate::prep::velocity::VelocitySource;
+use crate::prep::quadrature::Quadrature;
 use crate::prep::window::Window;
 use crate::record::{LoadDistribution, Record, col};
 use crate::regressor::derivative_free::{Path, stieltjes};
 use crate::regressor::robust::WindowNoise;
 use crate::regressor::robust::projected::ProjectedWindow;
 use crate::regressor::robust::sensitivity::{ChannelSensitivity, RowNoise};
-use crate::regressor::{RegressorSettings, WorkForm};
+use crate::regressor::settings::WorkForm;
 use crate::terms::{Coefficients, ElementTerm, MatrixTerm, Term};
 
 /// A row of the noise-robust pipeline.
-pub(crate) struct RobustRow {
+pub(super) struct RobustRow {
     pub(crate) columns: Vec<f64>,
     pub(crate) input: f64,
     pub(crate) noise: RowNoise,
@@ -163,27 +163,23 @@ fn force_noise(record: &Record, start: usize, count: usize) -> Result<Vec<f64>> 
 }
 
 /// The equation of window `w` of `record`.
-pub(crate) fn robust_row(
+pub(super) fn robust_row(
     model: &DampingModel,
     record: &Record,
     w: &Window,
-    settings: &RegressorSettings,
+    quadrature: Quadrature,
+    harmonics: Option<usize>,
+    work_form: WorkForm,
 ) -> Result<RobustRow> {
-    let weights = settings
-        .quadrature
-        .weights(w.span, record.step(), record.period())?;
+    let weights = quadrature.weights(w.span, record.step(), record.period())?;
     let count = weights.len();
     let path = Path::of(w.span, record.step());
     let rows = count.max(path.samples());
-    let harmonics = match settings.velocity {
-        VelocitySource::HarmonicProjection { harmonics } => harmonics,
-        _ => None,
-    };
     let projected = ProjectedWindow::new(record, w.start, count, rows, w.span, harmonics)?;
     let sigma = projected.selection.noise_std.clone();
     let force_sigma = force_noise(record, w.start, count)?;
     let forces = generalized_forces(record, w.start, rows);
-    let derivative_free = settings.work_form == WorkForm::DerivativeFree;
+    let derivative_free = work_form == WorkForm::DerivativeFree;
     let mut gradients = Gradients::new(projected.columns());
 
     // Input work and its force-noise variance.

@@ -1,0 +1,286 @@
+//! The job a model file describes: the model, the records (simulated or read, then
+//! reduced or synthesized), and the settings, assembled from the parsed spec in the
+//! order the sections depend on each other.
+
+use std::path::Path;
+
+use faer::Mat;
+
+use super::context::Context;
+use super::records::{Truth, read_record, simulate_records};
+use super::settings::{design_settings, identification_settings, span_settings, stored_energy};
+use super::spec::{MatrixRef, ModelFileSpec};
+use super::terms::{build_term, resolve_matrix};
+use super::{reduction, string};
+use crate::analysis::design::DesignSettings;
+use crate::error::{Error, Result};
+use crate::identify::IdentifySettings;
+use crate::model::DampingModel;
+use crate::prep::harmonic::SteppedSineTable;
+use crate::prep::period::PeriodEstimate;
+use crate::prep::pod::Reduction;
+use crate::prep::steady_state::{SteadyStateReport, SteadyStateSettings, StoredEnergy};
+use crate::progress::Progress;
+use crate::record::Record;
+use crate::regressor::{Regressor, RegressorSettings};
+
+/// Everything a model file asks for, ready to run.
+#[derive(Debug)]
+pub struct Job {
+    /// Title for reports.
+    pub title: String,
+    /// The damping model.
+    pub model: DampingModel,
+    /// The records identification runs on: the source records, reduced by `[pod]` and
+    /// synthesized by `[harmonic_approximation]` when asked.
+    pub records: Vec<Record>,
+    /// The records as simulated or read (before any reduction).
+    pub source_records: Vec<Record>,
+    /// The period detected from the force of each source record, where the model file
+    /// gave none (`None`: given or simulated).
+    pub detected_periods: Vec<Option<PeriodEstimate>>,
+    /// Identification settings (for a harmonic approximation, those of the synthesized
+    /// records; for `[non_periodic]`, fixed spans with the stored-energy unknowns).
+    pub settings: IdentifySettings,
+    /// How windows are cut from the source records (`[identification]`, and
+    /// `[non_periodic]`).
+    pub source_windows: RegressorSettings,
+    /// True coefficients, in model order, when the records were simulated.
+    pub truth: Option<Vec<(String, f64)>>,
+    /// Experiment-design settings from `[design]` (start indices 0-based).
+    pub design: Option<DesignSettings>,
+    /// Mass, stiffness and cubic springs, when known (`[simulation]` or `[system]`).
+    pub stored_energy: Option<StoredEnergy>,
+    /// Steady-state thresholds and whether transients are accepted.
+    pub steady_state: SteadyStateSettings,
+    /// The POD reduction, when `[pod]` asks for one.
+    pub pod: Option<Reduction>,
+    /// The stepped-sine table of a harmonic approximation.
+    pub harmonic: Option<SteppedSineTable>,
+}
+
+impl Job {
+    /// How far each window of the source records is from periodic motion
+    /// ([`crate::prep::steady_state`]); `None` in the non-periodic mode, whose balance holds
+    /// over any window.
+    pub fn steady_state(&self) -> Result<Option<SteadyStateReport>> {
+        let Some(windows) = self.source_windows.windows.cycles() else {
+            return Ok(None);
+        };
+        crate::prep::steady_state::check(
+            &self.source_records,
+            windows,
+            self.source_windows.quadrature,
+            self.stored_energy.as_ref(),
+            &self.steady_state,
+        )
+        .map(Some)
+    }
+
+    /// The regressor the job identifies from ([`Regressor::build`] with its settings).
+    pub fn regressor(&self) -> Result<Regressor> {
+        self.regressor_of(&self.model)
+    }
+
+    /// The regressor of another damping `model` on this job's records, windows and
+    /// mode (to compare models on the same equations).
+    pub fn regressor_of(&self, model: &DampingModel) -> Result<Regressor> {
+        Regressor::build(model, &self.records, &self.settings.regressor)
+    }
+}
+
+/// Where the records come from, and what is known with them.
+struct Sources {
+    records: Vec<Record>,
+    truth: Option<Truth>,
+    detected_periods: Vec<Option<PeriodEstimate>>,
+    stored_energy: Option<StoredEnergy>,
+}
+
+impl Context<'_> {
+    pub(super) fn build(
+        &self,
+        spec: &ModelFileSpec,
+        base: &Path,
+        progress: Progress<'_>,
+    ) -> Result<Job> {
+        let n = spec.dofs;
+        if n == 0 {
+            return Err(self.whole_file_error("dofs must be at least 1"));
+        }
+        let matrix = |r: &MatrixRef| resolve_matrix(r, spec, n);
+        let mut model = DampingModel::new();
+        for term in &spec.terms {
+            model = model.with(self.at(term, |t| build_term(t, n, &matrix))?);
+        }
+        self.at(
+            spec.terms.first().ok_or_else(|| Error::Empty {
+                what: "terms".into(),
+            })?,
+            |_| model.validate(n),
+        )?;
+        let mut settings =
+            identification_settings(&spec.identification, spec.non_periodic.is_some());
+        let steady_state = SteadyStateSettings {
+            max_energy_mismatch: spec.identification.max_energy_mismatch,
+            max_state_mismatch: spec.identification.max_state_mismatch,
+            accept_transient: spec.identification.accept_transient,
+        };
+        steady_state
+            .validate()
+            .map_err(|e| self.whole_file_error(format!("[identification]: {e}")))?;
+        let sources = self.sources(spec, &model, n, base, &matrix, progress)?;
+        if let Some(np) = &spec.non_periodic {
+            if spec.pod.is_some() || spec.harmonic_approximation.is_some() {
+                return Err(self.error_at(
+                    np,
+                    "[non_periodic] works on the records themselves; it does not combine with [pod] or [harmonic_approximation]",
+                ));
+            }
+            settings.regressor =
+                self.at(np, |np| span_settings(np, &settings.regressor, n, &matrix))?;
+        }
+        let source_windows = settings.regressor.clone();
+        let mut records = sources.records.clone();
+        let pod = spec
+            .pod
+            .as_ref()
+            .map(|p| {
+                self.at(p, |p| {
+                    crate::prep::pod::reduce(&records, &reduction::pod_settings(p)?)
+                })
+            })
+            .transpose()?;
+        if let Some(reduction) = &pod {
+            records = reduction.records.clone();
+        }
+        let harmonic = spec
+            .harmonic_approximation
+            .as_ref()
+            .map(|h| {
+                self.at(h, |h| {
+                    // [non_periodic] does not combine with it (checked above).
+                    let whole_periods =
+                        source_windows.windows.cycles().cloned().unwrap_or_default();
+                    let approximation = reduction::harmonic_settings(h, n)?;
+                    let table = SteppedSineTable::from_records(&records, &whole_periods)?;
+                    Ok((approximation.records(&table)?, table))
+                })
+            })
+            .transpose()?
+            .map(|(synthesized, table)| {
+                records = synthesized;
+                settings.regressor = RegressorSettings::harmonic_approximation();
+                table
+            });
+        let design = spec
+            .design
+            .as_ref()
+            .map(|d| {
+                let experiments = spec
+                    .simulation
+                    .as_ref()
+                    .map(|s| s.get_ref().experiments.len());
+                self.at(d, |d| design_settings(d, experiments))
+            })
+            .transpose()?;
+        Ok(Job {
+            title: spec.title.clone().unwrap_or_else(|| self.file.to_string()),
+            model,
+            records,
+            source_records: sources.records,
+            detected_periods: sources.detected_periods,
+            settings,
+            source_windows,
+            truth: sources.truth,
+            design,
+            stored_energy: sources.stored_energy,
+            steady_state,
+            pod,
+            harmonic,
+        })
+    }
+
+    /// The records from `[simulation]`, `[string_simulation]` or `[data]` (exactly one),
+    /// with the truth, detected periods, and M and K when known.
+    fn sources(
+        &self,
+        spec: &ModelFileSpec,
+        model: &DampingModel,
+        n: usize,
+        base: &Path,
+        matrix: &dyn Fn(&MatrixRef) -> Result<Mat<f64>>,
+        progress: Progress<'_>,
+    ) -> Result<Sources> {
+        let given = [
+            spec.simulation.is_some(),
+            spec.string_simulation.is_some(),
+            spec.data.is_some(),
+        ];
+        if given.iter().filter(|g| **g).count() != 1 {
+            return Err(self.whole_file_error(
+                "give exactly one of [simulation] (generate the records), [string_simulation] (the paper's string) or [data] (read them)",
+            ));
+        }
+        let system = spec
+            .system
+            .as_ref()
+            .map(|s| {
+                self.at(s, |s| {
+                    if spec.data.is_none() {
+                        return Err(Error::invalid(
+                            "system",
+                            f64::NAN,
+                            "[system] describes measured data; a [simulation] gives its own mass and stiffness",
+                        ));
+                    }
+                    stored_energy(&s.mass, &s.stiffness, &s.cubic_springs, n, matrix)
+                })
+            })
+            .transpose()?;
+        if let Some(sim) = &spec.simulation {
+            let (records, truth) =
+                self.at(sim, |s| simulate_records(s, model, n, matrix, progress))?;
+            let energy = self.at(sim, |s| {
+                stored_energy(&s.mass, &s.stiffness, &s.cubic_springs, n, matrix)
+            })?;
+            return Ok(Sources {
+                detected_periods: vec![None; records.len()],
+                records,
+                truth: Some(truth),
+                stored_energy: Some(energy),
+            });
+        }
+        if let Some(string) = &spec.string_simulation {
+            let (records, truth) =
+                self.at(string, |s| string::string_records(s, model, n, progress))?;
+            return Ok(Sources {
+                detected_periods: vec![None; records.len()],
+                records,
+                truth: Some(truth),
+                stored_energy: None,
+            });
+        }
+        let data = spec
+            .data
+            .as_ref()
+            .ok_or_else(|| self.whole_file_error("no records"))?;
+        let list = &data.get_ref().records;
+        let total = list.len() as u64;
+        let mut records = Vec::new();
+        let mut detected_periods = Vec::new();
+        for (k, r) in list.iter().enumerate() {
+            let (record, detected) =
+                self.at(r, |r| read_record(r, n, base, spec.non_periodic.is_none()))?;
+            records.push(record);
+            detected_periods.push(detected);
+            progress(k as u64 + 1, total);
+        }
+        Ok(Sources {
+            records,
+            truth: None,
+            detected_periods,
+            stored_energy: system,
+        })
+    }
+}

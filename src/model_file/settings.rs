@@ -1,0 +1,230 @@
+//! Model-file sections as library settings: `[identification]`, `[non_periodic]`,
+//! `[design]`, and the mass and stiffness of `[simulation]` or `[system]`. DOFs are
+//! 1-based in the file and 0-based here.
+
+use faer::Mat;
+
+use super::spec::{
+    CubicSpec, DesignSpec, ElementsSpec, IdentificationSpec, MatrixRef, NonPeriodicSpec,
+    OffsetsSpec, StorageSpec, VelocityName,
+};
+use super::terms::build_elements;
+use crate::analysis::design::DesignSettings;
+use crate::error::{Error, Result};
+use crate::fit::{Bound, Constraints, Fixed, LinearConstraint, LinearTerm};
+use crate::identify::IdentifySettings;
+use crate::prep::steady_state::StoredEnergy;
+use crate::prep::velocity::VelocitySource;
+use crate::prep::window::WindowSpec;
+use crate::regressor::nonperiodic::{Kinetic, Potential, StorageModel};
+use crate::regressor::{RegressorSettings, SpanWindows, Windows};
+
+pub(super) fn identification_settings(
+    spec: &IdentificationSpec,
+    non_periodic: bool,
+) -> IdentifySettings {
+    let default = if non_periodic {
+        VelocityName::CentralDifference
+    } else {
+        VelocityName::HarmonicProjection
+    };
+    let velocity = match spec.velocity.unwrap_or(default) {
+        VelocityName::Measured => VelocitySource::Measured,
+        VelocityName::CentralDifference => VelocitySource::CentralDifference,
+        VelocityName::Spectral => VelocitySource::Spectral {
+            harmonics: spec.harmonics,
+        },
+        VelocityName::HarmonicProjection => VelocitySource::HarmonicProjection {
+            harmonics: spec.harmonics,
+        },
+    };
+    let mut settings = IdentifySettings {
+        regressor: RegressorSettings {
+            windows: Windows::Cycles(WindowSpec {
+                skip: spec.skip,
+                cycles: spec.cycles,
+                count: spec.windows,
+            }),
+            quadrature: spec.quadrature,
+            velocity,
+            noise: spec.noise,
+            work_form: spec.work_form,
+        },
+        ..IdentifySettings::default()
+    };
+    settings.fit.weighting = spec.weighting;
+    settings.fit.constraints = Constraints {
+        nonnegative: spec.nonnegative,
+        bounds: spec
+            .bounds
+            .iter()
+            .map(|(name, b)| Bound {
+                name: name.clone(),
+                lower: b.lower,
+                upper: b.upper,
+            })
+            .collect(),
+        fixed: spec
+            .fixed
+            .iter()
+            .map(|(name, value)| Fixed {
+                name: name.clone(),
+                value: *value,
+            })
+            .collect(),
+        linear: spec
+            .constraints
+            .iter()
+            .map(|c| LinearConstraint {
+                terms: c
+                    .terms
+                    .iter()
+                    .map(|(name, coefficient)| LinearTerm {
+                        name: name.clone(),
+                        coefficient: *coefficient,
+                    })
+                    .collect(),
+                relation: c.relation,
+                value: c.value,
+            })
+            .collect(),
+    };
+    settings
+}
+
+/// `[design]` against the number of `[simulation]` experiments (none without one).
+pub(super) fn design_settings(
+    spec: &DesignSpec,
+    experiments: Option<usize>,
+) -> Result<DesignSettings> {
+    let Some(count) = experiments else {
+        return Err(Error::Empty {
+            what: "[simulation] experiments: a [design] chooses among them, so it needs a [simulation] section".into(),
+        });
+    };
+    let start = spec
+        .start
+        .iter()
+        .map(|&k| {
+            k.checked_sub(1).filter(|k| *k < count).ok_or_else(|| {
+                Error::invalid(
+                    "design start",
+                    k as f64,
+                    &format!("experiments are numbered 1..{count}"),
+                )
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let settings = DesignSettings {
+        criterion: spec.criterion,
+        picks: spec.picks.unwrap_or(DesignSettings::default().picks),
+        start,
+        target_condition: spec.target_condition,
+        ..DesignSettings::default()
+    };
+    settings.validate(count)?;
+    Ok(settings)
+}
+
+/// `[non_periodic]`: fixed spans with the stored-energy unknowns, with the quadrature,
+/// velocity, work form and skip of `[identification]`.
+pub(super) fn span_settings(
+    spec: &NonPeriodicSpec,
+    identification: &RegressorSettings,
+    n: usize,
+    matrix: &dyn Fn(&MatrixRef) -> Result<Mat<f64>>,
+) -> Result<RegressorSettings> {
+    let kinetic = match &spec.mass {
+        None => Kinetic::LumpedPerDof,
+        Some(StorageSpec::Elements(ElementsSpec::Named(name))) if name == "each_dof" => {
+            Kinetic::LumpedPerDof
+        }
+        Some(StorageSpec::Elements(ElementsSpec::Named(name))) if name == "none" => {
+            Kinetic::Neglected
+        }
+        Some(StorageSpec::Known { known }) => Kinetic::Known(matrix(known)?),
+        Some(StorageSpec::Elements(other)) => {
+            return Err(Error::UnknownName {
+                what: "mass".into(),
+                name: match other {
+                    ElementsSpec::Named(name) => name.clone(),
+                    ElementsSpec::Pairs(_) => "a list of DOF pairs".into(),
+                },
+                known: "\"each_dof\", \"none\", { known = <matrix> }".into(),
+            });
+        }
+    };
+    let potential = match &spec.stiffness {
+        None => Potential::Neglected,
+        Some(StorageSpec::Elements(ElementsSpec::Named(name))) if name == "none" => {
+            Potential::Neglected
+        }
+        Some(StorageSpec::Elements(elements)) => Potential::Elements(build_elements(elements, n)?),
+        Some(StorageSpec::Known { known }) => Potential::Known(matrix(known)?),
+    };
+    let offsets = match &spec.offsets {
+        None => Vec::new(),
+        Some(OffsetsSpec::Named(name)) if name == "none" => Vec::new(),
+        Some(OffsetsSpec::Named(name)) if name == "each_dof" => (0..n).collect(),
+        Some(OffsetsSpec::Named(name)) => {
+            return Err(Error::UnknownName {
+                what: "offsets".into(),
+                name: name.clone(),
+                known: "\"each_dof\", \"none\", a list of 1-based DOFs".into(),
+            });
+        }
+        Some(OffsetsSpec::Dofs(dofs)) => dofs
+            .iter()
+            .map(|&d| one_based(d, n, "offset"))
+            .collect::<Result<_>>()?,
+    };
+    let skip = identification.windows.cycles().map_or(0, |w| w.skip);
+    let storage = StorageModel {
+        kinetic,
+        potential,
+        offsets,
+    };
+    let settings = RegressorSettings {
+        windows: Windows::Spans(SpanWindows {
+            length: spec.window,
+            skip,
+            storage,
+        }),
+        ..identification.clone()
+    };
+    settings.validate()?;
+    if let Some(spans) = settings.windows.spans() {
+        spans.storage.validate(n)?;
+    }
+    Ok(settings)
+}
+
+/// M, K and cubic springs from a model file's matrices (DOFs 1-based in the file).
+pub(super) fn stored_energy(
+    mass: &MatrixRef,
+    stiffness: &MatrixRef,
+    cubic: &[CubicSpec],
+    n: usize,
+    matrix: &dyn Fn(&MatrixRef) -> Result<Mat<f64>>,
+) -> Result<StoredEnergy> {
+    let cubic_springs = cubic
+        .iter()
+        .map(|c| Ok((one_based(c.dof, n, "cubic spring")?, c.coefficient)))
+        .collect::<Result<_>>()?;
+    Ok(StoredEnergy {
+        mass: matrix(mass)?,
+        stiffness: matrix(stiffness)?,
+        cubic_springs,
+    })
+}
+
+/// A 1-based model-file DOF as a 0-based index.
+pub(super) fn one_based(dof: usize, n: usize, what: &str) -> Result<usize> {
+    dof.checked_sub(1)
+        .filter(|d| *d < n)
+        .ok_or_else(|| Error::DofOutOfRange {
+            what: format!("{what} (DOFs are numbered 1..{n} in model files)"),
+            dof,
+            dofs: n,
+        })
+}

@@ -1,0 +1,165 @@
+//! `[[terms]]` as damping terms: matrices by name or inline, laws on elements (DOF
+//! pairs 1-based, 0 = ground), shared or per-element coefficients.
+
+use faer::Mat;
+
+use super::spec::{ElementsSpec, LawName, MatrixRef, ModelFileSpec, TermSpec};
+use crate::error::{Error, Result};
+use crate::simulate::chain_stiffness;
+use crate::terms::laws::{Coulomb, Expression, Linear, PowerLaw, Quadratic};
+use crate::terms::{Coefficients, Element, Term};
+
+pub(super) fn resolve_matrix(
+    reference: &MatrixRef,
+    spec: &ModelFileSpec,
+    n: usize,
+) -> Result<Mat<f64>> {
+    let rows: &Vec<Vec<f64>> = match reference {
+        MatrixRef::Name(name) if name == "identity" => return Ok(Mat::identity(n, n)),
+        MatrixRef::Name(name) if name == "chain" => return Ok(chain_stiffness(n)),
+        MatrixRef::Name(name) => spec
+            .matrices
+            .get(name)
+            .map(|m| m.get_ref())
+            .ok_or_else(|| Error::UnknownName {
+                what: "matrix".into(),
+                name: name.clone(),
+                known: ["identity", "chain"]
+                    .into_iter()
+                    .map(String::from)
+                    .chain(spec.matrices.keys().cloned())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            })?,
+        MatrixRef::Rows(rows) => rows,
+    };
+    if rows.len() != n {
+        return Err(Error::mismatch("matrix rows vs dofs", n, rows.len()));
+    }
+    for row in rows {
+        if row.len() != n {
+            return Err(Error::mismatch("matrix columns vs dofs", n, row.len()));
+        }
+    }
+    Ok(Mat::from_fn(n, n, |i, j| rows[i][j]))
+}
+
+pub(super) fn build_term(
+    spec: &TermSpec,
+    n: usize,
+    matrix: &dyn Fn(&MatrixRef) -> Result<Mat<f64>>,
+) -> Result<Term> {
+    Ok(match spec {
+        TermSpec::Viscous {
+            coefficient,
+            matrix: m,
+        } => Term::viscous(coefficient.clone(), matrix(m)?),
+        TermSpec::StiffnessProportional {
+            coefficient,
+            matrix: m,
+        } => Term::stiffness_proportional(coefficient.clone(), matrix(m)?),
+        TermSpec::MassProportional {
+            coefficient,
+            matrix: m,
+        } => Term::mass_proportional(coefficient.clone(), matrix(m)?),
+        TermSpec::Law {
+            law,
+            exponent,
+            expression,
+            elements,
+            coefficient,
+            per_element,
+            weights,
+        } => {
+            let law: Box<dyn Fn(Vec<Element>, Coefficients) -> Term> = match (
+                law, exponent, expression,
+            ) {
+                (LawName::Linear, None, None) => Box::new(|e, c| Term::on_elements(Linear, e, c)),
+                (LawName::Quadratic, None, None) => {
+                    Box::new(|e, c| Term::on_elements(Quadratic, e, c))
+                }
+                (LawName::Coulomb, None, None) => Box::new(|e, c| Term::on_elements(Coulomb, e, c)),
+                (LawName::Power, Some(p), None) => {
+                    let law = PowerLaw::new(*p)?;
+                    Box::new(move |e, c| Term::on_elements(law, e, c))
+                }
+                (LawName::Expression, None, Some(text)) => {
+                    let law = Expression::parse(text)?;
+                    Box::new(move |e, c| Term::on_elements(law.clone(), e, c))
+                }
+                (LawName::Power, None, _) => {
+                    return Err(Error::invalid(
+                        "exponent",
+                        f64::NAN,
+                        "a power law needs `exponent`",
+                    ));
+                }
+                (LawName::Expression, _, None) => {
+                    return Err(Error::Expression {
+                        expression: String::new(),
+                        message: "an expression law needs `expression = \"...\"`".into(),
+                    });
+                }
+                (name, _, _) => {
+                    return Err(Error::invalid(
+                        "law",
+                        f64::NAN,
+                        &format!(
+                            "`exponent` belongs to power laws and `expression` to expression laws, not to {name:?}"
+                        ),
+                    ));
+                }
+            };
+            let coefficients = match (coefficient, per_element) {
+                (Some(name), None) => Coefficients::Shared(name.clone()),
+                (None, Some(prefix)) => Coefficients::PerElement(prefix.clone()),
+                _ => {
+                    return Err(Error::invalid(
+                        "coefficient",
+                        f64::NAN,
+                        "give exactly one of `coefficient` (shared) or `per_element` (one per element)",
+                    ));
+                }
+            };
+            let elements = build_elements(elements, n)?;
+            let term = law(elements, coefficients);
+            match (term, weights) {
+                (Term::Elements(t), Some(w)) => Term::Elements(t.with_weights(w.clone())),
+                (term, _) => term,
+            }
+        }
+    })
+}
+
+pub(super) fn build_elements(spec: &ElementsSpec, n: usize) -> Result<Vec<Element>> {
+    match spec {
+        ElementsSpec::Named(name) if name == "each_dof" => Ok(Element::each_dof(n)),
+        ElementsSpec::Named(name) if name == "chain" => Ok(Element::chain_fixed_both_ends(n)),
+        ElementsSpec::Named(name) => Err(Error::UnknownName {
+            what: "element set".into(),
+            name: name.clone(),
+            known: "each_dof, chain, or a list of [a, b] DOF pairs".into(),
+        }),
+        ElementsSpec::Pairs(pairs) => pairs
+            .iter()
+            .map(|&[a, b]| {
+                let label = format!("{a}-{b}");
+                let element = match (a, b) {
+                    (0, 0) => {
+                        return Err(Error::invalid(
+                            "element",
+                            0.0,
+                            "[0, 0] joins ground to ground",
+                        ));
+                    }
+                    (0, b) => Element::to_ground(b - 1),
+                    (a, 0) => Element::to_ground(a - 1),
+                    (a, b) => Element::between(a - 1, b - 1),
+                };
+                let element = element.labelled(label);
+                element.validate(n, "model file")?;
+                Ok(element)
+            })
+            .collect(),
+    }
+}
