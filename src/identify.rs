@@ -16,9 +16,9 @@
 //! and [`FitReport::new`].
 
 use crate::analysis::bootstrap::{BootstrapSettings, bootstrap};
-use crate::analysis::diagnostics::diagnose;
+use crate::analysis::diagnostics::diagnose_factored;
 use crate::error::Result;
-use crate::fit::{FitSettings, solve};
+use crate::fit::{FitSettings, solve_factored};
 use crate::model::DampingModel;
 use crate::record::Record;
 use crate::regressor::{Regressor, RegressorSettings};
@@ -68,10 +68,11 @@ pub fn identify_with_regressor(
 
 /// Fits `regressor` and diagnoses the fit: the middle level, for regressors built by
 /// hand or kept from [`Regressor::build`].
+/// The rows are factored once: a plain least-squares fit hands its factorization of
+/// the column-scaled regressor ([`crate::fit::ScaledSvd`]) to the diagnostics.
 pub fn identify_regressor(regressor: &Regressor, settings: &FitSettings) -> Result<FitReport> {
-    settings.validate()?;
-    let fit = solve(regressor, settings)?;
-    let diagnostics = diagnose(regressor, &fit, settings.rank_tolerance);
+    let (fit, factorization) = solve_factored(regressor, settings)?;
+    let diagnostics = diagnose_factored(regressor, &fit, settings.rank_tolerance, factorization);
     Ok(FitReport::new(regressor, fit, diagnostics))
 }
 

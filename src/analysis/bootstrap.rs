@@ -27,7 +27,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
-use crate::fit::scaling::Scaling;
+use crate::fit::svd::{numerical_rank, scaled_singular_values};
 use crate::fit::{FitMethod, FitSettings, solve};
 use crate::regressor::Regressor;
 
@@ -134,16 +134,12 @@ fn replicate_rng(seed: u64, k: usize) -> StdRng {
     StdRng::seed_from_u64(splitmix64(seed ^ splitmix64(k as u64)))
 }
 
-fn numerical_rank(regressor: &Regressor, tolerance: f64) -> usize {
-    let a = regressor.matrix();
-    let s = Scaling::of(a, regressor.rhs())
-        .matrix(a)
-        .singular_values()
-        .unwrap_or_default();
-    let largest = s.first().copied().unwrap_or(0.0);
-    s.iter()
-        .filter(|v| **v > tolerance * largest && **v > 0.0)
-        .count()
+/// The numerical rank of the column-scaled `regressor`.
+fn rank_of(regressor: &Regressor, tolerance: f64) -> usize {
+    numerical_rank(
+        &scaled_singular_values(regressor.matrix(), regressor.rhs()),
+        tolerance,
+    )
 }
 
 /// Resamples the windows (rows) of `regressor`, refits each replicate with `fit`, and
@@ -163,13 +159,13 @@ pub fn bootstrap(
             coefficients: p,
         });
     }
-    let full_rank = numerical_rank(regressor, fit.rank_tolerance);
+    let full_rank = rank_of(regressor, fit.rank_tolerance);
     let replicate = |k: usize| -> Result<Option<Vec<f64>>> {
         let mut rng = replicate_rng(settings.seed, k);
         let rows: Vec<usize> = (0..m).map(|_| rng.random_range(0..m)).collect();
         // The rows keep their noise model, so a weighted fit stays weighted.
         let resampled = regressor.select_rows(&rows)?;
-        if numerical_rank(&resampled, fit.rank_tolerance) < full_rank {
+        if rank_of(&resampled, fit.rank_tolerance) < full_rank {
             return Ok(None);
         }
         match solve(&resampled, fit) {

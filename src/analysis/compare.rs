@@ -32,7 +32,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::analysis::stats::f_upper_tail;
 use crate::error::{Error, Result};
-use crate::fit::scaling::Scaling;
+use crate::fit::ScaledSvd;
 use crate::model::DampingModel;
 use crate::record::Record;
 use crate::regressor::{Regressor, RegressorSettings};
@@ -216,31 +216,18 @@ fn solve(label: &str, r: &Regressor, tolerance: f64) -> Result<Solved> {
             coefficients: p,
         });
     }
-    let scaling = Scaling::of(a, r.rhs());
-    let a_s = scaling.matrix(a);
-    let b_s = scaling.rhs(r.rhs());
-    let svd = a_s.thin_svd().map_err(|e| Error::Numerical {
-        stage: "model comparison SVD".into(),
-        detail: format!("{e:?}"),
-    })?;
-    let (u, s, v) = (svd.U(), svd.S().column_vector(), svd.V());
-    let q = m.min(p);
-    let largest = if q > 0 { s[0] } else { 0.0 };
-    let rank = (0..q)
-        .filter(|&i| s[i] > tolerance * largest && s[i] > 0.0)
-        .count();
-    let mut theta_s = vec![0.0; p];
+    let svd = ScaledSvd::new(a, r.rhs(), tolerance)?;
+    let (u, b_s) = (svd.u(), svd.rhs());
+    let rank = svd.rank();
+    let theta_s = svd.scaled_solution();
     let mut fitted = vec![0.0; m];
-    for i in 0..rank {
-        let ub: f64 = (0..m).map(|r| u[(r, i)] * b_s[(r, 0)]).sum();
-        for (j, t) in theta_s.iter_mut().enumerate() {
-            *t += v[(j, i)] * ub / s[i];
-        }
+    for (i, ub) in svd.projections().iter().enumerate().take(rank) {
         for (row, value) in fitted.iter_mut().enumerate() {
             *value += u[(row, i)] * ub;
         }
     }
     let rss_s: f64 = (0..m).map(|i| (b_s[(i, 0)] - fitted[i]).powi(2)).sum();
+    let scaling = svd.scaling();
     let rss = rss_s * scaling.rhs * scaling.rhs;
     let mf = m as f64;
     let log_likelihood_term = mf * (rss.max(f64::MIN_POSITIVE) / mf).ln();

@@ -28,7 +28,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
-use crate::fit::scaling::Scaling;
+use crate::fit::svd::{numerical_rank, scaled_singular_values};
 use crate::model::DampingModel;
 use crate::record::Record;
 use crate::regressor::{Regressor, RegressorSettings};
@@ -347,16 +347,12 @@ fn evaluate(
         }
     }
     // Zero rows below a short stack keep p singular values (the missing ones are 0).
-    let s = Scaling::of(&a, &b)
-        .matrix(&a)
-        .singular_values()
-        .unwrap_or_else(|_| vec![0.0; p]);
+    let mut s = scaled_singular_values(&a, &b);
+    if s.is_empty() {
+        s = vec![0.0; p];
+    }
     let largest = s.first().copied().unwrap_or(0.0);
-    let nonzero: Vec<f64> = s
-        .iter()
-        .copied()
-        .filter(|v| *v > settings.rank_tolerance * largest && *v > 0.0)
-        .collect();
+    let nonzero: Vec<f64> = s[..numerical_rank(&s, settings.rank_tolerance)].to_vec();
     let floor = settings.rank_tolerance.max(settings.precision) * largest;
     State {
         equations: m,

@@ -28,9 +28,12 @@ use std::fmt;
 use faer::Mat;
 use serde::{Deserialize, Serialize};
 
-use crate::analysis::identifiability::{Identifiability, analyse};
-use crate::fit::Fit;
+use crate::analysis::identifiability::{
+    Identifiability, IdentifiabilitySettings, analyse, analyse_factored,
+};
 use crate::fit::scaling::{Scaling, norm};
+use crate::fit::svd::numerical_rank;
+use crate::fit::{Fit, ScaledSvd};
 use crate::regressor::Regressor;
 
 /// Mean signed residual relative to the mean |b|, and the sign counts.
@@ -117,19 +120,71 @@ pub struct WeightedDiagnostics {
 /// Computes the diagnostics of `fit` on `regressor` (on its weighted rows when the fit
 /// was weighted).
 pub fn diagnose(regressor: &Regressor, fit: &Fit, rank_tolerance: f64) -> Diagnostics {
+    diagnose_factored(regressor, fit, rank_tolerance, None)
+}
+
+/// [`diagnose`], with the factorization of `regressor`'s rows when the fit made one
+/// ([`crate::fit::solve_factored`]), so that they are factored once.
+pub(crate) fn diagnose_factored(
+    regressor: &Regressor,
+    fit: &Fit,
+    rank_tolerance: f64,
+    svd: Option<ScaledSvd>,
+) -> Diagnostics {
     let Some(std) = &fit.residual_std else {
-        return diagnose_rows(regressor, fit, rank_tolerance, None);
+        return diagnose_rows(regressor, fit, rank_tolerance, None, svd);
     };
     let weights = crate::fit::inverse_std(std);
     let Ok(weighted) = regressor.weighted(&weights) else {
-        return diagnose_rows(regressor, fit, rank_tolerance, None);
+        return diagnose_rows(regressor, fit, rank_tolerance, None, svd);
     };
-    let physical = diagnose_rows(regressor, fit, rank_tolerance, None);
-    let mut diagnostics = diagnose_rows(&weighted, fit, rank_tolerance, Some(std));
+    // Residuals and their bias in physical units; everything else on the weighted rows.
+    let physical = Residuals::of(regressor, fit);
+    let mut diagnostics = diagnose_rows(&weighted, fit, rank_tolerance, Some(std), None);
     diagnostics.residuals = physical.residuals;
     diagnostics.relative_residual = physical.relative_residual;
     diagnostics.residual_bias = physical.residual_bias;
     diagnostics
+}
+
+/// e = b − Aθ, ‖e‖/‖b‖ and the bias of e.
+struct Residuals {
+    residuals: Vec<f64>,
+    relative_residual: f64,
+    residual_bias: ResidualBias,
+}
+
+impl Residuals {
+    fn of(regressor: &Regressor, fit: &Fit) -> Self {
+        let a = regressor.matrix();
+        let b = regressor.rhs();
+        let (m, p) = a.shape();
+        let theta = Mat::from_fn(p, 1, |j, _| fit.coefficients[j]);
+        let fitted = a * &theta;
+        let residuals: Vec<f64> = (0..m).map(|i| b[i] - fitted[(i, 0)]).collect();
+        let b_norm = norm(b);
+        let relative_residual = if b_norm > 0.0 {
+            norm(&residuals) / b_norm
+        } else {
+            norm(&residuals)
+        };
+        let mean_abs_b = b.iter().map(|v| v.abs()).sum::<f64>() / m.max(1) as f64;
+        let mean_e = residuals.iter().sum::<f64>() / m.max(1) as f64;
+        let residual_bias = ResidualBias {
+            relative_mean: if mean_abs_b > 0.0 {
+                mean_e / mean_abs_b
+            } else {
+                mean_e
+            },
+            positive: residuals.iter().filter(|e| **e > 0.0).count(),
+            negative: residuals.iter().filter(|e| **e < 0.0).count(),
+        };
+        Residuals {
+            residuals,
+            relative_residual,
+            residual_bias,
+        }
+    }
 }
 
 fn diagnose_rows(
@@ -137,39 +192,35 @@ fn diagnose_rows(
     fit: &Fit,
     rank_tolerance: f64,
     residual_std: Option<&Vec<f64>>,
+    svd: Option<ScaledSvd>,
 ) -> Diagnostics {
     let a = regressor.matrix();
-    let b = regressor.rhs();
     let (m, p) = a.shape();
-    let theta = Mat::from_fn(p, 1, |j, _| fit.coefficients[j]);
-    let fitted = a * &theta;
-    let residuals: Vec<f64> = (0..m).map(|i| b[i] - fitted[(i, 0)]).collect();
-    let b_norm = norm(b);
-    let relative_residual = if b_norm > 0.0 {
-        norm(&residuals) / b_norm
-    } else {
-        norm(&residuals)
+    let Residuals {
+        residuals,
+        relative_residual,
+        residual_bias,
+    } = Residuals::of(regressor, fit);
+    let svd = match svd {
+        Some(svd) => Ok(svd),
+        None => ScaledSvd::new(a, regressor.rhs(), rank_tolerance),
     };
-    let mean_abs_b = b.iter().map(|v| v.abs()).sum::<f64>() / m.max(1) as f64;
-    let mean_e = residuals.iter().sum::<f64>() / m.max(1) as f64;
-    let residual_bias = ResidualBias {
-        relative_mean: if mean_abs_b > 0.0 {
-            mean_e / mean_abs_b
-        } else {
-            mean_e
-        },
-        positive: residuals.iter().filter(|e| **e > 0.0).count(),
-        negative: residuals.iter().filter(|e| **e < 0.0).count(),
+    let (singular_values, rank, condition_number) = match &svd {
+        Ok(svd) => (
+            svd.singular_values().to_vec(),
+            svd.rank(),
+            svd.condition_number(),
+        ),
+        Err(_) => (Vec::new(), 0, f64::INFINITY),
     };
-
-    let scaling = Scaling::of(a, b);
-    let singular_values = scaling.matrix(a).singular_values().unwrap_or_default();
-    let (rank, condition_number) = rank_and_condition(&singular_values, rank_tolerance);
-
     let free: Vec<usize> = (0..p)
         .filter(|j| !fit.active.iter().any(|c| c.name == regressor.columns()[*j]))
         .collect();
-    let unit = unit_covariance(a, &scaling, &free, rank_tolerance);
+    let unit = match &svd {
+        // Every column free: (A_sᵀA_s)⁻¹ from the factorization already made.
+        Ok(svd) if free.len() == p => full_covariance(svd, m),
+        _ => unit_covariance(a, &Scaling::of(a, regressor.rhs()), &free, rank_tolerance),
+    };
     let dof = m.saturating_sub(free.len());
     let (std_errors, correlation) = unit
         .as_ref()
@@ -195,6 +246,15 @@ fn diagnose_rows(
             residual_std: std.clone(),
         }
     });
+    let identifiability = match &svd {
+        Ok(svd) => analyse_factored(
+            regressor.columns().to_vec(),
+            svd,
+            rank_tolerance,
+            &IdentifiabilitySettings::default(),
+        ),
+        Err(_) => analyse(regressor, rank_tolerance),
+    };
     Diagnostics {
         residuals,
         relative_residual,
@@ -204,25 +264,24 @@ fn diagnose_rows(
         rank,
         std_errors,
         correlation,
-        identifiability: analyse(regressor, rank_tolerance),
+        identifiability,
         weighted,
     }
 }
 
-fn rank_and_condition(s: &[f64], tolerance: f64) -> (usize, f64) {
-    let Some(&largest) = s.first() else {
-        return (0, f64::INFINITY);
-    };
-    let rank = s
-        .iter()
-        .filter(|v| **v > tolerance * largest && **v > 0.0)
-        .count();
-    let condition = if rank == s.len() {
-        largest / s[s.len() - 1]
-    } else {
-        f64::INFINITY
-    };
-    (rank, condition)
+/// (A_Fᵀ A_F)⁻¹ with every column free, from the factorization of the scaled regressor:
+/// S⁻¹ V Σ⁻² Vᵀ S⁻¹, when m > p and the columns have full rank.
+fn full_covariance(svd: &ScaledSvd, m: usize) -> Option<Mat<f64>> {
+    let (s, v) = (svd.singular_values(), svd.v());
+    let f = s.len();
+    if f == 0 || m <= f || svd.rank() < f {
+        return None;
+    }
+    let columns = &svd.scaling().columns;
+    Some(Mat::from_fn(f, f, |j, k| {
+        let sum: f64 = (0..f).map(|i| v[(j, i)] * v[(k, i)] / (s[i] * s[i])).sum();
+        sum / (columns[j] * columns[k])
+    }))
 }
 
 /// (A_Fᵀ A_F)⁻¹ = S⁻¹ V Σ⁻² Vᵀ S⁻¹ of the free columns (from the SVD of the scaled
@@ -241,7 +300,7 @@ fn unit_covariance(
     let a_free = Mat::from_fn(m, f, |i, k| a[(i, free[k])] / scaling.columns[free[k]]);
     let svd = a_free.thin_svd().ok()?;
     let (s, v) = (svd.S().column_vector(), svd.V());
-    let (rank, _) = rank_and_condition(&(0..f).map(|i| s[i]).collect::<Vec<_>>(), rank_tolerance);
+    let rank = numerical_rank(&(0..f).map(|i| s[i]).collect::<Vec<_>>(), rank_tolerance);
     if rank < f {
         return None;
     }

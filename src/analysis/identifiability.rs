@@ -2,7 +2,8 @@
 //! determine.
 //!
 //! Everything is read off the thin SVD of the column-scaled regressor
-//! A_s = A S⁻¹ = U Σ Vᵀ (S = diag‖A_j‖, b_s = b/‖b‖, so θ_s = Sθ/‖b‖ is of order one):
+//! A_s = A S⁻¹ = U Σ Vᵀ (S = diag‖A_j‖, b_s = b/‖b‖, so θ_s = Sθ/‖b‖ is of order one;
+//! [`crate::fit::ScaledSvd`], shared with the fit and the diagnostics):
 //!
 //! - **Noise level of the equations.** With the numerical rank r (σ_i > tol·σ_1), the
 //!   least-squares residual of the scaled equations is e_s = b_s − Σ_{i≤r} u_i u_iᵀ b_s
@@ -41,11 +42,10 @@
 
 use std::fmt;
 
-use faer::Mat;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
-use crate::fit::scaling::Scaling;
+use crate::fit::ScaledSvd;
 use crate::regressor::Regressor;
 
 /// Weights below this fraction of the largest are dropped from a determined combination.
@@ -191,22 +191,17 @@ pub fn analyse_with(
     rank_tolerance: f64,
     settings: &IdentifiabilitySettings,
 ) -> Identifiability {
-    let a = regressor.matrix();
-    let b = regressor.rhs();
     let names = regressor.columns().to_vec();
-    let (m, p) = a.shape();
-    let scaling = Scaling::of(a, b);
-    // Zero rows below a short regressor keep every right singular vector in a thin SVD.
-    let rows = m.max(p);
-    let a_s = Mat::from_fn(rows, p, |i, j| {
-        if i < m {
-            a[(i, j)] / scaling.columns[j]
-        } else {
-            0.0
-        }
-    });
-    let b_s = Mat::from_fn(rows, 1, |i, _| if i < m { b[i] / scaling.rhs } else { 0.0 });
-    let empty = |names: Vec<String>| Identifiability {
+    match ScaledSvd::new(regressor.matrix(), regressor.rhs(), rank_tolerance) {
+        Ok(svd) => analyse_factored(names, &svd, rank_tolerance, settings),
+        Err(_) => unidentifiable(names),
+    }
+}
+
+/// Nothing determined: the analysis of a regressor that cannot be factored or has no
+/// nonzero singular value.
+fn unidentifiable(names: Vec<String>) -> Identifiability {
+    Identifiability {
         variance_inflation: vec![None; names.len()],
         unidentifiable: names.clone(),
         names,
@@ -215,23 +210,31 @@ pub fn analyse_with(
         practical_rank: 0,
         null_directions: Vec::new(),
         determined: Vec::new(),
-    };
-    let Ok(svd) = a_s.thin_svd() else {
-        return empty(names);
-    };
-    let (u, sv, v) = (svd.U(), svd.S().column_vector(), svd.V());
-    let sigma: Vec<f64> = (0..p).map(|i| sv[i]).collect();
+    }
+}
+
+/// The analysis of the columns `names` from the factorization of their scaled
+/// regressor.
+pub(crate) fn analyse_factored(
+    names: Vec<String>,
+    svd: &ScaledSvd,
+    rank_tolerance: f64,
+    settings: &IdentifiabilitySettings,
+) -> Identifiability {
+    let (u, v, b_s) = (svd.u(), svd.v(), svd.rhs());
+    let sigma = svd.singular_values();
+    let ub = svd.projections();
+    let scaling = svd.scaling();
+    let (m, p) = (svd.equations(), sigma.len());
+    let rows = u.nrows();
     let sigma1 = sigma.first().copied().unwrap_or(0.0);
     if p == 0 || sigma1 <= 0.0 {
-        return empty(names);
+        return unidentifiable(names);
     }
     let rank = sigma
         .iter()
         .filter(|s| **s > rank_tolerance * sigma1)
         .count();
-    let ub: Vec<f64> = (0..p)
-        .map(|i| (0..rows).map(|r| u[(r, i)] * b_s[(r, 0)]).sum())
-        .collect();
     let noise_level = (m > rank).then(|| {
         let residual2: f64 = (0..rows)
             .map(|r| {

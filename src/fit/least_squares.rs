@@ -1,17 +1,26 @@
 //! Ordinary least squares, min ‖A θ − b‖₂, through the thin SVD of the column-scaled
-//! regressor A_s = U Σ Vᵀ: θ_s = Σ_{i<r} v_i (u_iᵀ b_s)/σ_i, with r the numerical rank
-//! (σ_i > tol · σ_1). When r is below the number of coefficients this is the
+//! regressor A_s = U Σ Vᵀ ([`ScaledSvd`]): θ_s = Σ_{i<r} v_i (u_iᵀ b_s)/σ_i, with r the
+//! numerical rank (σ_i > tol · σ_1). When r is below the number of coefficients this is the
 //! minimum-norm solution, and the report flags it: the data do not determine θ.
 
 use faer::Mat;
 
 use crate::error::{Error, Result};
-use crate::fit::scaling::Scaling;
+use crate::fit::svd::ScaledSvd;
 use crate::fit::{Fit, FitMethod, FitStatus};
 use crate::regressor::Regressor;
 
 /// Plain least squares with rank tolerance `rank_tolerance` relative to σ_1.
 pub fn least_squares(regressor: &Regressor, rank_tolerance: f64) -> Result<Fit> {
+    factored_least_squares(regressor, rank_tolerance).map(|(fit, _)| fit)
+}
+
+/// [`least_squares`], also returning the factorization it solved with, for the
+/// diagnostics of the same rows.
+pub(crate) fn factored_least_squares(
+    regressor: &Regressor,
+    rank_tolerance: f64,
+) -> Result<(Fit, ScaledSvd)> {
     let a = regressor.matrix();
     let (m, p) = a.shape();
     if m < p {
@@ -20,25 +29,8 @@ pub fn least_squares(regressor: &Regressor, rank_tolerance: f64) -> Result<Fit> 
             coefficients: p,
         });
     }
-    let scaling = Scaling::of(a, regressor.rhs());
-    let a_s = scaling.matrix(a);
-    let b_s = scaling.rhs(regressor.rhs());
-    let svd = a_s.thin_svd().map_err(|e| Error::Numerical {
-        stage: "least-squares SVD".into(),
-        detail: format!("{e:?}"),
-    })?;
-    let (u, s, v) = (svd.U(), svd.S().column_vector(), svd.V());
-    let sigma_max = if p > 0 { s[0] } else { 0.0 };
-    let ub = u.transpose() * &b_s;
-    let mut theta_s = vec![0.0; p];
-    for i in 0..p {
-        if s[i] > rank_tolerance * sigma_max && s[i] > 0.0 {
-            let coef = ub[(i, 0)] / s[i];
-            for (j, t) in theta_s.iter_mut().enumerate() {
-                *t += v[(j, i)] * coef;
-            }
-        }
-    }
+    let svd = ScaledSvd::new(a, regressor.rhs(), rank_tolerance)?;
+    let mut theta_s = svd.scaled_solution();
     // An all-zero column keeps scale 1, so its round-off share of the minimum-norm
     // solution would be unscaled in b's units (1e-4 for a weighted b of norm 1e12):
     // the minimum-norm solution has exactly 0 there.
@@ -47,14 +39,15 @@ pub fn least_squares(regressor: &Regressor, rank_tolerance: f64) -> Result<Fit> 
             *t = 0.0;
         }
     }
-    Ok(Fit {
-        coefficients: scaling.unscale(&theta_s),
+    let fit = Fit {
+        coefficients: svd.scaling().unscale(&theta_s),
         status: FitStatus::Solved,
         method: FitMethod::LeastSquares,
         active: Vec::new(),
         solver: None,
         residual_std: None,
-    })
+    };
+    Ok((fit, svd))
 }
 
 /// Solves min ‖A_F θ_F − c‖ for the columns in `free`, by QR (used by the polish step).

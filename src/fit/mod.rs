@@ -2,17 +2,21 @@
 //! under physical constraints (bounds, fixed values, linear relations between
 //! coefficients) through clarabel ([`constrained`]). [`solve`] picks the
 //! one the settings call for. A solver's status is data: a fit that did not converge
-//! says so in [`Fit::status`], and the report carries it.
+//! says so in [`Fit::status`], and the report carries it. [`ScaledSvd`] is the one
+//! factorization of the column-scaled regressor that least squares, the diagnostics,
+//! the identifiability analysis and model comparison share.
 
 mod constrained;
 mod constraints;
 mod least_squares;
 pub(crate) mod scaling;
+pub mod svd;
 mod weighted;
 
 pub use constrained::constrained;
 pub use constraints::{Bound, Constraints, Fixed, LinearConstraint, LinearTerm, Relation};
 pub use least_squares::least_squares;
+pub use svd::ScaledSvd;
 pub(crate) use weighted::inverse_std;
 
 use serde::{Deserialize, Serialize};
@@ -203,10 +207,27 @@ impl FitSettings {
 /// Least squares when there are no constraints, clarabel otherwise; weighted by the
 /// propagated residual variances when the settings and the regressor call for it.
 pub fn solve(regressor: &Regressor, settings: &FitSettings) -> Result<Fit> {
+    solve_factored(regressor, settings).map(|(fit, _)| fit)
+}
+
+/// [`solve`], also returning the factorization of the rows when the fit made one of
+/// the rows its diagnostics read (plain least squares on unweighted rows), so that
+/// they need not factor them again.
+pub(crate) fn solve_factored(
+    regressor: &Regressor,
+    settings: &FitSettings,
+) -> Result<(Fit, Option<ScaledSvd>)> {
     settings.validate()?;
     match (settings.weighting, regressor.noise()) {
-        (Weighting::Ordinary, _) | (Weighting::Auto, None) => solve_rows(regressor, settings),
-        (_, Some(noise)) => weighted::solve(regressor, noise, settings),
+        (Weighting::Ordinary, _) | (Weighting::Auto, None) if settings.constraints.is_empty() => {
+            let (fit, svd) =
+                least_squares::factored_least_squares(regressor, settings.rank_tolerance)?;
+            Ok((checked(regressor, fit)?, Some(svd)))
+        }
+        (Weighting::Ordinary, _) | (Weighting::Auto, None) => {
+            Ok((solve_rows(regressor, settings)?, None))
+        }
+        (_, Some(noise)) => Ok((weighted::solve(regressor, noise, settings)?, None)),
         (Weighting::Propagated, None) => Err(Error::invalid(
             "weighting",
             0.0,
@@ -222,7 +243,11 @@ pub(crate) fn solve_rows(regressor: &Regressor, settings: &FitSettings) -> Resul
     } else {
         constrained(regressor, &settings.constraints, &settings.solver)?
     };
-    // Never a silent NaN: a fit that claims success must have finite coefficients.
+    checked(regressor, fit)
+}
+
+/// `fit`, unless it claims success with a non-finite coefficient: never a silent NaN.
+fn checked(regressor: &Regressor, fit: Fit) -> Result<Fit> {
     if fit.status.is_usable()
         && let Some((j, value)) = fit
             .coefficients
