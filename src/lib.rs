@@ -86,6 +86,8 @@ pub mod prelude {
     pub use crate::record::{Forcing, Record, RecordParts};
     pub use crate::regressor::{Regressor, RegressorSettings};
     pub use crate::report::FitReport;
-    pub use crate::terms::laws::{Coulomb, Custom, Linear, PowerLaw, Quadratic};
+    pub use crate::terms::laws::{
+        Coulomb, Custom, LawParameters, LawRegistration, Linear, PowerLaw, Quadratic, Registry,
+    };
     pub use crate::terms::{Coefficients, Element, Law, Term};
 }

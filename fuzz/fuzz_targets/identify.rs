@@ -1,6 +1,8 @@
 //! The whole pipeline on arbitrary records: a `Record` built from fuzzed dims, step,
 //! period and values (harmonic motion, constants, raw bytes, with any entry patched to
-//! NaN, ±Inf, zero or a huge value), an arbitrary damping model, arbitrary settings and
+//! NaN, ±Inf, zero or a huge value), an arbitrary damping model (its laws picked from
+//! the law registry by index, so a new law is fuzzed as soon as it is registered, with
+//! arbitrary parameters and one of `EXPRESSIONS`), arbitrary settings and
 //! constraints, then `identify`, or in the non-periodic mode (arbitrary window, skip,
 //! rule, velocity, work form, kinetic and potential energy models and offsets)
 //! `nonperiodic::build` and the fit. Any `Err` is fine; a panic is a bug, and so is a
@@ -18,7 +20,8 @@ use dampid::regressor::SpanWindows;
 use dampid::regressor::WorkForm;
 use dampid::regressor::nonperiodic::{Kinetic, Potential, StorageModel};
 use dampid::regressor::{NoiseTreatment, RegressorSettings, Windows};
-use dampid::terms::laws::Expression;
+use dampid::terms::ElementTerm;
+use dampid::terms::laws::{BUILTIN, by_name};
 use faer::Mat;
 use libfuzzer_sys::fuzz_target;
 
@@ -119,13 +122,30 @@ enum MatrixChoice {
     },
 }
 
+/// A built-in law: `BUILTIN[law % BUILTIN.len()]`, its declared parameters taken in
+/// order from `parameters` (1 when too few are given), and `EXPRESSIONS[expression %
+/// EXPRESSIONS.len()]` when it takes an expression.
 #[derive(Arbitrary, Debug)]
-enum LawChoice {
-    Linear,
-    Quadratic,
-    Coulomb,
-    Power(f64),
-    Expression(u8),
+struct LawChoice {
+    law: u8,
+    parameters: Vec<Scalar>,
+    expression: u8,
+}
+
+impl LawChoice {
+    fn build(&self) -> dampid::Result<std::sync::Arc<dyn Law>> {
+        let registration = &BUILTIN[usize::from(self.law) % BUILTIN.len()];
+        let mut parameters = LawParameters::new();
+        for (k, &name) in registration.parameters().iter().enumerate() {
+            let value = self.parameters.get(k).map_or(1.0, |s| s.value());
+            parameters = parameters.with(name, value);
+        }
+        if registration.takes_expression() {
+            let text = EXPRESSIONS[usize::from(self.expression) % EXPRESSIONS.len()];
+            parameters = parameters.with_expression(text);
+        }
+        by_name(registration.name(), &parameters)
+    }
 }
 
 const EXPRESSIONS: [&str; 6] = [
@@ -314,26 +334,12 @@ fn term(choice: &TermChoice, n: usize) -> Option<Term> {
             } else {
                 Coefficients::Shared(name(*k))
             };
-            let term = match law {
-                LawChoice::Linear => Term::on_elements(Linear, elements, coefficients),
-                LawChoice::Quadratic => Term::on_elements(Quadratic, elements, coefficients),
-                LawChoice::Coulomb => Term::on_elements(Coulomb, elements, coefficients),
-                LawChoice::Power(p) => {
-                    Term::on_elements(PowerLaw::new(*p).ok()?, elements, coefficients)
-                }
-                LawChoice::Expression(e) => Term::on_elements(
-                    Expression::parse(EXPRESSIONS[usize::from(*e) % EXPRESSIONS.len()]).ok()?,
-                    elements,
-                    coefficients,
-                ),
-            };
-            match (term, weights) {
+            let term = ElementTerm::new(law.build().ok()?, elements, coefficients);
+            Term::Elements(match weights {
                 // Any count and any values: the library checks them.
-                (Term::Elements(t), Some(w)) => {
-                    Term::Elements(t.with_weights(w.iter().take(9).copied().collect()))
-                }
-                (term, _) => term,
-            }
+                Some(w) => term.with_weights(w.iter().take(9).copied().collect()),
+                None => term,
+            })
         }
     })
 }

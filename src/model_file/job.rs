@@ -23,6 +23,7 @@ use crate::prep::steady_state::{SteadyStateReport, SteadyStateSettings, StoredEn
 use crate::progress::Progress;
 use crate::record::Record;
 use crate::regressor::{Regressor, RegressorSettings};
+use crate::terms::laws::Registry;
 
 /// Everything a model file asks for, ready to run.
 #[derive(Debug)]
@@ -102,6 +103,7 @@ impl Context<'_> {
         &self,
         spec: &ModelFileSpec,
         base: &Path,
+        laws: &Registry,
         progress: Progress<'_>,
     ) -> Result<Job> {
         let n = spec.dofs;
@@ -111,7 +113,7 @@ impl Context<'_> {
         let matrix = |r: &MatrixRef| resolve_matrix(r, spec, n);
         let mut model = DampingModel::new();
         for term in &spec.terms {
-            model = model.with(self.at(term, |t| build_term(t, n, &matrix))?);
+            model = model.with(self.at(term, |t| build_term(t, n, &matrix, laws))?);
         }
         self.at(
             spec.terms.first().ok_or_else(|| Error::Empty {

@@ -4,6 +4,10 @@
 //! come from: a `[simulation]` section that generates them (so a model file runs on a
 //! fresh machine) or a `[data]` section that reads measured CSV files.
 //!
+//! A law term names its law, `law = "power"`, in a law registry
+//! ([`crate::terms::laws::Registry`]): the built-in laws for [`load`] and [`parse`],
+//! or a registry extended with a program's own laws for [`parse_with_laws`].
+//!
 //! Errors carry the file and the line and column of the offending table or key.
 
 mod context;
@@ -22,6 +26,7 @@ pub use spec::*;
 
 use crate::error::{Error, Result};
 use crate::progress::Progress;
+use crate::terms::laws::Registry;
 use context::Context;
 
 /// Reads and builds the model file at `path` (data paths are relative to its folder).
@@ -46,11 +51,28 @@ pub fn parse(text: &str, file: &str, base: &Path) -> Result<Job> {
     parse_with_progress(text, file, base, &crate::progress::silent)
 }
 
+/// [`parse`] with the laws of `laws` instead of the built-in ones, so that
+/// `law = "..."` may name a law the program registered
+/// (`Registry::builtin().with(MY_LAW)`).
+pub fn parse_with_laws(text: &str, file: &str, base: &Path, laws: &Registry) -> Result<Job> {
+    parse_with(text, file, base, laws, &crate::progress::silent)
+}
+
 /// [`parse`], reporting the progress of simulating or reading the records.
 pub fn parse_with_progress(
     text: &str,
     file: &str,
     base: &Path,
+    progress: Progress<'_>,
+) -> Result<Job> {
+    parse_with(text, file, base, &Registry::builtin(), progress)
+}
+
+fn parse_with(
+    text: &str,
+    file: &str,
+    base: &Path,
+    laws: &Registry,
     progress: Progress<'_>,
 ) -> Result<Job> {
     let context = Context { file, text };
@@ -63,5 +85,5 @@ pub fn parse_with_progress(
             message: e.message().to_string(),
         }
     })?;
-    context.build(&spec, base, progress)
+    context.build(&spec, base, laws, progress)
 }

@@ -230,11 +230,15 @@ pub enum TermSpec {
     },
     /// A law on elements.
     Law {
-        /// `linear`, `quadratic`, `coulomb`, `power`, or `expression`.
-        law: LawName,
-        /// Exponent p of a power law.
+        /// A name from the law registry (`dampid::terms::laws::Registry`): built in,
+        /// `linear`, `quadratic`, `coulomb`, `power` or `expression`.
+        law: String,
+        /// The law's numeric parameters by name, `parameters = { exponent = 1.5 }`.
+        #[serde(default)]
+        parameters: BTreeMap<String, f64>,
+        /// `exponent = p`, shorthand for `parameters = { exponent = p }` (a power law's).
         exponent: Option<f64>,
-        /// f(x, v) of an expression law.
+        /// f(x, v) of a law that takes an expression.
         expression: Option<String>,
         /// `"each_dof"`, `"chain"` or a list of [a, b] DOF pairs (1-based, 0 = ground).
         elements: ElementsSpec,
@@ -245,22 +249,6 @@ pub enum TermSpec {
         /// Element weights (sensor spacing or area).
         weights: Option<Vec<f64>>,
     },
-}
-
-/// The built-in laws.
-#[derive(Debug, Clone, Copy, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum LawName {
-    /// f = v.
-    Linear,
-    /// f = v|v|.
-    Quadratic,
-    /// f = sign(v).
-    Coulomb,
-    /// f = |v|^p sign(v).
-    Power,
-    /// f(x, v) from `expression`.
-    Expression,
 }
 
 /// Where a law acts.

@@ -1,13 +1,17 @@
 //! `[[terms]]` as damping terms: matrices by name or inline, laws on elements (DOF
-//! pairs 1-based, 0 = ground), shared or per-element coefficients.
+//! pairs 1-based, 0 = ground), shared or per-element coefficients. A law is looked up
+//! by name in a law registry and built from its `parameters` table (or the top-level
+//! `exponent` shorthand) and `expression`.
+
+use std::collections::BTreeMap;
 
 use faer::Mat;
 
-use super::spec::{ElementsSpec, LawName, MatrixRef, ModelFileSpec, TermSpec};
+use super::spec::{ElementsSpec, MatrixRef, ModelFileSpec, TermSpec};
 use crate::error::{Error, Result};
 use crate::simulate::chain_stiffness;
-use crate::terms::laws::{Coulomb, Expression, Linear, PowerLaw, Quadratic};
-use crate::terms::{Coefficients, Element, Term};
+use crate::terms::laws::{LawParameters, Registry};
+use crate::terms::{Coefficients, Element, ElementTerm, Term};
 
 pub(super) fn resolve_matrix(
     reference: &MatrixRef,
@@ -48,6 +52,7 @@ pub(super) fn build_term(
     spec: &TermSpec,
     n: usize,
     matrix: &dyn Fn(&MatrixRef) -> Result<Mat<f64>>,
+    laws: &Registry,
 ) -> Result<Term> {
     Ok(match spec {
         TermSpec::Viscous {
@@ -64,6 +69,7 @@ pub(super) fn build_term(
         } => Term::mass_proportional(coefficient.clone(), matrix(m)?),
         TermSpec::Law {
             law,
+            parameters,
             exponent,
             expression,
             elements,
@@ -71,45 +77,10 @@ pub(super) fn build_term(
             per_element,
             weights,
         } => {
-            let law: Box<dyn Fn(Vec<Element>, Coefficients) -> Term> = match (
-                law, exponent, expression,
-            ) {
-                (LawName::Linear, None, None) => Box::new(|e, c| Term::on_elements(Linear, e, c)),
-                (LawName::Quadratic, None, None) => {
-                    Box::new(|e, c| Term::on_elements(Quadratic, e, c))
-                }
-                (LawName::Coulomb, None, None) => Box::new(|e, c| Term::on_elements(Coulomb, e, c)),
-                (LawName::Power, Some(p), None) => {
-                    let law = PowerLaw::new(*p)?;
-                    Box::new(move |e, c| Term::on_elements(law, e, c))
-                }
-                (LawName::Expression, None, Some(text)) => {
-                    let law = Expression::parse(text)?;
-                    Box::new(move |e, c| Term::on_elements(law.clone(), e, c))
-                }
-                (LawName::Power, None, _) => {
-                    return Err(Error::invalid(
-                        "exponent",
-                        f64::NAN,
-                        "a power law needs `exponent`",
-                    ));
-                }
-                (LawName::Expression, _, None) => {
-                    return Err(Error::Expression {
-                        expression: String::new(),
-                        message: "an expression law needs `expression = \"...\"`".into(),
-                    });
-                }
-                (name, _, _) => {
-                    return Err(Error::invalid(
-                        "law",
-                        f64::NAN,
-                        &format!(
-                            "`exponent` belongs to power laws and `expression` to expression laws, not to {name:?}"
-                        ),
-                    ));
-                }
-            };
+            let law = laws.build(
+                law,
+                &law_parameters(parameters, *exponent, expression.as_deref())?,
+            )?;
             let coefficients = match (coefficient, per_element) {
                 (Some(name), None) => Coefficients::Shared(name.clone()),
                 (None, Some(prefix)) => Coefficients::PerElement(prefix.clone()),
@@ -121,14 +92,41 @@ pub(super) fn build_term(
                     ));
                 }
             };
-            let elements = build_elements(elements, n)?;
-            let term = law(elements, coefficients);
-            match (term, weights) {
-                (Term::Elements(t), Some(w)) => Term::Elements(t.with_weights(w.clone())),
-                (term, _) => term,
-            }
+            let term = ElementTerm::new(law, build_elements(elements, n)?, coefficients);
+            Term::Elements(match weights {
+                Some(w) => term.with_weights(w.clone()),
+                None => term,
+            })
         }
     })
+}
+
+/// A law's parameters: the `parameters` table, the top-level `exponent` (shorthand for
+/// `parameters = { exponent = p }`, which it may not repeat) and the `expression`.
+fn law_parameters(
+    table: &BTreeMap<String, f64>,
+    exponent: Option<f64>,
+    expression: Option<&str>,
+) -> Result<LawParameters> {
+    let mut parameters = table
+        .iter()
+        .fold(LawParameters::new(), |p, (name, &value)| {
+            p.with(name.clone(), value)
+        });
+    if let Some(p) = exponent {
+        if table.contains_key("exponent") {
+            return Err(Error::invalid(
+                "exponent",
+                p,
+                "given twice: as `exponent` and in `parameters`",
+            ));
+        }
+        parameters = parameters.with("exponent", p);
+    }
+    if let Some(text) = expression {
+        parameters = parameters.with_expression(text);
+    }
+    Ok(parameters)
 }
 
 pub(super) fn build_elements(spec: &ElementsSpec, n: usize) -> Result<Vec<Element>> {

@@ -1,13 +1,27 @@
 //! A damping law: the force f(x, v) of one element as a function of its relative
 //! displacement x and relative velocity v, and the power it dissipates, v · f(x, v).
 //!
-//! A new law is one file in `laws/` implementing [`Law`]; nothing else changes.
+//! A law is memoryless: its force at a sample depends on that sample's x and v alone.
+//! That is what lets the regressor kernel (`src/regressor/kernel/`) evaluate it block
+//! by block, the blocks in parallel and in any order: it calls [`Law::power_sum`] on
+//! consecutive runs of samples and adds the results, so a law's sums must be plain sums
+//! over the samples they are given. A law whose power has one of the closed forms of
+//! [`PowerForm`] says so in [`Law::power_form`], and the kernel then evaluates it in one
+//! loop with the other sums of the same velocity column.
 //!
-//! The regressor evaluates every law block by block over a window (`src/kernel/`): it
-//! calls [`Law::power_sum`] on consecutive runs of samples and adds the results, so a
-//! law's sums must be plain sums over the samples they are given. A law whose power has
-//! one of the closed forms of [`PowerForm`] says so in [`Law::power_form`], and the
-//! kernel then evaluates it in one loop with the other sums of the same velocity column.
+//! A new built-in law is one file in `laws/` holding the law, its `impl Law` and its
+//! registration (the name model files use, its parameters, its constructor), plus one
+//! line in `laws/mod.rs`; a program registers laws of its own at run time
+//! (`laws::Registry::with`, then `model_file::parse_with_laws`).
+//!
+//! Where laws end. A force with memory, such as hysteresis and friction with an internal
+//! state (Bouc–Wen, Dahl, Iwan/Masing, LuGre), depends on the whole path since the
+//! record's start: a block cannot be evaluated without the state at its first sample.
+//! Such a force is not a `Law`, and `Law` gets no state to pretend otherwise. It will be
+//! a separate term kind, computed once per record: the force per unit coefficient s(t)
+//! integrated along the record from its start, then summed by the kernel like a force
+//! channel, Σ_i w_i v_iᵀ s_i over each window's samples. The next issue adds it beside
+//! [`crate::terms::Term`]'s matrix and element kinds.
 
 use std::fmt;
 

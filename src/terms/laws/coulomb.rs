@@ -1,8 +1,15 @@
 //! Coulomb (dry) friction: f = sign(v), power |v|. Over a cycle of x = X cos ωt,
 //! ∫ |v| dt = 4X (the total distance travelled).
 
+use std::sync::Arc;
+
+use super::LawRegistration;
 use crate::terms::lanes;
 use crate::terms::law::{ElementMotion, Law, PowerForm, Weights, sign};
+
+/// `law = "coulomb"` in model files.
+pub(super) const REGISTRATION: LawRegistration =
+    LawRegistration::new("coulomb", "f = sign(v) (dry friction)", |_| Ok(Arc::new(Coulomb)));
 
 /// Coulomb friction, f(v) = sign(v) with sign(0) = 0.
 #[derive(Debug, Clone, Copy, Default)]

@@ -7,9 +7,12 @@
 //! is 1 there). Identifiers other than `x` and `v` are rejected when parsing, so a typo
 //! cannot become a silent free variable.
 
+use std::sync::Arc;
+
 use exmex::prelude::*;
 use exmex::{FloatOpsFactory, MakeOperators, Operator};
 
+use super::LawRegistration;
 use crate::error::{Error, Result};
 use crate::terms::law::{Law, sign};
 
@@ -35,6 +38,14 @@ enum Variables {
     X,
     VX,
 }
+
+/// `law = "expression"` with `expression = "..."` in model files.
+pub(super) const REGISTRATION: LawRegistration = LawRegistration::new(
+    "expression",
+    "f(x, v) written in `expression`, a text of x and v",
+    |parameters| Ok(Arc::new(Expression::parse(parameters.expression()?)?)),
+)
+.with_expression();
 
 /// A damping law f(x, v) given as text.
 #[derive(Debug, Clone)]

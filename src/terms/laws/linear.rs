@@ -1,8 +1,15 @@
 //! Linear viscous law: f = v, power v². Over a cycle of x = X cos ωt,
 //! ∫ v² dt = π ω X².
 
+use std::sync::Arc;
+
+use super::LawRegistration;
 use crate::terms::lanes;
 use crate::terms::law::{ElementMotion, Law, PowerForm, Weights};
+
+/// `law = "linear"` in model files.
+pub(super) const REGISTRATION: LawRegistration =
+    LawRegistration::new("linear", "f = v (viscous)", |_| Ok(Arc::new(Linear)));
 
 /// Viscous damping, f(v) = v.
 #[derive(Debug, Clone, Copy, Default)]

@@ -2,9 +2,19 @@
 //! p = 2 quadratic. Over a cycle of x = X cos ωt,
 //! ∫ |v|^{p+1} dt = (ωX)^{p+1} · (4/ω) · ∫_0^{π/2} sin^{p+1} θ dθ.
 
+use std::sync::Arc;
+
+use super::LawRegistration;
 use crate::error::{Error, Result};
 use crate::terms::lanes;
 use crate::terms::law::{ElementMotion, Law, PowerForm, Weights, sign};
+
+/// `law = "power"` with `parameters = { exponent = p }` in model files.
+pub(super) const REGISTRATION: LawRegistration =
+    LawRegistration::new("power", "f = |v|^p sign(v), p = exponent ≥ 0", |parameters| {
+        Ok(Arc::new(PowerLaw::new(parameters.number("exponent")?)?))
+    })
+    .with_parameters(&["exponent"]);
 
 /// Power-law damping, f(v) = |v|^p sign(v), p ≥ 0.
 #[derive(Debug, Clone, Copy)]

@@ -1,8 +1,15 @@
 //! Quadratic (velocity-squared) law: f = v|v|, power |v|³. Over a cycle of
 //! x = X cos ωt, ∫ |v|³ dt = (8/3) ω² X³.
 
+use std::sync::Arc;
+
+use super::LawRegistration;
 use crate::terms::lanes;
 use crate::terms::law::{ElementMotion, Law, PowerForm, Weights};
+
+/// `law = "quadratic"` in model files.
+pub(super) const REGISTRATION: LawRegistration =
+    LawRegistration::new("quadratic", "f = v|v| (velocity squared)", |_| Ok(Arc::new(Quadratic)));
 
 /// Quadratic damping, f(v) = v|v|.
 #[derive(Debug, Clone, Copy, Default)]
