@@ -5,6 +5,7 @@
 //! before them imports them.
 
 pub mod bootstrap;
+pub mod check;
 pub mod compare;
 pub mod design;
 pub mod diagnostics;

@@ -17,12 +17,14 @@ mod reduction;
 mod settings;
 mod spec;
 mod string;
+mod summary;
 mod terms;
 
 use std::path::Path;
 
 pub use job::Job;
 pub use spec::*;
+pub use summary::{CheckReport, DetectedPeriod, Periods, Preamble};
 
 use crate::error::{Error, Result};
 use crate::progress::Progress;

@@ -7,6 +7,9 @@
 //! its number is a least-squares artefact, not an estimate.
 
 pub mod html;
+mod truth;
+
+pub use truth::AgainstTruth;
 
 use std::fmt;
 

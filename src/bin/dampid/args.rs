@@ -1,0 +1,158 @@
+//! The command-line arguments of `dampid` (clap), with the examples `--help` prints.
+
+use std::path::PathBuf;
+
+use clap::{Parser, Subcommand, ValueEnum};
+use dampid::prep::quadrature::Quadrature;
+
+const EXAMPLES: &str = "Examples:
+  dampid identify models/four_mass.toml          # simulate the paper's chain and identify c, d
+  dampid identify models/four_mass.toml --json   # the report as one JSON object
+  dampid identify models/measured_chain.toml --report out/   # also out/report.html, with plots
+  dampid identify models/measured_chain.toml --bootstrap 500   # with bootstrap intervals
+  dampid check models/measured_chain.toml        # periods, steady state and conditioning, before any fit
+  dampid check models/measured_chain.toml --json # the same as one JSON object
+  dampid identify models/four_mass_pod.toml      # the same chain reduced to two POMs (paper 3.1)
+  dampid identify models/string.toml             # the string with eight sensors (paper 3.2.1)
+  dampid identify models/four_mass_harmonic.toml # the harmonic approximation (paper eq. 4)
+  dampid identify models/drive_nonperiodic.toml  # non-periodic closed-loop motion; mass as a nuisance estimate
+  dampid pod models/data/chain3/record_1.csv --prefix x   # energy table of the POMs of columns x1, x2, …
+  dampid compare models/measured_chain.toml models/measured_chain_no_friction.toml   # is friction needed?
+  dampid design models/per_dashpot.toml          # choose experiments that separate the coefficients
+  dampid simulate models/four_mass.toml --out runs/   # write the simulated records as CSV
+  dampid reference four-mass                     # the paper's section 2.2, every case
+
+Exit codes: 0 success; 1 a fit that did not converge, a missed reference target, or a
+design that does not reach its target; 2 bad input (model file, data, settings), or a
+window that is not in steady state (--accept-transient accepts it).
+
+Progress bars are drawn on stderr only when it is a terminal. From CSV files to a report,
+step by step: docs/walkthrough.md.";
+
+/// Identify damping laws of vibrating structures by balancing energy over cycles.
+#[derive(Parser)]
+#[command(version, about, long_about = None, after_help = EXAMPLES)]
+pub(crate) struct Cli {
+    #[command(subcommand)]
+    pub(crate) command: Command,
+}
+
+#[derive(Subcommand)]
+pub(crate) enum Command {
+    /// Identify the coefficients of a model file's damping model from its records.
+    Identify {
+        /// The model file (TOML).
+        model: PathBuf,
+        /// Print the report as one JSON object.
+        #[arg(long)]
+        json: bool,
+        /// Also write a self-contained HTML report with plots to DIR/report.html.
+        #[arg(long, value_name = "DIR")]
+        report: Option<PathBuf>,
+        /// Identify from windows that are not in steady state (they are reported).
+        #[arg(long)]
+        accept_transient: bool,
+        /// Also give 95% percentile intervals from N bootstrap refits on windows
+        /// resampled with replacement (seed 0).
+        #[arg(long, value_name = "N")]
+        bootstrap: Option<usize>,
+    },
+    /// Validate a model file and its data: detected periods, how far each window is
+    /// from steady state, and the regressor's conditioning, before any fit.
+    Check {
+        /// The model file (TOML).
+        model: PathBuf,
+        /// Do not fail on windows that are not in steady state.
+        #[arg(long)]
+        accept_transient: bool,
+        /// Print the check as one JSON object.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Proper orthogonal modes of record files (CSV, NPY, NPZ, MAT): energy table.
+    Pod {
+        /// The record files; one decomposition per file unless --shared.
+        #[arg(required = true)]
+        files: Vec<PathBuf>,
+        /// Displacement columns, comma-separated (default: every column but t/time).
+        #[arg(long, value_delimiter = ',', conflicts_with = "prefix")]
+        columns: Option<Vec<String>>,
+        /// Displacement columns: every column whose name starts with PREFIX.
+        #[arg(long)]
+        prefix: Option<String>,
+        /// One basis for all files, from their stacked samples.
+        #[arg(long)]
+        shared: bool,
+        /// Remove each column's mean first (the paper does not).
+        #[arg(long)]
+        remove_mean: bool,
+        /// Modes counted as retained in the table: the fewest reaching this energy share.
+        #[arg(long, default_value_t = 0.999)]
+        energy: f64,
+        /// Print the decompositions as one JSON object.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Compare two damping models on MODEL_A's records: AIC, BIC and, when nested, an
+    /// F-test on the change in residual. MODEL_B contributes only its terms.
+    Compare {
+        /// The first model file; its records and identification settings are used.
+        model_a: PathBuf,
+        /// The second model file (its damping terms).
+        model_b: PathBuf,
+        /// Print the comparison as one JSON object.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Choose among a model file's [simulation] experiments a set that makes the
+    /// coefficients identifiable (settings in [design]).
+    Design {
+        /// The model file (TOML) with a [simulation] section (the candidates).
+        model: PathBuf,
+        /// Print the design report as one JSON object.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Simulate a model file's [simulation] section and write one CSV per record.
+    Simulate {
+        /// The model file (TOML) with a [simulation] section.
+        model: PathBuf,
+        /// Output folder (created if missing).
+        #[arg(long)]
+        out: PathBuf,
+    },
+    /// Simulate and identify a reference system from the paper.
+    Reference {
+        /// Which reference system.
+        system: ReferenceSystem,
+        /// Print one JSON object {"cases": [{"case", "report"}]} instead of a table.
+        #[arg(long)]
+        json: bool,
+        /// Quadrature rule for the window integrals (the paper's is rectangular).
+        #[arg(long, value_enum, default_value_t = Rule::Rectangular)]
+        quadrature: Rule,
+    },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum ReferenceSystem {
+    /// Four-mass chain, C = cK plus quadratic damping, with and without a cubic spring.
+    FourMass,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum Rule {
+    Rectangular,
+    Trapezoid,
+    Spectral,
+}
+
+impl From<Rule> for Quadrature {
+    fn from(rule: Rule) -> Self {
+        match rule {
+            Rule::Rectangular => Quadrature::Rectangular,
+            Rule::Trapezoid => Quadrature::Trapezoid,
+            Rule::Spectral => Quadrature::Spectral,
+        }
+    }
+}

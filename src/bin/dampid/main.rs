@@ -1,0 +1,391 @@
+//! The `dampid` command line: parse the arguments (args.rs), run the command through
+//! the library, print what it returns. The library composes every report; this file
+//! only draws progress bars, writes the HTML page where asked, and maps errors and
+//! untrusted results to exit codes 2 and 1.
+
+mod args;
+
+use std::fmt::Write as _;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{Context, bail};
+use clap::Parser;
+use dampid::io::pod_files::{Columns, PodTables, pod_of_files};
+use dampid::model_file::{CheckReport, Job, load_with_progress};
+use dampid::prep::pod::{PodBasis, PodSettings, Retain};
+use dampid::prep::steady_state::SteadyStateReport;
+use dampid::reference::FourMassSummary;
+use dampid::regressor::Regressor;
+use dampid::report::html::HtmlReport;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use serde_json::json;
+
+use args::{Cli, Command, ReferenceSystem};
+
+/// What a command prints, and whether its numbers can be trusted.
+struct Outcome {
+    text: String,
+    trusted: bool,
+}
+
+fn main() -> ExitCode {
+    match run(Cli::parse()) {
+        Ok(outcome) => {
+            // A closed pipe (`dampid … | head`) is not an error of ours.
+            let _ = std::io::stdout().lock().write_all(outcome.text.as_bytes());
+            if outcome.trusted {
+                ExitCode::SUCCESS
+            } else {
+                ExitCode::from(1)
+            }
+        }
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run(cli: Cli) -> anyhow::Result<Outcome> {
+    match cli.command {
+        Command::Identify {
+            model,
+            json,
+            report,
+            accept_transient,
+            bootstrap,
+        } => identify(&model, json, report.as_deref(), accept_transient, bootstrap),
+        Command::Check {
+            model,
+            accept_transient,
+            json,
+        } => check(&model, accept_transient, json),
+        Command::Pod {
+            files,
+            columns,
+            prefix,
+            shared,
+            remove_mean,
+            energy,
+            json,
+        } => pod(&files, columns, prefix, shared, remove_mean, energy, json),
+        Command::Compare {
+            model_a,
+            model_b,
+            json,
+        } => compare(&model_a, &model_b, json),
+        Command::Design { model, json } => design(&model, json),
+        Command::Simulate { model, out } => write_records(&model, &out),
+        Command::Reference {
+            system: ReferenceSystem::FourMass,
+            json,
+            quadrature,
+        } => {
+            let summary = FourMassSummary::run(quadrature.into()).context("four-mass reference")?;
+            let text = if json {
+                format!("{}\n", serde_json::to_string_pretty(&summary.to_json())?)
+            } else {
+                summary.to_string()
+            };
+            Ok(Outcome {
+                text,
+                trusted: summary.all_pass(),
+            })
+        }
+    }
+}
+
+/// A progress bar on stderr, hidden when stderr is not a terminal.
+fn progress_bar(message: &'static str) -> ProgressBar {
+    let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+    let style = ProgressStyle::with_template("{msg:>10} [{bar:40}] {percent:>3}% ({eta} left)")
+        .unwrap_or_else(|_| ProgressStyle::default_bar())
+        .progress_chars("=> ");
+    bar.set_style(style);
+    bar.set_message(message);
+    bar
+}
+
+/// Loads a model file with a progress bar over simulating or reading its records.
+fn load_job(path: &Path) -> anyhow::Result<Job> {
+    let bar = progress_bar("records");
+    let job = load_with_progress(path, &|done, total| {
+        bar.set_length(total);
+        bar.set_position(done);
+    });
+    bar.finish_and_clear();
+    Ok(job?)
+}
+
+/// Loads a model file and enforces steady state on its windows (unless accepted; the
+/// non-periodic mode has no steady state to check).
+fn load_steady_job(
+    path: &Path,
+    accept_transient: bool,
+) -> anyhow::Result<(Job, Option<SteadyStateReport>)> {
+    let mut job = load_job(path)?;
+    job.steady_state.accept_transient |= accept_transient;
+    let steady = job.steady_state()?;
+    steady.as_ref().map_or(Ok(()), |s| s.enforce()).with_context(|| {
+        format!(
+            "{}: set accept_transient = true in [identification] or pass --accept-transient to use these windows anyway",
+            path.display()
+        )
+    })?;
+    Ok((job, steady))
+}
+
+/// The regressor with a spinner while it is built: it is built in one call (its rows
+/// in parallel, and a noise model across them), so there is no per-record count to show.
+fn build_regressor(job: &Job) -> anyhow::Result<Regressor> {
+    let spinner = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+    spinner.set_style(
+        ProgressStyle::with_template("{spinner} {msg} ({elapsed})")
+            .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+    );
+    spinner.set_message(format!(
+        "building the regressor from {} records",
+        job.records.len()
+    ));
+    spinner.enable_steady_tick(std::time::Duration::from_millis(120));
+    let regressor = job.regressor();
+    spinner.finish_and_clear();
+    Ok(regressor?)
+}
+
+fn identify(
+    path: &Path,
+    as_json: bool,
+    html: Option<&Path>,
+    accept_transient: bool,
+    bootstrap: Option<usize>,
+) -> anyhow::Result<Outcome> {
+    let (job, steady) = load_steady_job(path, accept_transient)?;
+    job.settings.fit.validate()?;
+    let regressor = build_regressor(&job)?;
+    let mut report = dampid::identify::identify_regressor(&regressor, &job.settings.fit)?;
+    if let Some(replicates) = bootstrap {
+        let settings = dampid::analysis::bootstrap::BootstrapSettings {
+            replicates,
+            ..Default::default()
+        };
+        let intervals =
+            dampid::analysis::bootstrap::bootstrap(&regressor, &job.settings.fit, &settings)?;
+        report = report.with_bootstrap(intervals);
+    }
+    let mut out = String::new();
+    if let Some(folder) = html {
+        let page = HtmlReport {
+            title: &job.title,
+            model: &job.model,
+            records: &job.records,
+            regressor: &regressor,
+            report: &report,
+            truth: job.truth.as_deref(),
+            pod: job.pod.as_ref(),
+        }
+        .render()?;
+        std::fs::create_dir_all(folder)
+            .with_context(|| format!("creating {}", folder.display()))?;
+        let file = folder.join("report.html");
+        std::fs::write(&file, page).with_context(|| format!("writing {}", file.display()))?;
+        // Keep stdout pure JSON with --json: say where the report went on stderr.
+        eprintln!("wrote {}", file.display());
+    }
+    if as_json {
+        let truth = job.truth.as_ref().map(|t| {
+            t.iter()
+                .map(|(n, v)| (n.clone(), json!(v)))
+                .collect::<serde_json::Map<_, _>>()
+        });
+        writeln!(
+            out,
+            "{}",
+            serde_json::to_string_pretty(&json!({
+                "model": job.title,
+                "report": report,
+                "truth": truth,
+                "steady_state": steady,
+                "detected_periods": job.detected_periods,
+                "pod": job.pod.as_ref().map(|r| r.reports()),
+            }))?
+        )?;
+    } else {
+        writeln!(out, "{}", job.title)?;
+        writeln!(
+            out,
+            "{} records, {} equations",
+            job.records.len(),
+            report.residuals.len()
+        )?;
+        write!(out, "{}{report}", job.preamble(steady.as_ref()))?;
+        if let Some(truth) = &job.truth {
+            write!(out, "{}", report.against(truth))?;
+        }
+    }
+    Ok(Outcome {
+        text: out,
+        trusted: report.status.is_usable(),
+    })
+}
+
+fn check(path: &Path, accept_transient: bool, as_json: bool) -> anyhow::Result<Outcome> {
+    let mut job = load_job(path)?;
+    job.steady_state.accept_transient |= accept_transient;
+    let steady = job.steady_state()?;
+    if let Some(Err(e)) = steady.as_ref().map(|s| s.enforce()) {
+        // The table says which windows and by how much; print it with the error.
+        if let Some(steady) = &steady {
+            eprint!("{}{steady}", job.periods());
+        }
+        return Err(anyhow::Error::new(e).context(format!(
+            "{}: set accept_transient = true in [identification] or pass --accept-transient to use these windows anyway",
+            path.display()
+        )));
+    }
+    job.settings.fit.validate()?;
+    let regressor = build_regressor(&job)?;
+    let report =
+        CheckReport::new(&job, steady, &regressor).context("the regressor cannot be fitted")?;
+    let text = if as_json {
+        format!("{}\n", serde_json::to_string_pretty(&report)?)
+    } else {
+        report.to_string()
+    };
+    Ok(Outcome {
+        text,
+        trusted: true,
+    })
+}
+
+fn pod(
+    files: &[PathBuf],
+    columns: Option<Vec<String>>,
+    prefix: Option<String>,
+    shared: bool,
+    remove_mean: bool,
+    energy: f64,
+    as_json: bool,
+) -> anyhow::Result<Outcome> {
+    let choice = match (columns, prefix) {
+        (Some(names), _) => Columns::Named(names),
+        (None, Some(prefix)) => Columns::Prefix(prefix),
+        (None, None) => Columns::AllButTime,
+    };
+    let settings = PodSettings {
+        remove_mean,
+        retain: Retain::Energy(energy),
+        basis: if shared {
+            PodBasis::Shared
+        } else {
+            PodBasis::PerRecord
+        },
+    };
+    let pods = pod_of_files(files, &choice, &settings)?;
+    let text = if as_json {
+        format!(
+            "{}\n",
+            serde_json::to_string_pretty(&json!({ "decompositions": pods }))?
+        )
+    } else {
+        PodTables(&pods).to_string()
+    };
+    Ok(Outcome {
+        text,
+        trusted: true,
+    })
+}
+
+fn compare(first: &Path, second: &Path, as_json: bool) -> anyhow::Result<Outcome> {
+    let job = load_job(first)?;
+    let other = load_job(second)?;
+    // Both models on the first file's records, windows and mode (in the non-periodic
+    // mode both regressors carry the same nuisance columns).
+    let comparison = dampid::analysis::compare::compare_regressors(
+        (&first.display().to_string(), &job.regressor()?),
+        (
+            &second.display().to_string(),
+            &job.regressor_of(&other.model)?,
+        ),
+        &dampid::analysis::compare::CompareSettings {
+            rank_tolerance: job.settings.fit.rank_tolerance,
+            ..Default::default()
+        },
+    )?;
+    let text = if as_json {
+        format!("{}\n", serde_json::to_string_pretty(&comparison)?)
+    } else {
+        format!(
+            "records and identification settings of {}\n{comparison}",
+            first.display()
+        )
+    };
+    Ok(Outcome {
+        text,
+        trusted: true,
+    })
+}
+
+fn design(path: &Path, as_json: bool) -> anyhow::Result<Outcome> {
+    let job = load_job(path)?;
+    if job.truth.is_none() {
+        bail!(
+            "{} has no [simulation] section: its experiments are the candidates a design chooses from",
+            path.display()
+        );
+    }
+    if job.settings.regressor.windows.spans().is_some() {
+        bail!(
+            "{}: design works on periodic windows; it does not support [non_periodic] yet",
+            path.display()
+        );
+    }
+    let settings = job.design.clone().unwrap_or_default();
+    let report = dampid::analysis::design::select(
+        &job.model,
+        &job.records,
+        &job.settings.regressor,
+        &settings,
+    )?;
+    let text = if as_json {
+        format!("{}\n", serde_json::to_string_pretty(&report)?)
+    } else {
+        format!(
+            "{}: the [simulation] coefficients are the nominal damping\n{report}",
+            job.title
+        )
+    };
+    Ok(Outcome {
+        text,
+        trusted: report.succeeded(),
+    })
+}
+
+fn write_records(path: &Path, folder: &Path) -> anyhow::Result<Outcome> {
+    let job = load_job(path)?;
+    if job.truth.is_none() {
+        bail!(
+            "{} has no [simulation] section: nothing to simulate",
+            path.display()
+        );
+    }
+    std::fs::create_dir_all(folder).with_context(|| format!("creating {}", folder.display()))?;
+    let mut out = String::new();
+    for (k, record) in job.source_records.iter().enumerate() {
+        let file = folder.join(format!("record_{}.csv", k + 1));
+        dampid::io::records::write_record(&file, record)?;
+        writeln!(
+            out,
+            "{} ({}, period {:.6})",
+            file.display(),
+            record.label(),
+            record.period()
+        )?;
+    }
+    Ok(Outcome {
+        text: out,
+        trusted: true,
+    })
+}
