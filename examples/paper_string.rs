@@ -37,6 +37,7 @@
 use dampid::prelude::*;
 use dampid::prep::pod::{PodReport, Reduction};
 use dampid::reference::string::*;
+use dampid::simulate::string::{StepCheck, StringSystem};
 use faer::Mat;
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};

@@ -13,11 +13,12 @@ use std::f64::consts::PI;
 use dampid::prelude::*;
 use dampid::prep::pod::{PodBasis, Reduction};
 use dampid::reference::string::{
-    STRING_AMPLITUDES, STRING_C, STRING_D, StringSystem, simulate_string, string_identify_settings,
-    string_model, string_records, string_sim_settings, with_displacement_noise,
+    STRING_AMPLITUDES, STRING_C, STRING_D, string_identify_settings, string_model, string_records,
+    string_sim_settings, with_displacement_noise,
 };
 use dampid::reference::{four_mass_model, four_mass_records};
 use dampid::simulate::SimSettings;
+use dampid::simulate::string::{StringSystem, simulate_string};
 use faer::Mat;
 
 #[allow(dead_code)]
