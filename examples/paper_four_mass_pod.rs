@@ -33,9 +33,9 @@ use dampid::prelude::*;
 use dampid::prep::pod::{PodBasis, PodReport, Reduction};
 use dampid::reference::{
     FOUR_MASS_AMPLITUDES, FOUR_MASS_C, FOUR_MASS_D, FOUR_MASS_OMEGA, four_mass_model,
-    four_mass_system,
+    four_mass_records_with,
 };
-use dampid::simulate::{SimSettings, simulate};
+use dampid::simulate::SimSettings;
 use serde::Serialize;
 use serde_json::{Value, json};
 
@@ -157,14 +157,7 @@ pub fn records(samples: usize) -> Result<Vec<Record>> {
         recorded_steps: samples,
         ..SimSettings::default()
     };
-    FOUR_MASS_AMPLITUDES
-        .iter()
-        .map(|&a| {
-            let mut parts = simulate(&four_mass_system(a, false), &settings)?.into_parts();
-            parts.label = format!("a={a}");
-            Record::new(parts)
-        })
-        .collect()
+    four_mass_records_with(false, &settings)
 }
 
 fn identify_settings(velocity: VelocitySource) -> IdentifySettings {
