@@ -12,7 +12,7 @@ use dampid::prelude::{
 };
 use dampid::prep::quadrature::Quadrature;
 use dampid::prep::velocity::VelocitySource;
-use dampid::reference::{four_mass_cases, run_four_mass_case};
+use dampid::reference::{FourMassPodStudy, four_mass_cases, run_four_mass_case};
 
 /// Identification of `model` from the harmonic approximation of `table`.
 fn identify_approximation(
@@ -225,10 +225,6 @@ fn missing_model_file_is_a_model_file_error() {
 // ---------------------------------------------------------------------------------
 
 #[allow(dead_code)]
-#[path = "../examples/paper_four_mass_pod.rs"]
-mod paper_four_mass_pod;
-
-#[allow(dead_code)]
 #[path = "../examples/paper_string.rs"]
 mod paper_string;
 
@@ -254,7 +250,7 @@ fn four_mass_pod_model_file_matches_the_example() {
     let path = "models/four_mass_pod.toml";
     let job = load(Path::new(path)).unwrap();
     let from_file = dampid::identify(&job.model, &job.records, &job.settings).unwrap();
-    let study = paper_four_mass_pod::run().unwrap();
+    let study = FourMassPodStudy::run().unwrap();
     let case = study.cases.iter().find(|c| c.name == "two POMs").unwrap();
     assert_same_estimates(path, &from_file, &case.report);
     let reduction = job.pod.as_ref().unwrap();

@@ -16,14 +16,10 @@ use dampid::reference::string::{
     STRING_AMPLITUDES, STRING_C, STRING_D, string_identify_settings, string_model, string_records,
     string_sim_settings, with_displacement_noise,
 };
-use dampid::reference::{four_mass_model, four_mass_records};
+use dampid::reference::{FourMassPodStudy, four_mass_model, four_mass_records};
 use dampid::simulate::SimSettings;
 use dampid::simulate::string::{StringSystem, simulate_string};
 use faer::Mat;
-
-#[allow(dead_code)]
-#[path = "../examples/paper_four_mass_pod.rs"]
-mod paper_four_mass_pod;
 
 #[allow(dead_code)]
 #[path = "../examples/paper_string.rs"]
@@ -539,7 +535,7 @@ fn distributed_model_balances_the_energy_on_the_simulators_grid() {
 
 #[test]
 fn four_mass_pod_meets_the_papers_targets() {
-    let study = paper_four_mass_pod::run().unwrap();
+    let study = FourMassPodStudy::run().unwrap();
     assert_eq!(study.samples, 407);
     assert_eq!(study.pod_checks.len(), 4 + 8);
     for check in study
@@ -549,8 +545,8 @@ fn four_mass_pod_meets_the_papers_targets() {
     {
         assert!(check.passes, "{check:?}");
     }
-    assert!(study.passes());
-    let json = paper_four_mass_pod::to_json(&study);
+    assert!(study.all_pass());
+    let json = study.to_json();
     let cases = json["cases"].as_array().unwrap();
     assert_eq!(cases.len(), study.cases.len());
     let shares = cases[0]["pod"]["records"][0]["energy_shares"]
