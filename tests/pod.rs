@@ -16,14 +16,10 @@ use dampid::reference::string::{
     STRING_AMPLITUDES, STRING_C, STRING_D, string_identify_settings, string_model, string_records,
     string_sim_settings, with_displacement_noise,
 };
-use dampid::reference::{FourMassPodStudy, four_mass_model, four_mass_records};
+use dampid::reference::{FourMassPodStudy, StringStudy, four_mass_model, four_mass_records};
 use dampid::simulate::SimSettings;
 use dampid::simulate::string::{StringSystem, simulate_string};
 use faer::Mat;
-
-#[allow(dead_code)]
-#[path = "../examples/paper_string.rs"]
-mod paper_string;
 
 // ---------------------------------------------------------------------------------
 // Fixtures
@@ -559,7 +555,7 @@ fn four_mass_pod_meets_the_papers_targets() {
 #[test]
 fn string_pod_meets_the_papers_targets_with_fewer_noise_draws() {
     let draws = 20;
-    let study = paper_string::run(draws, false).unwrap();
+    let study = StringStudy::run(draws, false).unwrap();
     for case in &study.cases {
         match &case.noise {
             None => assert!(
@@ -594,7 +590,7 @@ fn string_pod_meets_the_papers_targets_with_fewer_noise_draws() {
         "{:?}",
         study.pod_checks
     );
-    let json = paper_string::to_json(&study);
+    let json = study.to_json();
     assert_eq!(json["cases"].as_array().unwrap().len(), 4);
     assert_eq!(
         json["cases"][1]["pod"]["records"].as_array().unwrap().len(),

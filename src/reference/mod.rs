@@ -9,8 +9,10 @@ pub mod four_mass;
 pub mod four_mass_pod;
 pub mod noisy_chain;
 pub mod string;
+pub mod string_study;
 
 pub use check::{Check, Measure};
 pub use four_mass::*;
 pub use four_mass_pod::FourMassPodStudy;
 pub use noisy_chain::*;
+pub use string_study::StringStudy;
