@@ -28,6 +28,7 @@ use criterion::{
     BenchmarkId, Criterion, SamplingMode, Throughput, criterion_group, criterion_main,
 };
 use dampid::prelude::*;
+use dampid::reference::dashpot_chain_model;
 use faer::Mat;
 use rayon::prelude::*;
 
@@ -84,23 +85,13 @@ fn record(dofs: usize, samples: usize) -> Record {
     .expect("valid benchmark record")
 }
 
+/// Per-dashpot linear terms on the chain, per-DOF quadratic terms, per-DOF Coulomb terms.
 fn model(dofs: usize) -> DampingModel {
-    DampingModel::new()
-        .with(Term::on_elements(
-            Linear,
-            Element::chain_fixed_both_ends(dofs),
-            Coefficients::PerElement("dashpot".into()),
-        ))
-        .with(Term::per_dof(
-            Quadratic,
-            dofs,
-            Coefficients::PerElement("quad".into()),
-        ))
-        .with(Term::per_dof(
-            Coulomb,
-            dofs,
-            Coefficients::PerElement("coulomb".into()),
-        ))
+    dashpot_chain_model(dofs, Coefficients::PerElement("quad".into())).with(Term::per_dof(
+        Coulomb,
+        dofs,
+        Coefficients::PerElement("coulomb".into()),
+    ))
 }
 
 fn settings() -> RegressorSettings {

@@ -29,6 +29,7 @@ use criterion::{
     BenchmarkId, Criterion, SamplingMode, Throughput, criterion_group, criterion_main,
 };
 use dampid::prelude::*;
+use dampid::reference::dashpot_chain_model;
 use faer::Mat;
 use rayon::prelude::*;
 
@@ -91,17 +92,7 @@ fn make_record(v: Mat<f64>, f: Mat<f64>) -> Record {
 /// Per-dashpot linear terms on the chain (n + 1 columns), then per-DOF quadratic terms
 /// (n columns).
 fn make_model(dofs: usize) -> DampingModel {
-    DampingModel::new()
-        .with(Term::on_elements(
-            Linear,
-            Element::chain_fixed_both_ends(dofs),
-            Coefficients::PerElement("dashpot".into()),
-        ))
-        .with(Term::per_dof(
-            Quadratic,
-            dofs,
-            Coefficients::PerElement("quad".into()),
-        ))
+    dashpot_chain_model(dofs, Coefficients::PerElement("quad".into()))
 }
 
 /// One window over all N samples (period N h), rectangular weights h, measured velocities.

@@ -31,10 +31,8 @@ use std::path::{Path, PathBuf};
 
 use dampid::prelude::*;
 use dampid::prep::harmonic::{HarmonicApproximation, PhaseReading, SteppedSineTable};
-use dampid::reference::{
-    FOUR_MASS_AMPLITUDES, FOUR_MASS_C, FOUR_MASS_D, four_mass_model, four_mass_system,
-};
-use dampid::simulate::{SimSettings, simulate};
+use dampid::reference::{FOUR_MASS_C, FOUR_MASS_D, four_mass_model, four_mass_records_with};
+use dampid::simulate::SimSettings;
 use serde_json::json;
 
 /// Identification of `model` from the harmonic approximation of `table`.
@@ -93,14 +91,7 @@ fn simulated(transient_steps: usize) -> Result<Vec<Record>> {
         transient_steps,
         ..SimSettings::default()
     };
-    FOUR_MASS_AMPLITUDES
-        .iter()
-        .map(|&a| {
-            let mut parts = simulate(&four_mass_system(a, false), &settings)?.into_parts();
-            parts.label = format!("a={a}");
-            Record::new(parts)
-        })
-        .collect()
+    four_mass_records_with(false, &settings)
 }
 
 fn run(table_path: &Path) -> Result<Vec<Case>> {

@@ -21,7 +21,7 @@ use std::f64::consts::PI;
 
 use dampid::analysis::design::{DesignSettings, design, simulate_candidates};
 use dampid::prelude::*;
-use dampid::reference::{FOUR_MASS_AMPLITUDES, FOUR_MASS_OMEGA};
+use dampid::reference::{FOUR_MASS_AMPLITUDES, FOUR_MASS_OMEGA, dashpot_chain_model};
 use dampid::report::Warning;
 use dampid::simulate::chain_stiffness;
 use dampid::simulate::{HarmonicForce, SimSettings, System};
@@ -35,17 +35,7 @@ const TOLERANCE: f64 = 0.01;
 const TARGET_CONDITION: f64 = 100.0;
 
 fn model() -> DampingModel {
-    DampingModel::new()
-        .with(Term::on_elements(
-            Linear,
-            Element::chain_fixed_both_ends(DOFS),
-            Coefficients::PerElement("dashpot".into()),
-        ))
-        .with(Term::per_dof(
-            Quadratic,
-            DOFS,
-            Coefficients::Shared("d".into()),
-        ))
+    dashpot_chain_model(DOFS, Coefficients::Shared("d".into()))
 }
 
 fn system(coefficients: &[f64]) -> System {

@@ -12,7 +12,7 @@ use dampid::prelude::{
 };
 use dampid::prep::quadrature::Quadrature;
 use dampid::prep::velocity::VelocitySource;
-use dampid::reference::{four_mass_cases, run_four_mass_case};
+use dampid::reference::{FourMassPodStudy, StringStudy, four_mass_cases, run_four_mass_case};
 
 /// Identification of `model` from the harmonic approximation of `table`.
 fn identify_approximation(
@@ -224,14 +224,6 @@ fn missing_model_file_is_a_model_file_error() {
 // Model files of the section 3 examples: the same numbers as the examples
 // ---------------------------------------------------------------------------------
 
-#[allow(dead_code)]
-#[path = "../examples/paper_four_mass_pod.rs"]
-mod paper_four_mass_pod;
-
-#[allow(dead_code)]
-#[path = "../examples/paper_string.rs"]
-mod paper_string;
-
 /// `a` and `b` agree to 1e-9 relative, coefficient by coefficient.
 fn assert_same_estimates(
     path: &str,
@@ -254,7 +246,7 @@ fn four_mass_pod_model_file_matches_the_example() {
     let path = "models/four_mass_pod.toml";
     let job = load(Path::new(path)).unwrap();
     let from_file = dampid::identify(&job.model, &job.records, &job.settings).unwrap();
-    let study = paper_four_mass_pod::run().unwrap();
+    let study = FourMassPodStudy::run().unwrap();
     let case = study.cases.iter().find(|c| c.name == "two POMs").unwrap();
     assert_same_estimates(path, &from_file, &case.report);
     let reduction = job.pod.as_ref().unwrap();
@@ -279,7 +271,7 @@ fn string_model_file_matches_the_example() {
             .is_ok()
     );
     let from_file = dampid::identify(&job.model, &job.records, &job.settings).unwrap();
-    let study = paper_string::run(1, false).unwrap();
+    let study = StringStudy::run(1, false).unwrap();
     let case = study
         .cases
         .iter()

@@ -13,20 +13,13 @@ use std::f64::consts::PI;
 use dampid::prelude::*;
 use dampid::prep::pod::{PodBasis, Reduction};
 use dampid::reference::string::{
-    STRING_AMPLITUDES, STRING_C, STRING_D, StringSystem, simulate_string, string_identify_settings,
-    string_model, string_records, string_sim_settings, with_displacement_noise,
+    STRING_AMPLITUDES, STRING_C, STRING_D, string_identify_settings, string_model, string_records,
+    string_sim_settings, with_displacement_noise,
 };
-use dampid::reference::{four_mass_model, four_mass_records};
+use dampid::reference::{FourMassPodStudy, StringStudy, four_mass_model, four_mass_records};
 use dampid::simulate::SimSettings;
+use dampid::simulate::string::{StringSystem, simulate_string};
 use faer::Mat;
-
-#[allow(dead_code)]
-#[path = "../examples/paper_four_mass_pod.rs"]
-mod paper_four_mass_pod;
-
-#[allow(dead_code)]
-#[path = "../examples/paper_string.rs"]
-mod paper_string;
 
 // ---------------------------------------------------------------------------------
 // Fixtures
@@ -538,7 +531,7 @@ fn distributed_model_balances_the_energy_on_the_simulators_grid() {
 
 #[test]
 fn four_mass_pod_meets_the_papers_targets() {
-    let study = paper_four_mass_pod::run().unwrap();
+    let study = FourMassPodStudy::run().unwrap();
     assert_eq!(study.samples, 407);
     assert_eq!(study.pod_checks.len(), 4 + 8);
     for check in study
@@ -548,8 +541,8 @@ fn four_mass_pod_meets_the_papers_targets() {
     {
         assert!(check.passes, "{check:?}");
     }
-    assert!(study.passes());
-    let json = paper_four_mass_pod::to_json(&study);
+    assert!(study.all_pass());
+    let json = study.to_json();
     let cases = json["cases"].as_array().unwrap();
     assert_eq!(cases.len(), study.cases.len());
     let shares = cases[0]["pod"]["records"][0]["energy_shares"]
@@ -562,7 +555,7 @@ fn four_mass_pod_meets_the_papers_targets() {
 #[test]
 fn string_pod_meets_the_papers_targets_with_fewer_noise_draws() {
     let draws = 20;
-    let study = paper_string::run(draws, false).unwrap();
+    let study = StringStudy::run(draws, false).unwrap();
     for case in &study.cases {
         match &case.noise {
             None => assert!(
@@ -597,7 +590,7 @@ fn string_pod_meets_the_papers_targets_with_fewer_noise_draws() {
         "{:?}",
         study.pod_checks
     );
-    let json = paper_string::to_json(&study);
+    let json = study.to_json();
     assert_eq!(json["cases"].as_array().unwrap().len(), 4);
     assert_eq!(
         json["cases"][1]["pod"]["records"].as_array().unwrap().len(),

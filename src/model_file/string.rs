@@ -8,8 +8,8 @@ use crate::error::{Error, Result};
 use crate::model::DampingModel;
 use crate::progress::Progress;
 use crate::record::Record;
-use crate::reference::string::{StringSystem, simulate_string};
 use crate::simulate::SimSettings;
+use crate::simulate::string::{StringSystem, simulate_string};
 
 use super::spec::StringSimulationSpec;
 

@@ -83,10 +83,16 @@ pub fn four_mass_records(cubic_spring: bool, cycles: usize) -> Result<Vec<Record
         recorded_steps: 200.max((cycles as f64 * period / 0.1).ceil() as usize + 4),
         ..SimSettings::default()
     };
+    four_mass_records_with(cubic_spring, &settings)
+}
+
+/// Simulated records for every amplitude with `settings` (labels "a=…"), for studies
+/// that record the chain otherwise than [`four_mass_records`].
+pub fn four_mass_records_with(cubic_spring: bool, settings: &SimSettings) -> Result<Vec<Record>> {
     FOUR_MASS_AMPLITUDES
         .iter()
         .map(|&a| {
-            let record = simulate(&four_mass_system(a, cubic_spring), &settings)?;
+            let record = simulate(&four_mass_system(a, cubic_spring), settings)?;
             let mut parts = record.into_parts();
             parts.label = format!("a={a}");
             Record::new(parts)

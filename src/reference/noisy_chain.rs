@@ -14,12 +14,13 @@ use rand::SeedableRng;
 use rand::rngs::StdRng;
 use rand_distr::{Distribution, Normal};
 
+use super::dashpot_chain::chain_dashpots;
 use crate::error::Result;
 use crate::model::DampingModel;
 use crate::record::Record;
 use crate::simulate::chain_stiffness;
 use crate::simulate::{HarmonicForce, SimSettings, System, simulate};
-use crate::terms::laws::{Coulomb, Linear};
+use crate::terms::laws::Coulomb;
 use crate::terms::{Coefficients, Element, Term};
 
 /// DOFs of the chain.
@@ -38,11 +39,7 @@ pub const NOISY_CHAIN_STEP: f64 = 0.02;
 /// The damping model: `c[i-j]` per dashpot and `mu` on mass 3.
 pub fn noisy_chain_model() -> DampingModel {
     DampingModel::new()
-        .with(Term::on_elements(
-            Linear,
-            Element::chain_fixed_both_ends(NOISY_CHAIN_DOFS),
-            Coefficients::PerElement("c".into()),
-        ))
+        .with(chain_dashpots(NOISY_CHAIN_DOFS, "c"))
         .with(Term::on_elements(
             Coulomb,
             vec![Element::to_ground(2)],

@@ -6,10 +6,12 @@
 //! nonlinear forces f_c (e.g. a cubic spring), and harmonic forcing on chosen DOFs,
 //! r_i(t) = a cos(ωt + φ). Integrated from rest by classic RK4 with `substeps` steps per
 //! recorded sample; `transient_steps` samples are dropped, then `recorded_steps`
-//! samples of x, x' and the force channels are recorded.
+//! samples of x, x' and the force channels are recorded. [`string`] simulates a
+//! uniform string on its linear modes (a continuous system, apart from [`System`]).
 
 mod matrices;
 mod rk4;
+pub mod string;
 
 pub use matrices::chain_stiffness;
 
