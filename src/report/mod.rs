@@ -6,24 +6,22 @@
 //! separate from others is marked `determined: false` and printed as "not determined":
 //! its number is a least-squares artefact, not an estimate.
 
+mod display;
 pub mod html;
 mod truth;
+mod warning;
 
 pub use truth::AgainstTruth;
-
-use std::fmt;
+pub use warning::{ILL_CONDITIONED, INADEQUATE_P_VALUE, Warning};
 
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::bootstrap::{Bootstrap, BootstrapSummary, ConfidenceInterval};
 use crate::analysis::diagnostics::{Correlation, Diagnostics, ResidualBias};
-use crate::analysis::identifiability::{Identifiability, list};
+use crate::analysis::identifiability::Identifiability;
 use crate::fit::{ActiveConstraint, Fit, FitMethod, FitStatus, SolverInfo};
 use crate::regressor::robust::WindowNoise;
 use crate::regressor::{Regressor, RowLabel};
-
-/// Condition number of the column-scaled regressor above which the report warns.
-pub const ILL_CONDITIONED: f64 = 1e8;
 
 /// One identified coefficient.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -61,128 +59,6 @@ pub struct NoiseSummary {
     /// P(χ² > observed) for an adequate model with white noise (None without degrees
     /// of freedom).
     pub p_value: Option<f64>,
-}
-
-/// Upper-tail probability of χ² below which the report warns that the residuals are
-/// larger than the estimated noise explains.
-pub const INADEQUATE_P_VALUE: f64 = 0.01;
-
-/// Something the user must know before trusting the numbers.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case", tag = "kind")]
-pub enum Warning {
-    /// The solver did not reach a solution: the coefficients are not estimates.
-    NotConverged {
-        /// The solver's status.
-        status: FitStatus,
-    },
-    /// The regressor is rank deficient: the data cannot separate the coefficients.
-    RankDeficient {
-        /// Numerical rank.
-        rank: usize,
-        /// Number of coefficients.
-        coefficients: usize,
-    },
-    /// The column-scaled regressor is badly conditioned.
-    IllConditioned {
-        /// Its condition number.
-        condition_number: f64,
-    },
-    /// As many equations as free coefficients: no redundancy, no uncertainty estimate.
-    NoRedundancy {
-        /// Equations.
-        equations: usize,
-    },
-    /// The weighted residuals are larger than the propagated noise explains.
-    ModelInadequate {
-        /// χ².
-        chi_square: f64,
-        /// Its degrees of freedom.
-        degrees_of_freedom: usize,
-        /// Its upper-tail probability.
-        p_value: f64,
-    },
-    /// Some directions of the column-scaled regressor are practically null (below the
-    /// level the equation noise can resolve): these coefficients are not separated.
-    Unidentifiable {
-        /// The coefficients that appear in a near-null direction.
-        coefficients: Vec<String>,
-        /// Each near-null direction in words.
-        trade_offs: Vec<String>,
-        /// The combinations that are determined (when any).
-        determined: Vec<String>,
-        /// The fit was constrained: the constraints, not the data, place the solution
-        /// along the near-null directions.
-        constrained: bool,
-    },
-}
-
-impl fmt::Display for Warning {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Warning::NotConverged { status } => write!(
-                f,
-                "the solver ended with status {status:?}: these numbers are not a solution"
-            ),
-            Warning::RankDeficient { rank, coefficients } => write!(
-                f,
-                "the regressor has rank {rank} for {coefficients} coefficients: these data cannot separate the coefficients, and the values shown are a minimum-norm least-squares solution, not estimates; add experiments at other frequencies, amplitudes or forcing points"
-            ),
-            Warning::IllConditioned { condition_number } => write!(
-                f,
-                "the column-scaled regressor has condition number {condition_number:.3e}: some combination of coefficients is barely determined by these data"
-            ),
-            Warning::ModelInadequate {
-                chi_square,
-                degrees_of_freedom,
-                p_value,
-            } => write!(
-                f,
-                "the weighted residual sum of squares is {chi_square:.3e} for {degrees_of_freedom} degrees of freedom (P = {p_value:.1e}): the residuals are larger than the estimated sensor noise explains, so the model may miss a mechanism, the records may not be in steady state, or the noise is not white; the plug-in standard errors are then too small"
-            ),
-            Warning::NoRedundancy { equations } => write!(
-                f,
-                "{equations} equations for as many free coefficients: the fit is exact by construction and gives no uncertainty; add windows or records"
-            ),
-            Warning::Unidentifiable {
-                coefficients,
-                trade_offs,
-                determined,
-                constrained,
-            } => {
-                let names: Vec<&str> = coefficients.iter().map(String::as_str).collect();
-                write!(
-                    f,
-                    "these data cannot separate {}: {}",
-                    list(&names),
-                    trade_offs.join("; ")
-                )?;
-                match determined.len() {
-                    0 => {}
-                    1 | 2 => {
-                        let combos: Vec<&str> = determined.iter().map(String::as_str).collect();
-                        let verb = if determined.len() == 1 { "is" } else { "are" };
-                        write!(f, "; only {} {verb} determined", list(&combos))?;
-                    }
-                    k => write!(
-                        f,
-                        "; only {k} combinations of the coefficients are determined (listed with the identifiability diagnostics)"
-                    )?,
-                }
-                if *constrained {
-                    write!(
-                        f,
-                        "; the constraints, not the data, decide where the solution lies along these directions"
-                    )?;
-                }
-                write!(
-                    f,
-                    "; the values shown for {} are not estimates; add experiments at other frequencies, amplitudes or forcing points (`dampid design`)",
-                    list(&names)
-                )
-            }
-        }
-    }
 }
 
 /// Everything a fit produced.
@@ -361,178 +237,5 @@ impl FitReport {
             .chain(&self.nuisance)
             .find(|c| c.name == name)
             .map(|c| c.value)
-    }
-}
-
-impl FitReport {
-    /// One line of the coefficient table.
-    fn write_estimate(
-        &self,
-        f: &mut fmt::Formatter<'_>,
-        c: &CoefficientEstimate,
-        weighted: bool,
-        level: Option<f64>,
-    ) -> fmt::Result {
-        let (se, rel) = match c.std_error {
-            _ if !c.determined => ("not determined".into(), String::new()),
-            Some(se) if c.value != 0.0 => (
-                format!("{se:.3e}"),
-                format!("{:.2}%", 100.0 * se / c.value.abs()),
-            ),
-            Some(se) => (format!("{se:.3e}"), "-".into()),
-            None => ("-".into(), "-".into()),
-        };
-        let wald = match (weighted, c.std_error) {
-            (true, Some(se)) if c.determined => format!(
-                "  [{:>12.5e}, {:>12.5e}]",
-                c.value - 1.959_963_985 * se,
-                c.value + 1.959_963_985 * se
-            ),
-            (true, _) => format!("  {:>27}", "-"),
-            (false, _) => String::new(),
-        };
-        let interval = match (&c.interval, level) {
-            (Some(i), _) => format!("  [{:>12.5e}, {:>12.5e}]", i.lower, i.upper),
-            (None, Some(_)) => format!("  {:>27}", "-"),
-            (None, None) => String::new(),
-        };
-        let held = self
-            .active_constraints
-            .iter()
-            .find(|a| a.name == c.name)
-            .map(|a| format!("  (at {:?} bound)", a.side).to_lowercase())
-            .unwrap_or_default();
-        writeln!(
-            f,
-            "{:<20} {:>14.6e} {:>12} {:>9}{wald}{interval}{held}",
-            c.name, c.value, se, rel
-        )?;
-        Ok(())
-    }
-}
-
-impl fmt::Display for FitReport {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        writeln!(f, "status: {:?} ({:?})", self.status, self.method)?;
-        let level = self.bootstrap.as_ref().map(|b| b.level);
-        let interval_header = level
-            .map(|l| {
-                let percent = (100.0 * l * 1e6).round() / 1e6;
-                format!("  {:>27}", format!("{percent}% interval"))
-            })
-            .unwrap_or_default();
-        let weighted = self.noise.is_some();
-        let wald_header = if weighted {
-            format!("  {:>27}", "95% plug-in interval")
-        } else {
-            String::new()
-        };
-        writeln!(
-            f,
-            "{:<20} {:>14} {:>12} {:>9}{wald_header}{interval_header}",
-            "coefficient",
-            "value",
-            if weighted { "plug-in se" } else { "std error" },
-            "rel. se"
-        )?;
-        for c in &self.coefficients {
-            self.write_estimate(f, c, weighted, level)?;
-        }
-        if !self.nuisance.is_empty() {
-            writeln!(
-                f,
-                "stored energy and constant forces (nuisance unknowns of the non-periodic balance):"
-            )?;
-            for c in &self.nuisance {
-                self.write_estimate(f, c, weighted, level)?;
-            }
-        }
-        if let Some(b) = &self.bootstrap {
-            writeln!(
-                f,
-                "bootstrap: {} of {} resampled regressors used (windows resampled with replacement, seed {}); percentile intervals",
-                b.used, b.replicates, b.seed
-            )?;
-        }
-        writeln!(
-            f,
-            "equations: {}, rank: {}",
-            self.residuals.len(),
-            self.rank
-        )?;
-        match self.condition_number {
-            Some(k) => writeln!(f, "condition number (column-scaled): {k:.3e}")?,
-            None => writeln!(f, "condition number (column-scaled): infinite")?,
-        }
-        let sv: Vec<String> = self
-            .singular_values
-            .iter()
-            .map(|s| format!("{s:.3e}"))
-            .collect();
-        writeln!(f, "singular values: [{}]", sv.join(", "))?;
-        write!(f, "{}", self.identifiability)?;
-        if let Some(c) = &self.correlation
-            && c.names.len() > 1
-        {
-            write!(f, "{c}")?;
-        }
-        if let Some(noise) = &self.noise {
-            write!(f, "{noise}")?;
-        }
-        writeln!(f, "relative residual: {:.3e}", self.relative_residual)?;
-        writeln!(
-            f,
-            "residual bias: {:+.3e} of mean |input work| ({} positive, {} negative)",
-            self.residual_bias.relative_mean,
-            self.residual_bias.positive,
-            self.residual_bias.negative
-        )?;
-        for w in &self.warnings {
-            writeln!(f, "warning: {w}")?;
-        }
-        Ok(())
-    }
-}
-
-impl fmt::Display for NoiseSummary {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        writeln!(
-            f,
-            "noise-robust fit: equations weighted by their propagated residual standard deviation"
-        )?;
-        match self.p_value {
-            Some(p) => writeln!(
-                f,
-                "  weighted residual sum of squares χ² = {:.3} for {} degrees of freedom (P = {p:.3})",
-                self.chi_square, self.degrees_of_freedom
-            )?,
-            None => writeln!(
-                f,
-                "  no degrees of freedom left: no check of the model against the noise"
-            )?,
-        }
-        let all: Vec<f64> = self
-            .windows
-            .iter()
-            .flat_map(|w| w.displacement_noise.iter().copied())
-            .collect();
-        if let (Some(lo), Some(hi)) = (
-            all.iter().copied().reduce(f64::min),
-            all.iter().copied().reduce(f64::max),
-        ) {
-            writeln!(
-                f,
-                "  displacement noise (per sample, estimated per window and channel): {lo:.3e} to {hi:.3e}"
-            )?;
-        }
-        let most = self.windows.iter().map(|w| w.harmonics.len()).max();
-        let fewest = self.windows.iter().map(|w| w.harmonics.len()).min();
-        if let (Some(lo), Some(hi)) = (fewest, most) {
-            writeln!(
-                f,
-                "  harmonics kept per window: {lo} to {hi} (listed per window in the JSON report)"
-            )?;
-        }
-        Ok(())
     }
 }

@@ -1,143 +1,13 @@
-//! Least-squares Fourier series in the harmonics of the driving frequency ω:
-//!
-//!   x(t) ≈ a_0 + Σ_{k ∈ S} (a_k cos kωt + b_k sin kωt),
-//!
-//! over a set S of harmonic orders (usually 1..K), fitted over the samples of a window
-//! of whole periods. The basis is exactly T-periodic whatever the sampling step, so it
-//! serves windows whose period is not a whole number of samples (the four-mass case has
-//! T/h = 101.67). Its derivative gives spectral velocities, and its mean a_0 times the
-//! window span gives the spectral quadrature rule. When T/h is an integer and
-//! K < T/(2h), the fit reproduces the truncated discrete Fourier series.
-//!
-//! Harmonic k as a phasor: a_k cos θ + b_k sin θ = A_k cos(θ − φ_k) with
-//! A_k = √(a_k² + b_k²) and φ_k = atan2(b_k, a_k) (a phase lag).
-//!
-//! **Noise floor and automatic harmonic selection** ([`select_harmonics`]). Fit every
-//! harmonic 1..K_max (K_max the default count, 45% of Nyquist, at most 100) over the m samples of the
-//! window's P whole periods. For white noise of variance σ² each coefficient has
-//! variance ≈ 2σ²/m, so a bin that carries noise only has power P = a² + b² ~
-//! exponential with mean 4σ²/m, whose median is (4σ²/m)·ln 2. The noise bins are:
-//!
-//! - with P ≥ 2, the bins of the fit's residual at the frequencies jω/P that are not
-//!   harmonics of ω (j not a multiple of P, jω/P below K_max ω; at most
-//!   [`MAX_NOISE_BINS`], evenly strided), plus the harmonics in the upper half of the
-//!   band (K_max/2 < k ≤ K_max). The residual has no periodic content left, so a
-//!   transient or a strong harmonic cannot leak into these bins;
-//! - with P = 1 (no bins between harmonics), the harmonics 2..K_max.
-//!
-//! Per channel the per-bin noise power is estimated robustly as
-//!
-//!   P̂_noise = median over the noise bins of P / ln 2,   σ̂_A = √P̂_noise,
-//!
-//! (a median ignores the minority of bins that carry signal or leakage), floored at
-//! 10⁻¹² max_k A_k for round-off. The per-sample noise standard deviation follows as
-//! σ̂ = σ̂_A √m / 2. Harmonic k is kept when A_k > 3.5 σ̂_A in any channel; the
-//! fundamental is always kept. A noise-only bin passes with probability
-//! exp(−3.5²) ≈ 5·10⁻⁶.
+//! A least-squares Fourier basis on the sample times t_i = i h of a window, in the
+//! harmonics S of ω: x(t) ≈ a_0 + Σ_{k ∈ S} (a_k cos kωt + b_k sin kωt), fitted by QR
+//! of the m × (2|S| + 1) design B = QR. Its derivative Dc gives spectral velocities,
+//! and the mean coefficient times the span gives the spectral quadrature weights
+//! w = span · B R⁻¹R⁻ᵀ e_0 (see the module doc of [`crate::prep::fourier`]).
 
 use faer::{Mat, MatRef};
 
+use super::Phasor;
 use crate::error::{Error, Result};
-
-/// Amplitude over the per-bin noise amplitude above which a harmonic is kept.
-pub(crate) const NOISE_THRESHOLD: f64 = 3.5;
-
-/// Round-off floor of the noise amplitude, relative to a channel's largest harmonic.
-const ROUND_OFF: f64 = 1e-12;
-
-/// Most harmonics the noise-floor selection fits (K_max = min(45% of Nyquist, 100)):
-/// structural responses rarely carry measurable content above the 100th harmonic of
-/// the drive, and the fit's cost grows with K_max³.
-pub(crate) const MAX_SELECTED_HARMONICS: usize = 100;
-
-/// Most residual bins between harmonics read for the noise floor (a median over 256
-/// exponential powers has a relative standard error of about 9%).
-pub(crate) const MAX_NOISE_BINS: usize = 256;
-
-/// Default number of harmonics for a period of `samples_per_period` samples: 45% of
-/// the Nyquist count, leaving a margin so that the basis stays well conditioned when
-/// the period is not a whole number of samples.
-pub(crate) fn default_harmonics(samples_per_period: f64) -> usize {
-    ((0.45 * samples_per_period).floor() as usize).max(1)
-}
-
-/// A harmonic A cos(ωt − φ): amplitude A ≥ 0 and phase lag φ in (−π, π].
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct Phasor {
-    /// Amplitude A.
-    pub amplitude: f64,
-    /// Phase lag φ (rad).
-    pub phase: f64,
-}
-
-impl Phasor {
-    /// The phasor of a cos θ + b sin θ.
-    pub(crate) fn from_cos_sin(a: f64, b: f64) -> Self {
-        Phasor {
-            amplitude: a.hypot(b),
-            phase: b.atan2(a),
-        }
-    }
-}
-
-/// φ wrapped into (−π, π].
-pub(crate) fn wrap_phase(phase: f64) -> f64 {
-    let two_pi = 2.0 * std::f64::consts::PI;
-    let wrapped = phase - two_pi * (phase / two_pi).round();
-    if wrapped <= -std::f64::consts::PI {
-        wrapped + two_pi
-    } else {
-        wrapped
-    }
-}
-
-/// The samples of a window that cover its whole periods.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) struct WholePeriods {
-    /// Whole driving periods k.
-    pub(crate) periods: usize,
-    /// Samples t_0 .. t_0 + kT, i.e. ⌊kT/h⌋ + 1 (fewer when the record ends first).
-    pub(crate) samples: usize,
-}
-
-impl WholePeriods {
-    /// The whole periods of a window of `count` samples that may read up to `available`
-    /// samples: k = round(count·h/T) (the quadrature rules read between ⌊kT/h⌋ and
-    /// ⌊kT/h⌋ + 2 samples), and the samples inside [t_0, t_0 + kT].
-    pub(crate) fn of_window(
-        count: usize,
-        available: usize,
-        step: f64,
-        period: f64,
-    ) -> Result<Self> {
-        let per_period = period / step;
-        let periods = (count as f64 / per_period).round() as usize;
-        if periods == 0 {
-            return Err(Error::invalid(
-                "samples per window",
-                count as f64,
-                &format!(
-                    "a harmonic fit needs a window of whole periods, and {count} samples cover less than half of one period of {per_period:.3} samples"
-                ),
-            ));
-        }
-        let length = periods as f64 * per_period;
-        let whole = if (length - length.round()).abs() <= 1e-9 * length.max(1.0) {
-            length.round()
-        } else {
-            length.floor()
-        };
-        let samples = (whole as usize + 1).min(available.max(count));
-        if samples < 3 {
-            return Err(Error::invalid(
-                "samples per window",
-                samples as f64,
-                "a harmonic fit needs at least 3 samples (a mean and one harmonic)",
-            ));
-        }
-        Ok(WholePeriods { periods, samples })
-    }
-}
 
 /// A harmonic basis on the times t_i = i h, i = 0..m, with harmonic orders S.
 pub(crate) struct HarmonicBasis {
@@ -451,157 +321,6 @@ impl HarmonicBasis {
     }
 }
 
-/// Which harmonics stand above the noise floor of a window, and the evidence.
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct HarmonicSelection {
-    /// Whole driving periods in the window.
-    pub periods: usize,
-    /// Samples fitted (those inside the whole periods).
-    pub samples: usize,
-    /// Harmonic orders kept, ascending; always starts with 1.
-    pub kept: Vec<usize>,
-    /// Per channel, the estimated per-bin noise amplitude σ̂_A.
-    pub noise_amplitude: Vec<f64>,
-    /// Per channel, the estimated noise standard deviation per sample, σ̂ = σ̂_A √m / 2.
-    pub noise_std: Vec<f64>,
-    /// Per channel, the amplitude A_k of harmonics k = 1..=K_max of the full fit.
-    pub amplitudes: Vec<Vec<f64>>,
-}
-
-/// Selects the harmonics of ω = 2π/`period` that stand above the noise floor in any
-/// column of `x` (m × n samples of `periods` whole periods), by the rule of the module
-/// doc.
-pub(crate) fn select_harmonics(
-    x: MatRef<'_, f64>,
-    step: f64,
-    period: f64,
-    periods: usize,
-) -> Result<HarmonicSelection> {
-    let m = x.nrows();
-    let omega = 2.0 * std::f64::consts::PI / period;
-    let most = default_harmonics(period / step)
-        .min(MAX_SELECTED_HARMONICS)
-        .min((m.saturating_sub(1)) / 2);
-    let basis = HarmonicBasis::new(omega, most, step, m)?;
-    let coefficients = basis.fit(x);
-    let between = if periods >= 2 {
-        let residual = x - basis.design(m) * &coefficients;
-        Some(between_harmonics(
-            residual.as_ref(),
-            step,
-            omega,
-            periods,
-            most,
-        ))
-    } else {
-        None
-    };
-    let mut kept = vec![1];
-    let mut noise_amplitude = Vec::with_capacity(x.ncols());
-    let mut amplitudes = Vec::with_capacity(x.ncols());
-    let mut above = vec![false; most + 1];
-    for channel in 0..x.ncols() {
-        let amps: Vec<f64> = (0..most)
-            .map(|k| coefficients[(2 * k + 1, channel)].hypot(coefficients[(2 * k + 2, channel)]))
-            .collect();
-        let mut powers: Vec<f64> = match &between {
-            // the upper half of the band, then the residual bins between harmonics
-            Some(bins) => amps[most / 2..]
-                .iter()
-                .map(|a| a * a)
-                .chain(bins.iter().map(|powers| powers[channel]))
-                .collect(),
-            None => amps[1..].iter().map(|a| a * a).collect(),
-        };
-        let floor = ROUND_OFF * amps.iter().cloned().fold(0.0, f64::max);
-        let noise = median(&mut powers).map_or(floor, |median| {
-            (median / std::f64::consts::LN_2).sqrt().max(floor)
-        });
-        for (k, a) in amps.iter().enumerate().skip(1) {
-            if *a > NOISE_THRESHOLD * noise {
-                above[k + 1] = true;
-            }
-        }
-        noise_amplitude.push(noise);
-        amplitudes.push(amps);
-    }
-    kept.extend((2..=most).filter(|&k| above[k]));
-    let noise_std = noise_amplitude
-        .iter()
-        .map(|a| a * (m as f64).sqrt() / 2.0)
-        .collect();
-    Ok(HarmonicSelection {
-        periods,
-        samples: m,
-        kept,
-        noise_amplitude,
-        noise_std,
-        amplitudes,
-    })
-}
-
-/// The median of `values` (reordered), or None when empty.
-fn median(values: &mut [f64]) -> Option<f64> {
-    if values.is_empty() {
-        return None;
-    }
-    values.sort_by(f64::total_cmp);
-    let mid = values.len() / 2;
-    Some(if values.len() % 2 == 1 {
-        values[mid]
-    } else {
-        0.5 * (values[mid - 1] + values[mid])
-    })
-}
-
-/// Powers a² + b² per channel of the residual (m × n) at the frequencies jω/P between
-/// the harmonics, j = 1..P·K with j not a multiple of P, at most [`MAX_NOISE_BINS`] of
-/// them evenly strided; a = (2/m) Σ r_i cos(jωt_i/P), b likewise with sin. The sines
-/// and cosines come from powers of the phasor e^{iωt_i/P}, one sincos per sample.
-fn between_harmonics(
-    residual: MatRef<'_, f64>,
-    step: f64,
-    omega: f64,
-    periods: usize,
-    most: usize,
-) -> Vec<Vec<f64>> {
-    let (m, n) = residual.shape();
-    let all: Vec<usize> = (1..periods * most).filter(|j| j % periods != 0).collect();
-    let stride = all.len().div_ceil(MAX_NOISE_BINS).max(1);
-    let bins: Vec<usize> = all.into_iter().step_by(stride).collect();
-    let Some(&highest) = bins.last() else {
-        return Vec::new();
-    };
-    // sums[b][c] = (Σ r cos, Σ r sin) for bin b and channel c
-    let mut sums = vec![vec![(0.0, 0.0); n]; bins.len()];
-    let base = omega / periods as f64 * step;
-    let row: Vec<&[f64]> = (0..n).map(|c| crate::record::col(residual, c)).collect();
-    for i in 0..m {
-        let (s1, c1) = (base * i as f64).sin_cos();
-        let (mut cos, mut sin) = (1.0, 0.0);
-        let mut b = 0;
-        for j in 1..=highest {
-            (cos, sin) = (cos * c1 - sin * s1, sin * c1 + cos * s1);
-            if bins[b] == j {
-                for (sum, r) in sums[b].iter_mut().zip(&row) {
-                    sum.0 += cos * r[i];
-                    sum.1 += sin * r[i];
-                }
-                b += 1;
-            }
-        }
-    }
-    let scale = 2.0 / m as f64;
-    sums.into_iter()
-        .map(|per_channel| {
-            per_channel
-                .into_iter()
-                .map(|(a, b)| (scale * a).powi(2) + (scale * b).powi(2))
-                .collect()
-        })
-        .collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -643,6 +362,7 @@ mod tests {
 
     /// A chosen set of orders {1, 4} fits x = cos ωt + 0.1 sin 4ωt exactly and gives its
     /// phasors: 0.1 sin θ = 0.1 cos(θ − π/2).
+    /// phasors: 0.1 sin θ = 0.1 cos(θ − π/2).
     #[test]
     fn fits_a_set_of_orders_and_reads_phasors() {
         let omega = 2.0 * std::f64::consts::PI / 2.91;
@@ -660,37 +380,6 @@ mod tests {
         assert!((fourth.phase - std::f64::consts::FRAC_PI_2).abs() < 1e-10);
         assert!(HarmonicBasis::with_orders(omega, vec![2, 2], h, m).is_err());
         assert!(HarmonicBasis::with_orders(omega, vec![], h, m).is_err());
-    }
-
-    /// Each rule's window of k periods maps back to k whole periods and the ⌊kT/h⌋ + 1
-    /// samples inside them (T/h = 101.67: 102 samples for one period, 204 for two).
-    #[test]
-    fn whole_periods_of_every_rule() {
-        let (h, period) = (0.1, 10.167);
-        for cycles in [1usize, 2, 7] {
-            let span = cycles as f64 * period;
-            let inside = (span / h).floor() as usize + 1;
-            for rule in [
-                crate::prep::quadrature::Quadrature::Rectangular,
-                crate::prep::quadrature::Quadrature::Trapezoid,
-                crate::prep::quadrature::Quadrature::Spectral,
-            ] {
-                let count = rule.samples(span, h);
-                let whole = WholePeriods::of_window(count, 10_000, h, period).unwrap();
-                assert_eq!(whole.periods, cycles, "{rule:?}");
-                assert_eq!(whole.samples, inside, "{rule:?}");
-            }
-        }
-        assert!(WholePeriods::of_window(40, 10_000, h, period).is_err());
-    }
-
-    #[test]
-    fn wraps_phases_into_the_half_open_interval() {
-        use std::f64::consts::PI;
-        assert_eq!(wrap_phase(PI), PI);
-        assert!((wrap_phase(-PI) - PI).abs() < 1e-15);
-        assert!((wrap_phase(3.0 * PI / 2.0) + PI / 2.0).abs() < 1e-15);
-        assert!((wrap_phase(0.3 + 4.0 * PI) - 0.3).abs() < 1e-14);
     }
 
     #[test]

@@ -1,0 +1,181 @@
+//! The fit report as text: the coefficient table (value, standard error, relative
+//! standard error, plug-in 95% interval est ± 1.96 se with propagated weights, bootstrap
+//! percentile interval), conditioning, identifiability, correlation, the noise check,
+//! the residual and its bias, and the warnings.
+
+use std::fmt;
+
+use crate::report::{CoefficientEstimate, FitReport, NoiseSummary};
+
+impl FitReport {
+    /// One line of the coefficient table.
+    fn write_estimate(
+        &self,
+        f: &mut fmt::Formatter<'_>,
+        c: &CoefficientEstimate,
+        weighted: bool,
+        level: Option<f64>,
+    ) -> fmt::Result {
+        let (se, rel) = match c.std_error {
+            _ if !c.determined => ("not determined".into(), String::new()),
+            Some(se) if c.value != 0.0 => (
+                format!("{se:.3e}"),
+                format!("{:.2}%", 100.0 * se / c.value.abs()),
+            ),
+            Some(se) => (format!("{se:.3e}"), "-".into()),
+            None => ("-".into(), "-".into()),
+        };
+        let wald = match (weighted, c.std_error) {
+            (true, Some(se)) if c.determined => format!(
+                "  [{:>12.5e}, {:>12.5e}]",
+                c.value - 1.959_963_985 * se,
+                c.value + 1.959_963_985 * se
+            ),
+            (true, _) => format!("  {:>27}", "-"),
+            (false, _) => String::new(),
+        };
+        let interval = match (&c.interval, level) {
+            (Some(i), _) => format!("  [{:>12.5e}, {:>12.5e}]", i.lower, i.upper),
+            (None, Some(_)) => format!("  {:>27}", "-"),
+            (None, None) => String::new(),
+        };
+        let held = self
+            .active_constraints
+            .iter()
+            .find(|a| a.name == c.name)
+            .map(|a| format!("  (at {:?} bound)", a.side).to_lowercase())
+            .unwrap_or_default();
+        writeln!(
+            f,
+            "{:<20} {:>14.6e} {:>12} {:>9}{wald}{interval}{held}",
+            c.name, c.value, se, rel
+        )?;
+        Ok(())
+    }
+}
+
+impl fmt::Display for FitReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(f, "status: {:?} ({:?})", self.status, self.method)?;
+        let level = self.bootstrap.as_ref().map(|b| b.level);
+        let interval_header = level
+            .map(|l| {
+                let percent = (100.0 * l * 1e6).round() / 1e6;
+                format!("  {:>27}", format!("{percent}% interval"))
+            })
+            .unwrap_or_default();
+        let weighted = self.noise.is_some();
+        let wald_header = if weighted {
+            format!("  {:>27}", "95% plug-in interval")
+        } else {
+            String::new()
+        };
+        writeln!(
+            f,
+            "{:<20} {:>14} {:>12} {:>9}{wald_header}{interval_header}",
+            "coefficient",
+            "value",
+            if weighted { "plug-in se" } else { "std error" },
+            "rel. se"
+        )?;
+        for c in &self.coefficients {
+            self.write_estimate(f, c, weighted, level)?;
+        }
+        if !self.nuisance.is_empty() {
+            writeln!(
+                f,
+                "stored energy and constant forces (nuisance unknowns of the non-periodic balance):"
+            )?;
+            for c in &self.nuisance {
+                self.write_estimate(f, c, weighted, level)?;
+            }
+        }
+        if let Some(b) = &self.bootstrap {
+            writeln!(
+                f,
+                "bootstrap: {} of {} resampled regressors used (windows resampled with replacement, seed {}); percentile intervals",
+                b.used, b.replicates, b.seed
+            )?;
+        }
+        writeln!(
+            f,
+            "equations: {}, rank: {}",
+            self.residuals.len(),
+            self.rank
+        )?;
+        match self.condition_number {
+            Some(k) => writeln!(f, "condition number (column-scaled): {k:.3e}")?,
+            None => writeln!(f, "condition number (column-scaled): infinite")?,
+        }
+        let sv: Vec<String> = self
+            .singular_values
+            .iter()
+            .map(|s| format!("{s:.3e}"))
+            .collect();
+        writeln!(f, "singular values: [{}]", sv.join(", "))?;
+        write!(f, "{}", self.identifiability)?;
+        if let Some(c) = &self.correlation
+            && c.names.len() > 1
+        {
+            write!(f, "{c}")?;
+        }
+        if let Some(noise) = &self.noise {
+            write!(f, "{noise}")?;
+        }
+        writeln!(f, "relative residual: {:.3e}", self.relative_residual)?;
+        writeln!(
+            f,
+            "residual bias: {:+.3e} of mean |input work| ({} positive, {} negative)",
+            self.residual_bias.relative_mean,
+            self.residual_bias.positive,
+            self.residual_bias.negative
+        )?;
+        for w in &self.warnings {
+            writeln!(f, "warning: {w}")?;
+        }
+        Ok(())
+    }
+}
+
+impl fmt::Display for NoiseSummary {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "noise-robust fit: equations weighted by their propagated residual standard deviation"
+        )?;
+        match self.p_value {
+            Some(p) => writeln!(
+                f,
+                "  weighted residual sum of squares χ² = {:.3} for {} degrees of freedom (P = {p:.3})",
+                self.chi_square, self.degrees_of_freedom
+            )?,
+            None => writeln!(
+                f,
+                "  no degrees of freedom left: no check of the model against the noise"
+            )?,
+        }
+        let all: Vec<f64> = self
+            .windows
+            .iter()
+            .flat_map(|w| w.displacement_noise.iter().copied())
+            .collect();
+        if let (Some(lo), Some(hi)) = (
+            all.iter().copied().reduce(f64::min),
+            all.iter().copied().reduce(f64::max),
+        ) {
+            writeln!(
+                f,
+                "  displacement noise (per sample, estimated per window and channel): {lo:.3e} to {hi:.3e}"
+            )?;
+        }
+        let most = self.windows.iter().map(|w| w.harmonics.len()).max();
+        let fewest = self.windows.iter().map(|w| w.harmonics.len()).min();
+        if let (Some(lo), Some(hi)) = (fewest, most) {
+            writeln!(
+                f,
+                "  harmonics kept per window: {lo} to {hi} (listed per window in the JSON report)"
+            )?;
+        }
+        Ok(())
+    }
+}

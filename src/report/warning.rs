@@ -1,0 +1,138 @@
+//! Warnings: what the user must know before trusting the numbers, as data (serde,
+//! tagged by `kind`) with a `Display` that says in words what happened and what to do.
+//! [`crate::report::FitReport::new`] raises them from the fit's status, the rank and
+//! condition number of the column-scaled regressor (κ > [`ILL_CONDITIONED`]), the χ²
+//! check of the weighted fit (P < [`INADEQUATE_P_VALUE`]), redundancy, and the
+//! identifiability analysis.
+
+use std::fmt;
+
+use serde::{Deserialize, Serialize};
+
+use crate::analysis::identifiability::list;
+use crate::fit::FitStatus;
+
+/// Condition number of the column-scaled regressor above which the report warns.
+pub const ILL_CONDITIONED: f64 = 1e8;
+
+/// Upper-tail probability of χ² below which the report warns that the residuals are
+/// larger than the estimated noise explains.
+pub const INADEQUATE_P_VALUE: f64 = 0.01;
+
+/// Something the user must know before trusting the numbers.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", tag = "kind")]
+pub enum Warning {
+    /// The solver did not reach a solution: the coefficients are not estimates.
+    NotConverged {
+        /// The solver's status.
+        status: FitStatus,
+    },
+    /// The regressor is rank deficient: the data cannot separate the coefficients.
+    RankDeficient {
+        /// Numerical rank.
+        rank: usize,
+        /// Number of coefficients.
+        coefficients: usize,
+    },
+    /// The column-scaled regressor is badly conditioned.
+    IllConditioned {
+        /// Its condition number.
+        condition_number: f64,
+    },
+    /// As many equations as free coefficients: no redundancy, no uncertainty estimate.
+    NoRedundancy {
+        /// Equations.
+        equations: usize,
+    },
+    /// The weighted residuals are larger than the propagated noise explains.
+    ModelInadequate {
+        /// χ².
+        chi_square: f64,
+        /// Its degrees of freedom.
+        degrees_of_freedom: usize,
+        /// Its upper-tail probability.
+        p_value: f64,
+    },
+    /// Some directions of the column-scaled regressor are practically null (below the
+    /// level the equation noise can resolve): these coefficients are not separated.
+    Unidentifiable {
+        /// The coefficients that appear in a near-null direction.
+        coefficients: Vec<String>,
+        /// Each near-null direction in words.
+        trade_offs: Vec<String>,
+        /// The combinations that are determined (when any).
+        determined: Vec<String>,
+        /// The fit was constrained: the constraints, not the data, place the solution
+        /// along the near-null directions.
+        constrained: bool,
+    },
+}
+
+impl fmt::Display for Warning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Warning::NotConverged { status } => write!(
+                f,
+                "the solver ended with status {status:?}: these numbers are not a solution"
+            ),
+            Warning::RankDeficient { rank, coefficients } => write!(
+                f,
+                "the regressor has rank {rank} for {coefficients} coefficients: these data cannot separate the coefficients, and the values shown are a minimum-norm least-squares solution, not estimates; add experiments at other frequencies, amplitudes or forcing points"
+            ),
+            Warning::IllConditioned { condition_number } => write!(
+                f,
+                "the column-scaled regressor has condition number {condition_number:.3e}: some combination of coefficients is barely determined by these data"
+            ),
+            Warning::ModelInadequate {
+                chi_square,
+                degrees_of_freedom,
+                p_value,
+            } => write!(
+                f,
+                "the weighted residual sum of squares is {chi_square:.3e} for {degrees_of_freedom} degrees of freedom (P = {p_value:.1e}): the residuals are larger than the estimated sensor noise explains, so the model may miss a mechanism, the records may not be in steady state, or the noise is not white; the plug-in standard errors are then too small"
+            ),
+            Warning::NoRedundancy { equations } => write!(
+                f,
+                "{equations} equations for as many free coefficients: the fit is exact by construction and gives no uncertainty; add windows or records"
+            ),
+            Warning::Unidentifiable {
+                coefficients,
+                trade_offs,
+                determined,
+                constrained,
+            } => {
+                let names: Vec<&str> = coefficients.iter().map(String::as_str).collect();
+                write!(
+                    f,
+                    "these data cannot separate {}: {}",
+                    list(&names),
+                    trade_offs.join("; ")
+                )?;
+                match determined.len() {
+                    0 => {}
+                    1 | 2 => {
+                        let combos: Vec<&str> = determined.iter().map(String::as_str).collect();
+                        let verb = if determined.len() == 1 { "is" } else { "are" };
+                        write!(f, "; only {} {verb} determined", list(&combos))?;
+                    }
+                    k => write!(
+                        f,
+                        "; only {k} combinations of the coefficients are determined (listed with the identifiability diagnostics)"
+                    )?,
+                }
+                if *constrained {
+                    write!(
+                        f,
+                        "; the constraints, not the data, decide where the solution lies along these directions"
+                    )?;
+                }
+                write!(
+                    f,
+                    "; the values shown for {} are not estimates; add experiments at other frequencies, amplitudes or forcing points (`dampid design`)",
+                    list(&names)
+                )
+            }
+        }
+    }
+}
