@@ -73,10 +73,11 @@ fn per_dof_linear() -> DampingModel {
 /// Spectral quadrature with measured (exact) velocities: the balanced forces identify
 /// the true coefficients to round-off.
 fn exact() -> IdentifySettings {
-    let mut settings = IdentifySettings::default();
-    settings.regressor.quadrature = Quadrature::Spectral;
-    settings.regressor.velocity = VelocitySource::Measured;
-    settings
+    support::identify_settings(
+        WindowSpec::default(),
+        Quadrature::Spectral,
+        VelocitySource::Measured,
+    )
 }
 
 fn rank_deficient(report: &FitReport) -> Option<(usize, usize)> {
@@ -210,13 +211,13 @@ fn constant_signal_is_rank_zero_without_nan() {
         period: 2.0,
     })
     .unwrap();
-    let mut settings = IdentifySettings::default(); // central differences
-    settings.regressor.windows.cycles_mut().unwrap().count = None; // as many windows as fit: 2 equations
     for velocity in [
         VelocitySource::CentralDifference,
         VelocitySource::Spectral { harmonics: None },
     ] {
-        settings.regressor.velocity = velocity;
+        // As many one-period windows as fit: 2 equations.
+        let settings =
+            support::identify_settings(WindowSpec::cycles(1), Quadrature::Trapezoid, velocity);
         let report = identify(&per_dof_linear(), std::slice::from_ref(&record), &settings).unwrap();
         no_nan(&report);
         assert_eq!(

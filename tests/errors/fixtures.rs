@@ -100,10 +100,7 @@ pub fn measured() -> IdentifySettings {
 
 /// [`measured`] with the whole-period windows `spec`.
 pub fn windows(spec: WindowSpec) -> IdentifySettings {
-    IdentifySettings {
-        regressor: crate::support::settings(spec, Quadrature::Trapezoid, VelocitySource::Measured),
-        ..IdentifySettings::default()
-    }
+    crate::support::identify_settings(spec, Quadrature::Trapezoid, VelocitySource::Measured)
 }
 
 /// Two windows (count: None) so that the per-DOF model passes the equation count.

@@ -96,6 +96,18 @@ pub fn settings(
     }
 }
 
+/// [`settings`] for [`identify`], with the fit at its defaults.
+pub fn identify_settings(
+    windows: WindowSpec,
+    quadrature: Quadrature,
+    velocity: VelocitySource,
+) -> IdentifySettings {
+    IdentifySettings {
+        regressor: settings(windows, quadrature, velocity),
+        ..IdentifySettings::default()
+    }
+}
+
 /// The single regressor row (columns, input work) of `model` on `record`.
 pub fn row(
     model: &DampingModel,
