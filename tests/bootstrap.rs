@@ -91,13 +91,11 @@ fn noisy(records: &[Record], seed: u64) -> Vec<Record> {
 /// plug-in intervals are checked in tests/noise.rs.)
 fn settings() -> IdentifySettings {
     IdentifySettings {
-        regressor: RegressorSettings {
-            windows: WindowSpec::cycles(1).into(),
-            quadrature: Quadrature::Spectral,
-            velocity: VelocitySource::HarmonicProjection { harmonics: Some(1) },
-            noise: dampid::regressor::NoiseTreatment::Ignore,
-            ..Default::default()
-        },
+        regressor: RegressorSettings::plain(
+            WindowSpec::cycles(1),
+            Quadrature::Spectral,
+            VelocitySource::HarmonicProjection { harmonics: Some(1) },
+        ),
         ..IdentifySettings::default()
     }
 }

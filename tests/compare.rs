@@ -173,12 +173,11 @@ fn noisy_records(friction: f64, seed: u64) -> Vec<Record> {
 }
 
 fn regressor_settings() -> RegressorSettings {
-    RegressorSettings {
-        windows: WindowSpec::cycles(1).into(),
-        quadrature: Quadrature::Trapezoid,
-        velocity: VelocitySource::HarmonicProjection { harmonics: None },
-        ..Default::default()
-    }
+    support::settings(
+        WindowSpec::cycles(1),
+        Quadrature::Trapezoid,
+        VelocitySource::HarmonicProjection { harmonics: None },
+    )
 }
 
 /// Simulated without friction, the Coulomb term is not needed; simulated with friction

@@ -8,12 +8,12 @@
 //! | a constant signal | here: `constant_signal_*` | `Warning::RankDeficient` of rank 0, zero residual, no NaN |
 //! | an all-zero regressor column | here: `all_zero_regressor_column_*` | `Warning::RankDeficient`; the other coefficients still right |
 //! | duplicated experiments | here: `duplicated_experiments_*` | `Warning::RankDeficient` (and `NoRedundancy`): copies add no information |
-//! | NaN or Inf anywhere | tests/errors.rs: `nan_in_displacements_*`, `inf_in_force_signals_*`, `negative_inf_in_force_signals_*`, `nan_in_measured_velocities_*`, `nan_in_load_distribution_*`, `nan_start_time_*`, `nan_step_*`, `infinite_step_*`, `nonpositive_or_nan_period_*`, `nan_in_damping_matrix_*`, `custom_law_returning_nan_*`, `overflowing_regressor_column_*`, `regressor_parts_are_checked`, `nan_bound_or_fixed_value_*`, `bad_data_cell_names_row_and_column` | `Error::NonFinite`, `Error::InvalidParameter` or `Error::Data` with the position |
-//! | a record shorter than one period | tests/errors.rs: `record_shorter_than_one_window_is_too_short`, `record_of_two_samples_is_too_short` | `Error::RecordTooShort` |
-//! | more coefficients than equations | tests/errors.rs: `fewer_windows_than_coefficients_is_too_few_equations`, `constrained_fit_with_too_few_equations_*`, `regressor_without_rows_*` | `Error::TooFewEquations` |
+//! | NaN or Inf anywhere | tests/errors/: `record::nan_in_displacements_*`, `record::inf_in_force_signals_*`, `record::negative_inf_in_force_signals_*`, `record::nan_in_measured_velocities_*`, `record::nan_in_load_distribution_*`, `record::nan_start_time_*`, `record::nan_step_*`, `record::infinite_step_*`, `record::nonpositive_or_non_finite_period_*`, `model::nan_in_damping_matrix_*`, `regressor::custom_law_returning_nan_*`, `regressor::overflowing_regressor_column_*`, `regressor::regressor_parts_are_checked`, `fit::nan_bound_or_fixed_value_*`, `data_files::bad_data_cell_names_row_and_column` | `Error::NonFinite`, `Error::InvalidParameter` or `Error::Data` with the position |
+//! | a record shorter than one period | tests/errors/: `prep::record_shorter_than_one_window_is_too_short`, `record::record_of_two_samples_is_too_short` | `Error::RecordTooShort` |
+//! | more coefficients than equations | tests/errors/: `fit::fewer_windows_than_coefficients_is_too_few_equations`, `fit::constrained_fit_with_too_few_equations_*`, `fit::regressor_without_rows_*` | `Error::TooFewEquations` |
 //! | a rank-deficient regressor | tests/fit.rs: `rank_deficient_regressor_is_flagged` (and every test here) | `Warning::RankDeficient`, `condition_number: None` |
 //! | a solver that does not converge | tests/fit.rs: `unconverged_solver_is_reported_not_hidden` | `FitStatus::MaxIterations`, `Warning::NotConverged` |
-//! | a force on a DOF that does not exist | tests/errors.rs: `force_channel_on_missing_dof_*`, `harmonic_force_on_missing_dof_*`; here: `force_on_missing_dof_in_a_model_file_*` (the model-file route) | `Error::DofOutOfRange`, inside `Error::ModelFile` for model files |
+//! | a force on a DOF that does not exist | tests/errors/: `record::force_channel_on_missing_dof_*`, `simulate::harmonic_force_on_missing_dof_*`; here: `force_on_missing_dof_in_a_model_file_*` (the model-file route) | `Error::DofOutOfRange`, inside `Error::ModelFile` for model files |
 //!
 //! Fixtures: pure harmonic motion on 2 DOFs with exact velocities (tests/support), one
 //! equation per record, least squares unless a test says otherwise.
@@ -73,10 +73,11 @@ fn per_dof_linear() -> DampingModel {
 /// Spectral quadrature with measured (exact) velocities: the balanced forces identify
 /// the true coefficients to round-off.
 fn exact() -> IdentifySettings {
-    let mut settings = IdentifySettings::default();
-    settings.regressor.quadrature = Quadrature::Spectral;
-    settings.regressor.velocity = VelocitySource::Measured;
-    settings
+    support::identify_settings(
+        WindowSpec::default(),
+        Quadrature::Spectral,
+        VelocitySource::Measured,
+    )
 }
 
 fn rank_deficient(report: &FitReport) -> Option<(usize, usize)> {
@@ -210,13 +211,13 @@ fn constant_signal_is_rank_zero_without_nan() {
         period: 2.0,
     })
     .unwrap();
-    let mut settings = IdentifySettings::default(); // central differences
-    settings.regressor.windows.cycles_mut().unwrap().count = None; // as many windows as fit: 2 equations
     for velocity in [
         VelocitySource::CentralDifference,
         VelocitySource::Spectral { harmonics: None },
     ] {
-        settings.regressor.velocity = velocity;
+        // As many one-period windows as fit: 2 equations.
+        let settings =
+            support::identify_settings(WindowSpec::cycles(1), Quadrature::Trapezoid, velocity);
         let report = identify(&per_dof_linear(), std::slice::from_ref(&record), &settings).unwrap();
         no_nan(&report);
         assert_eq!(

@@ -59,12 +59,11 @@ fn simulation() -> SimSettings {
 }
 
 fn regressor_settings() -> RegressorSettings {
-    RegressorSettings {
-        windows: WindowSpec::cycles(1).into(),
-        quadrature: Quadrature::Trapezoid,
-        velocity: VelocitySource::Measured,
-        ..Default::default()
-    }
+    support::settings(
+        WindowSpec::cycles(1),
+        Quadrature::Trapezoid,
+        VelocitySource::Measured,
+    )
 }
 
 /// From the first resonance, both criteria add the second resonance, not another

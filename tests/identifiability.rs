@@ -200,15 +200,11 @@ fn first_resonance_of_a_rayleigh_chain_determines_c0_plus_lambda1_c1() {
         };
         simulate(&system, &settings).unwrap()
     };
-    let settings = IdentifySettings {
-        regressor: RegressorSettings {
-            windows: WindowSpec::cycles(1).into(),
-            quadrature: Quadrature::Trapezoid,
-            velocity: VelocitySource::Measured,
-            ..Default::default()
-        },
-        ..IdentifySettings::default()
-    };
+    let settings = support::identify_settings(
+        WindowSpec::cycles(1),
+        Quadrature::Trapezoid,
+        VelocitySource::Measured,
+    );
     let first = identify(&model, &[record(1.0)], &settings).unwrap();
     assert!(!first.is_estimate());
     let terms = &first.identifiability.determined[0].combination.terms;

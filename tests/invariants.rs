@@ -11,6 +11,8 @@ use dampid::reference::{FOUR_MASS_C, FOUR_MASS_D, four_mass_model, four_mass_sys
 use dampid::simulate::{SimSettings, simulate};
 use faer::Mat;
 
+mod support;
+
 /// Records for the paper's amplitudes, with `transient` dropped steps and room for
 /// `cycles` periods.
 fn records(cubic_spring: bool, transient: usize, cycles: usize) -> Vec<Record> {
@@ -25,26 +27,14 @@ fn records(cubic_spring: bool, transient: usize, cycles: usize) -> Vec<Record> {
         .collect()
 }
 
-fn settings(
-    quadrature: Quadrature,
-    velocity: VelocitySource,
-    cycles: usize,
-    count: Option<usize>,
-) -> IdentifySettings {
-    IdentifySettings {
-        regressor: RegressorSettings {
-            windows: WindowSpec {
-                skip: 0,
-                cycles,
-                count,
-            }
-            .into(),
-            quadrature,
-            velocity,
-            ..Default::default()
-        },
-        ..IdentifySettings::default()
-    }
+/// The spectral rule and spectral velocities (harmonics above the noise floor) over
+/// `windows`.
+fn spectral(windows: WindowSpec) -> IdentifySettings {
+    support::identify_settings(
+        windows,
+        Quadrature::Spectral,
+        VelocitySource::Spectral { harmonics: None },
+    )
 }
 
 fn estimates(report: &FitReport) -> (f64, f64) {
@@ -80,11 +70,10 @@ fn scaling_the_force_by_k_scales_every_coefficient_by_k() {
         ),
         distribution: p.forcing.distribution.clone(),
     });
-    let s = settings(
+    let s = support::identify_settings(
+        WindowSpec::cycles(1).first(1),
         Quadrature::Trapezoid,
         VelocitySource::CentralDifference,
-        1,
-        Some(1),
     );
     let (c0, d0) = estimates(&identify(&four_mass_model(), &base, &s).unwrap());
     let (c1, d1) = estimates(&identify(&four_mass_model(), &scaled, &s).unwrap());
@@ -120,12 +109,7 @@ fn adding_a_conservative_force_to_the_data_changes_nothing() {
         let kx = &p.displacements * k2.transpose();
         Forcing::generalized(&dense + &kx)
     });
-    let s = settings(
-        Quadrature::Spectral,
-        VelocitySource::Spectral { harmonics: None },
-        1,
-        Some(1),
-    );
+    let s = spectral(WindowSpec::cycles(1).first(1));
     let (c0, d0) = estimates(&identify(&four_mass_model(), &base, &s).unwrap());
     let (c1, d1) = estimates(&identify(&four_mass_model(), &with_spring, &s).unwrap());
     assert!((c1 - c0).abs() < 1e-6 * c0, "c {c0} -> {c1}");
@@ -136,12 +120,7 @@ fn adding_a_conservative_force_to_the_data_changes_nothing() {
 /// both fits land on the truth to within the discretization error.
 #[test]
 fn adding_a_conservative_force_to_the_system_changes_nothing() {
-    let s = settings(
-        Quadrature::Spectral,
-        VelocitySource::Spectral { harmonics: None },
-        1,
-        Some(1),
-    );
+    let s = spectral(WindowSpec::cycles(1).first(1));
     let (c0, d0) = estimates(&identify(&four_mass_model(), &records(false, 8000, 1), &s).unwrap());
     let (c1, d1) = estimates(&identify(&four_mass_model(), &records(true, 8000, 1), &s).unwrap());
     for (label, value, truth) in [
@@ -159,12 +138,7 @@ fn adding_a_conservative_force_to_the_system_changes_nothing() {
 /// to 1e-4; the paper's 1000-step transient leaves about 1e-3 (its 0.1499).
 #[test]
 fn long_transient_and_spectral_velocities_converge_to_truth() {
-    let s = settings(
-        Quadrature::Spectral,
-        VelocitySource::Spectral { harmonics: None },
-        1,
-        Some(1),
-    );
+    let s = spectral(WindowSpec::cycles(1).first(1));
     let (c, d) = estimates(&identify(&four_mass_model(), &records(false, 8000, 1), &s).unwrap());
     assert!((c - FOUR_MASS_C).abs() < 1e-4 * FOUR_MASS_C, "c = {c}");
     assert!((d - FOUR_MASS_D).abs() < 1e-4 * FOUR_MASS_D, "d = {d}");
@@ -175,17 +149,16 @@ fn long_transient_and_spectral_velocities_converge_to_truth() {
 #[test]
 fn splitting_records_into_cycles_gives_the_same_answer() {
     let data = records(true, 8000, 4);
-    let velocity = VelocitySource::Spectral { harmonics: None };
     let whole = identify(
         &four_mass_model(),
         &data,
-        &settings(Quadrature::Spectral, velocity, 4, Some(1)),
+        &spectral(WindowSpec::cycles(4).first(1)),
     )
     .unwrap();
     let split = identify(
         &four_mass_model(),
         &data,
-        &settings(Quadrature::Spectral, velocity, 1, Some(4)),
+        &spectral(WindowSpec::cycles(1).first(4)),
     )
     .unwrap();
     assert_eq!(split.residuals.len(), 16);

@@ -17,6 +17,8 @@ use dampid::prelude::*;
 use dampid::terms::laws::Expression;
 use faer::Mat;
 
+mod support;
+
 const DOFS: usize = 40;
 
 /// Deterministic pseudo-random numbers in [-1, 1).
@@ -193,18 +195,9 @@ fn direct_row(model: &DampingModel, record: &Record, start: usize, w: &[f64]) ->
     (row, input)
 }
 
-fn settings(quadrature: Quadrature, cycles: usize, count: Option<usize>) -> RegressorSettings {
-    RegressorSettings {
-        windows: WindowSpec {
-            skip: 3,
-            cycles,
-            count,
-        }
-        .into(),
-        quadrature,
-        velocity: VelocitySource::Measured,
-        ..RegressorSettings::default()
-    }
+/// `windows` after the first 3 samples, with `quadrature` and measured velocities.
+fn settings(quadrature: Quadrature, windows: WindowSpec) -> RegressorSettings {
+    support::settings(windows.skipping(3), quadrature, VelocitySource::Measured)
 }
 
 fn build(model: &DampingModel, record: &Record, settings: &RegressorSettings) -> Regressor {
@@ -222,13 +215,13 @@ fn matches_direct_sums(model: &DampingModel) {
     // 120 periods of 628.3 samples: windows of 10 periods cross many 4096-sample blocks,
     // one window of 110 periods crosses more than one wave of blocks.
     let record = record(76_000);
-    for (quadrature, cycles, count) in [
-        (Quadrature::Rectangular, 10, None),
-        (Quadrature::Trapezoid, 10, None),
-        (Quadrature::Spectral, 1, Some(3)),
-        (Quadrature::Trapezoid, 110, None),
+    for (quadrature, windows) in [
+        (Quadrature::Rectangular, WindowSpec::cycles(10)),
+        (Quadrature::Trapezoid, WindowSpec::cycles(10)),
+        (Quadrature::Spectral, WindowSpec::cycles(1).first(3)),
+        (Quadrature::Trapezoid, WindowSpec::cycles(110)),
     ] {
-        let settings = settings(quadrature, cycles, count);
+        let settings = settings(quadrature, windows);
         let regressor = build(model, &record, &settings);
         let windows = settings
             .windows
@@ -269,7 +262,7 @@ fn fused_kernel_is_bitwise_independent_of_thread_count() {
     // the sequential one.
     let model = model(true);
     let record = record(30_000);
-    let settings = settings(Quadrature::Trapezoid, 20, None);
+    let settings = settings(Quadrature::Trapezoid, WindowSpec::cycles(20));
     let in_pool = |threads: usize| {
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)

@@ -94,15 +94,11 @@ fn settings(
     count: usize,
     constraints: Constraints,
 ) -> IdentifySettings {
-    let mut settings = IdentifySettings {
-        regressor: RegressorSettings {
-            windows: WindowSpec::cycles(cycles).first(count).into(),
-            quadrature,
-            velocity: VelocitySource::Measured,
-            ..Default::default()
-        },
-        ..IdentifySettings::default()
-    };
+    let mut settings = support::identify_settings(
+        WindowSpec::cycles(cycles).first(count),
+        quadrature,
+        VelocitySource::Measured,
+    );
     settings.fit.constraints = constraints;
     settings
 }

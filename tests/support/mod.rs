@@ -79,6 +79,35 @@ impl Harmonic {
     }
 }
 
+/// Regressor settings over the whole-period windows `windows`, with `quadrature` and
+/// `velocity`; the rest at their defaults: noise treatment `Auto` (with harmonic
+/// projection the noise-robust rows are built, unlike [`RegressorSettings::plain`]) and
+/// velocity-weighted work.
+pub fn settings(
+    windows: WindowSpec,
+    quadrature: Quadrature,
+    velocity: VelocitySource,
+) -> RegressorSettings {
+    RegressorSettings {
+        windows: windows.into(),
+        quadrature,
+        velocity,
+        ..Default::default()
+    }
+}
+
+/// [`settings`] for [`identify`], with the fit at its defaults.
+pub fn identify_settings(
+    windows: WindowSpec,
+    quadrature: Quadrature,
+    velocity: VelocitySource,
+) -> IdentifySettings {
+    IdentifySettings {
+        regressor: settings(windows, quadrature, velocity),
+        ..IdentifySettings::default()
+    }
+}
+
 /// The single regressor row (columns, input work) of `model` on `record`.
 pub fn row(
     model: &DampingModel,
@@ -86,12 +115,7 @@ pub fn row(
     quadrature: Quadrature,
     velocity: VelocitySource,
 ) -> (Vec<f64>, f64) {
-    let settings = RegressorSettings {
-        windows: WindowSpec::default().into(),
-        quadrature,
-        velocity,
-        ..Default::default()
-    };
+    let settings = settings(WindowSpec::default(), quadrature, velocity);
     let regressor =
         Regressor::build(model, std::slice::from_ref(record), &settings).expect("regressor");
     let a = regressor.matrix();

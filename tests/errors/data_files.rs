@@ -1,0 +1,84 @@
+//! Data files: a column the file does not have is `UnknownName` (listing the columns it
+//! has), a bad cell is `Data` with file, row and column, and a MAT file whose sizes
+//! overflow the MAT parser is `Data` too, not a panic (both found by the `mat` fuzz
+//! target).
+
+use dampid::io::Table;
+use dampid::prelude::*;
+
+#[test]
+fn missing_column_lists_the_columns() {
+    let table = dampid::io::csv::parse("t,x1\n0,1\n", "d.csv").unwrap();
+    match table.column("x2") {
+        Err(Error::UnknownName { what, name, known }) => {
+            assert!(what.contains("d.csv"));
+            assert_eq!((name.as_str(), known.as_str()), ("x2", "t, x1"));
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn bad_data_cell_names_row_and_column() {
+    match dampid::io::csv::parse("t,x1\n0,1\n0.1,inf\n", "d.csv") {
+        Err(Error::Data {
+            file, row, column, ..
+        }) => assert_eq!((file.as_str(), row, column.as_str()), ("d.csv", 2, "x1")),
+        other => panic!("{other:?}"),
+    }
+}
+
+/// The 128-byte header of a level-5 MAT file: 116 bytes of text, the subsystem data
+/// offset, version 0x0100 and the little-endian mark.
+fn mat_header() -> Vec<u8> {
+    let mut bytes = vec![b' '; 116];
+    bytes.extend_from_slice(&[0; 8]); // subsystem data offset
+    bytes.extend_from_slice(&[0x00, 0x01]); // version
+    bytes.extend_from_slice(b"IM"); // little endian
+    bytes
+}
+
+/// What `read_mat` makes of `bytes`, written to a temporary file named after `name`.
+fn read_mat_bytes(name: &str, bytes: &[u8]) -> Result<Table> {
+    let path = std::env::temp_dir().join(format!("dampid-{name}-{}.mat", std::process::id()));
+    std::fs::write(&path, bytes).unwrap();
+    let result = dampid::io::mat::read_mat(&path);
+    std::fs::remove_file(&path).unwrap();
+    result
+}
+
+#[test]
+fn mat_file_whose_dimensions_overflow_is_a_data_error() {
+    // Found by the `mat` fuzz target: a numeric matrix of 65536 × 65536 makes the MAT
+    // parser (matfile 0.5) multiply its dimensions as i32, a panic under overflow checks.
+    let mut bytes = mat_header();
+    let tag = |kind: u32, size: u32| [kind.to_le_bytes(), size.to_le_bytes()].concat();
+    bytes.extend(tag(14, 56)); // miMATRIX of 56 bytes:
+    bytes.extend(tag(6, 8)); // array flags (miUINT32): class 6 = double, nzmax 0
+    bytes.extend_from_slice(&[6, 0, 0, 0, 0, 0, 0, 0]);
+    bytes.extend(tag(5, 8)); // dimensions (miINT32): 65536 × 65536
+    bytes.extend_from_slice(&[65536i32.to_le_bytes(), 65536i32.to_le_bytes()].concat());
+    bytes.extend(tag(1, 1)); // name (miINT8) "x", padded to 8
+    bytes.extend_from_slice(b"x\0\0\0\0\0\0\0");
+    bytes.extend(tag(9, 0)); // real part (miDOUBLE), empty
+    let result = read_mat_bytes("dims", &bytes);
+    assert!(
+        matches!(&result, Err(Error::Data { file, row: 0, .. }) if file.ends_with(".mat")),
+        "{result:?}"
+    );
+}
+
+#[test]
+fn mat_file_whose_element_size_overflows_is_a_data_error() {
+    // Found by the `mat` fuzz target: a data element claiming 0xFFFFFFFF bytes made the
+    // MAT parser (matfile 0.5) overflow while rounding the size up to its padding, a
+    // panic under overflow checks. The header, then that one tag.
+    let mut bytes = mat_header();
+    bytes.extend_from_slice(&[0x0f, 0, 0, 0, 0xff, 0xff, 0xff, 0xff]); // miCOMPRESSED
+    let result = read_mat_bytes("overflow", &bytes);
+    assert!(
+        matches!(&result, Err(Error::Data { file, row: 0, message, .. })
+            if file.ends_with(".mat") && message.contains("MAT")),
+        "{result:?}"
+    );
+}

@@ -1,0 +1,43 @@
+//! Bad input gets a typed error that names the offending field and value: never a
+//! panic, never a silently wrong number.
+//!
+//! Every variant of [`dampid::Error`] is produced here through the public API
+//! (`variants::every_variant_is_reachable`, whose exhaustive match stops compiling when
+//! a variant is added). Fixtures (`fixtures.rs`) are small hand-built records of
+//! harmonic motion whose forces balance linear damping c = 0.3, and a 2-DOF chain to
+//! simulate; every test changes exactly one thing.
+//!
+//! | variant | raised by | tests |
+//! |---|---|---|
+//! | `NonFinite` | `Record::new`; model matrices and element weights; regressor columns and `Regressor::from_parts`; `simulate` (mass matrix) | record, model, regressor, simulate, regressions |
+//! | `DimensionMismatch` | `Record::new`; matrix terms and element weights; `Regressor::from_parts`; `simulate` (matrices, coefficients) | record, model, regressor, simulate, regressions |
+//! | `InvalidParameter` | `Record::new` (step, period, start time); window settings and spectral velocities; elements and power laws; constraint values and fit settings; `simulate` (settings, forces, coefficients) | record, prep, model, fit, simulate, regressions |
+//! | `RecordTooShort` | `Record::new` (under three samples); windows that do not fit a record | record, prep, regressions |
+//! | `TooFewEquations` | the fit: fewer rows than free coefficients | fit |
+//! | `DofOutOfRange` | `Record::new` (force channels); model elements; `simulate` (springs, forces, elements) | record, model, simulate |
+//! | `Empty` | `Record::new` (no DOFs); an empty model or term; no records; `simulate` (no forcing, no DOFs) | record, model, regressor, simulate |
+//! | `DuplicateCoefficient` | model validation | model |
+//! | `UnknownCoefficient` | constraints naming a coefficient the model lacks | fit |
+//! | `InfeasibleBounds` | bounds and fixed values that admit no value | fit, regressions |
+//! | `MissingVelocities` | measured velocities on a record without them | prep |
+//! | `Numerical` | `simulate` (singular mass, divergence, NaN forces) | simulate, regressions |
+//! | `Expression` | `Expression::parse` (the model-file law) | model_file |
+//! | `ModelFile` | `model_file::parse` | model_file, regressions |
+//! | `UnknownName` | `Table::column` | data_files |
+//! | `Data` | `io::csv::parse`, `io::mat::read_mat` | data_files |
+//! | `NoPeriod` | `prep::period::detect_period` | prep |
+//! | `NotSteady` | `prep::steady_state` (`enforce`) | prep |
+
+mod data_files;
+mod fit;
+mod fixtures;
+mod model;
+mod model_file;
+mod prep;
+mod record;
+mod regressions;
+mod regressor;
+mod simulate;
+#[path = "../support/mod.rs"]
+mod support;
+mod variants;
