@@ -7,8 +7,11 @@ use thiserror::Error;
 /// Result alias used throughout dampid.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
-/// Everything that can go wrong between records and a fit report.
+/// Everything that can go wrong between records and a fit report. New variants may be
+/// added (`#[non_exhaustive]`); [`Error::kind`] names each one, and [`KINDS`] lists
+/// them all.
 #[derive(Debug, Error, Clone, PartialEq)]
+#[non_exhaustive]
 pub enum Error {
     /// A value that must be finite is NaN or infinite.
     #[error("{what} has a non-finite value {value} at row {row}, column {column}")]
@@ -45,6 +48,27 @@ pub enum Error {
         reason: String,
     },
 
+    /// A setting that is a choice (a rule, a source, one key or another) was given a
+    /// value that does not fit: `given` says what was given, in words.
+    #[error("invalid {name} = {given}: {reason}")]
+    InvalidChoice {
+        /// The setting's name (e.g. "quadrature", "velocity", "step").
+        name: String,
+        /// What was given ("spectral", "both `time` and `step`", "neither").
+        given: String,
+        /// Why it is rejected, and what would fit.
+        reason: String,
+    },
+
+    /// A required setting or value is missing.
+    #[error("missing {name}: {reason}")]
+    Missing {
+        /// What is missing (e.g. "exponent", "simulation coefficient 'c'").
+        name: String,
+        /// What needs it, and how to give it.
+        reason: String,
+    },
+
     /// A record holds fewer samples than the requested windows need.
     #[error(
         "record '{record}' is too short: the windows need {needed} samples, it has {available}"
@@ -69,12 +93,13 @@ pub enum Error {
         coefficients: usize,
     },
 
-    /// A DOF index is out of range for the record or system.
-    #[error("{what} refers to DOF {dof} (0-based), but there are only {dofs} DOFs")]
+    /// A DOF number is out of range for the record or system. DOFs are numbered from 1
+    /// in every message, as in model files (the API's 0-based index i is DOF i + 1).
+    #[error("{what} refers to DOF {dof}, but DOFs are numbered 1..{dofs}")]
     DofOutOfRange {
         /// Which element, force or term.
         what: String,
-        /// The offending index.
+        /// The offending DOF, numbered from 1.
         dof: usize,
         /// Number of DOFs available.
         dofs: usize,
@@ -141,6 +166,11 @@ pub enum Error {
         column: usize,
         /// What is wrong.
         message: String,
+        /// The typed error behind `message`, when the library raised one (a bad value
+        /// in a section, a DOF out of range); `None` for TOML syntax and schema errors.
+        /// Kept as data for matching, not as [`std::error::Error::source`], because
+        /// `message` already says it.
+        cause: Option<Box<Error>>,
     },
 
     /// A name in a model file does not refer to anything known.
@@ -208,7 +238,92 @@ pub enum Error {
     },
 }
 
+/// The name of every [`Error`] variant, as [`Error::kind`] gives it.
+pub const KINDS: &[&str] = &[
+    "non_finite",
+    "dimension_mismatch",
+    "invalid_parameter",
+    "invalid_choice",
+    "missing",
+    "record_too_short",
+    "too_few_equations",
+    "dof_out_of_range",
+    "empty",
+    "duplicate_coefficient",
+    "unknown_coefficient",
+    "infeasible_bounds",
+    "missing_velocities",
+    "expression",
+    "model_file",
+    "unknown_name",
+    "data",
+    "numerical",
+    "no_period",
+    "not_steady",
+];
+
 impl Error {
+    /// The variant's name in snake case (one of [`KINDS`]), for tests and programs
+    /// that sort errors without matching every variant.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Error::NonFinite { .. } => "non_finite",
+            Error::DimensionMismatch { .. } => "dimension_mismatch",
+            Error::InvalidParameter { .. } => "invalid_parameter",
+            Error::InvalidChoice { .. } => "invalid_choice",
+            Error::Missing { .. } => "missing",
+            Error::RecordTooShort { .. } => "record_too_short",
+            Error::TooFewEquations { .. } => "too_few_equations",
+            Error::DofOutOfRange { .. } => "dof_out_of_range",
+            Error::Empty { .. } => "empty",
+            Error::DuplicateCoefficient { .. } => "duplicate_coefficient",
+            Error::UnknownCoefficient { .. } => "unknown_coefficient",
+            Error::InfeasibleBounds { .. } => "infeasible_bounds",
+            Error::MissingVelocities { .. } => "missing_velocities",
+            Error::Expression { .. } => "expression",
+            Error::ModelFile { .. } => "model_file",
+            Error::UnknownName { .. } => "unknown_name",
+            Error::Data { .. } => "data",
+            Error::Numerical { .. } => "numerical",
+            Error::NoPeriod { .. } => "no_period",
+            Error::NotSteady { .. } => "not_steady",
+        }
+    }
+
+    /// For a model-file error, the typed error behind it; else this error itself.
+    pub fn innermost(&self) -> &Error {
+        match self {
+            Error::ModelFile {
+                cause: Some(cause), ..
+            } => cause.innermost(),
+            other => other,
+        }
+    }
+
+    pub(crate) fn choice(name: &str, given: impl std::fmt::Display, reason: &str) -> Self {
+        Error::InvalidChoice {
+            name: name.to_string(),
+            given: given.to_string(),
+            reason: reason.to_string(),
+        }
+    }
+
+    pub(crate) fn missing(name: impl Into<String>, reason: &str) -> Self {
+        Error::Missing {
+            name: name.into(),
+            reason: reason.to_string(),
+        }
+    }
+
+    /// A DOF out of range given as a 0-based `index` (reported 1-based) of `dofs`.
+    pub(crate) fn dof_index(what: impl Into<String>, index: usize, dofs: usize) -> Self {
+        Error::DofOutOfRange {
+            what: what.into(),
+            dof: index.saturating_add(1),
+            dofs,
+        }
+    }
+
     pub(crate) fn invalid(name: &str, value: f64, reason: &str) -> Self {
         Error::InvalidParameter {
             name: name.to_string(),
@@ -242,4 +357,47 @@ pub(crate) fn check_finite(what: &str, m: faer::MatRef<'_, f64>) -> Result<()> {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// KINDS lists every variant once: a new variant that is not added there fails to
+    /// compile in `kind` (the match is exhaustive here, inside the crate) or fails
+    /// this test.
+    #[test]
+    fn kinds_name_every_variant_once() {
+        let mut kinds = KINDS.to_vec();
+        kinds.sort_unstable();
+        kinds.dedup();
+        assert_eq!(kinds.len(), KINDS.len());
+        let examples = [
+            Error::invalid("x", 1.0, "r"),
+            Error::choice("x", "y", "r"),
+            Error::missing("x", "r"),
+            Error::dof_index("x", 0, 1),
+        ];
+        for e in &examples {
+            assert!(KINDS.contains(&e.kind()), "{e:?}");
+        }
+    }
+
+    /// DOFs are reported 1-based: index 0 is DOF 1.
+    #[test]
+    fn dof_index_is_reported_from_one() {
+        let e = Error::dof_index("force", 4, 4);
+        assert!(matches!(
+            e,
+            Error::DofOutOfRange {
+                dof: 5,
+                dofs: 4,
+                ..
+            }
+        ));
+        assert_eq!(
+            e.to_string(),
+            "force refers to DOF 5, but DOFs are numbered 1..4"
+        );
+    }
 }

@@ -75,11 +75,11 @@ impl Forcing {
                 }
                 for (k, &dof) in list.iter().enumerate() {
                     if dof >= dofs {
-                        return Err(Error::DofOutOfRange {
-                            what: format!("force channel {k}"),
+                        return Err(Error::dof_index(
+                            format!("force channel {}", k + 1),
                             dof,
                             dofs,
-                        });
+                        ));
                     }
                 }
             }

@@ -537,7 +537,7 @@ fn bad_tables_are_typed_errors() {
     assert!(matches!(
         SteppedSineTable::new(vec![far]),
         Err(Error::DofOutOfRange {
-            dof: 2,
+            dof: 3,
             dofs: 2,
             ..
         })
@@ -554,7 +554,7 @@ fn bad_tables_are_typed_errors() {
     };
     assert!(matches!(
         approximation_regressor(&reading, &model, &table),
-        Err(Error::DofOutOfRange { dof: 5, .. })
+        Err(Error::DofOutOfRange { dof: 6, .. })
     ));
     let coarse = HarmonicApproximation {
         samples_per_period: 4,

@@ -101,6 +101,7 @@ fn assert_at(error: Error, line: usize, needle: &str) {
             line: l,
             column,
             message,
+            ..
         } => {
             assert_eq!(file, "test.toml");
             assert_eq!(l, line, "{message}");
@@ -415,7 +416,7 @@ fn identification_selects_the_noise_pipeline() {
     let wrong = with("noise = \"correct\"\nvelocity = \"central_difference\"");
     let error = identify(&wrong.model, &wrong.records, &wrong.settings).unwrap_err();
     assert!(
-        matches!(&error, Error::InvalidParameter { name, .. } if name == "noise"),
+        matches!(&error, Error::InvalidChoice { name, given, .. } if name == "noise" && given == "correct"),
         "{error}"
     );
     match parse(

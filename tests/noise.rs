@@ -247,14 +247,14 @@ fn noise_correction_needs_projected_velocities_and_weights_need_a_noise_model() 
     settings.regressor.velocity = VelocitySource::CentralDifference;
     let error = identify(&noisy_chain_model(), &noisy, &settings).unwrap_err();
     assert!(
-        matches!(&error, Error::InvalidParameter { name, .. } if name == "noise"),
+        matches!(&error, Error::InvalidChoice { name, given, .. } if name == "noise" && given == "correct"),
         "{error}"
     );
     settings.regressor.noise = NoiseTreatment::Ignore;
     settings.fit.weighting = Weighting::Propagated;
     let error = identify(&noisy_chain_model(), &noisy, &settings).unwrap_err();
     assert!(
-        matches!(&error, Error::InvalidParameter { name, .. } if name == "weighting"),
+        matches!(&error, Error::InvalidChoice { name, .. } if name == "weighting"),
         "{error}"
     );
 }

@@ -405,8 +405,8 @@ fn bad_settings_and_records_get_typed_errors() {
         build(&model, std::slice::from_ref(&record), &settings).unwrap_err()
     };
     let name_of = |e: Error| match e {
-        Error::InvalidParameter { name, .. } => name,
-        other => panic!("expected InvalidParameter, got {other:?}"),
+        Error::InvalidParameter { name, .. } | Error::InvalidChoice { name, .. } => name,
+        other => panic!("expected InvalidParameter or InvalidChoice, got {other:?}"),
     };
     assert_eq!(
         name_of(with(
@@ -428,7 +428,7 @@ fn bad_settings_and_records_get_typed_errors() {
     ));
     assert!(matches!(
         with(&|s| span(s).storage.offsets = vec![4]),
-        Error::DofOutOfRange { dof: 4, .. }
+        Error::DofOutOfRange { dof: 5, .. }
     ));
     assert!(matches!(
         with(&|s| span(s).storage.potential = Potential::Known(Mat::zeros(2, 2))),

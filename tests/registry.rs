@@ -83,6 +83,7 @@ fn line_and_message(error: Error) -> (usize, String) {
             line,
             column,
             message,
+            ..
         } => {
             assert_eq!(file, "test.toml");
             assert!(column >= 1, "{message}");
@@ -224,15 +225,10 @@ fn an_exponent_given_both_ways_is_rejected() {
 }
 
 #[test]
-fn a_missing_parameter_is_an_invalid_parameter_naming_it() {
+fn a_missing_parameter_is_a_missing_error_naming_it() {
     match by_name("power", &LawParameters::new()) {
-        Err(Error::InvalidParameter {
-            name,
-            value,
-            reason,
-        }) => {
+        Err(Error::Missing { name, reason }) => {
             assert_eq!(name, "exponent");
-            assert!(value.is_nan());
             assert!(
                 reason.contains("the power law needs `exponent`"),
                 "{reason}"
@@ -277,10 +273,15 @@ fn a_parameter_the_law_does_not_declare_is_an_invalid_parameter_naming_it() {
 }
 
 #[test]
-fn an_expression_given_to_a_law_that_takes_none_is_an_invalid_parameter_named_expression() {
+fn an_expression_given_to_a_law_that_takes_none_is_an_invalid_choice_named_expression() {
     match by_name("quadratic", &LawParameters::new().with_expression("v")) {
-        Err(Error::InvalidParameter { name, reason, .. }) => {
-            assert_eq!(name, "expression");
+        Err(Error::InvalidChoice {
+            name,
+            given,
+            reason,
+            ..
+        }) => {
+            assert_eq!((name.as_str(), given.as_str()), ("expression", "v"));
             assert!(
                 reason.contains("the quadratic law takes no `expression`"),
                 "{reason}"

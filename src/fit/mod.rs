@@ -24,9 +24,11 @@ use serde::{Deserialize, Serialize};
 use crate::error::{Error, Result};
 use crate::regressor::Regressor;
 
-/// How the fit ended.
+/// How the fit ended. New statuses may be added (`#[non_exhaustive]`): read
+/// [`FitStatus::is_usable`] rather than matching every one.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
+#[non_exhaustive]
 pub enum FitStatus {
     /// Converged to the requested tolerance.
     Solved,
@@ -228,9 +230,9 @@ pub(crate) fn solve_factored(
             Ok((solve_rows(regressor, settings)?, None))
         }
         (_, Some(noise)) => Ok((weighted::solve(regressor, noise, settings)?, None)),
-        (Weighting::Propagated, None) => Err(Error::invalid(
+        (Weighting::Propagated, None) => Err(Error::choice(
             "weighting",
-            0.0,
+            "propagated",
             "propagated weights need the regressor's noise model: use velocity = harmonic projection with noise correction, or weighting = ordinary",
         )),
     }

@@ -31,6 +31,23 @@ impl Context<'_> {
             line,
             column,
             message: message.to_string(),
+            cause: None,
+        }
+    }
+
+    /// The typed error `error` at `spanned`, kept as the model-file error's cause (an
+    /// error that already has a position in this file keeps it).
+    pub(super) fn typed_error_at<T>(&self, spanned: &Spanned<T>, error: Error) -> Error {
+        if matches!(error, Error::ModelFile { .. }) {
+            return error;
+        }
+        let (line, column) = self.position(spanned.span().start);
+        Error::ModelFile {
+            file: self.file.to_string(),
+            line,
+            column,
+            message: error.to_string(),
+            cause: Some(Box::new(error)),
         }
     }
 
@@ -40,7 +57,7 @@ impl Context<'_> {
         spanned: &Spanned<S>,
         f: impl FnOnce(&S) -> Result<T>,
     ) -> Result<T> {
-        f(spanned.get_ref()).map_err(|e| self.error_at(spanned, e))
+        f(spanned.get_ref()).map_err(|e| self.typed_error_at(spanned, e))
     }
 
     pub(super) fn whole_file_error(&self, message: impl Into<String>) -> Error {
@@ -49,6 +66,18 @@ impl Context<'_> {
             line: 0,
             column: 0,
             message: message.into(),
+            cause: None,
+        }
+    }
+
+    /// The typed error `error` about the file as a whole, after `prefix` (a section).
+    pub(super) fn whole_file_typed_error(&self, prefix: &str, error: Error) -> Error {
+        Error::ModelFile {
+            file: self.file.to_string(),
+            line: 0,
+            column: 0,
+            message: format!("{prefix}: {error}"),
+            cause: Some(Box::new(error)),
         }
     }
 }

@@ -111,16 +111,29 @@ impl Context<'_> {
             return Err(self.whole_file_error("dofs must be at least 1"));
         }
         let matrix = |r: &MatrixRef| resolve_matrix(r, spec, n);
-        let mut model = DampingModel::new();
-        for term in &spec.terms {
-            model = model.with(self.at(term, |t| build_term(t, n, &matrix, laws))?);
+        if spec.terms.is_empty() {
+            let empty = Error::Empty {
+                what: "the damping model".into(),
+            };
+            return Err(self.whole_file_typed_error("[[terms]]", empty));
         }
-        self.at(
-            spec.terms.first().ok_or_else(|| Error::Empty {
-                what: "terms".into(),
-            })?,
-            |_| model.validate(n),
-        )?;
+        // Each term is checked at its own [[terms]] block, including a coefficient name
+        // that an earlier block already uses.
+        let mut model = DampingModel::new();
+        let mut names = std::collections::HashSet::new();
+        for term in &spec.terms {
+            let built = self.at(term, |t| {
+                let built = build_term(t, n, &matrix, laws)?;
+                built.validate(n)?;
+                for name in built.coefficient_names() {
+                    if !names.insert(name.clone()) {
+                        return Err(Error::DuplicateCoefficient { name });
+                    }
+                }
+                Ok(built)
+            })?;
+            model = model.with(built);
+        }
         let mut settings =
             identification_settings(&spec.identification, spec.non_periodic.is_some());
         let steady_state = SteadyStateSettings {
@@ -130,7 +143,7 @@ impl Context<'_> {
         };
         steady_state
             .validate()
-            .map_err(|e| self.whole_file_error(format!("[identification]: {e}")))?;
+            .map_err(|e| self.whole_file_typed_error("[identification]", e))?;
         let sources = self.sources(spec, &model, n, base, &matrix, progress)?;
         if let Some(np) = &spec.non_periodic {
             if spec.pod.is_some() || spec.harmonic_approximation.is_some() {
@@ -230,9 +243,9 @@ impl Context<'_> {
             .map(|s| {
                 self.at(s, |s| {
                     if spec.data.is_none() {
-                        return Err(Error::invalid(
+                        return Err(Error::choice(
                             "system",
-                            f64::NAN,
+                            "a [system] section beside a simulation",
                             "[system] describes measured data; a [simulation] gives its own mass and stiffness",
                         ));
                     }

@@ -43,6 +43,7 @@ pub fn load_with_progress(path: &Path, progress: Progress<'_>) -> Result<Job> {
         line: 0,
         column: 0,
         message: e.to_string(),
+        cause: None,
     })?;
     let base = path.parent().unwrap_or(Path::new("."));
     parse_with_progress(&text, &path.display().to_string(), base, progress)
@@ -85,6 +86,7 @@ fn parse_with(
             line,
             column,
             message: e.message().to_string(),
+            cause: None,
         }
     })?;
     context.build(&spec, base, laws, progress)

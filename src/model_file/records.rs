@@ -42,10 +42,9 @@ pub(super) fn truth_of(
                 .get(name)
                 .map(|v| (name.clone(), *v))
                 .ok_or_else(|| {
-                    Error::invalid(
-                        &format!("simulation coefficient '{name}'"),
-                        f64::NAN,
-                        "is missing",
+                    Error::missing(
+                        format!("simulation coefficient '{name}'"),
+                        "[simulation] coefficients give the true value of every coefficient of the model",
                     )
                 })
         })
@@ -132,10 +131,15 @@ pub(super) fn read_record(
     let step = match (&spec.time, spec.step) {
         (Some(time), None) => table.uniform_step(time)?,
         (None, Some(step)) => step,
-        _ => {
-            return Err(Error::invalid(
+        (time, _) => {
+            let given = if time.is_some() {
+                "both `time` and `step`"
+            } else {
+                "neither `time` nor `step`"
+            };
+            return Err(Error::choice(
                 "step",
-                f64::NAN,
+                given,
                 "give exactly one of `time` (a column) or `step`",
             ));
         }
@@ -152,10 +156,7 @@ pub(super) fn read_record(
                 .checked_sub(1)
                 .filter(|d| *d < n)
                 .ok_or_else(|| Error::DofOutOfRange {
-                    what: format!(
-                        "force column '{}' (DOFs are numbered 1..{n} in model files)",
-                        f.column
-                    ),
+                    what: format!("force column '{}'", f.column),
                     dof: f.dof,
                     dofs: n,
                 })

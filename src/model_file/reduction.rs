@@ -37,16 +37,15 @@ pub(super) fn harmonic_settings(
         (PhaseName::Dof, Some(dof)) => {
             PhaseReading::Dof(dof.checked_sub(1).filter(|d| *d < dofs).ok_or_else(|| {
                 Error::DofOutOfRange {
-                    what: format!("harmonic_approximation.dof (DOFs are numbered 1..{dofs})"),
+                    what: "harmonic_approximation.dof".into(),
                     dof,
                     dofs,
                 }
             })?)
         }
         (PhaseName::Dof, None) => {
-            return Err(Error::invalid(
+            return Err(Error::missing(
                 "dof",
-                f64::NAN,
                 "phase = \"dof\" needs `dof`, the DOF whose lag is used",
             ));
         }

@@ -223,7 +223,7 @@ pub(super) fn one_based(dof: usize, n: usize, what: &str) -> Result<usize> {
     dof.checked_sub(1)
         .filter(|d| *d < n)
         .ok_or_else(|| Error::DofOutOfRange {
-            what: format!("{what} (DOFs are numbered 1..{n} in model files)"),
+            what: what.to_string(),
             dof,
             dofs: n,
         })

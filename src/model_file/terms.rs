@@ -84,10 +84,15 @@ pub(super) fn build_term(
             let coefficients = match (coefficient, per_element) {
                 (Some(name), None) => Coefficients::Shared(name.clone()),
                 (None, Some(prefix)) => Coefficients::PerElement(prefix.clone()),
-                _ => {
-                    return Err(Error::invalid(
+                (shared, _) => {
+                    let given = if shared.is_some() {
+                        "both `coefficient` and `per_element`"
+                    } else {
+                        "neither `coefficient` nor `per_element`"
+                    };
+                    return Err(Error::choice(
                         "coefficient",
-                        f64::NAN,
+                        given,
                         "give exactly one of `coefficient` (shared) or `per_element` (one per element)",
                     ));
                 }
@@ -144,10 +149,10 @@ pub(super) fn build_elements(spec: &ElementsSpec, n: usize) -> Result<Vec<Elemen
                 let label = format!("{a}-{b}");
                 let element = match (a, b) {
                     (0, 0) => {
-                        return Err(Error::invalid(
+                        return Err(Error::choice(
                             "element",
-                            0.0,
-                            "[0, 0] joins ground to ground",
+                            "[0, 0]",
+                            "it joins ground to ground",
                         ));
                     }
                     (0, b) => Element::to_ground(b - 1),

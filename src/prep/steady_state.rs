@@ -132,11 +132,11 @@ impl StoredEnergy {
         }
         for &(dof, _) in &self.cubic_springs {
             if dof >= dofs {
-                return Err(Error::DofOutOfRange {
-                    what: "cubic spring (steady-state check)".into(),
+                return Err(Error::dof_index(
+                    "cubic spring (steady-state check)",
                     dof,
                     dofs,
-                });
+                ));
             }
         }
         Ok(())

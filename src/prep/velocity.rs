@@ -91,6 +91,16 @@ impl Default for VelocitySource {
 }
 
 impl VelocitySource {
+    /// The name model files give this source (`velocity = "..."`).
+    pub fn name(&self) -> &'static str {
+        match self {
+            VelocitySource::Measured => "measured",
+            VelocitySource::CentralDifference => "central_difference",
+            VelocitySource::Spectral { .. } => "spectral",
+            VelocitySource::HarmonicProjection { .. } => "harmonic_projection",
+        }
+    }
+
     /// Velocities (count × n) for samples `start..start + count` of `record`.
     pub fn window_velocities<'a>(
         &self,

@@ -207,9 +207,9 @@ impl RegressorSettings {
             Windows::Spans(spans) => {
                 spans.validate()?;
                 if self.quadrature == Quadrature::Spectral {
-                    return Err(Error::invalid(
+                    return Err(Error::choice(
                         "quadrature",
-                        f64::NAN,
+                        "spectral",
                         "a spectral rule integrates whole periods; non-periodic windows take `trapezoid` or `rectangular`",
                     ));
                 }
@@ -217,13 +217,10 @@ impl RegressorSettings {
                     self.velocity,
                     VelocitySource::Measured | VelocitySource::CentralDifference
                 ) {
-                    return Err(Error::invalid(
+                    return Err(Error::choice(
                         "velocity",
-                        f64::NAN,
-                        &format!(
-                            "{:?} needs a driving period; non-periodic windows take `measured` or `central_difference` velocities",
-                            self.velocity
-                        ),
+                        self.velocity.name(),
+                        "it needs a driving period; non-periodic windows take `measured` or `central_difference` velocities",
                     ));
                 }
                 Ok(())
@@ -239,12 +236,12 @@ impl RegressorSettings {
             NoiseTreatment::Ignore => Ok(false),
             NoiseTreatment::Auto => Ok(projected),
             NoiseTreatment::Correct if projected => Ok(true),
-            NoiseTreatment::Correct => Err(Error::invalid(
+            NoiseTreatment::Correct => Err(Error::choice(
                 "noise",
-                0.0,
+                "correct",
                 &format!(
-                    "noise correction needs velocity = harmonic projection (the noise of a projection is known), not {:?}; set noise = ignore or change the velocity source",
-                    self.velocity
+                    "noise correction needs velocity = harmonic_projection (the noise of a projection is known), not {}; set noise = ignore or change the velocity source",
+                    self.velocity.name()
                 ),
             )),
         }

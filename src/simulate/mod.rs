@@ -193,11 +193,7 @@ impl System {
         for c in &self.conservative {
             if let ConservativeForce::Cubic { dof, coefficient } = c {
                 if *dof >= n {
-                    return Err(Error::DofOutOfRange {
-                        what: "cubic spring".into(),
-                        dof: *dof,
-                        dofs: n,
-                    });
+                    return Err(Error::dof_index("cubic spring", *dof, n));
                 }
                 if !coefficient.is_finite() {
                     return Err(Error::invalid(
@@ -215,11 +211,7 @@ impl System {
         };
         for f in &self.forcing {
             if f.dof >= n {
-                return Err(Error::DofOutOfRange {
-                    what: "harmonic force".into(),
-                    dof: f.dof,
-                    dofs: n,
-                });
+                return Err(Error::dof_index("harmonic force", f.dof, n));
             }
             if !(f.frequency.is_finite() && f.frequency > 0.0) {
                 return Err(Error::invalid(

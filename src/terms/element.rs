@@ -61,18 +61,22 @@ impl Element {
     pub(crate) fn validate(&self, dofs: usize, what: &str) -> Result<()> {
         for dof in std::iter::once(self.a).chain(self.b) {
             if dof >= dofs {
-                return Err(Error::DofOutOfRange {
-                    what: format!("{what} element [{}]", self.label),
+                return Err(Error::dof_index(
+                    format!("{what} element [{}]", self.label),
                     dof,
                     dofs,
-                });
+                ));
             }
         }
         if self.b == Some(self.a) {
             return Err(Error::invalid(
                 "element",
                 self.a as f64,
-                &format!("element [{}] joins DOF {} to itself", self.label, self.a),
+                &format!(
+                    "element [{}] joins DOF {} to itself",
+                    self.label,
+                    self.a + 1
+                ),
             ));
         }
         Ok(())

@@ -2,8 +2,9 @@
 //! panic, never a silently wrong number.
 //!
 //! Every variant of [`dampid::Error`] is produced here through the public API
-//! (`variants::every_variant_is_reachable`, whose exhaustive match stops compiling when
-//! a variant is added). Fixtures (`fixtures.rs`) are small hand-built records of
+//! (`variants::every_variant_is_reachable`, checked against `dampid::error::KINDS`,
+//! which the crate keeps complete with an exhaustive match). DOFs are numbered from 1
+//! in every message, as in model files. Fixtures (`fixtures.rs`) are small hand-built records of
 //! harmonic motion whose forces balance linear damping c = 0.3, and a 2-DOF chain to
 //! simulate; every test changes exactly one thing.
 //!
@@ -12,6 +13,8 @@
 //! | `NonFinite` | `Record::new`; model matrices and element weights; regressor columns and `Regressor::from_parts`; `simulate` (mass matrix) | record, model, regressor, simulate, regressions |
 //! | `DimensionMismatch` | `Record::new`; matrix terms and element weights; `Regressor::from_parts`; `simulate` (matrices, coefficients) | record, model, regressor, simulate, regressions |
 //! | `InvalidParameter` | `Record::new` (step, period, start time); window settings and spectral velocities; elements and power laws; constraint values and fit settings; `simulate` (settings, forces, coefficients) | record, prep, model, fit, simulate, regressions |
+//! | `InvalidChoice` | a setting that is a choice and does not fit: a spectral rule or velocity on non-periodic windows, noise correction without harmonic projection, propagated weights without a noise model, an expression for a law that takes none, one key or another (`time`/`step`, `coefficient`/`per_element`), element `[0, 0]` | variants, model_file (tests/), noise (tests/), nonperiodic (tests/), registry (tests/) |
+//! | `Missing` | a law parameter the law needs; a `[simulation]` coefficient; `dof` for `phase = "dof"` | model_file, variants, registry (tests/) |
 //! | `RecordTooShort` | `Record::new` (under three samples); windows that do not fit a record | record, prep, regressions |
 //! | `TooFewEquations` | the fit: fewer rows than free coefficients | fit |
 //! | `DofOutOfRange` | `Record::new` (force channels); model elements; `simulate` (springs, forces, elements) | record, model, simulate |
@@ -22,7 +25,7 @@
 //! | `MissingVelocities` | measured velocities on a record without them | prep |
 //! | `Numerical` | `simulate` (singular mass, divergence, NaN forces) | simulate, regressions |
 //! | `Expression` | `Expression::parse` (the model-file law) | model_file |
-//! | `ModelFile` | `model_file::parse` | model_file, regressions |
+//! | `ModelFile` | `model_file::parse`, at the line of the block concerned, keeping the typed `cause` | model_file, regressions |
 //! | `UnknownName` | `Table::column` | data_files |
 //! | `Data` | `io::csv::parse`, `io::mat::read_mat` | data_files |
 //! | `NoPeriod` | `prep::period::detect_period` | prep |

@@ -20,13 +20,13 @@ fn element_on_missing_dof_is_dof_out_of_range() {
     assert!(
         matches!(
             &err,
-            Error::DofOutOfRange { what, dof: 3, dofs: 2 }
+            Error::DofOutOfRange { what, dof: 4, dofs: 2 }
                 if what.contains("linear") && what.contains("[1-4]")
         ),
         "{err:?}"
     );
     let text = err.to_string();
-    assert!(text.contains("DOF 3") && text.contains("1-4"), "{text}");
+    assert!(text.contains("DOF 4") && text.contains("1-4"), "{text}");
 
     // The first DOF of an element is checked as well.
     let model = DampingModel::new().with(Term::on_elements(
@@ -36,7 +36,7 @@ fn element_on_missing_dof_is_dof_out_of_range() {
     ));
     assert!(matches!(
         model.validate(2),
-        Err(Error::DofOutOfRange { ref what, dof: 7, dofs: 2 }) if what.contains("quadratic")
+        Err(Error::DofOutOfRange { ref what, dof: 8, dofs: 2 }) if what.contains("quadratic")
     ));
 }
 

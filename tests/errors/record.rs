@@ -137,13 +137,15 @@ fn force_channel_on_missing_dof_is_dof_out_of_range() {
     assert!(
         matches!(
             &err,
-            Error::DofOutOfRange { what, dof: 5, dofs: 2 } if what == "force channel 1"
+            Error::DofOutOfRange { what, dof: 6, dofs: 2 } if what == "force channel 2"
         ),
         "{err:?}"
     );
     let text = err.to_string();
     assert!(
-        text.contains("force channel 1") && text.contains("DOF 5") && text.contains("2 DOFs"),
+        text.contains("force channel 2")
+            && text.contains("DOF 6")
+            && text.contains("numbered 1..2"),
         "{text}"
     );
 }

@@ -100,7 +100,7 @@ fn cubic_spring_on_missing_dof_is_dof_out_of_range() {
         err,
         Error::DofOutOfRange {
             what: "cubic spring".into(),
-            dof: 2,
+            dof: 3,
             dofs: 2
         }
     );
@@ -115,7 +115,7 @@ fn harmonic_force_on_missing_dof_is_dof_out_of_range() {
         simulate_with(|sys| sys.forcing[0].dof = 9).unwrap_err(),
         Error::DofOutOfRange {
             what: "harmonic force".into(),
-            dof: 9,
+            dof: 10,
             dofs: 2
         }
     );
@@ -195,7 +195,7 @@ fn system_matrices_and_coefficients_are_checked() {
     assert!(matches!(
         result,
         Err(Error::DofOutOfRange {
-            dof: 2,
+            dof: 3,
             dofs: 2,
             ..
         })

@@ -106,11 +106,7 @@ impl PhaseReading {
             PhaseReading::AmplitudeWeightedMean => circular(&|i| point.amplitudes[i]),
             PhaseReading::Dof(dof) => {
                 if dof >= n {
-                    return Err(Error::DofOutOfRange {
-                        what: "phase reading".into(),
-                        dof,
-                        dofs: n,
-                    });
+                    return Err(Error::dof_index("phase reading", dof, n));
                 }
                 point.phases[dof]
             }

@@ -98,11 +98,7 @@ impl SteppedSinePoint {
         if self.force_dof >= dofs {
             return Err((
                 "force_dof".into(),
-                Error::DofOutOfRange {
-                    what: name("force"),
-                    dof: self.force_dof,
-                    dofs,
-                },
+                Error::dof_index(name("force"), self.force_dof, dofs),
             ));
         }
         for (j, (&amplitude, &phase)) in self.amplitudes.iter().zip(&self.phases).enumerate() {
@@ -121,7 +117,7 @@ impl SteppedSinePoint {
                 return Err((
                     format!("amplitude_{}", j + 1),
                     Error::invalid(
-                        &name(&format!("amplitude of DOF {j}")),
+                        &name(&format!("amplitude of DOF {}", j + 1)),
                         amplitude,
                         "must be nonnegative (put the sign in the phase)",
                     ),

@@ -106,11 +106,11 @@ impl StorageModel {
         }
         for (k, &dof) in self.offsets.iter().enumerate() {
             if dof >= dofs {
-                return Err(Error::DofOutOfRange {
-                    what: format!("constant force {k}"),
+                return Err(Error::dof_index(
+                    format!("constant force {}", k + 1),
                     dof,
                     dofs,
-                });
+                ));
             }
             if self.offsets[..k].contains(&dof) {
                 return Err(Error::invalid(
@@ -252,7 +252,7 @@ mod tests {
         };
         assert!(matches!(
             storage.validate(2),
-            Err(Error::DofOutOfRange { dof: 3, .. })
+            Err(Error::DofOutOfRange { dof: 4, .. })
         ));
         let storage = StorageModel {
             offsets: vec![0, 0],

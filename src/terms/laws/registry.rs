@@ -58,7 +58,7 @@ impl LawParameters {
         self.numbers
             .get(name)
             .copied()
-            .ok_or_else(|| Error::invalid(name, f64::NAN, "not given"))
+            .ok_or_else(|| Error::missing(name, "not given"))
     }
 
     /// The expression text; [`Error::Expression`] when none is given.
@@ -170,9 +170,9 @@ impl LawRegistration {
             ));
         }
         if parameters.expression.is_some() && !self.expression {
-            return Err(Error::invalid(
+            return Err(Error::choice(
                 "expression",
-                f64::NAN,
+                parameters.expression.as_deref().unwrap_or_default(),
                 &format!("the {name} law takes no `expression`"),
             ));
         }
@@ -181,9 +181,8 @@ impl LawRegistration {
             .iter()
             .find(|declared| !parameters.numbers.contains_key(**declared))
         {
-            return Err(Error::invalid(
-                missing,
-                f64::NAN,
+            return Err(Error::missing(
+                *missing,
                 &format!("the {name} law needs `{missing}` (parameters = {{ {missing} = ... }})"),
             ));
         }
