@@ -238,7 +238,7 @@ pub enum Error {
     },
 }
 
-/// The name of every [`Error`] variant, as [`Error::kind`] gives it.
+/// The name of every [`enum@Error`] variant, as [`Error::kind`] gives it.
 pub const KINDS: &[&str] = &[
     "non_finite",
     "dimension_mismatch",

@@ -19,13 +19,20 @@
 //! solved by least squares, min ‖Aθ − b‖₂, or under physical constraints
 //! (θ ≥ 0, l ≤ θ ≤ u, fixed θ_i) with clarabel.
 //!
-//! Data flow one way: [`record`] → [`window`], [`quadrature`], [`velocity`] →
-//! [`regressor`] (built from the [`terms`] of a [`model`]) → [`fit`] →
-//! [`diagnostics`] (with [`identifiability`]) → [`report`]. Beside the chain:
-//! [`bootstrap`] (confidence intervals by resampling windows), [`compare`] (nested
-//! models by AIC, BIC and an F-test) and [`design`] (choosing experiments that make the
-//! coefficients identifiable). The [`simulate`] module is a leaf that produces
-//! records; [`reference`] holds the paper's systems.
+//! Data flow one way, one folder per stage: [`record`], [`terms`] and [`model`] say
+//! what is fitted; [`prep`] cuts records into windows with quadrature weights and
+//! velocities (and checks steady state, detects periods, reduces by POD); [`regressor`]
+//! builds `A θ = b` (whole periods, the noise-robust rows, or fixed spans of
+//! non-periodic records with stored-energy unknowns); [`fit`] solves it;
+//! [`analysis`] diagnoses it (conditioning, identifiability, bootstrap, comparison,
+//! experiment design); [`report`] assembles the [`report::FitReport`]. [`identify()`]
+//! runs the whole chain, and [`identify::identify_regressor`] the part after the
+//! regressor. At the edges: [`io`] reads files, [`simulate`] produces records,
+//! [`model_file`] turns a TOML file into a job, [`mod@reference`] holds the paper's
+//! systems, and the `dampid` binary (feature `cli`) prints what the library returns.
+//!
+//! Where to add what (a damping law, a law with memory, a window kind, a file format, a
+//! report section, a CLI command): ARCHITECTURE.md.
 //!
 //! ```
 //! use dampid::prelude::*;
@@ -60,6 +67,11 @@ pub mod terms;
 
 pub use error::{Error, Result};
 pub use identify::{IdentifySettings, identify};
+
+/// README.md's Rust snippets, compiled and run by `cargo test` so that they stay true.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeSnippets;
 
 /// The names most programs need.
 pub mod prelude {

@@ -1,4 +1,4 @@
-//! The fused window kernel (src/kernel/) against the regressor's definition summed
+//! The fused window kernel (src/regressor/kernel/) against the regressor's definition summed
 //! directly, sample by sample, for a model that exercises every path:
 //!
 //!   A_k = Σ_i w_i v(t_i)ᵀ f_k(x(t_i), v(t_i)),   b = Σ_i w_i v(t_i)ᵀ D s(t_i)

@@ -19,7 +19,7 @@
 //!   F = ((RSS_S − RSS_L)/d₁) / (RSS_L/d₂),   p = P(F_{d₁,d₂} > F)
 //! ```
 //!
-//! (its upper tail from statrs, `src/special.rs`) decides: the
+//! (its upper tail from statrs, `src/analysis/stats.rs`) decides: the
 //! larger model is needed when p < level (default 0.05), else the smaller suffices.
 //! AIC and BIC are reported beside it, and the conclusion says when they disagree. The
 //! F-test assumes errors of one variance; equations of very different amplitude violate

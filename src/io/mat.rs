@@ -1,6 +1,6 @@
 //! MATLAB `.mat` files, level 5 (MATLAB v5 to v7, compressed or not; v7.3 is HDF5 and is
 //! not read), with the matfile crate. Every real numeric 1-D or 2-D variable becomes
-//! columns (see [`crate::io::arrays`]); complex and non-numeric variables are skipped.
+//! columns (as for NPY arrays: `x[1]`…`x[k]` for N × k); complex and non-numeric variables are skipped.
 
 use std::path::Path;
 

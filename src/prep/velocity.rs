@@ -5,7 +5,7 @@
 //!   second-order forms (∓3x_i ± 4x_{i±1} ∓ x_{i±2}) / 2h at the record's ends. The
 //!   error on a harmonic of frequency kω is a relative −(kωh)²/6.
 //! - **Spectral**: the derivative of the least-squares Fourier series in the harmonics
-//!   of the driving frequency fitted over the window (see `src/fourier.rs`). Exact for
+//!   of the driving frequency fitted over the window (see `src/prep/fourier/`). Exact for
 //!   periodic, band-limited motion whether or not the period is a whole number of
 //!   samples; with K below the default it also low-pass filters sensor noise.
 //! - **Harmonic projection**: the window's whole periods t_0 .. t_0 + kT (k = the

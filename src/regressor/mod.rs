@@ -18,7 +18,7 @@
 //! With [`WorkForm::DerivativeFree`] the input work is ∫ rᵀ dx and (on raw samples)
 //! Coulomb columns are total variations of x ([`derivative_free`]).
 
-pub(crate) mod derivative_free;
+pub mod derivative_free;
 mod kernel;
 pub mod nonperiodic;
 mod periodic;

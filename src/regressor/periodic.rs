@@ -122,7 +122,7 @@ fn record_weights(
 }
 
 /// One row: every term's columns and the input work for window `w`, in one fused pass
-/// over the window's samples (`src/kernel/`).
+/// over the window's samples (`src/regressor/kernel/`).
 fn window_row(
     shared: &RecordShared<'_>,
     model: &DampingModel,

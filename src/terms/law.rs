@@ -98,7 +98,7 @@ pub trait Law: Send + Sync + fmt::Debug {
     /// The power v f(v) as one of the closed forms the regressor kernel knows, when the
     /// law depends on the velocity alone and has one. The kernel then evaluates the law
     /// together with the other sums that read the same velocity column, in one loop,
-    /// instead of calling [`Law::power_sum`] (`src/kernel/fused.rs`); the default,
+    /// instead of calling [`Law::power_sum`] (`src/regressor/kernel/fused.rs`); the default,
     /// `None`, keeps the call. A law that returns `Some` must have
     /// [`Law::uses_displacement`] false and a `power_sum` that is the same sum.
     fn power_form(&self) -> Option<PowerForm> {

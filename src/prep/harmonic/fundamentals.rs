@@ -1,5 +1,5 @@
 //! The fundamental of every DOF and force channel over k whole periods of a window,
-//! by least squares on the harmonics of ω = 2π/T (the series of `src/fourier.rs`):
+//! by least squares on the harmonics of ω = 2π/T (the series of `src/prep/fourier/`):
 //!
 //! ```text
 //!   y(t) ≈ a_0 + Σ_{q=1..K} (a_q cos qωt + b_q sin qωt),   t = record time,

@@ -10,7 +10,7 @@
 //!   (damping terms)      (lumped masses)     (linear springs)     (constant forces)
 //! ```
 //!
-//! with [g] = g(t_b) − g(t_a), φ_j the damping terms' power (as in the periodic
+//! with \[g\] = g(t_b) − g(t_a), φ_j the damping terms' power (as in the periodic
 //! regressor) and f a constant force on the left-hand side (weight, preload, a bias of
 //! the force sensor). Known M or K move their stored energy to the right-hand side
 //! instead ([`Kinetic::Known`], [`Potential::Known`]). One equation per window; the

@@ -26,7 +26,7 @@ use crate::terms::Element;
 pub enum Kinetic {
     /// An unknown lumped mass per DOF (the default): one column each.
     LumpedPerDof,
-    /// A known mass matrix M (n × n): ½[vᵀMv] is subtracted from the input work.
+    /// A known mass matrix M (n × n): ½\[vᵀMv\] is subtracted from the input work.
     Known(Mat<f64>),
     /// No kinetic energy term (a massless or quasi-static system).
     Neglected,
@@ -39,7 +39,7 @@ pub enum Potential {
     Neglected,
     /// An unknown linear stiffness per element: one column each.
     Elements(Vec<Element>),
-    /// A known stiffness matrix K (n × n): ½[xᵀKx] is subtracted from the input work.
+    /// A known stiffness matrix K (n × n): ½\[xᵀKx\] is subtracted from the input work.
     Known(Mat<f64>),
 }
 

@@ -4,7 +4,7 @@
 //! the residuals with their bias, and each identified damping law θ f(v) against the
 //! relative velocity with its uncertainty band. When identification ran on proper
 //! orthogonal mode coordinates, a section shows the modes, their energy shares and the
-//! retained shapes ([`pom`]). Nothing is loaded from outside the file.
+//! retained shapes (`pom.rs`). Nothing is loaded from outside the file.
 
 mod plots;
 mod pom;
