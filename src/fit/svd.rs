@@ -15,7 +15,8 @@
 //! A short regressor (m < p) is padded with zero rows to p rows, so that V holds all p
 //! right singular vectors and Σ all p singular values (the missing ones are 0).
 
-use faer::Mat;
+use faer::linalg::solvers::Svd;
+use faer::{Mat, MatRef};
 
 use crate::error::{Error, Result};
 use crate::fit::scaling::Scaling;
@@ -43,12 +44,10 @@ pub(crate) fn scaled_singular_values(a: &Mat<f64>, b: &[f64]) -> Vec<f64> {
 #[derive(Debug, Clone)]
 pub struct ScaledSvd {
     scaling: Scaling,
-    /// U, max(m, p) × p.
-    u: Mat<f64>,
+    /// U (max(m, p) × p), Σ and V (p × p), as faer returns them.
+    svd: Svd<f64>,
     /// σ, p values, descending.
     sigma: Vec<f64>,
-    /// V, p × p.
-    v: Mat<f64>,
     /// b_s, padded like U.
     rhs: Mat<f64>,
     /// c = Uᵀ b_s.
@@ -82,14 +81,12 @@ impl ScaledSvd {
         })?;
         let s = svd.S().column_vector();
         let sigma: Vec<f64> = (0..p).map(|i| s[i]).collect();
-        let u = svd.U().to_owned();
-        let c = u.transpose() * &rhs;
+        let c = svd.U().transpose() * &rhs;
         Ok(ScaledSvd {
             scaling,
             rank: numerical_rank(&sigma, rank_tolerance),
             projections: (0..p).map(|i| c[(i, 0)]).collect(),
-            v: svd.V().to_owned(),
-            u,
+            svd,
             sigma,
             rhs,
             equations: m,
@@ -125,13 +122,13 @@ impl ScaledSvd {
     }
 
     /// U (max(m, p) × p): left singular vectors, zero in padded rows.
-    pub fn u(&self) -> &Mat<f64> {
-        &self.u
+    pub fn u(&self) -> MatRef<'_, f64> {
+        self.svd.U()
     }
 
     /// V (p × p): right singular vectors.
-    pub fn v(&self) -> &Mat<f64> {
-        &self.v
+    pub fn v(&self) -> MatRef<'_, f64> {
+        self.svd.V()
     }
 
     /// b_s, the scaled right-hand side (padded like U).
@@ -151,8 +148,9 @@ impl ScaledSvd {
         let mut theta_s = vec![0.0; p];
         for i in 0..self.rank {
             let coefficient = self.projections[i] / self.sigma[i];
+            let v = self.svd.V();
             for (j, t) in theta_s.iter_mut().enumerate() {
-                *t += self.v[(j, i)] * coefficient;
+                *t += v[(j, i)] * coefficient;
             }
         }
         theta_s
