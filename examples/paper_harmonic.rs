@@ -35,20 +35,6 @@ use dampid::reference::{FOUR_MASS_C, FOUR_MASS_D, four_mass_model, four_mass_rec
 use dampid::simulate::SimSettings;
 use serde_json::json;
 
-/// Identification of `model` from the harmonic approximation of `table`.
-fn identify_approximation(
-    approximation: &HarmonicApproximation,
-    model: &DampingModel,
-    table: &SteppedSineTable,
-    fit: &FitSettings,
-) -> dampid::Result<FitReport> {
-    let settings = IdentifySettings {
-        regressor: RegressorSettings::harmonic_approximation(),
-        fit: fit.clone(),
-    };
-    identify(model, &approximation.records(table)?, &settings)
-}
-
 /// The paper's harmonic-approximation estimates (section 2.2).
 const PAPER: (f64, f64) = (0.1341, 0.1216);
 /// Largest acceptable relative error against the paper's values.
@@ -107,12 +93,20 @@ fn run(table_path: &Path) -> Result<Vec<Case>> {
         Case {
             name: "eq. 4 from the time series (first whole period, arithmetic mean lag)".into(),
             target: true,
-            report: identify_approximation(&paper_reading, &model, &table, &fit)?,
+            report: identify(
+                &model,
+                &paper_reading.records(&table)?,
+                &IdentifySettings::harmonic_approximation(fit.clone()),
+            )?,
         },
         Case {
             name: "eq. 4 from the amplitude/phase table (CSV written and read back)".into(),
             target: true,
-            report: identify_approximation(&paper_reading, &model, &read_back, &fit)?,
+            report: identify(
+                &model,
+                &paper_reading.records(&read_back)?,
+                &IdentifySettings::harmonic_approximation(fit.clone()),
+            )?,
         },
     ];
     let with = |phase| HarmonicApproximation {
@@ -135,7 +129,11 @@ fn run(table_path: &Path) -> Result<Vec<Case>> {
         cases.push(Case {
             name: name.into(),
             target: false,
-            report: identify_approximation(&with(phase), &model, &table, &fit)?,
+            report: identify(
+                &model,
+                &with(phase).records(&table)?,
+                &IdentifySettings::harmonic_approximation(fit.clone()),
+            )?,
         });
     }
     // The last whole period of the 200 recorded steps (101.7 samples per period).
@@ -147,14 +145,22 @@ fn run(table_path: &Path) -> Result<Vec<Case>> {
     cases.push(Case {
         name: "reading: last whole period of the record, arithmetic mean lag".into(),
         target: false,
-        report: identify_approximation(&paper_reading, &model, &late, &fit)?,
+        report: identify(
+            &model,
+            &paper_reading.records(&late)?,
+            &IdentifySettings::harmonic_approximation(fit.clone()),
+        )?,
     });
     // The transient fully gone: the reading's own answer, free of the paper's transient.
     let steady = SteppedSineTable::from_records(&simulated(8000)?, &first_period)?;
     cases.push(Case {
         name: "reading: 8000 transient steps instead of 1000, arithmetic mean lag".into(),
         target: false,
-        report: identify_approximation(&paper_reading, &model, &steady, &fit)?,
+        report: identify(
+            &model,
+            &paper_reading.records(&steady)?,
+            &IdentifySettings::harmonic_approximation(fit.clone()),
+        )?,
     });
     Ok(cases)
 }

@@ -45,6 +45,19 @@ pub struct IdentifySettings {
     pub fit: FitSettings,
 }
 
+impl IdentifySettings {
+    /// The settings for the records a harmonic approximation synthesizes
+    /// ([`crate::prep::harmonic::HarmonicApproximation::records`]): one window of one
+    /// period, the spectral rule, the synthesized velocities
+    /// ([`RegressorSettings::harmonic_approximation`]), with `fit`.
+    pub fn harmonic_approximation(fit: FitSettings) -> Self {
+        IdentifySettings {
+            regressor: RegressorSettings::harmonic_approximation(),
+            fit,
+        }
+    }
+}
+
 /// Identifies the coefficients of `model` from `records`.
 pub fn identify(
     model: &DampingModel,

@@ -38,20 +38,6 @@ fn approximation_regressor(
     )
 }
 
-/// Identification of `model` from the harmonic approximation of `table`.
-fn identify_approximation(
-    approximation: &HarmonicApproximation,
-    model: &DampingModel,
-    table: &SteppedSineTable,
-    fit: &FitSettings,
-) -> dampid::Result<FitReport> {
-    let settings = IdentifySettings {
-        regressor: RegressorSettings::harmonic_approximation(),
-        fit: fit.clone(),
-    };
-    identify(model, &approximation.records(table)?, &settings)
-}
-
 fn point(
     label: &str,
     omega: f64,
@@ -453,11 +439,10 @@ fn papers_harmonic_estimates_from_the_table() {
     let mut csv = Vec::new();
     table.write_csv(&mut csv, "memory").unwrap();
     let table = SteppedSineTable::read_csv(csv.as_slice(), "memory").unwrap();
-    let report = identify_approximation(
-        &HarmonicApproximation::default(),
+    let report = identify(
         &four_mass_model(),
-        &table,
-        &FitSettings::default(),
+        &HarmonicApproximation::default().records(&table).unwrap(),
+        &IdentifySettings::harmonic_approximation(FitSettings::default()),
     )
     .unwrap();
     let c = report.coefficient("c").unwrap();

@@ -6,27 +6,9 @@ use std::path::Path;
 use dampid::Error;
 use dampid::identify;
 use dampid::model_file::{load, parse};
-use dampid::prelude::{
-    DampingModel, FitReport, FitSettings, HarmonicApproximation, IdentifySettings,
-    RegressorSettings, SteppedSineTable,
-};
 use dampid::prep::quadrature::Quadrature;
 use dampid::prep::velocity::VelocitySource;
 use dampid::reference::{FourMassPodStudy, StringStudy, four_mass_cases, run_four_mass_case};
-
-/// Identification of `model` from the harmonic approximation of `table`.
-fn identify_approximation(
-    approximation: &HarmonicApproximation,
-    model: &DampingModel,
-    table: &SteppedSineTable,
-    fit: &FitSettings,
-) -> dampid::Result<FitReport> {
-    let settings = IdentifySettings {
-        regressor: RegressorSettings::harmonic_approximation(),
-        fit: fit.clone(),
-    };
-    identify(model, &approximation.records(table)?, &settings)
-}
 
 fn run(path: &str) -> dampid::report::FitReport {
     let job = load(Path::new(path)).unwrap();
@@ -305,11 +287,10 @@ fn harmonic_model_file_matches_the_example() {
         .collect();
     let first_period = WindowSpec::cycles(1).first(1);
     let table = SteppedSineTable::from_records(&records, &first_period).unwrap();
-    let from_example = identify_approximation(
-        &HarmonicApproximation::default(),
+    let from_example = identify(
         &four_mass_model(),
-        &table,
-        &FitSettings::default(),
+        &HarmonicApproximation::default().records(&table).unwrap(),
+        &IdentifySettings::harmonic_approximation(FitSettings::default()),
     )
     .unwrap();
     assert_same_estimates(path, &from_file, &from_example);

@@ -152,7 +152,8 @@ pub struct DesignStep {
 pub struct DesignReport {
     /// The criterion used.
     pub criterion: Criterion,
-    /// Coefficient names of the model.
+    /// Names of the regressor's columns: the model's coefficients, then (in the
+    /// non-periodic mode) its nuisance unknowns.
     pub coefficients: Vec<String>,
     /// Labels of all candidates, by index.
     pub candidates: Vec<String>,
@@ -245,7 +246,12 @@ pub fn select(
         .par_iter()
         .map(|r| Regressor::build(model, std::slice::from_ref(r), regressor))
         .collect::<Result<_>>()?;
-    let p = model.coefficient_count();
+    // Every column of the regressor: the damping coefficients, and in the non-periodic
+    // mode the stored-energy and offset unknowns, which compete with them for the data.
+    let columns = blocks
+        .first()
+        .map_or_else(|| model.coefficient_names(), |b| b.columns().to_vec());
+    let p = columns.len();
     let labels: Vec<String> = records.iter().map(|r| r.label().to_string()).collect();
     let mut selected: Vec<usize> = settings.start.clone();
     let mut steps = Vec::new();
@@ -303,7 +309,7 @@ pub fn select(
     }
     Ok(DesignReport {
         criterion: settings.criterion,
-        coefficients: model.coefficient_names(),
+        coefficients: columns,
         candidates: labels,
         start: settings.start.clone(),
         chosen,

@@ -39,9 +39,10 @@ use super::four_mass::{
     FOUR_MASS_AMPLITUDES, FOUR_MASS_C, FOUR_MASS_D, FOUR_MASS_OMEGA, four_mass_model,
     four_mass_records_with,
 };
+use super::pods::{labelled, records_json};
 use crate::error::Result;
 use crate::identify::{IdentifySettings, identify};
-use crate::prep::pod::{Pod, PodBasis, PodReport, PodSettings, Reduction, Retain, reduce};
+use crate::prep::pod::{Pod, PodBasis, PodReport, PodSettings, Retain, reduce};
 use crate::prep::quadrature::Quadrature;
 use crate::prep::velocity::VelocitySource;
 use crate::prep::window::WindowSpec;
@@ -132,20 +133,6 @@ fn pod_settings(retained: usize, basis: PodBasis) -> PodSettings {
         retain: Retain::Count(retained),
         basis,
     }
-}
-
-fn labelled(reduction: &Reduction, records: &[Record]) -> Vec<(String, PodReport)> {
-    if reduction.bases.len() == 1 && records.len() > 1 {
-        return vec![(
-            "all amplitudes (stacked)".into(),
-            reduction.bases[0].report(),
-        )];
-    }
-    records
-        .iter()
-        .zip(&reduction.bases)
-        .map(|(r, b)| (r.label().to_string(), b.report()))
-        .collect()
 }
 
 fn coefficient_checks(report: &FitReport, retained: usize) -> Vec<Check> {
@@ -349,19 +336,7 @@ impl FourMassPodStudy {
             .iter()
             .enumerate()
             .map(|(k, case)| {
-                let records: Vec<Value> = case
-                    .pods
-                    .iter()
-                    .map(|(label, pod)| {
-                        json!({
-                            "record": label,
-                            "retained": pod.retained,
-                            "energy_shares": pod.modes.iter().map(|m| m.energy_share).collect::<Vec<_>>(),
-                            "cumulative_shares": pod.modes.iter().map(|m| m.cumulative_share).collect::<Vec<_>>(),
-                            "report": pod,
-                        })
-                    })
-                    .collect();
+                let records = records_json(&case.pods);
                 let mut checks = case.checks.clone();
                 if k == 0 {
                     checks.extend(self.pod_checks.iter().cloned());

@@ -9,6 +9,7 @@ pub mod drive;
 pub mod four_mass;
 pub mod four_mass_pod;
 pub mod noisy_chain;
+mod pods;
 pub mod string;
 pub mod string_study;
 

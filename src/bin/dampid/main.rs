@@ -336,12 +336,6 @@ fn design(path: &Path, as_json: bool) -> anyhow::Result<Outcome> {
             path.display()
         );
     }
-    if job.settings.regressor.windows.spans().is_some() {
-        bail!(
-            "{}: design works on periodic windows; it does not support [non_periodic] yet",
-            path.display()
-        );
-    }
     let settings = job.design.clone().unwrap_or_default();
     let report = dampid::analysis::design::select(
         &job.model,

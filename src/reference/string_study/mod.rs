@@ -44,6 +44,7 @@ use std::fmt;
 use serde_json::{Value, json};
 
 use super::check::{Check, Measure};
+use super::pods::{labelled, records_json};
 use super::string::{
     PAPER_NOISY_ONE_MODE, PAPER_NOISY_TWO_MODES, PAPER_ONE_MODE, PAPER_SHARES, PAPER_TWO_MODES,
     STRING_AMPLITUDES, STRING_C, STRING_D, STRING_MODES, string_identify_settings, string_model,
@@ -51,9 +52,8 @@ use super::string::{
 };
 use crate::error::Result;
 use crate::identify::identify;
-use crate::prep::pod::{PodBasis, PodReport, PodSettings, Reduction, Retain, reduce};
+use crate::prep::pod::{PodBasis, PodReport, PodSettings, Retain, reduce};
 use crate::prep::velocity::VelocitySource;
-use crate::record::Record;
 use crate::report::FitReport;
 use crate::simulate::string::{StepCheck, StringSystem};
 pub use noise::NoiseStats;
@@ -154,14 +154,6 @@ fn pod_settings(retained: usize) -> PodSettings {
         retain: Retain::Count(retained),
         basis: PodBasis::PerRecord,
     }
-}
-
-fn labelled(reduction: &Reduction, records: &[Record]) -> Vec<(String, PodReport)> {
-    records
-        .iter()
-        .zip(&reduction.bases)
-        .map(|(r, b)| (r.label().to_string(), b.report()))
-        .collect()
 }
 
 impl StringStudy {
@@ -331,19 +323,7 @@ impl StringStudy {
             .cases
             .iter()
             .map(|case| {
-                let records: Vec<Value> = case
-                    .pods
-                    .iter()
-                    .map(|(label, pod)| {
-                        json!({
-                            "record": label,
-                            "retained": pod.retained,
-                            "energy_shares": pod.modes.iter().map(|m| m.energy_share).collect::<Vec<_>>(),
-                            "cumulative_shares": pod.modes.iter().map(|m| m.cumulative_share).collect::<Vec<_>>(),
-                            "report": pod,
-                        })
-                    })
-                    .collect();
+                let records = records_json(&case.pods);
                 let mut checks = case.checks.clone();
                 if case.noise.is_none() && case.retained == 2 {
                     checks.extend(self.pod_checks.iter().cloned());
