@@ -225,3 +225,39 @@ fn design_runs_in_the_non_periodic_mode() {
     );
     std::fs::remove_dir_all(&folder).ok();
 }
+
+/// `--seed` picks the bootstrap's draw: the same seed gives the same intervals, another
+/// seed other ones; without `--bootstrap` it is refused.
+#[test]
+fn bootstrap_seed_selects_the_draw() {
+    let intervals = |seed: &str| {
+        let json = dampid_json(&[
+            "identify",
+            "models/measured_chain.toml",
+            "--bootstrap",
+            "50",
+            "--seed",
+            seed,
+            "--json",
+        ]);
+        assert_eq!(
+            json["report"]["bootstrap"]["seed"],
+            seed.parse::<u64>().unwrap()
+        );
+        json["report"]["coefficients"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| c["interval"].clone())
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(intervals("7"), intervals("7"));
+    assert_ne!(intervals("7"), intervals("8"));
+    let refused = dampid(&["identify", "models/measured_chain.toml", "--seed", "7"]);
+    assert_eq!(refused.status.code(), Some(2));
+    assert!(
+        text(&refused.stderr).contains("--bootstrap"),
+        "{}",
+        text(&refused.stderr)
+    );
+}

@@ -10,6 +10,7 @@ const EXAMPLES: &str = "Examples:
   dampid identify models/four_mass.toml --json   # the report as one JSON object
   dampid identify models/measured_chain.toml --report out/   # also out/report.html, with plots
   dampid identify models/measured_chain.toml --bootstrap 500   # with bootstrap intervals
+  dampid identify models/measured_chain.toml --bootstrap 500 --seed 7   # another draw
   dampid check models/measured_chain.toml        # periods, steady state and conditioning, before any fit
   dampid check models/measured_chain.toml --json # the same as one JSON object
   dampid identify models/four_mass_pod.toml      # the same chain reduced to two POMs (paper 3.1)
@@ -53,9 +54,13 @@ pub(crate) enum Command {
         #[arg(long)]
         accept_transient: bool,
         /// Also give 95% percentile intervals from N bootstrap refits on windows
-        /// resampled with replacement (seed 0).
+        /// resampled with replacement.
         #[arg(long, value_name = "N")]
         bootstrap: Option<usize>,
+        /// The bootstrap's seed: the same seed gives the same intervals, at any number
+        /// of threads.
+        #[arg(long, value_name = "SEED", default_value_t = 0, requires = "bootstrap")]
+        seed: u64,
     },
     /// Validate a model file and its data: detected periods, how far each window is
     /// from steady state, and the regressor's conditioning, before any fit.

@@ -12,6 +12,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, bail};
 use clap::Parser;
+use dampid::analysis::bootstrap::{BootstrapSettings, bootstrap as bootstrap_intervals};
 use dampid::io::pod_files::{Columns, PodTables, pod_of_files};
 use dampid::model_file::{CheckReport, Job, load_with_progress};
 use dampid::prep::pod::{PodBasis, PodSettings, Retain};
@@ -56,7 +57,15 @@ fn run(cli: Cli) -> anyhow::Result<Outcome> {
             report,
             accept_transient,
             bootstrap,
-        } => identify(&model, json, report.as_deref(), accept_transient, bootstrap),
+            seed,
+        } => {
+            let bootstrap = bootstrap.map(|replicates| BootstrapSettings {
+                replicates,
+                seed,
+                ..Default::default()
+            });
+            identify(&model, json, report.as_deref(), accept_transient, bootstrap)
+        }
         Command::Check {
             model,
             accept_transient,
@@ -160,19 +169,14 @@ fn identify(
     as_json: bool,
     html: Option<&Path>,
     accept_transient: bool,
-    bootstrap: Option<usize>,
+    bootstrap: Option<BootstrapSettings>,
 ) -> anyhow::Result<Outcome> {
     let (job, steady) = load_steady_job(path, accept_transient)?;
     job.settings.fit.validate()?;
     let regressor = build_regressor(&job)?;
     let mut report = dampid::identify::identify_regressor(&regressor, &job.settings.fit)?;
-    if let Some(replicates) = bootstrap {
-        let settings = dampid::analysis::bootstrap::BootstrapSettings {
-            replicates,
-            ..Default::default()
-        };
-        let intervals =
-            dampid::analysis::bootstrap::bootstrap(&regressor, &job.settings.fit, &settings)?;
+    if let Some(settings) = bootstrap {
+        let intervals = bootstrap_intervals(&regressor, &job.settings.fit, &settings)?;
         report = report.with_bootstrap(intervals);
     }
     let mut out = String::new();
