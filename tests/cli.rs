@@ -261,3 +261,21 @@ fn bootstrap_seed_selects_the_draw() {
         text(&refused.stderr)
     );
 }
+
+/// README's sample output of its first command is the real output: every line of the
+/// excerpt (but the "…") is a line `dampid identify models/four_mass.toml` prints.
+#[test]
+fn readme_sample_output_is_the_real_output() {
+    let readme = std::fs::read_to_string("README.md").unwrap();
+    let start = readme
+        .find("```text\nFour-mass chain")
+        .expect("README's sample output block");
+    let block = &readme[start + "```text\n".len()..];
+    let block = &block[..block.find("```").unwrap()];
+    let out = dampid_ok(&["identify", "models/four_mass.toml"]);
+    let printed = text(&out.stdout);
+    let lines: Vec<&str> = printed.lines().collect();
+    for line in block.lines().filter(|l| *l != "…") {
+        assert!(lines.contains(&line), "README line not printed: {line:?}");
+    }
+}

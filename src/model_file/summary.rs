@@ -14,6 +14,7 @@ use crate::error::Result;
 use crate::prep::period::PeriodEstimate;
 use crate::prep::steady_state::SteadyStateReport;
 use crate::regressor::Regressor;
+use crate::report::count;
 
 /// The periods detected from the force of a job's records ([`Job::periods`]).
 pub struct Periods<'a> {
@@ -197,10 +198,10 @@ impl fmt::Display for CheckReport {
         let check = &self.regressor;
         writeln!(
             f,
-            "{} records, {} equations, {} coefficients: {}",
-            self.records,
-            check.equations,
-            check.coefficients.len(),
+            "{}, {}, {}: {}",
+            count(self.records, "record"),
+            count(check.equations, "equation"),
+            count(check.coefficients.len(), "coefficient"),
             check.coefficients.join(", ")
         )?;
         write!(f, "{check}")

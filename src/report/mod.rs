@@ -12,6 +12,15 @@ mod truth;
 mod warning;
 
 pub use truth::AgainstTruth;
+
+/// `n` and the noun, singular for one: "1 record", "4 records".
+pub fn count(n: usize, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
+    }
+}
 pub use warning::{ILL_CONDITIONED, INADEQUATE_P_VALUE, Warning};
 
 use serde::{Deserialize, Serialize};

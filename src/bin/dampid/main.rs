@@ -19,6 +19,7 @@ use dampid::prep::pod::{PodBasis, PodSettings, Retain};
 use dampid::prep::steady_state::SteadyStateReport;
 use dampid::reference::FourMassSummary;
 use dampid::regressor::Regressor;
+use dampid::report::count;
 use dampid::report::html::HtmlReport;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::json;
@@ -155,8 +156,8 @@ fn build_regressor(job: &Job) -> anyhow::Result<Regressor> {
             .unwrap_or_else(|_| ProgressStyle::default_spinner()),
     );
     spinner.set_message(format!(
-        "building the regressor from {} records",
-        job.records.len()
+        "building the regressor from {}",
+        count(job.records.len(), "record")
     ));
     spinner.enable_steady_tick(std::time::Duration::from_millis(120));
     let regressor = job.regressor();
@@ -220,9 +221,9 @@ fn identify(
         writeln!(out, "{}", job.title)?;
         writeln!(
             out,
-            "{} records, {} equations",
-            job.records.len(),
-            report.residuals.len()
+            "{}, {}",
+            count(job.records.len(), "record"),
+            count(report.residuals.len(), "equation")
         )?;
         write!(out, "{}{report}", job.preamble(steady.as_ref()))?;
         if let Some(truth) = &job.truth {

@@ -17,6 +17,7 @@ use crate::prep::pod::Reduction;
 use crate::record::{Record, col};
 use crate::regressor::Regressor;
 use crate::report::FitReport;
+use crate::report::count;
 use crate::terms::Term;
 
 /// Curves drawn per term at most (per-element terms may have thousands).
@@ -58,11 +59,11 @@ impl HtmlReport<'_> {
         );
         let _ = writeln!(
             page,
-            "<p>Status <b>{:?}</b> ({:?}); {} equations from {} records; relative residual {:.3e}; residual bias {:+.3e} of mean |input work| ({} positive, {} negative).</p>",
+            "<p>Status <b>{:?}</b> ({:?}); {} from {}; relative residual {:.3e}; residual bias {:+.3e} of mean |input work| ({} positive, {} negative).</p>",
             report.status,
             report.method,
-            report.residuals.len(),
-            self.records.len(),
+            count(report.residuals.len(), "equation"),
+            count(self.records.len(), "record"),
             report.relative_residual,
             report.residual_bias.relative_mean,
             report.residual_bias.positive,
