@@ -25,6 +25,16 @@
 //! When t₀ + kT lies past the record's last sample (a window that ends with the record),
 //! the comparison is over the k' < k whole periods that fit, scaled by k/k'.
 //!
+//! A window that closes periodically ([`Window::closed`]: its L = kT/h samples end with
+//! the record, one step before t₀ + kT) is such a window. Its equation takes the sample
+//! at t₀ + kT to be the one at t₀, which would make the comparison trivially exact, so
+//! the check does not use the closure: with k ≥ 2 it compares the state k − 1 periods
+//! on with the start (scaled by k/(k − 1)), a drift period by period; with k = 1 it
+//! extrapolates the state at t₀ + kT one step past the record's last sample from its
+//! last four samples, which tests the seam the closure assumes (a record that does not
+//! end where it started shows a jump there). Its input work W uses the window's own
+//! weights, w_i = h over the L samples.
+//!
 //! A window is steady when ε_E ≤ [`SteadyStateSettings::max_energy_mismatch`] (M and K
 //! known), else when max(δx, δv) ≤ [`SteadyStateSettings::max_state_mismatch`].
 //!
@@ -389,7 +399,7 @@ fn check_window(
     };
     let displacement_mismatch = scale * relative(&x_end, &x_start, amplitude(x));
     let velocity_mismatch = scale * relative(&v_end, &v_start, amplitude(v));
-    let input_work = input_work(record, start, span, count, v, quadrature)?;
+    let input_work = input_work(record, window, count, v, quadrature)?;
     let energy_change =
         energy.map(|e| scale * (e.energy(&x_end, &v_end) - e.energy(&x_start, &v_start)));
     let energy_mismatch = energy_change.map(|de| {
@@ -418,7 +428,8 @@ fn check_window(
 /// The span over which the end state is compared with the start, and the factor that
 /// scales its mismatch to the window: kT when t₀ + kT lies within the record's samples;
 /// otherwise the k' < k whole periods that do, scaled by k/k' (a drift accumulates
-/// period by period); kT extrapolated (by less than a sample) when not even one does.
+/// period by period); kT extrapolated (by less than a sample, or one sample for a
+/// window that closes periodically) when not even one does.
 fn compared_span(record: &Record, start: usize, span: f64, cycles: usize) -> (f64, f64) {
     let last = (record.samples() - 1 - start) as f64 * record.step();
     if span <= last || cycles <= 1 {
@@ -433,21 +444,21 @@ fn compared_span(record: &Record, start: usize, span: f64, cycles: usize) -> (f6
 }
 
 /// W = Σ_i w_i v_iᵀ r_i with trapezoid weights over [t₀, t₀ + span]; the window's own
-/// rule when the trapezoid would read past the velocities available (`count` samples).
+/// weights when the trapezoid would read past the velocities available (`count`
+/// samples), as in a window that closes periodically.
 fn input_work(
     record: &Record,
-    start: usize,
-    span: f64,
+    window: &Window,
     count: usize,
     v: faer::MatRef<'_, f64>,
     rule: Quadrature,
 ) -> Result<f64> {
-    let h = record.step();
+    let (start, span, h) = (window.start, window.span, record.step());
     let trapezoid = Quadrature::Trapezoid.weights(span, h, record.period())?;
     let weights = if trapezoid.len() <= count {
         trapezoid
     } else {
-        rule.weights(span, h, record.period())?
+        window.weights(rule, h, record.period())?
     };
     let forcing = record.forcing();
     let signals = &forcing.signals;

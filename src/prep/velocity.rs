@@ -31,12 +31,27 @@
 //!   for white displacement noise σ the velocity noise is σ ω √(Σ_{q∈S} q² · 2/m)
 //!   instead of ≈ σ/(h√2) for central differences. `docs/velocities.md` compares the
 //!   three estimators on noisy data.
+//!
+//! A window that closes periodically ([`crate::prep::window::periodic_closure`]: its
+//! L = kT/h samples end with the record, and the sample at t_0 + kT is the one at t_0)
+//! is read through [`VelocitySource::velocities_of`]:
+//!
+//! - central differences wrap around at both ends of the window,
+//!   v_i = (x_{(i+1) mod L} − x_{(i−1) mod L}) / 2h (window indices), so v_0 reads
+//!   x_{L−1} for the sample before t_0 and v_{L−1} reads x_0 for the one at kT: the
+//!   periodic central difference, second order everywhere with the same −(kωh)²/6 and
+//!   no one-sided end;
+//! - spectral and harmonic projection fit their series over exactly the L samples of
+//!   the k periods, where the harmonic basis is discretely orthogonal (the truncated
+//!   DFT), instead of the ⌊kT/h⌋ + 1 samples that hold the closing one twice;
+//! - measured velocities are read as they are.
 
 use faer::{Mat, MatRef};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 use crate::prep::fourier::{HarmonicBasis, WholePeriods, default_harmonics, select_harmonics};
+use crate::prep::window::Window;
 use crate::record::{Record, col};
 
 pub use crate::prep::fourier::HarmonicSelection;
@@ -98,6 +113,24 @@ impl VelocitySource {
             VelocitySource::CentralDifference => "central_difference",
             VelocitySource::Spectral { .. } => "spectral",
             VelocitySource::HarmonicProjection { .. } => "harmonic_projection",
+        }
+    }
+
+    /// Velocities (count × n) for the first `count` samples window `w` of `record` reads
+    /// (`count` at most [`Window::samples`] of its rule): those of
+    /// [`VelocitySource::window_velocities`], except that central differences wrap around
+    /// at both ends of a window that closes periodically (see the module doc).
+    pub fn velocities_of<'a>(
+        &self,
+        record: &'a Record,
+        w: &Window,
+        count: usize,
+    ) -> Result<WindowVelocities<'a>> {
+        match (self, w.closed_length(record.step())) {
+            (VelocitySource::CentralDifference, Some(length)) => Ok(WindowVelocities::Estimated(
+                periodic_central_differences(record, w.start, length, count),
+            )),
+            _ => self.window_velocities(record, w.start, count),
         }
     }
 
@@ -174,6 +207,27 @@ impl VelocitySource {
             }
         }
     }
+}
+
+/// Central differences over the `length` samples from `start` of `record` closed
+/// periodically, v_i = (x_{(i+1) mod L} − x_{(i−1) mod L}) / 2h for i = 0..count.
+fn periodic_central_differences(
+    record: &Record,
+    start: usize,
+    length: usize,
+    count: usize,
+) -> Mat<f64> {
+    let x = record.displacements();
+    let h2 = 2.0 * record.step();
+    let mut v = Mat::zeros(count, record.dofs());
+    for j in 0..record.dofs() {
+        let xj = &col(x, j)[start..start + length];
+        for (i, out) in v.col_as_slice_mut(j).iter_mut().enumerate() {
+            let (next, previous) = ((i + 1) % length, (i + length - 1) % length);
+            *out = (xj[next] - xj[previous]) / h2;
+        }
+    }
+    without_round_off(v, record, start)
 }
 
 /// An estimated velocity no larger than this times max|x|/h over the window is the

@@ -3,7 +3,11 @@
 //!
 //! The window is the path t_0 .. t_F sampled every h, closed by the end point
 //! t_E = t_0 + kT = t_0 + (F + φ)h when φ > 0 (values there by linear interpolation for
-//! raw samples, or read from the fitted periodic series).
+//! raw samples, or read from the fitted periodic series). A window that closes
+//! periodically ([`Window::closed`]: L = kT/h whole samples ending with the record)
+//! has F = L − 1 and φ = 1: its last interval [t_{L−1}, t_0 + kT] ends at the closing
+//! sample, which is the window's first, r_E = r_0 and x_E = x_0, so
+//! ∫ rᵀ dx = Σ_{j<L} ½(r_j + r_{j+1 mod L}) · (x_{j+1 mod L} − x_j).
 //!
 //! - **Input work** ∫ rᵀ dx as the trapezoidal Stieltjes sum
 //!   Σ_j ½(r_j + r_{j+1}) · (x_{j+1} − x_j) (plus the partial last interval to t_E),
@@ -24,29 +28,53 @@ use crate::terms::{Coefficients, Term};
 /// The samples t_0..t_F of a window of span kT and the fractional end φ.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Path {
-    /// F: the last whole sample inside the window.
+    /// F: the last whole sample inside the window that the path reads.
     pub(crate) whole: usize,
-    /// φ ∈ [0, 1): how far past t_F the window ends, in steps.
+    /// φ: how far past t_F the window ends, in steps; in [0, 1), or 1 when closed.
     pub(crate) frac: f64,
+    /// Whether the end point t_E = t_F + h is the window's first sample (periodic
+    /// closure).
+    pub(crate) closed: bool,
 }
 
 impl Path {
     /// The path of a window of `span` at sampling step `step`.
     pub(crate) fn of(span: f64, step: f64) -> Self {
         let (whole, frac) = Quadrature::length(span, step);
-        Path { whole, frac }
+        Path {
+            whole,
+            frac,
+            closed: false,
+        }
+    }
+
+    /// The path of window `w` at sampling step `step`: as [`Path::of`], or F = L − 1,
+    /// φ = 1 ending on the window's first sample when `w` closes periodically.
+    pub(crate) fn of_window(w: &Window, step: f64) -> Self {
+        match w.closed_length(step) {
+            Some(length) => Path {
+                whole: length - 1,
+                frac: 1.0,
+                closed: true,
+            },
+            None => Self::of(w.span, step),
+        }
     }
 
     /// Samples read from the window's first: F + 1, and one more for interpolating the
-    /// end point when φ > 0.
+    /// end point when φ > 0 (none when closed: the end point is the first sample).
     pub(crate) fn samples(&self) -> usize {
-        self.whole.saturating_add(1 + usize::from(self.frac > 0.0))
+        self.whole
+            .saturating_add(1 + usize::from(self.frac > 0.0 && !self.closed))
     }
 
     /// The value at t_E of a sampled signal (slice from the window's first sample, at
-    /// least [`Path::samples`] long), by linear interpolation.
+    /// least [`Path::samples`] long): by linear interpolation, or the first sample
+    /// when closed.
     pub(crate) fn end(&self, s: &[f64]) -> f64 {
-        if self.frac > 0.0 {
+        if self.closed {
+            s[0]
+        } else if self.frac > 0.0 {
             s[self.whole] + self.frac * (s[self.whole + 1] - s[self.whole])
         } else {
             s[self.whole]
@@ -90,7 +118,7 @@ pub(crate) fn replace_with_raw(
     w: &Window,
     row: &mut [f64],
 ) -> Result<f64> {
-    let path = Path::of(w.span, record.step());
+    let path = Path::of_window(w, record.step());
     let needed = w.start.saturating_add(path.samples());
     if needed > record.samples() {
         return Err(Error::RecordTooShort {
@@ -179,6 +207,7 @@ mod tests {
         let path = Path {
             whole: 7,
             frac: 0.4,
+            closed: false,
         };
         let x = [0.0, 0.3, -0.2, 1.1, 0.9, 0.4, -0.5, -0.1, 0.7];
         let r: Vec<f64> = x.iter().map(|x| 2.0 - 3.0 * x).collect();

@@ -5,7 +5,9 @@
 //!   A_wk = Σ_i w_i v_iᵀ f_k(x_i, v_i),    b_w = Σ_i w_i v_iᵀ r_i,
 //! ```
 //!
-//! with velocities from the chosen source ([`crate::prep::velocity`]). With
+//! with velocities from the chosen source ([`crate::prep::velocity`]). A window that
+//! closes periodically ([`Window::closed`]) reads its L = kT/h samples with w_i = h and
+//! wrapped central differences. With
 //! [`WorkForm::DerivativeFree`] the input work (and Coulomb columns) are then replaced
 //! by their derivative-free forms ([`crate::regressor::derivative_free`]).
 
@@ -49,7 +51,8 @@ pub(super) fn rows(
 }
 
 /// What the windows of one record share: the kernel's plan and the quadrature weights
-/// (every window of a record spans the same k periods).
+/// (every window of a record spans the same k periods; a window that closes
+/// periodically has its own, w_i = h).
 struct RecordShared<'m> {
     plan: Plan<'m>,
     weights: WindowWeights,
@@ -130,11 +133,16 @@ fn window_row(
     w: &Window,
     settings: &RegressorSettings,
 ) -> Result<Row> {
-    let weights = &shared.weights;
+    // A window that closes periodically reads its L samples, each weighted h.
+    let closed;
+    let weights = if w.closed {
+        closed = w.window_weights(settings.quadrature, record.step(), record.period())?;
+        &closed
+    } else {
+        &shared.weights
+    };
     let count = weights.len();
-    let v = settings
-        .velocity
-        .window_velocities(record, w.start, count)?;
+    let v = settings.velocity.velocities_of(record, w, count)?;
     let samples = WindowSamples {
         x: record.displacements().subrows(w.start, count),
         v: v.as_ref(),

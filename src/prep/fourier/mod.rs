@@ -67,14 +67,19 @@ pub(crate) fn wrap_phase(phase: f64) -> f64 {
 pub(crate) struct WholePeriods {
     /// Whole driving periods k.
     pub(crate) periods: usize,
-    /// Samples t_0 .. t_0 + kT, i.e. ⌊kT/h⌋ + 1 (fewer when the record ends first).
+    /// Samples t_0 .. t_0 + kT, i.e. ⌊kT/h⌋ + 1 (fewer when the record ends first:
+    /// exactly L = kT/h for a window that closes periodically, whose record ends one step
+    /// before t_0 + kT, see [`crate::prep::window::periodic_closure`]).
     pub(crate) samples: usize,
 }
 
 impl WholePeriods {
     /// The whole periods of a window of `count` samples that may read up to `available`
     /// samples: k = round(count·h/T) (the quadrature rules read between ⌊kT/h⌋ and
-    /// ⌊kT/h⌋ + 2 samples), and the samples inside [t_0, t_0 + kT].
+    /// ⌊kT/h⌋ + 2 samples), and the samples inside [t_0, t_0 + kT] that the record
+    /// holds. Over exactly L = kT/h samples of k periods (a window that closes
+    /// periodically) the harmonic basis is discretely orthogonal and the fit is the
+    /// truncated DFT.
     pub(crate) fn of_window(
         count: usize,
         available: usize,

@@ -6,7 +6,10 @@
 //!   Y = √(a_1² + b_1²),   φ = atan2(b_1, a_1),   so that y ≈ Y cos(ωt − φ) + …,
 //! ```
 //!
-//! fitted over the ⌊kT/h⌋ + 1 samples inside [t_0, t_0 + kT], with K the default count
+//! fitted over the ⌊kT/h⌋ + 1 samples inside [t_0, t_0 + kT] (over the L = kT/h
+//! samples of a window that closes periodically,
+//! [`crate::prep::window::periodic_closure`]: a record of exactly k periods from t_0
+//! does not hold the sample at kT, which is the one at t_0), with K the default count
 //! (45% of Nyquist) so that the higher harmonics of a nonlinear response and a mean
 //! offset do not leak into the fundamental when T/h is not an integer. The phase φ is a
 //! lag against the record's clock (t = start_time + i h), wrapped into (−π, π].
@@ -15,6 +18,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 use crate::prep::fourier::{HarmonicBasis, Phasor, default_harmonics, wrap_phase};
+use crate::prep::window::periodic_closure;
 use crate::record::Record;
 
 /// The fundamentals of one window of a record.
@@ -52,8 +56,10 @@ pub fn fundamentals(record: &Record, start: usize, periods: usize) -> Result<Fun
     } else {
         length.floor()
     };
-    // Saturating: an absurd period or start must end in RecordTooShort.
-    let samples = (whole as usize).saturating_add(1);
+    // Saturating: an absurd period or start must end in RecordTooShort. A window that
+    // closes periodically holds its L whole samples, not the closing one.
+    let closed = periodic_closure(record, start, periods as f64 * record.period());
+    let samples = (whole as usize).saturating_add(usize::from(!closed));
     let needed = start.saturating_add(samples);
     if needed > record.samples() {
         return Err(Error::RecordTooShort {

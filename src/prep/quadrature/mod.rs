@@ -15,6 +15,23 @@
 //!   samples inside the window and integrates it exactly (span × mean). Exact for
 //!   band-limited periodic integrands whatever φ; when φ = 0 it agrees with the
 //!   rectangular rule on periodic data.
+//!
+//! **Periodic closure** (a window that ends one step before t_0 + kT on a record of
+//! exactly its L = kT/h samples, see [`crate::prep::window::periodic_closure`]): the
+//! sample at kT is the sample at 0, p_L = p_0, and every rule becomes the same rule,
+//!
+//! ```text
+//!   trapezoid:   h (½p_0 + p_1 + … + p_{L−1} + ½p_L) = h Σ_{i<L} p_i,
+//!   spectral:    kT · a_0 = kT · (1/L) Σ_{i<L} p_i   (the constant column is orthogonal
+//!                                                   to every harmonic q < L/(2k) over L
+//!                                                   samples of k periods),
+//!   rectangular: h Σ_{i<L} p_i,
+//! ```
+//!
+//! w_i = h for i = 0..L ([`crate::prep::window::Window::weights`]). It is exact for every
+//! trigonometric polynomial in ω below the Nyquist limit, Σ_{i<L} cos(2π n i/L) = 0 for
+//! n = qk not a multiple of L: h Σ cos²(qωt_i) = kT/2 and h Σ cos(pωt_i) cos(qωt_i) = 0
+//! for p ≠ q, p + q < L/k.
 
 mod weights;
 
@@ -65,6 +82,20 @@ impl Quadrature {
             Quadrature::Trapezoid => whole.saturating_add(1 + usize::from(frac > 0.0)),
             Quadrature::Spectral => whole.saturating_add(1),
         }
+    }
+
+    /// The weights of a window of `span` = kT = L h that closes periodically (L whole):
+    /// w_i = h for i = 0..L, what every rule gives when p_L = p_0 (see the module doc).
+    pub(crate) fn closed_weights(span: f64, step: f64) -> Result<WindowWeights> {
+        let (whole, frac) = Self::length(span, step);
+        if frac != 0.0 || whole == 0 || whole == usize::MAX {
+            return Err(Error::invalid(
+                "window span",
+                span,
+                &format!("closes periodically only over a whole number of sample steps h = {step}"),
+            ));
+        }
+        Ok(WindowWeights::banded(vec![], step, vec![], whole))
     }
 
     /// The weights w_i, i = 0..samples(span, step), for a window of `span` = kT.
@@ -172,6 +203,23 @@ mod tests {
         let rect = err(Quadrature::Rectangular);
         assert!(rect < 2.0 * (l.round() - l).abs() / l);
         assert!(rect > err(Quadrature::Trapezoid));
+    }
+
+    /// Over exactly L = kT/h samples (a window that closes periodically) the spectral
+    /// rule's least-squares weights are h at every sample, the closed weights: over k
+    /// whole periods the constant column is orthogonal to every harmonic of the basis.
+    #[test]
+    fn spectral_weights_over_closed_periods_are_the_closed_weights() {
+        let (h, period, cycles, length) = (0.1, 6.4, 2.0, 128);
+        let omega = 2.0 * PI / period;
+        let basis = HarmonicBasis::new(omega, default_harmonics(period / h), h, length).unwrap();
+        for w in basis.integration_weights(cycles * period) {
+            assert!((w - h).abs() < 1e-14 * h, "{w}");
+        }
+        let closed = Quadrature::closed_weights(cycles * period, h).unwrap();
+        assert_eq!(closed.to_vec(), vec![h; length]);
+        // Only a whole number of steps closes.
+        assert!(Quadrature::closed_weights(cycles * period + 0.05, h).is_err());
     }
 
     #[test]

@@ -2,6 +2,11 @@
 //! harmonics, every term's column on (x̂, v̂) less its expected noise contribution, the
 //! input work, and the first-order sensitivities of all of them to the noise of each
 //! channel (formulas in the module doc of [`crate::regressor::robust`]).
+//!
+//! A window that closes periodically ([`Window::closed`]) reads its L = kT/h samples:
+//! weights w_i = h, the projection fitted over exactly those L samples, and in the
+//! derivative-free form the last Stieltjes interval ends on the closing sample, r_L = r_0
+//! (so ∂b/∂r_0 gathers the gradient of both ends: the closing sample is the first).
 
 use std::collections::BTreeMap;
 
@@ -171,9 +176,9 @@ pub(super) fn robust_row(
     harmonics: Option<usize>,
     work_form: WorkForm,
 ) -> Result<RobustRow> {
-    let weights = quadrature.weights(w.span, record.step(), record.period())?;
+    let weights = w.weights(quadrature, record.step(), record.period())?;
     let count = weights.len();
-    let path = Path::of(w.span, record.step());
+    let path = Path::of_window(w, record.step());
     let rows = count.max(path.samples());
     let projected = ProjectedWindow::new(record, w.start, count, rows, w.span, harmonics)?;
     let sigma = projected.selection.noise_std.clone();
@@ -212,7 +217,13 @@ pub(super) fn robust_row(
                 g[i] += dx;
                 g[i + 1] += dx;
             }
-            if path.frac > 0.0 {
+            if path.closed {
+                // The end point is the window's first sample: r_E = r_0.
+                let f = path.whole;
+                let dx = 0.5 * (x_end - x[f]);
+                g[f] += dx;
+                g[0] += dx;
+            } else if path.frac > 0.0 {
                 let f = path.whole;
                 let dx = 0.5 * (x_end - x[f]);
                 g[f] += dx + dx * (1.0 - path.frac);
