@@ -11,6 +11,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::analysis::identifiability::list;
 use crate::fit::FitStatus;
+use crate::report::count;
 
 /// Condition number of the column-scaled regressor above which the report warns.
 pub const ILL_CONDITIONED: f64 = 1e8;
@@ -94,7 +95,8 @@ impl fmt::Display for Warning {
             ),
             Warning::NoRedundancy { equations } => write!(
                 f,
-                "{equations} equations for as many free coefficients: the fit is exact by construction and gives no uncertainty; add windows or records"
+                "{} for as many free coefficients: the fit is exact by construction and gives no uncertainty; add windows or records",
+                count(*equations, "equation")
             ),
             Warning::Unidentifiable {
                 coefficients,
