@@ -236,6 +236,28 @@ pub enum Error {
         /// The largest mismatch accepted.
         threshold: f64,
     },
+
+    /// A record gives no input work: no force channel acts on it, or the work its force
+    /// channels do cannot be told from zero ([`crate::regressor::input_work`]). Every
+    /// equation of it would say "damping work = 0", a confident wrong answer.
+    #[error("record '{record}'{}, {channels}: no input work: {reason}", window_text(.window))]
+    NoInputWork {
+        /// The record's label.
+        record: String,
+        /// The window concerned (0-based, as in the steady-state table of `dampid
+        /// check`); `None` when the whole record is.
+        window: Option<usize>,
+        /// The force channels, numbered from 1, with their column names where a model
+        /// file gave them (`force channel 1 ('f1', on DOF 3)`), or `no force channel`.
+        channels: String,
+        /// What was found, and what would fix it.
+        reason: String,
+    },
+}
+
+/// `, window k` for an error about one window.
+fn window_text(window: &Option<usize>) -> String {
+    window.map_or_else(String::new, |w| format!(", window {w}"))
 }
 
 /// The name of every [`enum@Error`] variant, as [`Error::kind`] gives it.
@@ -260,6 +282,7 @@ pub const KINDS: &[&str] = &[
     "numerical",
     "no_period",
     "not_steady",
+    "no_input_work",
 ];
 
 impl Error {
@@ -287,6 +310,7 @@ impl Error {
             Error::Numerical { .. } => "numerical",
             Error::NoPeriod { .. } => "no_period",
             Error::NotSteady { .. } => "not_steady",
+            Error::NoInputWork { .. } => "no_input_work",
         }
     }
 

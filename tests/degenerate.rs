@@ -5,7 +5,9 @@
 //! | class | where | what the library gives |
 //! |---|---|---|
 //! | a DOF that never moves | here: `dof_that_never_moves_*` | `Warning::RankDeficient`, no standard errors, the moving DOF's coefficient still right |
-//! | a constant signal | here: `constant_signal_*` | `Warning::RankDeficient` of rank 0, zero residual, no NaN |
+//! | a constant signal | here: `constant_signal_*` | `Error::NoInputWork`: the DOFs the force acts on do not move |
+//! | a dead force sensor (a zero force column, `forces = []`) | here: `dead_force_sensor_*`; tests/nonperiodic.rs: `dead_force_sensor_*`; tests/cli.rs: `dead_force_sensor_*` | `Error::NoInputWork` naming the record and the channels |
+//! | a force that does no net work, or whose work underflows | here: `force_in_phase_*`, `underflowing_input_work_*` | `Error::NoInputWork` for the window |
 //! | an all-zero regressor column | here: `all_zero_regressor_column_*` | `Warning::RankDeficient`; the other coefficients still right |
 //! | duplicated experiments | here: `duplicated_experiments_*` | `Warning::RankDeficient` (and `NoRedundancy`): copies add no information |
 //! | NaN or Inf anywhere | tests/errors/: `record::nan_in_displacements_*`, `record::inf_in_force_signals_*`, `record::negative_inf_in_force_signals_*`, `record::nan_in_measured_velocities_*`, `record::nan_in_load_distribution_*`, `record::nan_start_time_*`, `record::nan_step_*`, `record::infinite_step_*`, `record::nonpositive_or_non_finite_period_*`, `model::nan_in_damping_matrix_*`, `regressor::custom_law_returning_nan_*`, `regressor::overflowing_regressor_column_*`, `regressor::regressor_parts_are_checked`, `fit::nan_bound_or_fixed_value_*`, `data_files::bad_data_cell_names_row_and_column` | `Error::NonFinite`, `Error::InvalidParameter` or `Error::Data` with the position |
@@ -30,6 +32,11 @@ use support::Harmonic;
 /// Records of 2-DOF harmonic motion whose generalized forces balance linear damping
 /// c = (0.3, 0.2) per DOF and a shared quadratic d = 0.1 exactly: r_j = c_j v_j + d v_j|v_j|.
 fn balanced(amplitudes: [f64; 2], omega: f64) -> Record {
+    balanced_with([0.3, 0.2], amplitudes, omega)
+}
+
+/// [`balanced`] with linear damping `c` per DOF.
+fn balanced_with(c: [f64; 2], amplitudes: [f64; 2], omega: f64) -> Record {
     let h = Harmonic {
         amplitudes: amplitudes.to_vec(),
         phases: vec![0.0, 0.4],
@@ -42,7 +49,6 @@ fn balanced(amplitudes: [f64; 2], omega: f64) -> Record {
     };
     let parts = h.record().into_parts();
     let v = parts.velocities.clone().unwrap();
-    let c = [0.3, 0.2];
     let forces = Mat::from_fn(v.nrows(), 2, |i, j| {
         c[j] * v[(i, j)] + 0.1 * v[(i, j)] * v[(i, j)].abs()
     });
@@ -196,10 +202,12 @@ fn dof_that_never_moves_at_an_offset_is_flagged_with_estimated_velocities() {
 // ---------------------------------------------------------------------------------
 
 /// Displacements that never change (a stuck sensor, or no motion at all) and a constant
-/// force: every velocity estimate is zero, so A = 0 and b = 0. The report has rank 0,
-/// says so, and holds no NaN (‖b‖ = 0 must not divide anything).
+/// force: every step x_{i+1} − x_i is zero, so the gross work ∫|vᵀr| dt of each window is
+/// zero and no work goes in. Every equation would read 0 = 0 (it used to come out as a
+/// rank-0 "fit" with status Solved): it is `NoInputWork`, naming the record, the window,
+/// the channel and the DOFs that do not move.
 #[test]
-fn constant_signal_is_rank_zero_without_nan() {
+fn constant_signal_is_no_input_work() {
     let samples = 120;
     let record = Record::new(RecordParts {
         label: "stuck".into(),
@@ -218,16 +226,157 @@ fn constant_signal_is_rank_zero_without_nan() {
         // As many one-period windows as fit: 2 equations.
         let settings =
             support::identify_settings(WindowSpec::cycles(1), Quadrature::Trapezoid, velocity);
-        let report = identify(&per_dof_linear(), std::slice::from_ref(&record), &settings).unwrap();
-        no_nan(&report);
-        assert_eq!(
-            rank_deficient(&report),
-            Some((0, 2)),
-            "{velocity:?}: {report}"
-        );
-        assert_eq!(report.rank, 0);
-        assert_eq!(report.condition_number, None);
-        assert_eq!(report.relative_residual, 0.0);
+        let err =
+            identify(&per_dof_linear(), std::slice::from_ref(&record), &settings).unwrap_err();
+        match &err {
+            Error::NoInputWork {
+                record,
+                window,
+                channels,
+                reason,
+            } => {
+                assert_eq!(record, "stuck");
+                assert_eq!(*window, Some(0));
+                assert_eq!(channels, "force channel 1 (on DOF 1)");
+                assert!(reason.contains("do not move"), "{err}");
+            }
+            other => panic!("{velocity:?}: expected NoInputWork, got {other:?}"),
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------
+// A dead force sensor
+// ---------------------------------------------------------------------------------
+
+/// The balanced records with their force channels replaced by `signals` (N × c) on
+/// `dofs`.
+fn with_forcing(record: &Record, signals: Mat<f64>, dofs: Vec<usize>) -> Record {
+    Record::new(RecordParts {
+        forcing: Forcing::on_dofs(signals, dofs),
+        ..record.parts().clone()
+    })
+    .unwrap()
+}
+
+/// An unplugged load cell reads zero: b_r = ∫ vᵀr dt = 0 in every window, and least
+/// squares would report c = 0 as "determined" (it did, with status Solved). With one
+/// dead channel of two, or with no channel at all, the record takes no work in either.
+/// Each is `NoInputWork` naming the record and every channel, numbered from 1, with its
+/// DOF, for every velocity source (the noise-robust rows included).
+#[test]
+fn dead_force_sensor_is_no_input_work() {
+    let records: Vec<Record> = [([1.0, 0.5], 1.0), ([0.4, 1.2], 1.3)]
+        .iter()
+        .map(|&(a, w)| balanced(a, w))
+        .collect();
+    let n = records[0].samples();
+    let cases = [
+        (
+            Mat::zeros(n, 1),
+            vec![1],
+            "force channel 1 (on DOF 2)",
+            "reads zero",
+        ),
+        (
+            Mat::zeros(n, 2),
+            vec![0, 1],
+            "force channels 1 (on DOF 1) and 2 (on DOF 2)",
+            "reads zero",
+        ),
+        (
+            Mat::zeros(n, 0),
+            vec![],
+            "no force channel",
+            "lists no force",
+        ),
+    ];
+    for velocity in [
+        VelocitySource::Measured,
+        VelocitySource::Spectral { harmonics: None },
+        VelocitySource::HarmonicProjection { harmonics: None },
+    ] {
+        let mut settings = exact();
+        settings.regressor.velocity = velocity;
+        for (signals, dofs, channels, reason) in &cases {
+            let mut dead = records.clone();
+            dead[1] = with_forcing(&records[1], signals.clone(), dofs.clone());
+            let err = identify(&per_dof_linear(), &dead, &settings).unwrap_err();
+            let Error::NoInputWork {
+                record,
+                window,
+                channels: named,
+                reason: why,
+            } = &err
+            else {
+                panic!("{velocity:?}: expected NoInputWork, got {err:?}");
+            };
+            assert_eq!(record, "harmonic");
+            assert_eq!(*window, None, "{err}");
+            assert_eq!(named, channels);
+            assert!(why.contains(reason), "{err}");
+            assert!(err.to_string().contains("no input work"), "{err}");
+        }
+    }
+}
+
+/// A force in phase with the displacement of the DOF it drives, F cos ωt on
+/// x = X cos ωt, does no net work over whole periods (∮ F cos ωt · (−ωX sin ωt) dt = 0)
+/// while its gross work ∮ |F v| dt = 4FX is not: the spectral rule gives |b| at
+/// round-off, far below 1e-9 of the gross work. A spring force read in place of the
+/// drive is `NoInputWork` for the window, not "no damping".
+#[test]
+fn force_in_phase_with_the_displacement_is_no_input_work() {
+    let record = Harmonic {
+        amplitudes: vec![1.0, 0.5],
+        phases: vec![0.0, 0.4],
+        omega: 1.0,
+        per_period: 40.0,
+        periods: 1.0,
+        force: 2.0,
+        force_phase: 0.0,
+        force_dof: 0,
+    }
+    .record();
+    let err = identify(&per_dof_linear(), &[record], &exact()).unwrap_err();
+    match &err {
+        Error::NoInputWork { window, reason, .. } => {
+            assert_eq!(*window, Some(0));
+            assert!(reason.contains("net input work"), "{err}");
+            assert!(reason.contains("gross work"), "{err}");
+        }
+        other => panic!("expected NoInputWork, got {other:?}"),
+    }
+}
+
+/// Data in units so small that force times displacement underflows: x and r scaled by
+/// 1e-170 give products near 1e-340, below the smallest f64 (4.9e-324), so b = 0 and the
+/// gross work is 0 although the force reads and the DOFs move. `NoInputWork` says it
+/// underflows, and that other units fix it.
+#[test]
+fn underflowing_input_work_is_no_input_work() {
+    let records: Vec<Record> = [([1.0, 0.5], 1.0), ([0.4, 1.2], 1.3)]
+        .iter()
+        .map(|&(a, w)| {
+            let parts = balanced(a, w).into_parts();
+            let scale =
+                |m: &Mat<f64>| Mat::from_fn(m.nrows(), m.ncols(), |i, j| m[(i, j)] * 1e-170);
+            Record::new(RecordParts {
+                displacements: scale(&parts.displacements),
+                velocities: parts.velocities.as_ref().map(scale),
+                forcing: Forcing::generalized(scale(&parts.forcing.signals)),
+                ..parts
+            })
+            .unwrap()
+        })
+        .collect();
+    let err = identify(&per_dof_linear(), &records, &exact()).unwrap_err();
+    match &err {
+        Error::NoInputWork { window, reason, .. } => {
+            assert_eq!(*window, Some(0));
+            assert!(reason.contains("underflows"), "{err}");
+        }
+        other => panic!("expected NoInputWork, got {other:?}"),
     }
 }
 

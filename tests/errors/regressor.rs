@@ -1,7 +1,8 @@
 //! The regressor: no records is `Empty`; a column that is not finite, from a law
 //! returning NaN or from integrals that overflow, is `NonFinite` named after its
 //! coefficient (never a report with NaN coefficients); and `Regressor::from_parts`
-//! checks sizes (`DimensionMismatch`) and values (`NonFinite`).
+//! checks sizes (`DimensionMismatch`) and values (`NonFinite`). A record whose force
+//! does no work is `NoInputWork`.
 
 use dampid::prelude::*;
 use faer::Mat;
@@ -92,4 +93,24 @@ fn regressor_parts_are_checked() {
         Err(Error::NonFinite { ref what, row: 1, column: 1, value })
             if what == "regressor column 'b'" && value == f64::NEG_INFINITY
     ));
+}
+
+/// The fixture with its generalized forces zeroed: b = ∫ vᵀr dt = 0 in every window, so
+/// the fit would give c = 0 "determined". `NoInputWork` names the record and both
+/// channels, numbered from 1 with their DOFs, and what to check.
+#[test]
+fn zero_force_is_no_input_work() {
+    let dead = record_with(|p| p.forcing = Forcing::generalized(Mat::zeros(N, 2))).unwrap();
+    let err = identify(&shared_model(), &[dead], &measured()).unwrap_err();
+    assert!(
+        matches!(&err, Error::NoInputWork { record, window: None, channels, .. }
+            if record == "fixture" && channels == "force channels 1 (on DOF 1) and 2 (on DOF 2)"),
+        "{err:?}"
+    );
+    assert_eq!(
+        err.to_string(),
+        "record 'fixture', force channels 1 (on DOF 1) and 2 (on DOF 2): no input work: every \
+         sample reads zero (an unplugged or dead load cell); check the force sensor and its \
+         column in the model file"
+    );
 }
