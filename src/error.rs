@@ -253,6 +253,16 @@ pub enum Error {
         /// What was found, and what would fix it.
         reason: String,
     },
+
+    /// Every column of the regressor is zero: no coefficient changes the fit, so
+    /// none can be estimated.
+    #[error("these data carry no information on {coefficients}: {reason}")]
+    NoInformation {
+        /// The coefficients, by name (`c[1], c[2] and d`).
+        coefficients: String,
+        /// Why, and what would fix it.
+        reason: String,
+    },
 }
 
 /// `, window k` for an error about one window.
@@ -283,6 +293,7 @@ pub const KINDS: &[&str] = &[
     "no_period",
     "not_steady",
     "no_input_work",
+    "no_information",
 ];
 
 impl Error {
@@ -311,6 +322,7 @@ impl Error {
             Error::NoPeriod { .. } => "no_period",
             Error::NotSteady { .. } => "not_steady",
             Error::NoInputWork { .. } => "no_input_work",
+            Error::NoInformation { .. } => "no_information",
         }
     }
 

@@ -1,6 +1,6 @@
 //! The command line as a user runs it: `dampid pod`, exit codes for windows that are not
-//! steady and for a dead force sensor, and progress bars that stay silent when stderr is
-//! not a terminal.
+//! steady, for a dead force sensor and for a regressor that is zero, and progress bars
+//! that stay silent when stderr is not a terminal.
 
 use std::path::{Path, PathBuf};
 
@@ -341,5 +341,39 @@ fn dead_force_sensor_exits_with_2_in_both_modes() {
     )
     .unwrap();
     exits_with_2_saying(&none, &["record 'closed-loop moves'", "no force channel"]);
+    std::fs::remove_dir_all(&folder).ok();
+}
+
+/// Element weights of zero for every term make every column of the regressor zero:
+/// the data carry no information on any coefficient. It used to print "practical rank:
+/// 0 of 5" and then "every coefficient is determined", exit 0; both commands now exit
+/// with 2 and name the coefficients.
+#[test]
+fn zero_regressor_exits_with_2() {
+    let folder = std::env::temp_dir().join(format!("dampid-cli-zero-{}", std::process::id()));
+    std::fs::create_dir_all(&folder).unwrap();
+    let data = std::fs::canonicalize("models/data").unwrap();
+    let model = std::fs::read_to_string("models/measured_chain.toml").unwrap();
+    let zero = model
+        .replace(
+            "per_element = \"dashpot\"",
+            "per_element = \"dashpot\"\nweights = [0.0, 0.0, 0.0, 0.0]",
+        )
+        .replace(
+            "coefficient = \"friction\"",
+            "coefficient = \"friction\"\nweights = [0.0]",
+        )
+        .replace("file = \"data/", &format!("file = \"{}/", data.display()));
+    assert_eq!(zero.matches("weights").count(), 2);
+    let file = folder.join("zero.toml");
+    std::fs::write(&file, zero).unwrap();
+    exits_with_2_saying(
+        &file,
+        &[
+            "these data carry no information on dashpot[0-1], dashpot[1-2], dashpot[2-3], dashpot[3-4] and friction",
+            "every column of the regressor",
+            "weights or matrices",
+        ],
+    );
     std::fs::remove_dir_all(&folder).ok();
 }

@@ -8,7 +8,8 @@
 //! | a constant signal | here: `constant_signal_*` | `Error::NoInputWork`: the DOFs the force acts on do not move |
 //! | a dead force sensor (a zero force column, `forces = []`) | here: `dead_force_sensor_*`; tests/nonperiodic.rs: `dead_force_sensor_*`; tests/cli.rs: `dead_force_sensor_*` | `Error::NoInputWork` naming the record and the channels |
 //! | a force that does no net work, or whose work underflows | here: `force_in_phase_*`, `underflowing_input_work_*` | `Error::NoInputWork` for the window |
-//! | an all-zero regressor column | here: `all_zero_regressor_column_*` | `Warning::RankDeficient`; the other coefficients still right |
+//! | an all-zero regressor (a zero matrix or weight for every term, damping work that underflows) | here: `zero_regressor_*`, `underflowing_damping_work_*`; tests/cli.rs | `Error::NoInformation` naming the coefficients |
+//! | an all-zero regressor column | here: `all_zero_regressor_column_*`, `zero_element_weight_*` | `Warning::RankDeficient`, the coefficient "not determined"; the other coefficients still right |
 //! | duplicated experiments | here: `duplicated_experiments_*` | `Warning::RankDeficient` (and `NoRedundancy`): copies add no information |
 //! | NaN or Inf anywhere | tests/errors/: `record::nan_in_displacements_*`, `record::inf_in_force_signals_*`, `record::negative_inf_in_force_signals_*`, `record::nan_in_measured_velocities_*`, `record::nan_in_load_distribution_*`, `record::nan_start_time_*`, `record::nan_step_*`, `record::infinite_step_*`, `record::nonpositive_or_non_finite_period_*`, `model::nan_in_damping_matrix_*`, `regressor::custom_law_returning_nan_*`, `regressor::overflowing_regressor_column_*`, `regressor::regressor_parts_are_checked`, `fit::nan_bound_or_fixed_value_*`, `data_files::bad_data_cell_names_row_and_column` | `Error::NonFinite`, `Error::InvalidParameter` or `Error::Data` with the position |
 //! | a record shorter than one period | tests/errors/: `prep::record_shorter_than_one_window_is_too_short`, `record::record_of_two_samples_is_too_short` | `Error::RecordTooShort` |
@@ -381,6 +382,80 @@ fn underflowing_input_work_is_no_input_work() {
 }
 
 // ---------------------------------------------------------------------------------
+// A regressor that is zero
+// ---------------------------------------------------------------------------------
+
+/// A model whose only term dissipates nothing on any motion (a zero damping matrix, or
+/// an element weight of zero) gives A = 0 while the input work is there. Every
+/// coefficient would be "determined" at 0 (the identifiability threshold tol·σ_1 was 0):
+/// it is `NoInformation` naming the coefficients, for `identify` and for the check.
+#[test]
+fn zero_regressor_is_no_information() {
+    let records: Vec<Record> = [([1.0, 0.5], 1.0), ([0.4, 1.2], 1.3), ([1.1, 0.9], 0.7)]
+        .iter()
+        .map(|&(a, w)| balanced(a, w))
+        .collect();
+    let zero_weights = DampingModel::new().with(Term::weighted(
+        Linear,
+        Element::each_dof(2),
+        vec![0.0, 0.0],
+        Coefficients::PerElement("c".into()),
+    ));
+    let zero_matrix = DampingModel::new().with(Term::viscous("zero", Mat::zeros(2, 2)));
+    for (model, names) in [(zero_weights, "c[1] and c[2]"), (zero_matrix, "zero")] {
+        let err = identify(&model, &records, &exact()).unwrap_err();
+        match &err {
+            Error::NoInformation {
+                coefficients,
+                reason,
+            } => {
+                assert_eq!(coefficients, names);
+                assert!(reason.contains("every column"), "{err}");
+            }
+            other => panic!("expected NoInformation, got {other:?}"),
+        }
+        assert!(
+            err.to_string()
+                .starts_with("these data carry no information on"),
+            "{err}"
+        );
+        let regressor = Regressor::build(&model, &records, &exact().regressor).unwrap();
+        let check = dampid::analysis::check::RegressorCheck::new(&regressor, 1e-10);
+        assert!(
+            matches!(check, Err(Error::NoInformation { .. })),
+            "{check:?}"
+        );
+    }
+}
+
+/// Motion so small that the damping work underflows while the input work does not:
+/// x and v scaled by 1e-170 make every v·f(v) near 1e-340, zero in f64, while r scaled by
+/// 1e+170 keeps vᵀr of order one. A = 0 exactly: `NoInformation`, not a fit.
+#[test]
+fn underflowing_damping_work_is_no_information() {
+    let records: Vec<Record> = [([1.0, 0.5], 1.0), ([0.4, 1.2], 1.3), ([1.1, 0.9], 0.7)]
+        .iter()
+        .map(|&(a, w)| {
+            let parts = balanced(a, w).into_parts();
+            let scale =
+                |m: &Mat<f64>, k: f64| Mat::from_fn(m.nrows(), m.ncols(), |i, j| m[(i, j)] * k);
+            Record::new(RecordParts {
+                displacements: scale(&parts.displacements, 1e-170),
+                velocities: parts.velocities.as_ref().map(|v| scale(v, 1e-170)),
+                forcing: Forcing::generalized(scale(&parts.forcing.signals, 1e170)),
+                ..parts
+            })
+            .unwrap()
+        })
+        .collect();
+    let err = identify(&per_dof_linear(), &records, &exact()).unwrap_err();
+    assert!(
+        matches!(&err, Error::NoInformation { coefficients, .. } if coefficients == "c[1] and c[2]"),
+        "{err:?}"
+    );
+}
+
+// ---------------------------------------------------------------------------------
 // An all-zero regressor column
 // ---------------------------------------------------------------------------------
 
@@ -400,7 +475,51 @@ fn all_zero_regressor_column_is_flagged_and_the_others_are_right() {
     no_nan(&report);
     assert_eq!(rank_deficient(&report), Some((3, 4)), "{report}");
     assert_eq!(report.coefficient("zero"), Some(0.0));
+    // Not determined, never "determined".
+    assert_not_determined(&report, "zero");
     for (name, truth) in [("c[1]", 0.3), ("c[2]", 0.2), ("d", 0.1)] {
+        let value = report.coefficient(name).unwrap();
+        assert!((value - truth).abs() < 1e-9, "{name} = {value}: {report}");
+    }
+}
+
+/// The column of `name` is not determined: the report says so by name, and does not
+/// say that every coefficient is determined.
+#[track_caller]
+fn assert_not_determined(report: &FitReport, name: &str) {
+    let estimate = report.coefficients.iter().find(|c| c.name == name).unwrap();
+    assert!(!estimate.determined, "{report}");
+    assert!(!report.identifiability.is_identifiable(name), "{report}");
+    assert!(!report.identifiability.separable(), "{report}");
+    let text = report.to_string();
+    assert!(
+        text.contains(&format!("{name} is not determined")),
+        "{text}"
+    );
+    assert!(!text.contains("every coefficient is determined"), "{text}");
+}
+
+/// An element weight of zero for one dashpot of two (per-element coefficients): that
+/// element's column is zero among nonzero ones. With forces that balance c = (0.3, 0)
+/// and d = 0.1, c[2] is not determined (never "determined"), and c[1] and d are still
+/// right.
+#[test]
+fn zero_element_weight_is_not_determined() {
+    let records: Vec<Record> = [([1.0, 0.5], 1.0), ([0.4, 1.2], 1.3), ([1.1, 0.9], 0.7)]
+        .iter()
+        .map(|&(a, w)| balanced_with([0.3, 0.0], a, w))
+        .collect();
+    let model = with_quadratic(DampingModel::new().with(Term::weighted(
+        Linear,
+        Element::each_dof(2),
+        vec![1.0, 0.0],
+        Coefficients::PerElement("c".into()),
+    )));
+    let report = identify(&model, &records, &exact()).unwrap();
+    no_nan(&report);
+    assert_eq!(rank_deficient(&report), Some((2, 3)), "{report}");
+    assert_not_determined(&report, "c[2]");
+    for (name, truth) in [("c[1]", 0.3), ("d", 0.1)] {
         let value = report.coefficient(name).unwrap();
         assert!((value - truth).abs() < 1e-9, "{name} = {value}: {report}");
     }
