@@ -236,6 +236,38 @@ pub enum Error {
         /// The largest mismatch accepted.
         threshold: f64,
     },
+
+    /// A record gives no input work: no force channel acts on it, or the work its force
+    /// channels do cannot be told from zero ([`crate::regressor::input_work`]). Every
+    /// equation of it would say "damping work = 0", a confident wrong answer.
+    #[error("record '{record}'{}, {channels}: no input work: {reason}", window_text(.window))]
+    NoInputWork {
+        /// The record's label.
+        record: String,
+        /// The window concerned (0-based, as in the steady-state table of `dampid
+        /// check`); `None` when the whole record is.
+        window: Option<usize>,
+        /// The force channels, numbered from 1, with their column names where a model
+        /// file gave them (`force channel 1 ('f1', on DOF 3)`), or `no force channel`.
+        channels: String,
+        /// What was found, and what would fix it.
+        reason: String,
+    },
+
+    /// Every column of the regressor is zero: no coefficient changes the fit, so
+    /// none can be estimated.
+    #[error("these data carry no information on {coefficients}: {reason}")]
+    NoInformation {
+        /// The coefficients, by name (`c[1], c[2] and d`).
+        coefficients: String,
+        /// Why, and what would fix it.
+        reason: String,
+    },
+}
+
+/// `, window k` for an error about one window.
+fn window_text(window: &Option<usize>) -> String {
+    window.map_or_else(String::new, |w| format!(", window {w}"))
 }
 
 /// The name of every [`enum@Error`] variant, as [`Error::kind`] gives it.
@@ -260,6 +292,8 @@ pub const KINDS: &[&str] = &[
     "numerical",
     "no_period",
     "not_steady",
+    "no_input_work",
+    "no_information",
 ];
 
 impl Error {
@@ -287,6 +321,8 @@ impl Error {
             Error::Numerical { .. } => "numerical",
             Error::NoPeriod { .. } => "no_period",
             Error::NotSteady { .. } => "not_steady",
+            Error::NoInputWork { .. } => "no_input_work",
+            Error::NoInformation { .. } => "no_information",
         }
     }
 

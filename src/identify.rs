@@ -17,6 +17,7 @@
 
 use crate::analysis::bootstrap::{BootstrapSettings, bootstrap};
 use crate::analysis::diagnostics::diagnose_factored;
+use crate::analysis::identifiability::require_information;
 use crate::error::Result;
 use crate::fit::{FitSettings, solve_factored};
 use crate::model::DampingModel;
@@ -80,10 +81,13 @@ pub fn identify_with_regressor(
 }
 
 /// Fits `regressor` and diagnoses the fit: the middle level, for regressors built by
-/// hand or kept from [`Regressor::build`].
+/// hand or kept from [`Regressor::build`]. A regressor whose every column is zero
+/// carries no information and is an error
+/// ([`crate::analysis::identifiability::require_information`]).
 /// The rows are factored once: a plain least-squares fit hands its factorization of
 /// the column-scaled regressor ([`crate::fit::ScaledSvd`]) to the diagnostics.
 pub fn identify_regressor(regressor: &Regressor, settings: &FitSettings) -> Result<FitReport> {
+    require_information(regressor)?;
     let (fit, factorization) = solve_factored(regressor, settings)?;
     let diagnostics = diagnose_factored(regressor, &fit, settings.rank_tolerance, factorization);
     Ok(FitReport::new(regressor, fit, diagnostics))

@@ -130,6 +130,9 @@ pub struct Record {
     parts: RecordParts,
     /// Force channels that are not zero everywhere (found once, when validating).
     active_channels: Vec<usize>,
+    /// The force channels' names (their data-file columns), one per channel; empty
+    /// when the record was built without them.
+    channel_names: Vec<String>,
 }
 
 impl Record {
@@ -189,7 +192,33 @@ impl Record {
         Ok(Record {
             parts,
             active_channels,
+            channel_names: Vec::new(),
         })
+    }
+
+    /// This record with a name for each force channel (the data-file columns they came
+    /// from), for messages about a channel; an empty list leaves them unnamed.
+    pub fn with_channel_names(mut self, names: Vec<String>) -> Result<Self> {
+        let channels = self.parts.forcing.signals.ncols();
+        if !names.is_empty() && names.len() != channels {
+            return Err(Error::mismatch(
+                "force channel names vs force channels",
+                channels,
+                names.len(),
+            ));
+        }
+        self.channel_names = names;
+        Ok(self)
+    }
+
+    /// The name of force channel `k` (0-based), when the record has names.
+    pub fn channel_name(&self, k: usize) -> Option<&str> {
+        self.channel_names.get(k).map(String::as_str)
+    }
+
+    /// The force channels' names, one per channel, or empty.
+    pub fn channel_names(&self) -> &[String] {
+        &self.channel_names
     }
 
     /// The record's label.

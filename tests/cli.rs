@@ -1,5 +1,6 @@
 //! The command line as a user runs it: `dampid pod`, exit codes for windows that are not
-//! steady, and progress bars that stay silent when stderr is not a terminal.
+//! steady, for a dead force sensor and for a regressor that is zero, and progress bars
+//! that stay silent when stderr is not a terminal.
 
 use std::path::{Path, PathBuf};
 
@@ -278,4 +279,155 @@ fn readme_sample_output_is_the_real_output() {
     for line in block.lines().filter(|l| *l != "…") {
         assert!(lines.contains(&line), "README line not printed: {line:?}");
     }
+}
+
+/// A copy of `model` (a file in models/) in a scratch folder `name`, its data files read
+/// from models/data, except `dead` (a path under models/data), whose last column (the
+/// force) is written as zeros: an unplugged load cell. `edit` changes the model text.
+fn with_dead_force(
+    name: &str,
+    model: &str,
+    dead: &str,
+    edit: impl Fn(String) -> String,
+) -> (PathBuf, PathBuf) {
+    let folder = std::env::temp_dir().join(format!("dampid-cli-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&folder).unwrap();
+    let data = std::fs::canonicalize("models/data").unwrap();
+    let text = std::fs::read_to_string(Path::new("models").join(model)).unwrap();
+    let zeroed = folder.join("dead.csv");
+    let original = std::fs::read_to_string(Path::new("models/data").join(dead)).unwrap();
+    let mut lines = original.lines();
+    let mut out = format!("{}\n", lines.next().unwrap());
+    for line in lines {
+        let (head, _) = line.rsplit_once(',').unwrap();
+        out.push_str(&format!("{head},0\n"));
+    }
+    std::fs::write(&zeroed, out).unwrap();
+    let text = text
+        .replace(
+            &format!("file = \"data/{dead}\""),
+            &format!("file = \"{}\"", zeroed.display()),
+        )
+        .replace("file = \"data/", &format!("file = \"{}/", data.display()));
+    assert!(text.contains(&zeroed.display().to_string()));
+    let file = folder.join(model);
+    std::fs::write(&file, edit(text)).unwrap();
+    (folder, file)
+}
+
+/// `check` and `identify` of `file` exit with 2, and stderr holds every one of `needles`.
+#[track_caller]
+fn exits_with_2_saying(file: &Path, needles: &[&str]) {
+    for command in ["check", "identify"] {
+        let out = dampid(&[command, file.to_str().unwrap()]);
+        let error = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{command}: {error}");
+        assert_eq!(text(&out.stdout), "", "{command}");
+        for needle in needles {
+            assert!(
+                error.contains(needle),
+                "{command}: '{needle}' not in {error}"
+            );
+        }
+    }
+}
+
+/// A dead force sensor (its column all zeros, or `forces = []`) used to give every
+/// coefficient as 0, "determined", with exit 0; `check` called the data valid. Both
+/// commands now exit with 2, naming the record and the channel (numbered from 1, with
+/// its column and DOF) and saying what to check: in the periodic mode (the measured
+/// chain) and in the non-periodic mode (the drive).
+#[test]
+fn dead_force_sensor_exits_with_2_in_both_modes() {
+    let (folder, file) = with_dead_force(
+        "dead-chain",
+        "measured_chain.toml",
+        "chain3/record_1.csv",
+        |t| t,
+    );
+    exits_with_2_saying(
+        &file,
+        &[
+            "record 'a=0.5 ω=0.7654 on mass 1'",
+            "force channel 1 ('f1', on DOF 1)",
+            "no input work",
+            "check the force sensor and its column in the model file",
+        ],
+    );
+    let none = file.with_file_name("no_forces.toml");
+    let text = std::fs::read_to_string(&file).unwrap();
+    std::fs::write(
+        &none,
+        text.replace("forces = [{ column = \"f1\", dof = 1 }]", "forces = []"),
+    )
+    .unwrap();
+    exits_with_2_saying(
+        &none,
+        &[
+            "record 'a=0.5 ω=0.7654 on mass 1'",
+            "no force channel",
+            "`forces`",
+        ],
+    );
+    std::fs::remove_dir_all(&folder).ok();
+
+    let (folder, file) = with_dead_force(
+        "dead-drive",
+        "drive_nonperiodic.toml",
+        "drive/drive.csv",
+        |t| t,
+    );
+    exits_with_2_saying(
+        &file,
+        &[
+            "record 'closed-loop moves'",
+            "force channel 1 ('force', on DOF 1)",
+            "no input work",
+            "check the force sensor and its column in the model file",
+            "free decay",
+        ],
+    );
+    let none = file.with_file_name("no_forces.toml");
+    let text = std::fs::read_to_string(&file).unwrap();
+    std::fs::write(
+        &none,
+        text.replace("forces = [{ column = \"force\", dof = 1 }]", "forces = []"),
+    )
+    .unwrap();
+    exits_with_2_saying(&none, &["record 'closed-loop moves'", "no force channel"]);
+    std::fs::remove_dir_all(&folder).ok();
+}
+
+/// Element weights of zero for every term make every column of the regressor zero:
+/// the data carry no information on any coefficient. It used to print "practical rank:
+/// 0 of 5" and then "every coefficient is determined", exit 0; both commands now exit
+/// with 2 and name the coefficients.
+#[test]
+fn zero_regressor_exits_with_2() {
+    let folder = std::env::temp_dir().join(format!("dampid-cli-zero-{}", std::process::id()));
+    std::fs::create_dir_all(&folder).unwrap();
+    let data = std::fs::canonicalize("models/data").unwrap();
+    let model = std::fs::read_to_string("models/measured_chain.toml").unwrap();
+    let zero = model
+        .replace(
+            "per_element = \"dashpot\"",
+            "per_element = \"dashpot\"\nweights = [0.0, 0.0, 0.0, 0.0]",
+        )
+        .replace(
+            "coefficient = \"friction\"",
+            "coefficient = \"friction\"\nweights = [0.0]",
+        )
+        .replace("file = \"data/", &format!("file = \"{}/", data.display()));
+    assert_eq!(zero.matches("weights").count(), 2);
+    let file = folder.join("zero.toml");
+    std::fs::write(&file, zero).unwrap();
+    exits_with_2_saying(
+        &file,
+        &[
+            "these data carry no information on dashpot[0-1], dashpot[1-2], dashpot[2-3], dashpot[3-4] and friction",
+            "every column of the regressor",
+            "weights or matrices",
+        ],
+    );
+    std::fs::remove_dir_all(&folder).ok();
 }

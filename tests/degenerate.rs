@@ -5,8 +5,11 @@
 //! | class | where | what the library gives |
 //! |---|---|---|
 //! | a DOF that never moves | here: `dof_that_never_moves_*` | `Warning::RankDeficient`, no standard errors, the moving DOF's coefficient still right |
-//! | a constant signal | here: `constant_signal_*` | `Warning::RankDeficient` of rank 0, zero residual, no NaN |
-//! | an all-zero regressor column | here: `all_zero_regressor_column_*` | `Warning::RankDeficient`; the other coefficients still right |
+//! | a constant signal | here: `constant_signal_*` | `Error::NoInputWork`: the DOFs the force acts on do not move |
+//! | a dead force sensor (a zero force column, `forces = []`) | here: `dead_force_sensor_*`; tests/nonperiodic.rs: `dead_force_sensor_*`; tests/cli.rs: `dead_force_sensor_*` | `Error::NoInputWork` naming the record and the channels |
+//! | a force that does no net work, or whose work underflows | here: `force_in_phase_*`, `underflowing_input_work_*` | `Error::NoInputWork` for the window |
+//! | an all-zero regressor (a zero matrix or weight for every term, damping work that underflows) | here: `zero_regressor_*`, `underflowing_damping_work_*`; tests/cli.rs | `Error::NoInformation` naming the coefficients |
+//! | an all-zero regressor column | here: `all_zero_regressor_column_*`, `zero_element_weight_*` | `Warning::RankDeficient`, the coefficient "not determined"; the other coefficients still right |
 //! | duplicated experiments | here: `duplicated_experiments_*` | `Warning::RankDeficient` (and `NoRedundancy`): copies add no information |
 //! | NaN or Inf anywhere | tests/errors/: `record::nan_in_displacements_*`, `record::inf_in_force_signals_*`, `record::negative_inf_in_force_signals_*`, `record::nan_in_measured_velocities_*`, `record::nan_in_load_distribution_*`, `record::nan_start_time_*`, `record::nan_step_*`, `record::infinite_step_*`, `record::nonpositive_or_non_finite_period_*`, `model::nan_in_damping_matrix_*`, `regressor::custom_law_returning_nan_*`, `regressor::overflowing_regressor_column_*`, `regressor::regressor_parts_are_checked`, `fit::nan_bound_or_fixed_value_*`, `data_files::bad_data_cell_names_row_and_column` | `Error::NonFinite`, `Error::InvalidParameter` or `Error::Data` with the position |
 //! | a record shorter than one period | tests/errors/: `prep::record_shorter_than_one_window_is_too_short`, `record::record_of_two_samples_is_too_short` | `Error::RecordTooShort` |
@@ -30,6 +33,11 @@ use support::Harmonic;
 /// Records of 2-DOF harmonic motion whose generalized forces balance linear damping
 /// c = (0.3, 0.2) per DOF and a shared quadratic d = 0.1 exactly: r_j = c_j v_j + d v_j|v_j|.
 fn balanced(amplitudes: [f64; 2], omega: f64) -> Record {
+    balanced_with([0.3, 0.2], amplitudes, omega)
+}
+
+/// [`balanced`] with linear damping `c` per DOF.
+fn balanced_with(c: [f64; 2], amplitudes: [f64; 2], omega: f64) -> Record {
     let h = Harmonic {
         amplitudes: amplitudes.to_vec(),
         phases: vec![0.0, 0.4],
@@ -42,7 +50,6 @@ fn balanced(amplitudes: [f64; 2], omega: f64) -> Record {
     };
     let parts = h.record().into_parts();
     let v = parts.velocities.clone().unwrap();
-    let c = [0.3, 0.2];
     let forces = Mat::from_fn(v.nrows(), 2, |i, j| {
         c[j] * v[(i, j)] + 0.1 * v[(i, j)] * v[(i, j)].abs()
     });
@@ -196,10 +203,12 @@ fn dof_that_never_moves_at_an_offset_is_flagged_with_estimated_velocities() {
 // ---------------------------------------------------------------------------------
 
 /// Displacements that never change (a stuck sensor, or no motion at all) and a constant
-/// force: every velocity estimate is zero, so A = 0 and b = 0. The report has rank 0,
-/// says so, and holds no NaN (‖b‖ = 0 must not divide anything).
+/// force: every step x_{i+1} − x_i is zero, so the gross work ∫|vᵀr| dt of each window is
+/// zero and no work goes in. Every equation would read 0 = 0 (it used to come out as a
+/// rank-0 "fit" with status Solved): it is `NoInputWork`, naming the record, the window,
+/// the channel and the DOFs that do not move.
 #[test]
-fn constant_signal_is_rank_zero_without_nan() {
+fn constant_signal_is_no_input_work() {
     let samples = 120;
     let record = Record::new(RecordParts {
         label: "stuck".into(),
@@ -218,17 +227,232 @@ fn constant_signal_is_rank_zero_without_nan() {
         // As many one-period windows as fit: 2 equations.
         let settings =
             support::identify_settings(WindowSpec::cycles(1), Quadrature::Trapezoid, velocity);
-        let report = identify(&per_dof_linear(), std::slice::from_ref(&record), &settings).unwrap();
-        no_nan(&report);
-        assert_eq!(
-            rank_deficient(&report),
-            Some((0, 2)),
-            "{velocity:?}: {report}"
-        );
-        assert_eq!(report.rank, 0);
-        assert_eq!(report.condition_number, None);
-        assert_eq!(report.relative_residual, 0.0);
+        let err =
+            identify(&per_dof_linear(), std::slice::from_ref(&record), &settings).unwrap_err();
+        match &err {
+            Error::NoInputWork {
+                record,
+                window,
+                channels,
+                reason,
+            } => {
+                assert_eq!(record, "stuck");
+                assert_eq!(*window, Some(0));
+                assert_eq!(channels, "force channel 1 (on DOF 1)");
+                assert!(reason.contains("do not move"), "{err}");
+            }
+            other => panic!("{velocity:?}: expected NoInputWork, got {other:?}"),
+        }
     }
+}
+
+// ---------------------------------------------------------------------------------
+// A dead force sensor
+// ---------------------------------------------------------------------------------
+
+/// The balanced records with their force channels replaced by `signals` (N × c) on
+/// `dofs`.
+fn with_forcing(record: &Record, signals: Mat<f64>, dofs: Vec<usize>) -> Record {
+    Record::new(RecordParts {
+        forcing: Forcing::on_dofs(signals, dofs),
+        ..record.parts().clone()
+    })
+    .unwrap()
+}
+
+/// An unplugged load cell reads zero: b_r = ∫ vᵀr dt = 0 in every window, and least
+/// squares would report c = 0 as "determined" (it did, with status Solved). With one
+/// dead channel of two, or with no channel at all, the record takes no work in either.
+/// Each is `NoInputWork` naming the record and every channel, numbered from 1, with its
+/// DOF, for every velocity source (the noise-robust rows included).
+#[test]
+fn dead_force_sensor_is_no_input_work() {
+    let records: Vec<Record> = [([1.0, 0.5], 1.0), ([0.4, 1.2], 1.3)]
+        .iter()
+        .map(|&(a, w)| balanced(a, w))
+        .collect();
+    let n = records[0].samples();
+    let cases = [
+        (
+            Mat::zeros(n, 1),
+            vec![1],
+            "force channel 1 (on DOF 2)",
+            "reads zero",
+        ),
+        (
+            Mat::zeros(n, 2),
+            vec![0, 1],
+            "force channels 1 (on DOF 1) and 2 (on DOF 2)",
+            "reads zero",
+        ),
+        (
+            Mat::zeros(n, 0),
+            vec![],
+            "no force channel",
+            "lists no force",
+        ),
+    ];
+    for velocity in [
+        VelocitySource::Measured,
+        VelocitySource::Spectral { harmonics: None },
+        VelocitySource::HarmonicProjection { harmonics: None },
+    ] {
+        let mut settings = exact();
+        settings.regressor.velocity = velocity;
+        for (signals, dofs, channels, reason) in &cases {
+            let mut dead = records.clone();
+            dead[1] = with_forcing(&records[1], signals.clone(), dofs.clone());
+            let err = identify(&per_dof_linear(), &dead, &settings).unwrap_err();
+            let Error::NoInputWork {
+                record,
+                window,
+                channels: named,
+                reason: why,
+            } = &err
+            else {
+                panic!("{velocity:?}: expected NoInputWork, got {err:?}");
+            };
+            assert_eq!(record, "harmonic");
+            assert_eq!(*window, None, "{err}");
+            assert_eq!(named, channels);
+            assert!(why.contains(reason), "{err}");
+            assert!(err.to_string().contains("no input work"), "{err}");
+        }
+    }
+}
+
+/// A force in phase with the displacement of the DOF it drives, F cos ωt on
+/// x = X cos ωt, does no net work over whole periods (∮ F cos ωt · (−ωX sin ωt) dt = 0)
+/// while its gross work ∮ |F v| dt = 4FX is not: the spectral rule gives |b| at
+/// round-off, far below 1e-9 of the gross work. A spring force read in place of the
+/// drive is `NoInputWork` for the window, not "no damping".
+#[test]
+fn force_in_phase_with_the_displacement_is_no_input_work() {
+    let record = Harmonic {
+        amplitudes: vec![1.0, 0.5],
+        phases: vec![0.0, 0.4],
+        omega: 1.0,
+        per_period: 40.0,
+        periods: 1.0,
+        force: 2.0,
+        force_phase: 0.0,
+        force_dof: 0,
+    }
+    .record();
+    let err = identify(&per_dof_linear(), &[record], &exact()).unwrap_err();
+    match &err {
+        Error::NoInputWork { window, reason, .. } => {
+            assert_eq!(*window, Some(0));
+            assert!(reason.contains("net input work"), "{err}");
+            assert!(reason.contains("gross work"), "{err}");
+        }
+        other => panic!("expected NoInputWork, got {other:?}"),
+    }
+}
+
+/// Data in units so small that force times displacement underflows: x and r scaled by
+/// 1e-170 give products near 1e-340, below the smallest f64 (4.9e-324), so b = 0 and the
+/// gross work is 0 although the force reads and the DOFs move. `NoInputWork` says it
+/// underflows, and that other units fix it.
+#[test]
+fn underflowing_input_work_is_no_input_work() {
+    let records: Vec<Record> = [([1.0, 0.5], 1.0), ([0.4, 1.2], 1.3)]
+        .iter()
+        .map(|&(a, w)| {
+            let parts = balanced(a, w).into_parts();
+            let scale =
+                |m: &Mat<f64>| Mat::from_fn(m.nrows(), m.ncols(), |i, j| m[(i, j)] * 1e-170);
+            Record::new(RecordParts {
+                displacements: scale(&parts.displacements),
+                velocities: parts.velocities.as_ref().map(scale),
+                forcing: Forcing::generalized(scale(&parts.forcing.signals)),
+                ..parts
+            })
+            .unwrap()
+        })
+        .collect();
+    let err = identify(&per_dof_linear(), &records, &exact()).unwrap_err();
+    match &err {
+        Error::NoInputWork { window, reason, .. } => {
+            assert_eq!(*window, Some(0));
+            assert!(reason.contains("underflows"), "{err}");
+        }
+        other => panic!("expected NoInputWork, got {other:?}"),
+    }
+}
+
+// ---------------------------------------------------------------------------------
+// A regressor that is zero
+// ---------------------------------------------------------------------------------
+
+/// A model whose only term dissipates nothing on any motion (a zero damping matrix, or
+/// an element weight of zero) gives A = 0 while the input work is there. Every
+/// coefficient would be "determined" at 0 (the identifiability threshold tol·σ_1 was 0):
+/// it is `NoInformation` naming the coefficients, for `identify` and for the check.
+#[test]
+fn zero_regressor_is_no_information() {
+    let records: Vec<Record> = [([1.0, 0.5], 1.0), ([0.4, 1.2], 1.3), ([1.1, 0.9], 0.7)]
+        .iter()
+        .map(|&(a, w)| balanced(a, w))
+        .collect();
+    let zero_weights = DampingModel::new().with(Term::weighted(
+        Linear,
+        Element::each_dof(2),
+        vec![0.0, 0.0],
+        Coefficients::PerElement("c".into()),
+    ));
+    let zero_matrix = DampingModel::new().with(Term::viscous("zero", Mat::zeros(2, 2)));
+    for (model, names) in [(zero_weights, "c[1] and c[2]"), (zero_matrix, "zero")] {
+        let err = identify(&model, &records, &exact()).unwrap_err();
+        match &err {
+            Error::NoInformation {
+                coefficients,
+                reason,
+            } => {
+                assert_eq!(coefficients, names);
+                assert!(reason.contains("every column"), "{err}");
+            }
+            other => panic!("expected NoInformation, got {other:?}"),
+        }
+        assert!(
+            err.to_string()
+                .starts_with("these data carry no information on"),
+            "{err}"
+        );
+        let regressor = Regressor::build(&model, &records, &exact().regressor).unwrap();
+        let check = dampid::analysis::check::RegressorCheck::new(&regressor, 1e-10);
+        assert!(
+            matches!(check, Err(Error::NoInformation { .. })),
+            "{check:?}"
+        );
+    }
+}
+
+/// Motion so small that the damping work underflows while the input work does not:
+/// x and v scaled by 1e-170 make every v·f(v) near 1e-340, zero in f64, while r scaled by
+/// 1e+170 keeps vᵀr of order one. A = 0 exactly: `NoInformation`, not a fit.
+#[test]
+fn underflowing_damping_work_is_no_information() {
+    let records: Vec<Record> = [([1.0, 0.5], 1.0), ([0.4, 1.2], 1.3), ([1.1, 0.9], 0.7)]
+        .iter()
+        .map(|&(a, w)| {
+            let parts = balanced(a, w).into_parts();
+            let scale =
+                |m: &Mat<f64>, k: f64| Mat::from_fn(m.nrows(), m.ncols(), |i, j| m[(i, j)] * k);
+            Record::new(RecordParts {
+                displacements: scale(&parts.displacements, 1e-170),
+                velocities: parts.velocities.as_ref().map(|v| scale(v, 1e-170)),
+                forcing: Forcing::generalized(scale(&parts.forcing.signals, 1e170)),
+                ..parts
+            })
+            .unwrap()
+        })
+        .collect();
+    let err = identify(&per_dof_linear(), &records, &exact()).unwrap_err();
+    assert!(
+        matches!(&err, Error::NoInformation { coefficients, .. } if coefficients == "c[1] and c[2]"),
+        "{err:?}"
+    );
 }
 
 // ---------------------------------------------------------------------------------
@@ -251,7 +475,51 @@ fn all_zero_regressor_column_is_flagged_and_the_others_are_right() {
     no_nan(&report);
     assert_eq!(rank_deficient(&report), Some((3, 4)), "{report}");
     assert_eq!(report.coefficient("zero"), Some(0.0));
+    // Not determined, never "determined".
+    assert_not_determined(&report, "zero");
     for (name, truth) in [("c[1]", 0.3), ("c[2]", 0.2), ("d", 0.1)] {
+        let value = report.coefficient(name).unwrap();
+        assert!((value - truth).abs() < 1e-9, "{name} = {value}: {report}");
+    }
+}
+
+/// The column of `name` is not determined: the report says so by name, and does not
+/// say that every coefficient is determined.
+#[track_caller]
+fn assert_not_determined(report: &FitReport, name: &str) {
+    let estimate = report.coefficients.iter().find(|c| c.name == name).unwrap();
+    assert!(!estimate.determined, "{report}");
+    assert!(!report.identifiability.is_identifiable(name), "{report}");
+    assert!(!report.identifiability.separable(), "{report}");
+    let text = report.to_string();
+    assert!(
+        text.contains(&format!("{name} is not determined")),
+        "{text}"
+    );
+    assert!(!text.contains("every coefficient is determined"), "{text}");
+}
+
+/// An element weight of zero for one dashpot of two (per-element coefficients): that
+/// element's column is zero among nonzero ones. With forces that balance c = (0.3, 0)
+/// and d = 0.1, c[2] is not determined (never "determined"), and c[1] and d are still
+/// right.
+#[test]
+fn zero_element_weight_is_not_determined() {
+    let records: Vec<Record> = [([1.0, 0.5], 1.0), ([0.4, 1.2], 1.3), ([1.1, 0.9], 0.7)]
+        .iter()
+        .map(|&(a, w)| balanced_with([0.3, 0.0], a, w))
+        .collect();
+    let model = with_quadratic(DampingModel::new().with(Term::weighted(
+        Linear,
+        Element::each_dof(2),
+        vec![1.0, 0.0],
+        Coefficients::PerElement("c".into()),
+    )));
+    let report = identify(&model, &records, &exact()).unwrap();
+    no_nan(&report);
+    assert_eq!(rank_deficient(&report), Some((2, 3)), "{report}");
+    assert_not_determined(&report, "c[2]");
+    for (name, truth) in [("c[1]", 0.3), ("d", 0.1)] {
         let value = report.coefficient(name).unwrap();
         assert!((value - truth).abs() < 1e-9, "{name} = {value}: {report}");
     }

@@ -118,6 +118,52 @@ fn the_precision_floor_applies_when_the_residual_is_tiny() {
 /// The report never presents the least-squares numbers of unseparated coefficients as
 /// estimates: `determined: false`, "not determined" in the table, a warning in words.
 /// Under constraints the warning says the constraints place the solution.
+/// A zero regressor: every σ_i of A_s is 0, so the relative threshold tol·σ_1 is 0 and
+/// every σ_i ≥ 0 used to count as determined ("practical rank 0 of 2", then "every
+/// coefficient is determined"). The absolute floor κ·ε = 3e-6 keeps τ positive, each
+/// coefficient is a null direction of its own, and the fit refuses the regressor.
+#[test]
+fn a_zero_regressor_determines_nothing() {
+    let r = from_rows(&[&[0.0, 0.0], &[0.0, 0.0], &[0.0, 0.0]], &[1.0, 2.0, 3.0]);
+    let id = analyse(&r, 1e-10);
+    assert_eq!(id.practical_rank, 0);
+    assert!((id.threshold - 3e-6).abs() < 1e-18, "{}", id.threshold);
+    assert!(!id.separable());
+    assert_eq!(id.unidentifiable, ["t0", "t1"]);
+    let texts: Vec<&str> = id.null_directions.iter().map(|d| d.text.as_str()).collect();
+    assert_eq!(
+        texts,
+        [
+            "t0 is not determined: changing it leaves the fit unchanged",
+            "t1 is not determined: changing it leaves the fit unchanged"
+        ]
+    );
+    assert!(!id.to_string().contains("every coefficient is determined"));
+    assert!(matches!(
+        dampid::identify::identify_regressor(&r, &fit::FitSettings::default()),
+        Err(Error::NoInformation { ref coefficients, .. }) if coefficients == "t0 and t1"
+    ));
+}
+
+/// A zero column beside a nonzero one: A_s = [u, 0] has σ = (1, 0) and v_2 = e_2, so t1
+/// is a null direction of its own (σ_2 = 0 is below τ = κ·ε, and never counts as
+/// determined) while t0 = 2 is determined.
+#[test]
+fn a_zero_column_beside_a_nonzero_one_is_not_determined() {
+    let r = from_rows(&[&[1.0, 0.0], &[2.0, 0.0], &[3.0, 0.0]], &[2.0, 4.0, 6.0]);
+    let id = analyse(&r, 1e-10);
+    assert_eq!(id.practical_rank, 1);
+    assert_eq!(id.unidentifiable, ["t1"]);
+    assert_eq!(
+        id.null_directions[0].text,
+        "t1 is not determined: changing it leaves the fit unchanged"
+    );
+    let report = dampid::identify::identify_regressor(&r, &fit::FitSettings::default()).unwrap();
+    assert!(!report.coefficients[1].determined, "{report}");
+    assert!(report.coefficients[0].determined, "{report}");
+    assert!((report.coefficient("t0").unwrap() - 2.0).abs() < 1e-12);
+}
+
 #[test]
 fn the_report_says_the_values_are_not_estimates() {
     let r = from_rows(

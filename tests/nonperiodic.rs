@@ -557,3 +557,95 @@ fn html_report_of_a_non_periodic_fit() {
     assert!(page.matches("<svg").count() >= 3);
     std::fs::remove_dir_all(folder).ok();
 }
+
+/// A free decay of m ẍ + c ẋ + k x = 0 (m = 1, k = 4, ζ = 0.05, so c = 2ζ√(km) = 0.2):
+/// x = e^{−ζω t} cos ω_d t and its exact velocity, 10 s at h = 1 ms, with a force
+/// channel that reads zero.
+fn free_decay() -> Record {
+    let (omega, zeta, h, n): (f64, f64, f64, usize) = (2.0, 0.05, 1e-3, 10_001);
+    let omega_d = omega * (1.0 - zeta * zeta).sqrt();
+    let t = |i: usize| i as f64 * h;
+    let x = |t: f64| (-zeta * omega * t).exp() * (omega_d * t).cos();
+    let v = |t: f64| {
+        (-zeta * omega * t).exp()
+            * (-zeta * omega * (omega_d * t).cos() - omega_d * (omega_d * t).sin())
+    };
+    Record::new(RecordParts {
+        label: "free decay".into(),
+        step: h,
+        start_time: 0.0,
+        displacements: Mat::from_fn(n, 1, |i, _| x(t(i))),
+        velocities: Some(Mat::from_fn(n, 1, |i, _| v(t(i)))),
+        forcing: Forcing::on_dofs(Mat::zeros(n, 1), vec![0]),
+        period: 1.0,
+    })
+    .unwrap()
+}
+
+/// The drive record with its motor force zeroed (an unplugged load cell), or with no
+/// force channel at all: with an unknown mass and offset nothing enters the right-hand
+/// side, so every equation reads "damping work + Δ(½ m v²) + f Δx = 0", solved by
+/// θ = 0. It used to be a fit with status Solved; it is `NoInputWork` naming the record
+/// and the channel. The same holds for a free decay whose stored energy is unknown,
+/// but with m and k known the energy it loses, −Δ(½ m v² + ½ k x²) = c ∫ v² dt, is the
+/// right-hand side and c = 0.2 comes out.
+#[test]
+fn dead_force_sensor_is_no_input_work_unless_stored_energy_is_known() {
+    let drive = closed_loop_drive(&DriveSettings::default()).unwrap();
+    let samples = drive.samples();
+    for (signals, dofs, channels) in [
+        (
+            Mat::zeros(samples, 1),
+            vec![0],
+            "force channel 1 (on DOF 1)",
+        ),
+        (Mat::zeros(samples, 0), vec![], "no force channel"),
+    ] {
+        let dead = Record::new(RecordParts {
+            forcing: Forcing::on_dofs(signals, dofs),
+            ..drive.parts().clone()
+        })
+        .unwrap();
+        let err = build(&drive_model(), &[dead], &drive_balance()).unwrap_err();
+        match &err {
+            Error::NoInputWork {
+                record,
+                window,
+                channels: named,
+                reason,
+            } => {
+                assert_eq!(record, drive.label());
+                assert_eq!(*window, None);
+                assert_eq!(named, channels);
+                assert!(reason.contains("no known stored energy"), "{err}");
+            }
+            other => panic!("expected NoInputWork, got {other:?}"),
+        }
+    }
+    let model =
+        DampingModel::new().with(Term::per_dof(Linear, 1, Coefficients::Shared("c".into())));
+    let measured = |storage| RegressorSettings {
+        velocity: VelocitySource::Measured,
+        ..spans(1.0, storage)
+    };
+    let decay = free_decay();
+    assert!(matches!(
+        build(
+            &model,
+            std::slice::from_ref(&decay),
+            &measured(StorageModel::default())
+        ),
+        Err(Error::NoInputWork { .. })
+    ));
+    let known = StorageModel {
+        kinetic: Kinetic::Known(Mat::identity(1, 1)),
+        potential: Potential::Known(Mat::from_fn(1, 1, |_, _| 4.0)),
+        offsets: vec![],
+    };
+    let report = fit(
+        &build(&model, &[decay], &measured(known)).unwrap(),
+        &FitSettings::default(),
+    );
+    let error = relative_error(&report, "c", 0.2);
+    assert!(error < 1e-5, "error {error:.2e}\n{report}");
+}

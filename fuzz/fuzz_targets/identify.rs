@@ -5,8 +5,11 @@
 //! arbitrary parameters and one of `EXPRESSIONS`), arbitrary settings and
 //! constraints, then `identify`, or in the non-periodic mode (arbitrary window, skip,
 //! rule, velocity, work form, kinetic and potential energy models and offsets)
-//! `nonperiodic::build` and the fit. Any `Err` is fine; a panic is a bug, and so is a
-//! fit that claims success with a non-finite coefficient.
+//! `nonperiodic::build` and the fit. Any `Err` is fine (a force that reads zero, as
+//! `Fill::Constant` and empty `Fill::Raw` often give, is `NoInputWork`, and a model
+//! whose columns all vanish is `NoInformation`); a panic is a bug, and so is a fit that
+//! claims success with a non-finite coefficient or calls coefficients determined below
+//! a positive threshold (`support::check`).
 //!
 //! Sizes are capped (4 DOFs, 400 samples, 4 terms) to keep executions fast; the cap is
 //! the harness's, not the library's.

@@ -9,7 +9,7 @@ use std::fmt;
 use serde::Serialize;
 
 use crate::analysis::diagnostics::{Correlation, diagnose};
-use crate::analysis::identifiability::Identifiability;
+use crate::analysis::identifiability::{Identifiability, require_information};
 use crate::error::Result;
 use crate::fit::least_squares;
 use crate::regressor::Regressor;
@@ -35,8 +35,10 @@ pub struct RegressorCheck {
 }
 
 impl RegressorCheck {
-    /// Checks `regressor` with numerical rank tolerance `rank_tolerance`.
+    /// Checks `regressor` with numerical rank tolerance `rank_tolerance`; a regressor
+    /// whose every column is zero is [`crate::Error::NoInformation`].
     pub fn new(regressor: &Regressor, rank_tolerance: f64) -> Result<Self> {
+        require_information(regressor)?;
         let fit = least_squares(regressor, rank_tolerance)?;
         let diagnostics = diagnose(regressor, &fit, rank_tolerance);
         Ok(RegressorCheck {

@@ -12,7 +12,7 @@
 //!   α_i = u_iᵀ b_s/σ_i with standard error s/σ_i. σ_i is *practically zero* when
 //!
 //!   ```text
-//!     σ_i < τ = max(tol·σ_1, κ·max(s, ε·σ_1)),   κ = 3, ε = 1e-6,
+//!     σ_i < τ = max(tol·σ_1, κ·max(s, ε·σ_1), κ·ε)   or σ_i = 0,   κ = 3, ε = 1e-6,
 //!   ```
 //!
 //!   i.e. when the equation noise leaves that component uncertain by more than a third of
@@ -20,7 +20,12 @@
 //!   the scaled equations even when the residual is smaller: noise-free simulations
 //!   still carry quadrature and velocity errors, which enter A and b consistently and so
 //!   hide from the residual (a first-resonance record of a linear chain gives σ_2/σ_1
-//!   between 1e-12 and 1e-7 depending on the rule, with s smaller still).
+//!   between 1e-12 and 1e-7 depending on the rule, with s smaller still). The absolute
+//!   floor κ·ε is the relative one at σ_1 = 1: a nonzero column has unit norm after
+//!   scaling, so σ_1 ≥ 1 whenever any column is nonzero and the absolute floor changes
+//!   nothing then; when every column is zero (σ_1 = 0) it keeps τ above zero, so that
+//!   no coefficient is called determined by a zero regressor. Such a regressor is
+//!   refused before any fit by [`require_information`] ([`Error::NoInformation`]).
 //! - **Near-null directions.** For each practically zero σ_i, the coefficient change
 //!   Δθ_j ∝ v_ji/S_j leaves the fit (nearly) unchanged. It is normalised so that its
 //!   largest component is 1, components below 5% of it are dropped, and it is written
@@ -163,9 +168,10 @@ pub struct Identifiability {
 }
 
 impl Identifiability {
-    /// True when every coefficient is practically identifiable.
+    /// True when every coefficient is practically identifiable: no near-null
+    /// direction, and every singular value above the threshold.
     pub fn separable(&self) -> bool {
-        self.null_directions.is_empty()
+        self.null_directions.is_empty() && self.practical_rank == self.names.len()
     }
 
     /// True when coefficient `name` is practically identifiable.
@@ -194,21 +200,58 @@ pub fn analyse_with(
     let names = regressor.columns().to_vec();
     match ScaledSvd::new(regressor.matrix(), regressor.rhs(), rank_tolerance) {
         Ok(svd) => analyse_factored(names, &svd, rank_tolerance, settings),
-        Err(_) => unidentifiable(names),
+        Err(_) => unidentifiable(names, settings),
     }
 }
 
+/// [`Error::NoInformation`] when every column of `regressor` is zero. Column scaling
+/// keeps a zero column zero and gives any other unit norm, so this is exactly a zero
+/// column-scaled regressor (σ_1 = 0): no coefficient changes the fit, and the least-
+/// squares "solution" θ = 0 would be no estimate at all. Entries that underflowed to
+/// zero while the regressor was built count as zero.
+pub fn require_information(regressor: &Regressor) -> Result<()> {
+    let a = regressor.matrix();
+    let zero = (0..a.ncols()).all(|j| (0..a.nrows()).all(|i| a[(i, j)] == 0.0));
+    if !zero || a.ncols() == 0 {
+        return Ok(());
+    }
+    let names: Vec<&str> = regressor.columns().iter().map(String::as_str).collect();
+    Err(Error::NoInformation {
+        coefficients: list(&names),
+        reason: format!(
+            "every column of the regressor ({} equations) is zero: the terms do no work on \
+             this motion (the DOFs they act on do not move, their weights or matrices are \
+             zero, or the work underflows in floating point); record motion where the terms \
+             act, or check their weights and matrices",
+            regressor.equations()
+        ),
+    })
+}
+
 /// Nothing determined: the analysis of a regressor that cannot be factored or has no
-/// nonzero singular value.
-fn unidentifiable(names: Vec<String>) -> Identifiability {
+/// nonzero singular value. Each coefficient is a null direction of its own, and the
+/// threshold is the absolute floor κ·ε.
+fn unidentifiable(names: Vec<String>, settings: &IdentifiabilitySettings) -> Identifiability {
+    let null_directions = names
+        .iter()
+        .map(|name| {
+            let (direction, _) = combination(std::slice::from_ref(name), &[1.0], 0.0);
+            let text = trade_off_text(&direction);
+            NullDirection {
+                singular_value: 0.0,
+                direction,
+                text,
+            }
+        })
+        .collect();
     Identifiability {
         variance_inflation: vec![None; names.len()],
         unidentifiable: names.clone(),
         names,
         noise_level: None,
-        threshold: 0.0,
+        threshold: settings.noise_factor * settings.precision,
         practical_rank: 0,
-        null_directions: Vec::new(),
+        null_directions,
         determined: Vec::new(),
     }
 }
@@ -229,7 +272,7 @@ pub(crate) fn analyse_factored(
     let rows = u.nrows();
     let sigma1 = sigma.first().copied().unwrap_or(0.0);
     if p == 0 || sigma1 <= 0.0 {
-        return unidentifiable(names);
+        return unidentifiable(names, settings);
     }
     let rank = sigma
         .iter()
@@ -245,9 +288,11 @@ pub(crate) fn analyse_factored(
         (residual2 / (m - rank) as f64).sqrt()
     });
     let floor = settings.precision * sigma1;
+    let absolute = settings.noise_factor * settings.precision;
     let threshold = (rank_tolerance * sigma1)
-        .max(settings.noise_factor * noise_level.unwrap_or(0.0).max(floor));
-    let practical: Vec<bool> = sigma.iter().map(|s| *s >= threshold).collect();
+        .max(settings.noise_factor * noise_level.unwrap_or(0.0).max(floor))
+        .max(absolute);
+    let practical: Vec<bool> = sigma.iter().map(|s| *s >= threshold && *s > 0.0).collect();
     let practical_rank = practical.iter().filter(|k| **k).count();
 
     let variance_inflation = (0..p)

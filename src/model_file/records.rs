@@ -192,6 +192,7 @@ pub(super) fn read_record(
         velocities,
         forcing: Forcing::on_dofs(signals, dofs),
         period,
-    })?;
+    })?
+    .with_channel_names(force_names)?;
     Ok((record, detected))
 }

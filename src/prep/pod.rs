@@ -329,7 +329,8 @@ impl Pod {
             velocities,
             forcing: parts.forcing.clone(),
             period: parts.period,
-        })
+        })?
+        .with_channel_names(record.channel_names().to_vec())
     }
 
     /// A serializable summary: values, shares, cumulative shares and shapes.

@@ -17,8 +17,12 @@
 //!
 //! With [`WorkForm::DerivativeFree`] the input work is ∫ rᵀ dx and (on raw samples)
 //! Coulomb columns are total variations of x ([`derivative_free`]).
+//!
+//! Every build ends by checking that the input work is there ([`input_work`]): a record
+//! whose force does no work (a dead sensor) is an error, not a row of zeros.
 
 pub mod derivative_free;
+pub mod input_work;
 mod kernel;
 pub mod nonperiodic;
 mod periodic;
@@ -106,14 +110,16 @@ impl Regressor {
         let spec = match &settings.windows {
             Windows::Spans(spans) => {
                 settings.validate()?;
-                return nonperiodic::build(
+                let regressor = nonperiodic::build(
                     model,
                     records,
                     spans,
                     settings.quadrature,
                     settings.velocity,
                     settings.work_form,
-                );
+                )?;
+                input_work::require_span_work(records, &regressor)?;
+                return Ok(regressor);
             }
             Windows::Cycles(spec) => spec,
         };
@@ -131,6 +137,7 @@ impl Regressor {
         for (index, record) in records.iter().enumerate() {
             windows.extend(spec.windows(record, index, settings.quadrature)?);
         }
+        input_work::require_force(records)?;
         if settings.noise_robust()? {
             let harmonics = match settings.velocity {
                 VelocitySource::HarmonicProjection { harmonics } => harmonics,
@@ -146,10 +153,13 @@ impl Regressor {
             )?;
             let mut regressor = Self::assemble(records, &windows, rows, columns)?;
             regressor.noise = Some(noise);
+            input_work::require_periodic_work(records, &windows, &regressor)?;
             return Ok(regressor);
         }
         let rows = periodic::rows(model, records, &windows, spec, settings, columns.len())?;
-        Self::assemble(records, &windows, rows, columns)
+        let regressor = Self::assemble(records, &windows, rows, columns)?;
+        input_work::require_periodic_work(records, &windows, &regressor)?;
+        Ok(regressor)
     }
 
     /// The regressor of one row per window: the frame every row builder shares.

@@ -30,6 +30,8 @@
 //! | `Data` | `io::csv::parse`, `io::mat::read_mat` | data_files |
 //! | `NoPeriod` | `prep::period::detect_period` | prep |
 //! | `NotSteady` | `prep::steady_state` (`enforce`) | prep |
+//! | `NoInputWork` | `Regressor::build` (`regressor::input_work`): a record whose force channels read zero or are absent, a window whose net work is nothing beside its gross work | variants, regressor, degenerate (tests/), nonperiodic (tests/), cli (tests/) |
+//! | `NoInformation` | `identify_regressor` and `RegressorCheck::new` (`analysis::identifiability::require_information`): every column of the regressor zero | variants, regressor, degenerate (tests/), cli (tests/) |
 
 mod data_files;
 mod fit;

@@ -1,7 +1,9 @@
 //! The regressor: no records is `Empty`; a column that is not finite, from a law
 //! returning NaN or from integrals that overflow, is `NonFinite` named after its
 //! coefficient (never a report with NaN coefficients); and `Regressor::from_parts`
-//! checks sizes (`DimensionMismatch`) and values (`NonFinite`).
+//! checks sizes (`DimensionMismatch`) and values (`NonFinite`). A record whose force
+//! does no work is `NoInputWork`; a regressor whose every column is zero is
+//! `NoInformation`, also when built by hand.
 
 use dampid::prelude::*;
 use faer::Mat;
@@ -92,4 +94,45 @@ fn regressor_parts_are_checked() {
         Err(Error::NonFinite { ref what, row: 1, column: 1, value })
             if what == "regressor column 'b'" && value == f64::NEG_INFINITY
     ));
+}
+
+/// The fixture with its generalized forces zeroed: b = ∫ vᵀr dt = 0 in every window, so
+/// the fit would give c = 0 "determined". `NoInputWork` names the record and both
+/// channels, numbered from 1 with their DOFs, and what to check.
+#[test]
+fn zero_force_is_no_input_work() {
+    let dead = record_with(|p| p.forcing = Forcing::generalized(Mat::zeros(N, 2))).unwrap();
+    let err = identify(&shared_model(), &[dead], &measured()).unwrap_err();
+    assert!(
+        matches!(&err, Error::NoInputWork { record, window: None, channels, .. }
+            if record == "fixture" && channels == "force channels 1 (on DOF 1) and 2 (on DOF 2)"),
+        "{err:?}"
+    );
+    assert_eq!(
+        err.to_string(),
+        "record 'fixture', force channels 1 (on DOF 1) and 2 (on DOF 2): no input work: every \
+         sample reads zero (an unplugged or dead load cell); check the force sensor and its \
+         column in the model file"
+    );
+}
+
+/// A regressor of zeros, built by hand (A = 0, b ≠ 0) and fitted at the middle level:
+/// σ_1 of the column-scaled regressor is 0, so the identifiability threshold was 0 and
+/// both coefficients were "determined". `NoInformation` names them.
+#[test]
+fn zero_regressor_is_no_information() {
+    let names = vec!["a".to_string(), "b".to_string()];
+    let regressor =
+        Regressor::from_parts(Mat::zeros(3, 2), vec![1.0, 2.0, 3.0], names, row_labels(3)).unwrap();
+    let err =
+        dampid::identify::identify_regressor(&regressor, &FitSettings::default()).unwrap_err();
+    assert!(
+        matches!(&err, Error::NoInformation { coefficients, .. } if coefficients == "a and b"),
+        "{err:?}"
+    );
+    assert!(
+        err.to_string()
+            .starts_with("these data carry no information on a and b: every column"),
+        "{err}"
+    );
 }

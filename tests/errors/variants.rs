@@ -54,6 +54,14 @@ fn every_variant_is_reachable() {
         },
         dampid::terms::laws::by_name("power", &dampid::terms::laws::LawParameters::new())
             .unwrap_err(),
+        {
+            let dead = record_with(|p| p.forcing = Forcing::generalized(Mat::zeros(N, 2)));
+            identify(&shared_model(), &[dead.unwrap()], &measured()).unwrap_err()
+        },
+        {
+            let zero = DampingModel::new().with(Term::viscous("zero", Mat::zeros(2, 2)));
+            identify(&zero, &[record()], &measured()).unwrap_err()
+        },
     ];
     let mut seen: Vec<&str> = errors.iter().map(Error::kind).collect();
     seen.sort_unstable();

@@ -36,7 +36,9 @@ impl Harmonic {
         }
     }
 
-    /// Two DOFs over one period, a unit force on DOF 0 in phase with the motion.
+    /// Two DOFs over one period, a unit force on DOF 0 in phase with its velocity, so
+    /// that it does work (π X_0 F); one in phase with the displacement would do none,
+    /// and the regressor refuses a record whose force does no work.
     pub fn two_dofs(amplitudes: [f64; 2], phases: [f64; 2], omega: f64, per_period: f64) -> Self {
         Harmonic {
             amplitudes: amplitudes.to_vec(),
@@ -45,7 +47,7 @@ impl Harmonic {
             per_period,
             periods: 1.0,
             force: 1.0,
-            force_phase: 0.0,
+            force_phase: phases[0] + std::f64::consts::FRAC_PI_2,
             force_dof: 0,
         }
     }
