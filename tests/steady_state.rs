@@ -297,3 +297,103 @@ fn short_windows_up_to_the_end_of_a_short_record() {
     );
     assert!(report.windows.len() > 20);
 }
+
+// ---------------------------------------------------------------------------------
+// Noise (issue 16, item 2): steady records with measurement noise pass; transients
+// are still rejected. Every record is simulated; noise is drawn with fixed seeds.
+// ---------------------------------------------------------------------------------
+
+use dampid::prelude::*;
+use dampid::prep::steady_state::{SteadyStateReport, SteadyStateSettings, StoredEnergy, check};
+use dampid::reference::{four_mass_records_with, with_displacement_noise};
+use dampid::simulate::{HarmonicForce, SimSettings, System, chain_stiffness, simulate};
+use rand::SeedableRng;
+use rand::rngs::StdRng;
+use rand_distr::{Distribution, Normal};
+
+/// `records` with Gaussian noise of `x_level` × the RMS displacement on every
+/// displacement (velocities dropped) and `f_level` × the RMS force on every force
+/// channel, per record.
+fn noisy(records: &[Record], x_level: f64, f_level: f64, seed: u64) -> Vec<Record> {
+    let records = with_displacement_noise(records, x_level, seed).unwrap();
+    let mut rng = StdRng::seed_from_u64(seed ^ 0x5eed);
+    records
+        .iter()
+        .map(|r| {
+            let mut parts = r.parts().clone();
+            let s = &mut parts.forcing.signals;
+            let (rows, cols) = s.shape();
+            for c in 0..cols {
+                let rms = ((0..rows).map(|i| s[(i, c)].powi(2)).sum::<f64>() / rows as f64).sqrt();
+                let normal = Normal::new(0.0, f_level * rms).unwrap();
+                for i in 0..rows {
+                    s[(i, c)] += normal.sample(&mut rng);
+                }
+            }
+            Record::new(parts).unwrap()
+        })
+        .collect()
+}
+
+/// The four-mass chain (M = I, K = chain) over `cycles` recorded periods after
+/// `transient` steps.
+fn four_mass(transient: usize, cycles: usize) -> Vec<Record> {
+    let period = 2.0 * PI / 0.618;
+    let settings = SimSettings {
+        transient_steps: transient,
+        recorded_steps: (cycles as f64 * period / 0.1).ceil() as usize + 4,
+        ..SimSettings::default()
+    };
+    four_mass_records_with(false, &settings).unwrap()
+}
+
+fn chain_energy(n: usize) -> StoredEnergy {
+    StoredEnergy {
+        mass: Mat::identity(n, n),
+        stiffness: chain_stiffness(n),
+        cubic_springs: vec![],
+    }
+}
+
+fn checked(records: &[Record], cycles: usize, energy: Option<&StoredEnergy>) -> SteadyStateReport {
+    check(
+        records,
+        &WindowSpec::cycles(cycles),
+        Quadrature::Trapezoid,
+        energy,
+        &SteadyStateSettings::default(),
+    )
+    .unwrap()
+}
+
+fn flagged(report: &SteadyStateReport) -> usize {
+    report.rejected().count()
+}
+
+#[test]
+fn explore() {
+    let clean = four_mass(1000, 40);
+    let records = noisy(&clean, 0.01, 0.01, 1);
+    let e = chain_energy(4);
+    let with = checked(&records[3..], 4, Some(&e));
+    let without = checked(&records[3..], 4, None);
+    println!("{with}{without}");
+    let transient = four_mass(200, 40);
+    for level in [0.0, 0.01, 0.03] {
+        let records = noisy(&transient, level, level, 7);
+        for cycles in [1usize, 4] {
+            let with = checked(&records, cycles, Some(&e));
+            let without = checked(&records, cycles, None);
+            println!(
+                "transient {level} cycles {cycles}: energy {}/{} state {}/{}",
+                flagged(&with), with.windows.len(), flagged(&without), without.windows.len()
+            );
+            if cycles == 1 {
+                let first: Vec<String> = with.windows.iter().filter(|w| w.window < 3).map(|w| format!("{} {} {}", w.record, w.window, w.reason)).collect();
+                println!("{}", first.join("\n"));
+                let first: Vec<String> = without.windows.iter().filter(|w| w.window < 3).map(|w| format!("{} {} {}", w.record, w.window, w.reason)).collect();
+                println!("{}", first.join("\n"));
+            }
+        }
+    }
+}

@@ -140,6 +140,7 @@ impl Context<'_> {
             max_energy_mismatch: spec.identification.max_energy_mismatch,
             max_state_mismatch: spec.identification.max_state_mismatch,
             accept_transient: spec.identification.accept_transient,
+            ..SteadyStateSettings::default()
         };
         steady_state
             .validate()

@@ -1,0 +1,351 @@
+//! One window judged: which periods are compared, the mismatch of the projected end
+//! states, its noise, and the verdict in numbers and in words (formulas in the module
+//! doc of [`crate::prep::steady_state`]).
+
+use crate::error::{Error, Result};
+use crate::prep::quadrature::Quadrature;
+use crate::prep::velocity::VelocitySource;
+use crate::prep::window::Window;
+use crate::record::{LoadDistribution, Record};
+
+use super::projection::{StateProjection, project_periods, snap};
+use super::{
+    ComparedPeriods, Decisive, MIN_SAMPLES_PER_PERIOD, NON_HARMONIC_MARGIN, SteadyStateSettings,
+    StoredEnergy, WindowCheck,
+};
+
+/// Which periods to compare for `window` of `record`: each (origin in samples,
+/// periods k', what it is), or why none can be.
+fn compared_spans(
+    record: &Record,
+    window: &Window,
+) -> std::result::Result<Vec<(f64, usize, ComparedPeriods)>, String> {
+    let length = record.period() / record.step();
+    if length < MIN_SAMPLES_PER_PERIOD {
+        return Err(format!(
+            "cannot be judged: a period of {length:.2} samples is too short for a harmonic projection"
+        ));
+    }
+    let start = window.start as f64;
+    if window.cycles >= 2 {
+        return Ok(vec![(start, window.cycles, ComparedPeriods::FirstAndLastPeriod)]);
+    }
+    let mut spans = Vec::new();
+    if snap(start + 2.0 * length).ceil() <= record.samples() as f64 {
+        spans.push((start, 2, ComparedPeriods::NextPeriod));
+    }
+    if snap(start - length) >= 0.0 {
+        spans.push((start - length, 2, ComparedPeriods::PreviousPeriod));
+    }
+    if spans.is_empty() {
+        return Err("cannot be judged from one period: the record holds no other whole period to compare with".into());
+    }
+    Ok(spans)
+}
+
+/// A window that cannot be judged: accepted, with the reason.
+fn unjudged(mut check: WindowCheck, reason: String) -> WindowCheck {
+    check.compared = ComparedPeriods::NotJudged;
+    check.reason = reason;
+    check
+}
+
+/// The check of `window` of `record`.
+pub(super) fn check_window(
+    record: &Record,
+    window: &Window,
+    quadrature: Quadrature,
+    energy: Option<&StoredEnergy>,
+    settings: &SteadyStateSettings,
+) -> Result<WindowCheck> {
+    let h = record.step();
+    let input_work = input_work(record, window, quadrature)?;
+    let check = WindowCheck {
+        record: record.label().to_string(),
+        record_index: window.record,
+        window: window.index,
+        start_time: record.start_time() + window.start as f64 * h,
+        compared: ComparedPeriods::NotJudged,
+        harmonics: Vec::new(),
+        displacement_mismatch: 0.0,
+        velocity_mismatch: 0.0,
+        non_harmonic: 0.0,
+        input_work,
+        energy_change: None,
+        energy_mismatch: None,
+        decisive: None,
+        steady: true,
+        reason: String::new(),
+    };
+    let spans = match compared_spans(record, window) {
+        Ok(spans) => spans,
+        Err(reason) => return Ok(unjudged(check, reason)),
+    };
+    // A period is steady when it matches one of its neighbours: the better comparison
+    // decides.
+    let mut best: Option<WindowCheck> = None;
+    for (origin, periods, compared) in spans {
+        let projection = match project_periods(record, origin, periods, &[0, periods - 1]) {
+            Ok(p) => p,
+            Err(e @ Error::InvalidParameter { .. }) => {
+                return Ok(unjudged(check, format!("cannot be judged: {e}")));
+            }
+            Err(e) => return Err(e),
+        };
+        let judged = judge(
+            check.clone(),
+            &projection,
+            origin,
+            periods,
+            window.cycles,
+            compared,
+            energy,
+            settings,
+        );
+        if best.as_ref().is_none_or(|b| excess(&judged, settings) < excess(b, settings)) {
+            best = Some(judged);
+        }
+    }
+    Ok(best.expect("at least one span"))
+}
+
+/// How far a judged window is beyond its thresholds (≤ 1: steady).
+pub(super) fn excess(w: &WindowCheck, settings: &SteadyStateSettings) -> f64 {
+    w.decisive
+        .as_ref()
+        .map_or(0.0, |c| c.mismatch / c.threshold)
+        .max(w.non_harmonic / settings.max_state_mismatch)
+}
+
+/// The states x̂, v̂ of every channel of period `index` at the sample position `at`, and
+/// the row b(t) they were evaluated with.
+fn state(p: &StateProjection, index: usize, at: f64) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let period = &p.periods[index];
+    let row = p.row_at_sample(period.first, at);
+    let dot = |c: &[f64]| row.iter().zip(c).map(|(a, b)| a * b).sum::<f64>();
+    let x = period.channels.iter().map(|c| dot(&c.displacement)).collect();
+    let v = period.channels.iter().map(|c| dot(&c.velocity)).collect();
+    (x, v, row)
+}
+
+/// Half the range of x̂ (and of v̂) over the samples of both projected periods, the
+/// largest over the channels.
+fn amplitudes(p: &StateProjection) -> (f64, f64) {
+    let (mut ax, mut av) = (0.0f64, 0.0f64);
+    for period in &p.periods {
+        let rows: Vec<Vec<f64>> = (0..period.samples)
+            .map(|i| p.row(i as f64 * p.step))
+            .collect();
+        for c in &period.channels {
+            let range = |coefficients: &[f64]| {
+                let (lo, hi) = rows.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), r| {
+                    let y: f64 = r.iter().zip(coefficients).map(|(a, b)| a * b).sum();
+                    (lo.min(y), hi.max(y))
+                });
+                0.5 * (hi - lo)
+            };
+            ax = ax.max(range(&c.displacement));
+            av = av.max(range(&c.velocity));
+        }
+    }
+    (ax, av)
+}
+
+/// Formats a noise-relative mismatch.
+pub(super) fn sigmas_text(sigmas: f64) -> String {
+    if sigmas.is_finite() && sigmas < 1e4 {
+        format!("{sigmas:.1} σ of the noise")
+    } else {
+        "far beyond the noise (the records carry no measurable noise)".into()
+    }
+}
+
+/// |a| / s, ∞ for s = 0 and a ≠ 0.
+fn ratio(a: f64, s: f64) -> f64 {
+    if a == 0.0 {
+        0.0
+    } else if s == 0.0 {
+        f64::INFINITY
+    } else {
+        a.abs() / s
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn judge(
+    mut check: WindowCheck,
+    p: &StateProjection,
+    origin: f64,
+    periods: usize,
+    cycles: usize,
+    compared: ComparedPeriods,
+    energy: Option<&StoredEnergy>,
+    settings: &SteadyStateSettings,
+) -> WindowCheck {
+    let z = settings.noise_sigmas;
+    let length = 2.0 * std::f64::consts::PI / (p.omega * p.step);
+    // the start of the first period and the end of the last, scaled to the window
+    let scale = cycles as f64 / (periods - 1) as f64;
+    let (x_a, v_a, row_a) = state(p, 0, origin);
+    let (x_b, v_b, row_b) = state(p, 1, origin + periods as f64 * length);
+    let (amp_x, amp_v) = amplitudes(p);
+    let zero = vec![0.0; row_a.len()];
+    let scaled = |g: &[f64], s: f64| g.iter().map(|a| a * s).collect::<Vec<f64>>();
+    // per channel: (quantity, DOF, δ, sd, amplitude)
+    let mut components = Vec::new();
+    for j in 0..x_a.len() {
+        let (a, b) = (&p.periods[0].channels[j], &p.periods[1].channels[j]);
+        let sd_x = scale * (a.variance(&row_a, &zero) + b.variance(&row_b, &zero)).sqrt();
+        let sd_v = scale * (a.variance(&zero, &row_a) + b.variance(&zero, &row_b)).sqrt();
+        components.push(("displacement", j, scale * (x_b[j] - x_a[j]), sd_x, amp_x));
+        components.push(("velocity", j, scale * (v_b[j] - v_a[j]), sd_v, amp_v));
+    }
+    let relative = |quantity: &str| {
+        components
+            .iter()
+            .filter(|c| c.0 == quantity)
+            .map(|c| ratio(c.2, c.4))
+            .fold(0.0, f64::max)
+    };
+    check.displacement_mismatch = relative("displacement");
+    check.velocity_mismatch = relative("velocity");
+    check.compared = compared;
+    check.harmonics = p.orders.clone();
+    // Non-harmonic content: significant and above the state tolerance.
+    let significant = 1.0 + z * (2.0 / p.residual_dof as f64).sqrt() + NON_HARMONIC_MARGIN;
+    let (mut worst_non_harmonic, mut non_harmonic_dof) = (0.0f64, 0);
+    for (j, (r, ratio_j)) in p.non_harmonic.iter().zip(&p.residual_ratio).enumerate() {
+        let share = ratio(*r, amp_x);
+        if *ratio_j > significant && share > worst_non_harmonic {
+            (worst_non_harmonic, non_harmonic_dof) = (share, j);
+        }
+    }
+    check.non_harmonic = worst_non_harmonic;
+
+    let decisive = if let Some(e) = energy {
+        let change = scale * (e.energy(&x_b, &v_b) - e.energy(&x_a, &v_a));
+        let (gx_a, gv_a) = e.gradient(&x_a, &v_a);
+        let (gx_b, gv_b) = e.gradient(&x_b, &v_b);
+        let variance: f64 = (0..x_a.len())
+            .map(|j| {
+                let (a, b) = (&p.periods[0].channels[j], &p.periods[1].channels[j]);
+                a.variance(&scaled(&row_a, gx_a[j]), &scaled(&row_a, gv_a[j]))
+                    + b.variance(&scaled(&row_b, gx_b[j]), &scaled(&row_b, gv_b[j]))
+            })
+            .sum();
+        let sd = scale * variance.sqrt();
+        let work = check.input_work.abs();
+        let mismatch = ratio(change, work);
+        check.energy_change = Some(change);
+        check.energy_mismatch = Some(mismatch);
+        let sd_relative = if work == 0.0 { f64::INFINITY } else { sd / work };
+        Decisive {
+            measure: "stored-energy mismatch |ΔE|/|W|".into(),
+            mismatch,
+            threshold: settings.max_energy_mismatch.max(z * sd_relative),
+            sigmas: ratio(change, sd),
+            what: "the stored energy at the end".into(),
+            tolerance: settings.max_energy_mismatch,
+            of: "of the input work",
+        }
+    } else {
+        let excess = |c: &(&str, usize, f64, f64, f64)| {
+            ratio(c.2, (settings.max_state_mismatch * c.4).max(z * c.3))
+        };
+        let worst = components
+            .iter()
+            .max_by(|a, b| excess(a).total_cmp(&excess(b)))
+            .expect("at least one DOF");
+        let (quantity, dof, delta, sd, amplitude) = *worst;
+        Decisive {
+            measure: format!("state mismatch ({quantity} of DOF {})", dof + 1),
+            mismatch: ratio(delta, amplitude),
+            threshold: settings.max_state_mismatch.max(ratio(z * sd, amplitude)),
+            sigmas: ratio(delta, sd),
+            what: format!("the {quantity} of DOF {} at the end", dof + 1),
+            tolerance: settings.max_state_mismatch,
+            of: "of its amplitude",
+        }
+    };
+    let state_steady = decisive.mismatch <= decisive.threshold;
+    let harmonic_steady = worst_non_harmonic <= settings.max_state_mismatch;
+    check.steady = state_steady && harmonic_steady;
+    let against = match compared {
+        ComparedPeriods::FirstAndLastPeriod => "the start (first and last period projected)",
+        ComparedPeriods::NextPeriod => "the start (this period and the next projected)",
+        ComparedPeriods::PreviousPeriod => "the start (this period and the previous projected)",
+        ComparedPeriods::NotJudged => "the start",
+    };
+    check.reason = if !state_steady {
+        format!(
+            "not steady: {} differs from {against} by {:.3}% {}, {} (limit {}% or {z} σ): skip more of the transient",
+            decisive.what,
+            100.0 * decisive.mismatch,
+            decisive.of,
+            sigmas_text(decisive.sigmas),
+            100.0 * decisive.tolerance,
+        )
+    } else if !harmonic_steady {
+        format!(
+            "not steady: the displacement of DOF {} holds {:.2}% of the amplitude at frequencies that are not harmonics of the drive, {:.1} times the noise power (limit {}%): a transient, a drift or another excitation",
+            non_harmonic_dof + 1,
+            100.0 * worst_non_harmonic,
+            p.residual_ratio[non_harmonic_dof],
+            100.0 * settings.max_state_mismatch,
+        )
+    } else {
+        format!(
+            "steady: {} matches {against} within {:.3}% {}, {}",
+            decisive.what,
+            100.0 * decisive.mismatch,
+            decisive.of,
+            sigmas_text(decisive.sigmas),
+        )
+    };
+    check.decisive = Some(decisive);
+    check
+}
+
+/// W = Σ_i w_i v_iᵀ r_i with trapezoid weights over [t₀, t₀ + kT]; the window's own
+/// weights when the record ends before the trapezoid's last sample, or the window
+/// closes periodically. Velocities measured, else central differences (wrapped in a
+/// window that closes periodically).
+fn input_work(record: &Record, window: &Window, rule: Quadrature) -> Result<f64> {
+    let (h, period) = (record.step(), record.period());
+    let available = record.samples() - window.start;
+    let trapezoid = Quadrature::Trapezoid.weights(window.span, h, period)?;
+    let weights = if trapezoid.len() <= available && !window.closed {
+        trapezoid
+    } else {
+        window.weights(rule, h, period)?
+    };
+    let count = weights.len().min(available);
+    let source = if record.velocities().is_some() {
+        VelocitySource::Measured
+    } else {
+        VelocitySource::CentralDifference
+    };
+    let velocities = source.velocities_of(record, window, count)?;
+    let v = velocities.as_ref();
+    let forcing = record.forcing();
+    let signals = &forcing.signals;
+    let mut work = 0.0;
+    for (k, w) in weights.iter().enumerate().take(count) {
+        let i = window.start + k;
+        let power: f64 = match &forcing.distribution {
+            LoadDistribution::Dofs(dofs) => dofs
+                .iter()
+                .enumerate()
+                .map(|(c, &dof)| signals[(i, c)] * v[(k, dof)])
+                .sum(),
+            LoadDistribution::Matrix(d) => (0..d.ncols())
+                .map(|c| {
+                    let load: f64 = (0..d.nrows()).map(|j| d[(j, c)] * v[(k, j)]).sum();
+                    signals[(i, c)] * load
+                })
+                .sum(),
+        };
+        work += w * power;
+    }
+    Ok(work)
+}

@@ -1,0 +1,249 @@
+//! The denoised states the steady-state check compares: each channel projected on the
+//! harmonics of ω = 2π/T that stand above the noise floor, separately over single
+//! periods of a compared span.
+//!
+//! Over a span of k' whole periods starting at the (fractional) sample position u₀,
+//! [`project_periods`]
+//!
+//! 1. selects the harmonic orders S and the per-sample noise σ̂_j of every channel j from
+//!    the samples of the whole span ([`crate::prep::fourier`]: out-of-band median,
+//!    harmonics above 3.5 σ̂_A; with k' ≥ 2 the bins between harmonics are available);
+//! 2. projects each requested period [u₀ + pL, u₀ + (p + 1)L), L = T/h, over the samples
+//!    inside it (half open, so neighbouring periods share none), t measured from the
+//!    period's first sample:
+//!
+//!    ```text
+//!      x̂(t) = bᵀ(t) c_x,   b(t) = [1, cos q₁ωt, sin q₁ωt, …],   c_x = (BᵀB)⁻¹ Bᵀ x,
+//!      v̂(t) = bᵀ(t) c_v,   c_v = J c_x,   (c_v)_{cos q} = qω (c_x)_{sin q},
+//!                                          (c_v)_{sin q} = −qω (c_x)_{cos q},
+//!      Cov [c_x; c_v] = σ̂_j² [I; J] (RᵀR)⁻¹ [I; J]ᵀ        (B = QR, white noise);
+//!    ```
+//!
+//! 3. fits the whole span at once on S and measures what no harmonic of ω explains: the
+//!    non-harmonic RMS per channel, r_j = √max(0, RSS_j/(m − p) − σ̂_j²), and its
+//!    significance RSS_j / ((m − p) σ̂_j²) (≈ 1 for white noise alone).
+//!
+//! Every channel is described by displacement and velocity coefficients in one basis
+//! with their joint covariance, so that a channel measured as velocity or acceleration
+//! can be mapped into the same form (per harmonic, x = −a/(qω)², v = a/(iqω)).
+
+use faer::{Mat, MatRef};
+
+use crate::error::{Error, Result};
+use crate::prep::fourier::{HarmonicBasis, select_harmonics};
+use crate::record::Record;
+
+/// One channel over one period: coefficients of x̂ and v̂ in the basis b(t), and their
+/// joint covariance.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChannelProjection {
+    /// c_x: [a₀, a_q, b_q, …] of the displacement (p = 2|S| + 1).
+    pub displacement: Vec<f64>,
+    /// c_v: the velocity's coefficients in the same basis (its a₀ is 0).
+    pub velocity: Vec<f64>,
+    /// Cov [c_x; c_v] (2p × 2p).
+    pub covariance: Mat<f64>,
+}
+
+impl ChannelProjection {
+    /// The variance of g_xᵀ c_x + g_vᵀ c_v.
+    pub fn variance(&self, g_x: &[f64], g_v: &[f64]) -> f64 {
+        let p = g_x.len();
+        let g = |k: usize| if k < p { g_x[k] } else { g_v[k - p] };
+        let mut sum = 0.0;
+        for a in 0..2 * p {
+            let ga = g(a);
+            if ga != 0.0 {
+                for b in 0..2 * p {
+                    sum += ga * self.covariance[(a, b)] * g(b);
+                }
+            }
+        }
+        sum.max(0.0)
+    }
+}
+
+/// The projection of one period of the span.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PeriodProjection {
+    /// First sample fitted (record index).
+    pub first: usize,
+    /// Samples fitted.
+    pub samples: usize,
+    /// One entry per channel (DOF).
+    pub channels: Vec<ChannelProjection>,
+}
+
+/// The projections of a compared span.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StateProjection {
+    /// ω = 2π/T.
+    pub omega: f64,
+    /// Sampling step h.
+    pub step: f64,
+    /// Harmonic orders S kept (ascending, starting with 1).
+    pub orders: Vec<usize>,
+    /// σ̂_j, the noise standard deviation per sample of each channel.
+    pub noise_std: Vec<f64>,
+    /// The requested periods, in the order asked.
+    pub periods: Vec<PeriodProjection>,
+    /// r_j, the non-harmonic RMS of each channel over the whole span.
+    pub non_harmonic: Vec<f64>,
+    /// RSS_j / ((m − p) σ̂_j²) of each channel over the whole span.
+    pub residual_ratio: Vec<f64>,
+    /// m − p, the residual degrees of freedom of the whole-span fit.
+    pub residual_dof: usize,
+}
+
+impl StateProjection {
+    /// b(t) = [1, cos q₁ωt, sin q₁ωt, …].
+    pub fn row(&self, t: f64) -> Vec<f64> {
+        let mut row = Vec::with_capacity(2 * self.orders.len() + 1);
+        row.push(1.0);
+        for &q in &self.orders {
+            let (s, c) = (q as f64 * self.omega * t).sin_cos();
+            row.push(c);
+            row.push(s);
+        }
+        row
+    }
+
+    /// b(t) at the fractional sample position `at` for a period fitted from sample
+    /// `first` (t = (at − first) h, negative before it: the series is periodic).
+    pub fn row_at_sample(&self, first: usize, at: f64) -> Vec<f64> {
+        self.row((at - first as f64) * self.step)
+    }
+}
+
+/// A sample position within round-off of a whole number is that number.
+pub(super) fn snap(position: f64) -> f64 {
+    let whole = position.round();
+    if (position - whole).abs() <= 1e-9 * position.abs().max(1.0) {
+        whole
+    } else {
+        position
+    }
+}
+
+/// The samples of [u, u + length) (half open, positions in samples), clamped to the
+/// record's `available` samples.
+fn samples_in(u: f64, length: f64, available: usize) -> (usize, usize) {
+    let first = snap(u).ceil().max(0.0) as usize;
+    let end = (snap(u + length).ceil().max(0.0) as usize).min(available);
+    (first.min(end), end)
+}
+
+/// Projects the span of `periods` whole periods from the sample position `origin` of
+/// `record` (steps 1–3 of the module doc), and the periods `which` (0-based, each
+/// < `periods`) one by one.
+pub fn project_periods(
+    record: &Record,
+    origin: f64,
+    periods: usize,
+    which: &[usize],
+) -> Result<StateProjection> {
+    let (step, period) = (record.step(), record.period());
+    let length = period / step;
+    let x = record.displacements();
+    let (first, end) = samples_in(origin, periods as f64 * length, record.samples());
+    let whole = x.subrows(first, end - first);
+    let selection = select_harmonics(whole, step, period, periods)?;
+    let omega = 2.0 * std::f64::consts::PI / period;
+    let orders = selection.kept.clone();
+    let sigma = selection.noise_std.clone();
+    // Step 3: the whole span on S.
+    let basis = HarmonicBasis::with_orders(omega, orders.clone(), step, whole.nrows())?;
+    let coefficients = basis.fit(whole);
+    let fitted = basis.design(whole.nrows()) * &coefficients;
+    let p = basis.columns();
+    let dof = whole.nrows().saturating_sub(p).max(1);
+    let mut non_harmonic = Vec::with_capacity(x.ncols());
+    let mut residual_ratio = Vec::with_capacity(x.ncols());
+    for j in 0..x.ncols() {
+        let rss: f64 = (0..whole.nrows())
+            .map(|i| (whole[(i, j)] - fitted[(i, j)]).powi(2))
+            .sum();
+        let mean_square = rss / dof as f64;
+        non_harmonic.push((mean_square - sigma[j] * sigma[j]).max(0.0).sqrt());
+        residual_ratio.push(if mean_square == 0.0 {
+            0.0
+        } else {
+            mean_square / (sigma[j] * sigma[j])
+        });
+    }
+    // Step 2: each requested period.
+    let projections = which
+        .iter()
+        .map(|&k| {
+            let (first, end) = samples_in(origin + k as f64 * length, length, record.samples());
+            project_period(x.subrows(first, end - first), first, omega, &orders, step, &sigma)
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok(StateProjection {
+        omega,
+        step,
+        orders,
+        noise_std: sigma,
+        periods: projections,
+        non_harmonic,
+        residual_ratio,
+        residual_dof: dof,
+    })
+}
+
+/// One period's samples `x` (from record sample `first`) projected on `orders`.
+fn project_period(
+    x: MatRef<'_, f64>,
+    first: usize,
+    omega: f64,
+    orders: &[usize],
+    step: f64,
+    sigma: &[f64],
+) -> Result<PeriodProjection> {
+    let basis = HarmonicBasis::with_orders(omega, orders.to_vec(), step, x.nrows())?;
+    let r = basis.r_factor();
+    let p = basis.columns();
+    // (RᵀR)⁻¹ = R⁻¹ R⁻ᵀ
+    let mut r_inverse = Mat::<f64>::identity(p, p);
+    r.solve_upper_triangular_in_place(r_inverse.as_mut());
+    let gram_inverse = &r_inverse * r_inverse.transpose();
+    if !(0..p).all(|k| gram_inverse[(k, k)].is_finite()) {
+        return Err(Error::Numerical {
+            stage: "steady-state check".into(),
+            detail: format!(
+                "the harmonic projection of the {} samples from sample {first} is singular",
+                x.nrows()
+            ),
+        });
+    }
+    // [I; J]: rows 0..p give c_x, rows p..2p give c_v = J c_x.
+    let mut map = Mat::<f64>::zeros(2 * p, p);
+    for k in 0..p {
+        map[(k, k)] = 1.0;
+    }
+    for (q, &order) in orders.iter().enumerate() {
+        let qw = order as f64 * omega;
+        map[(p + 2 * q + 1, 2 * q + 2)] = qw;
+        map[(p + 2 * q + 2, 2 * q + 1)] = -qw;
+    }
+    let unit = &map * &gram_inverse * map.transpose();
+    let c = basis.fit_with(&r, x);
+    let channels = (0..x.ncols())
+        .map(|j| {
+            let stacked: Vec<f64> = (0..2 * p)
+                .map(|a| (0..p).map(|k| map[(a, k)] * c[(k, j)]).sum())
+                .collect();
+            let variance = sigma[j] * sigma[j];
+            ChannelProjection {
+                displacement: stacked[..p].to_vec(),
+                velocity: stacked[p..].to_vec(),
+                covariance: Mat::from_fn(2 * p, 2 * p, |a, b| variance * unit[(a, b)]),
+            }
+        })
+        .collect();
+    Ok(PeriodProjection {
+        first,
+        samples: x.nrows(),
+        channels,
+    })
+}
