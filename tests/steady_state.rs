@@ -4,7 +4,7 @@
 use std::f64::consts::PI;
 use std::path::Path;
 
-use dampid::Error;
+use dampid::prelude::*;
 use dampid::model_file::{load, parse};
 use dampid::prep::period::detect_period;
 use faer::Mat;
@@ -126,16 +126,21 @@ fn transient_from_rest_is_rejected_and_skipping_it_passes() {
     match report.enforce().unwrap_err() {
         err @ Error::NotSteady { .. } => {
             let text = err.to_string();
-            for needle in ["a=1 ω=1 on DOF 2", "window 0", "t = 0", "exceeds 1.000e-2"] {
+            for needle in ["a=1 ω=1 on DOF 2", "window 0", "t = 0", "exceeds"] {
                 assert!(text.contains(needle), "'{needle}' not in: {text}");
             }
             let Error::NotSteady {
-                mismatch: reported, ..
+                mismatch: reported,
+                threshold,
+                ..
             } = err
             else {
                 unreachable!()
             };
             assert_eq!(reported, mismatch);
+            // The threshold is max(1%, 4 σ of the noise): the transient itself raises
+            // the out-of-band noise estimate, but not to its own size.
+            assert!(threshold >= 0.01 && threshold < mismatch / 4.0, "{threshold}");
         }
         other => panic!("{other:?}"),
     }
@@ -244,7 +249,6 @@ forces = [{ column = "f1", dof = 1 }]
 /// for every rule.
 #[test]
 fn short_windows_up_to_the_end_of_a_short_record() {
-    use dampid::prelude::*;
     let (h, period, samples) = (0.1, 1.05, 40);
     let omega = 2.0 * PI / period;
     let x = Mat::from_fn(samples, 1, |i, _| (omega * i as f64 * h).cos());
@@ -303,7 +307,6 @@ fn short_windows_up_to_the_end_of_a_short_record() {
 // are still rejected. Every record is simulated; noise is drawn with fixed seeds.
 // ---------------------------------------------------------------------------------
 
-use dampid::prelude::*;
 use dampid::prep::steady_state::{SteadyStateReport, SteadyStateSettings, StoredEnergy, check};
 use dampid::reference::{four_mass_records_with, with_displacement_noise};
 use dampid::simulate::{HarmonicForce, SimSettings, System, chain_stiffness, simulate};
@@ -370,29 +373,191 @@ fn flagged(report: &SteadyStateReport) -> usize {
     report.rejected().count()
 }
 
+/// The 3-DOF chain (M = I, K = chain, c = 0.05 on every DOF) driven on DOF 1 at its
+/// first mode, ω = 2 sin(π/8), after 4000 steps (e^{-10} of the transient left),
+/// `cycles` periods recorded.
+fn chain3(cycles: usize) -> Vec<Record> {
+    let omega = 2.0 * (PI / 8.0).sin();
+    let system = System {
+        mass: Mat::identity(3, 3),
+        stiffness: chain_stiffness(3),
+        damping: DampingModel::new().with(Term::per_dof(Linear, 3, Coefficients::Shared("c".into()))),
+        damping_coefficients: vec![0.05],
+        conservative: vec![],
+        forcing: vec![HarmonicForce {
+            dof: 0,
+            amplitude: 1.0,
+            frequency: omega,
+            phase: 0.0,
+        }],
+    };
+    let settings = SimSettings {
+        transient_steps: 4000,
+        recorded_steps: (cycles as f64 * 2.0 * PI / omega / 0.1).ceil() as usize + 4,
+        ..SimSettings::default()
+    };
+    vec![simulate(&system, &settings).unwrap()]
+}
+
+/// Steady responses with 1% displacement noise and 1% force noise: at most 5% of the
+/// windows flagged, for the four-mass chain (40 cycles, windows of 1 and 4 periods,
+/// with and without M and K) and the 3-DOF chain (30 windows of one period; also at
+/// 0.3% and 0.1%, where the old central-difference check flagged 20 and 10 of 30),
+/// over several seeds. Today's check flagged all 36 and 29 of 30.
 #[test]
-fn explore() {
-    let clean = four_mass(1000, 40);
-    let records = noisy(&clean, 0.01, 0.01, 1);
-    let e = chain_energy(4);
-    let with = checked(&records[3..], 4, Some(&e));
-    let without = checked(&records[3..], 4, None);
-    println!("{with}{without}");
-    let transient = four_mass(200, 40);
-    for level in [0.0, 0.01, 0.03] {
-        let records = noisy(&transient, level, level, 7);
+fn one_percent_noise_on_steady_responses_flags_at_most_five_percent() {
+    let four = four_mass(1000, 40);
+    let energy = chain_energy(4);
+    for seed in [1u64, 2, 3] {
+        let records = noisy(&four, 0.01, 0.01, seed);
         for cycles in [1usize, 4] {
-            let with = checked(&records, cycles, Some(&e));
-            let without = checked(&records, cycles, None);
-            println!(
-                "transient {level} cycles {cycles}: energy {}/{} state {}/{}",
-                flagged(&with), with.windows.len(), flagged(&without), without.windows.len()
-            );
-            if cycles == 1 {
-                let first: Vec<String> = with.windows.iter().filter(|w| w.window < 3).map(|w| format!("{} {} {}", w.record, w.window, w.reason)).collect();
-                println!("{}", first.join("\n"));
-                let first: Vec<String> = without.windows.iter().filter(|w| w.window < 3).map(|w| format!("{} {} {}", w.record, w.window, w.reason)).collect();
-                println!("{}", first.join("\n"));
+            for e in [Some(&energy), None] {
+                let report = checked(&records, cycles, e);
+                let share = flagged(&report) as f64 / report.windows.len() as f64;
+                assert!(share <= 0.05, "seed {seed}, cycles {cycles}, {share}:\n{report}");
+                assert!(report.windows.len() >= 40);
+            }
+        }
+    }
+    let three = chain3(31);
+    let energy = chain_energy(3);
+    for level in [0.01, 0.003, 0.001] {
+        for seed in [11u64, 12, 13, 14] {
+            let records = noisy(&three, level, level, seed);
+            for e in [Some(&energy), None] {
+                let report = checked(&records, 1, e);
+                assert!(report.windows.len() >= 30);
+                let share = flagged(&report) as f64 / report.windows.len() as f64;
+                assert!(share <= 0.05, "level {level}, seed {seed}, {share}:\n{report}");
+            }
+        }
+    }
+}
+
+/// The four-mass chain after only 200 transient steps is still rejected at 0%, 1% and
+/// 3% noise: the first window of every record (the model file's one equation per
+/// record), for windows of 1 and 4 periods, with and without M and K, and the report
+/// says why in σ of the noise. One exception is measured and allowed: without M and K
+/// at 3% noise, the first window of a=1 (the record that settles fastest) differs from
+/// its neighbour by about 5% of its velocity amplitude, 3.3–3.5 σ of the noise, and
+/// may pass; the other three records' first windows are rejected, so the job is.
+#[test]
+fn transient_four_mass_is_rejected_at_every_noise_level() {
+    let transient = four_mass(200, 40);
+    let energy = chain_energy(4);
+    for level in [0.0, 0.01, 0.03] {
+        for seed in [5u64, 6] {
+            let records = noisy(&transient, level, level, seed);
+            for cycles in [1usize, 4] {
+                for e in [Some(&energy), None] {
+                    let report = checked(&records, cycles, e);
+                    let first: Vec<_> = report.windows.iter().filter(|w| w.window == 0).collect();
+                    let rejected: Vec<_> = first.iter().filter(|w| !w.steady).collect();
+                    let allowed = usize::from(e.is_none() && level > 0.02);
+                    assert!(
+                        rejected.len() + allowed >= first.len(),
+                        "level {level}, cycles {cycles}:\n{report}"
+                    );
+                    for w in rejected {
+                        assert!(w.reason.starts_with("not steady"), "{}", w.reason);
+                        assert!(w.reason.contains("σ of the noise"), "{}", w.reason);
+                        assert!(w.noise_sigmas().unwrap() > 4.0, "{w:?}");
+                    }
+                    assert!(report.enforce().is_err());
+                    // Late windows, long after the transient, are steady.
+                    let late = report.windows.iter().filter(|w| w.start_time > 300.0);
+                    let (count, rejected) =
+                        late.fold((0, 0), |(c, r), w| (c + 1, r + usize::from(!w.steady)));
+                    assert!(rejected * 20 <= count, "{rejected} of {count} late windows");
+                }
+            }
+        }
+    }
+}
+
+/// The 3-DOF chain of [`chain3`], integrated here by RK4 (h = 0.1), with a force
+/// cos φ(t) on DOF 1 whose frequency jumps from ω₁ to 1.25 ω₁ (phase-continuous) after
+/// `before` periods of T₁ from the record's start; `total` periods recorded.
+fn frequency_change(before: usize, total: usize) -> Record {
+    let omega = 2.0 * (PI / 8.0).sin();
+    let (h, c) = (0.1, 0.05);
+    let period = 2.0 * PI / omega;
+    let skip = 4000usize;
+    let switch = skip as f64 * h + before as f64 * period;
+    let phase = |t: f64| {
+        if t < switch {
+            omega * t
+        } else {
+            omega * switch + 1.25 * omega * (t - switch)
+        }
+    };
+    let k = chain_stiffness(3);
+    let rate = |t: f64, y: &[f64; 6]| {
+        let mut d = [0.0; 6];
+        for i in 0..3 {
+            d[i] = y[3 + i];
+            let kx: f64 = (0..3).map(|j| k[(i, j)] * y[j]).sum();
+            let f = if i == 0 { phase(t).cos() } else { 0.0 };
+            d[3 + i] = f - c * y[3 + i] - kx;
+        }
+        d
+    };
+    let samples = (total as f64 * period / h).ceil() as usize + 4;
+    let (mut x, mut f) = (Mat::zeros(samples, 3), Mat::zeros(samples, 1));
+    let mut y = [0.0; 6];
+    for step in 0..skip + samples {
+        let t = step as f64 * h;
+        if step >= skip {
+            for i in 0..3 {
+                x[(step - skip, i)] = y[i];
+            }
+            f[(step - skip, 0)] = phase(t).cos();
+        }
+        let add = |y: &[f64; 6], d: &[f64; 6], s: f64| std::array::from_fn(|i| y[i] + s * d[i]);
+        let k1 = rate(t, &y);
+        let k2 = rate(t + h / 2.0, &add(&y, &k1, h / 2.0));
+        let k3 = rate(t + h / 2.0, &add(&y, &k2, h / 2.0));
+        let k4 = rate(t + h, &add(&y, &k3, h));
+        y = std::array::from_fn(|i| y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]));
+    }
+    Record::new(RecordParts {
+        label: "switch".into(),
+        step: h,
+        start_time: 0.0,
+        displacements: x,
+        velocities: None,
+        forcing: Forcing::on_dofs(f, vec![0]),
+        period,
+    })
+    .unwrap()
+}
+
+/// A record whose forcing frequency changes halfway is rejected at 0%, 1% and 3%
+/// noise: every window from the change on is flagged, while the windows before it are
+/// steady (at most one flagged).
+#[test]
+fn frequency_change_halfway_is_rejected_at_every_noise_level() {
+    let clean = frequency_change(20, 40);
+    let switch = 20.0 * clean.period();
+    let energy = chain_energy(3);
+    for level in [0.0, 0.01, 0.03] {
+        for seed in [21u64, 22] {
+            let records = noisy(std::slice::from_ref(&clean), level, level, seed);
+            for cycles in [1usize, 2] {
+                for e in [Some(&energy), None] {
+                    let report = checked(&records, cycles, e);
+                    assert!(report.enforce().is_err());
+                    let span = cycles as f64 * clean.period();
+                    let mut before = 0;
+                    for w in &report.windows {
+                        if w.start_time + span > switch + 0.1 {
+                            assert!(!w.steady, "level {level}, cycles {cycles}, window {}:\n{report}", w.window);
+                        } else {
+                            before += usize::from(!w.steady);
+                        }
+                    }
+                    assert!(before <= 1, "level {level}, cycles {cycles}:\n{report}");
+                }
             }
         }
     }

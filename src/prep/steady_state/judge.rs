@@ -10,7 +10,7 @@ use crate::record::{LoadDistribution, Record};
 
 use super::projection::{StateProjection, project_periods, snap};
 use super::{
-    ComparedPeriods, Decisive, MIN_SAMPLES_PER_PERIOD, NON_HARMONIC_MARGIN, SteadyStateSettings,
+    ComparedPeriods, Decisive, MIN_NEIGHBOUR, MIN_SAMPLES_PER_PERIOD, NON_HARMONIC_MARGIN, SteadyStateSettings,
     StoredEnergy, WindowCheck,
 };
 
@@ -31,7 +31,9 @@ fn compared_spans(
         return Ok(vec![(start, window.cycles, ComparedPeriods::FirstAndLastPeriod)]);
     }
     let mut spans = Vec::new();
-    if snap(start + 2.0 * length).ceil() <= record.samples() as f64 {
+    // The next period may be cut short by the record's end (the paper's 200 samples
+    // hold 1.97 periods of 101.7): at least MIN_NEIGHBOUR of it.
+    if snap(start + (1.0 + MIN_NEIGHBOUR) * length).ceil() <= record.samples() as f64 {
         spans.push((start, 2, ComparedPeriods::NextPeriod));
     }
     if snap(start - length) >= 0.0 {

@@ -12,9 +12,12 @@
 //!
 //! **Which periods.** A window of k ≥ 2 periods compares the projection of its first
 //! period at t₀ with that of its last period at t₀ + kT (k' = k). A window of one period
-//! compares itself with the next period when the record holds it, else with the
-//! previous one (k' = 2 over the two); a record of a single period cannot be judged, and
-//! the window is accepted with that said. A window that closes periodically
+//! compares itself with the next period and with the previous one, where the record
+//! holds them (k' = 2 over the two; the next one may be cut short by the record's end
+//! down to ¾ of a period), and the better of the two comparisons decides: a period is
+//! steady when it matches a neighbour, so a steady window next to a transient one is
+//! not blamed for it. A record of a single period cannot be judged, and its window is
+//! accepted with that said. A window that closes periodically
 //! ([`crate::prep::window::Window::closed`]) is treated the same: its periods are all in
 //! the record, so the closure is never used (it would make the comparison exact by
 //! construction). A projection over one period sees a drift across its seam as half a
@@ -86,6 +89,9 @@ pub const DEFAULT_NOISE_SIGMAS: f64 = 4.0;
 /// Fewest samples per period a harmonic projection can judge (a mean and the
 /// fundamental below the Nyquist frequency).
 const MIN_SAMPLES_PER_PERIOD: f64 = 3.0;
+/// Least share of the next period a one-period window is compared with, when the
+/// record ends within it.
+const MIN_NEIGHBOUR: f64 = 0.75;
 /// Allowance in the non-harmonic residual ratio for the error of the noise estimate.
 const NON_HARMONIC_MARGIN: f64 = 0.75;
 
