@@ -9,6 +9,9 @@ use dampid::model_file::{load, parse};
 use dampid::prep::period::detect_period;
 use faer::Mat;
 
+mod support;
+use support::cli::dampid;
+
 /// A clean sinusoid with 37.29 samples per period (not a whole number) over 26.8
 /// periods, with an offset: the period is recovered to 1e-6 (in fact to ~1e-10).
 #[test]
@@ -561,4 +564,84 @@ fn frequency_change_halfway_is_rejected_at_every_noise_level() {
             }
         }
     }
+}
+
+/// Writes `records` (displacements x1.., force f on DOF 4) as CSV files in `dir` and a
+/// model file that reads them with M and K known; returns its path.
+fn model_file_of(dir: &std::path::Path, records: &[Record]) -> std::path::PathBuf {
+    std::fs::create_dir_all(dir).unwrap();
+    let mut toml = String::from(
+        r#"title = "four masses, measured"
+dofs = 4
+
+[[terms]]
+kind = "stiffness_proportional"
+coefficient = "c"
+matrix = "chain"
+
+[[terms]]
+kind = "law"
+law = "quadratic"
+elements = "each_dof"
+coefficient = "d"
+
+[identification]
+cycles = 1
+
+[system]
+mass = "identity"
+stiffness = "chain"
+"#,
+    );
+    for (k, r) in records.iter().enumerate() {
+        let mut csv = String::from("t,x1,x2,x3,x4,f\n");
+        let x = r.displacements();
+        for i in 0..r.samples() {
+            csv.push_str(&format!("{:.10e}", i as f64 * r.step()));
+            for j in 0..4 {
+                csv.push_str(&format!(",{:.17e}", x[(i, j)]));
+            }
+            csv.push_str(&format!(",{:.17e}\n", r.forcing().signals[(i, 0)]));
+        }
+        std::fs::write(dir.join(format!("rec{k}.csv")), csv).unwrap();
+        toml.push_str(&format!(
+            "\n[[data.records]]\nfile = \"rec{k}.csv\"\ntime = \"t\"\nfrequency = 0.618\ndisplacements = [\"x1\", \"x2\", \"x3\", \"x4\"]\nforces = [{{ column = \"f\", dof = 4 }}]\n"
+        ));
+    }
+    let path = dir.join("measured.toml");
+    std::fs::write(&path, toml).unwrap();
+    path
+}
+
+/// `dampid check` on files with 1% noise: steady records pass and the table gives the
+/// mismatch in σ of the noise; records 200 steps after rest exit with 2, and the
+/// windows are explained in words.
+#[test]
+fn check_explains_in_words_and_in_noise_sigmas() {
+    let dir = std::env::temp_dir().join(format!("dampid-steady-cli-{}", std::process::id()));
+    let steady = noisy(&four_mass(1000, 6), 0.01, 0.01, 31);
+    let path = model_file_of(&dir.join("steady"), &steady);
+    let out = dampid(&["check", path.to_str().unwrap()]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    for needle in ["|ΔE|/|W| within max(1%, 4 σ of its noise)", " σ ", "steady"] {
+        assert!(stdout.contains(needle), "'{needle}' not in {stdout}");
+    }
+    assert!(!stdout.contains("NOT STEADY"), "{stdout}");
+
+    let transient = noisy(&four_mass(200, 6), 0.01, 0.01, 32);
+    let path = model_file_of(&dir.join("transient"), &transient);
+    let out = dampid(&["check", path.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    for needle in [
+        "NOT STEADY",
+        "window 0: not steady: the stored energy at the end differs from the start",
+        "σ of the noise",
+        "skip more of the transient",
+        "--accept-transient",
+    ] {
+        assert!(stderr.contains(needle), "'{needle}' not in {stderr}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
 }
