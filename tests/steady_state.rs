@@ -4,8 +4,8 @@
 use std::f64::consts::PI;
 use std::path::Path;
 
-use dampid::prelude::*;
 use dampid::model_file::{load, parse};
+use dampid::prelude::*;
 use dampid::prep::period::detect_period;
 use faer::Mat;
 
@@ -143,7 +143,10 @@ fn transient_from_rest_is_rejected_and_skipping_it_passes() {
             assert_eq!(reported, mismatch);
             // The threshold is max(1%, 4 σ of the noise): the transient itself raises
             // the out-of-band noise estimate, but not to its own size.
-            assert!(threshold >= 0.01 && threshold < mismatch / 4.0, "{threshold}");
+            assert!(
+                threshold >= 0.01 && threshold < mismatch / 4.0,
+                "{threshold}"
+            );
         }
         other => panic!("{other:?}"),
     }
@@ -384,7 +387,11 @@ fn chain3(cycles: usize) -> Vec<Record> {
     let system = System {
         mass: Mat::identity(3, 3),
         stiffness: chain_stiffness(3),
-        damping: DampingModel::new().with(Term::per_dof(Linear, 3, Coefficients::Shared("c".into()))),
+        damping: DampingModel::new().with(Term::per_dof(
+            Linear,
+            3,
+            Coefficients::Shared("c".into()),
+        )),
         damping_coefficients: vec![0.05],
         conservative: vec![],
         forcing: vec![HarmonicForce {
@@ -417,7 +424,10 @@ fn one_percent_noise_on_steady_responses_flags_at_most_five_percent() {
             for e in [Some(&energy), None] {
                 let report = checked(&records, cycles, e);
                 let share = flagged(&report) as f64 / report.windows.len() as f64;
-                assert!(share <= 0.05, "seed {seed}, cycles {cycles}, {share}:\n{report}");
+                assert!(
+                    share <= 0.05,
+                    "seed {seed}, cycles {cycles}, {share}:\n{report}"
+                );
                 assert!(report.windows.len() >= 40);
             }
         }
@@ -431,7 +441,10 @@ fn one_percent_noise_on_steady_responses_flags_at_most_five_percent() {
                 let report = checked(&records, 1, e);
                 assert!(report.windows.len() >= 30);
                 let share = flagged(&report) as f64 / report.windows.len() as f64;
-                assert!(share <= 0.05, "level {level}, seed {seed}, {share}:\n{report}");
+                assert!(
+                    share <= 0.05,
+                    "level {level}, seed {seed}, {share}:\n{report}"
+                );
             }
         }
     }
@@ -554,7 +567,11 @@ fn frequency_change_halfway_is_rejected_at_every_noise_level() {
                     let mut before = 0;
                     for w in &report.windows {
                         if w.start_time + span > switch + 0.1 {
-                            assert!(!w.steady, "level {level}, cycles {cycles}, window {}:\n{report}", w.window);
+                            assert!(
+                                !w.steady,
+                                "level {level}, cycles {cycles}, window {}:\n{report}",
+                                w.window
+                            );
                         } else {
                             before += usize::from(!w.steady);
                         }
@@ -623,7 +640,11 @@ fn check_explains_in_words_and_in_noise_sigmas() {
     let path = model_file_of(&dir.join("steady"), &steady);
     let out = dampid(&["check", path.to_str().unwrap()]);
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     for needle in ["|ΔE|/|W| within max(1%, 4 σ of its noise)", " σ ", "steady"] {
         assert!(stdout.contains(needle), "'{needle}' not in {stdout}");
     }

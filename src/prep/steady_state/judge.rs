@@ -10,8 +10,8 @@ use crate::record::{LoadDistribution, Record};
 
 use super::projection::{StateProjection, project_periods, snap};
 use super::{
-    ComparedPeriods, Decisive, MIN_NEIGHBOUR, MIN_SAMPLES_PER_PERIOD, NON_HARMONIC_MARGIN, SteadyStateSettings,
-    StoredEnergy, WindowCheck,
+    ComparedPeriods, Decisive, MIN_NEIGHBOUR, MIN_SAMPLES_PER_PERIOD, NON_HARMONIC_MARGIN,
+    SteadyStateSettings, StoredEnergy, WindowCheck,
 };
 
 /// Which periods to compare for `window` of `record`: each (origin in samples,
@@ -28,7 +28,11 @@ fn compared_spans(
     }
     let start = window.start as f64;
     if window.cycles >= 2 {
-        return Ok(vec![(start, window.cycles, ComparedPeriods::FirstAndLastPeriod)]);
+        return Ok(vec![(
+            start,
+            window.cycles,
+            ComparedPeriods::FirstAndLastPeriod,
+        )]);
     }
     let mut spans = Vec::new();
     // The next period may be cut short by the record's end (the paper's 200 samples
@@ -104,7 +108,10 @@ pub(super) fn check_window(
             energy,
             settings,
         );
-        if best.as_ref().is_none_or(|b| excess(&judged, settings) < excess(b, settings)) {
+        if best
+            .as_ref()
+            .is_none_or(|b| excess(&judged, settings) < excess(b, settings))
+        {
             best = Some(judged);
         }
     }
@@ -125,7 +132,11 @@ fn state(p: &StateProjection, index: usize, at: f64) -> (Vec<f64>, Vec<f64>, Vec
     let period = &p.periods[index];
     let row = p.row_at_sample(period.first, at);
     let dot = |c: &[f64]| row.iter().zip(c).map(|(a, b)| a * b).sum::<f64>();
-    let x = period.channels.iter().map(|c| dot(&c.displacement)).collect();
+    let x = period
+        .channels
+        .iter()
+        .map(|c| dot(&c.displacement))
+        .collect();
     let v = period.channels.iter().map(|c| dot(&c.velocity)).collect();
     (x, v, row)
 }
@@ -140,10 +151,12 @@ fn amplitudes(p: &StateProjection) -> (f64, f64) {
             .collect();
         for c in &period.channels {
             let range = |coefficients: &[f64]| {
-                let (lo, hi) = rows.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), r| {
-                    let y: f64 = r.iter().zip(coefficients).map(|(a, b)| a * b).sum();
-                    (lo.min(y), hi.max(y))
-                });
+                let (lo, hi) =
+                    rows.iter()
+                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), r| {
+                            let y: f64 = r.iter().zip(coefficients).map(|(a, b)| a * b).sum();
+                            (lo.min(y), hi.max(y))
+                        });
                 0.5 * (hi - lo)
             };
             ax = ax.max(range(&c.displacement));
@@ -240,7 +253,11 @@ fn judge(
         let mismatch = ratio(change, work);
         check.energy_change = Some(change);
         check.energy_mismatch = Some(mismatch);
-        let sd_relative = if work == 0.0 { f64::INFINITY } else { sd / work };
+        let sd_relative = if work == 0.0 {
+            f64::INFINITY
+        } else {
+            sd / work
+        };
         Decisive {
             measure: "stored-energy mismatch |ΔE|/|W|".into(),
             mismatch,

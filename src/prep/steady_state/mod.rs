@@ -361,7 +361,11 @@ impl fmt::Display for SteadyStateReport {
             )?;
         }
         for w in self.windows.iter().filter(|w| !w.steady) {
-            writeln!(f, "  record '{}', window {}: {}", w.record, w.window, w.reason)?;
+            writeln!(
+                f,
+                "  record '{}', window {}: {}",
+                w.record, w.window, w.reason
+            )?;
         }
         let unjudged: Vec<&WindowCheck> = self.not_judged().collect();
         if let Some(w) = unjudged.first() {

@@ -176,7 +176,14 @@ pub fn project_periods(
         .iter()
         .map(|&k| {
             let (first, end) = samples_in(origin + k as f64 * length, length, record.samples());
-            project_period(x.subrows(first, end - first), first, omega, &orders, step, &sigma)
+            project_period(
+                x.subrows(first, end - first),
+                first,
+                omega,
+                &orders,
+                step,
+                &sigma,
+            )
         })
         .collect::<Result<Vec<_>>>()?;
     Ok(StateProjection {
