@@ -197,7 +197,9 @@ fn growing_motion_is_not_steady_with_its_mismatch() {
             // A quarter of the starting amplitude per period, relative to the largest
             // amplitude over the two compared periods (about 1.4): about 0.18.
             assert!(mismatch > 0.15 && mismatch < 0.3, "{mismatch}");
-            assert_eq!(threshold, 0.02);
+            // max(2%, 4 σ of the noise): the growth itself leaks into the out-of-band
+            // noise estimate, not to its own size.
+            assert!(threshold >= 0.02 && threshold < mismatch / 4.0, "{threshold}");
         }
         other => panic!("{other:?}"),
     }
