@@ -8,7 +8,7 @@
 //! channel is projected on the harmonics of ω that stand above its noise floor
 //! (selected over the compared span), separately over single periods, and each
 //! projection gives x̂(t) = bᵀ(t) c_x, v̂(t) = bᵀ(t) c_v with the covariance of
-//! (c_x, c_v) from the noise σ̂_j estimated out of band, σ̂_j² [I; J](RᵀR)⁻¹[I; J]ᵀ.
+//! (c_x, c_v) from the noise σ̂_j estimated out of band, `σ̂_j² [I; J](RᵀR)⁻¹[I; J]ᵀ`.
 //!
 //! **Which periods.** A window of k ≥ 2 periods compares the projection of its first
 //! period at t₀ with that of its last period at t₀ + kT (k' = k). A window of one period

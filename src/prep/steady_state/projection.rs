@@ -6,7 +6,7 @@
 //! [`project_periods`]
 //!
 //! 1. selects the harmonic orders S and the per-sample noise σ̂_j of every channel j from
-//!    the samples of the whole span ([`crate::prep::fourier`]: out-of-band median,
+//!    the samples of the whole span (`prep::fourier`: out-of-band median,
 //!    harmonics above 3.5 σ̂_A; with k' ≥ 2 the bins between harmonics are available);
 //! 2. projects each requested period [u₀ + pL, u₀ + (p + 1)L), L = T/h, over the samples
 //!    inside it (half open, so neighbouring periods share none), t measured from the
