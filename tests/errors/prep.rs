@@ -199,7 +199,10 @@ fn growing_motion_is_not_steady_with_its_mismatch() {
             assert!(mismatch > 0.15 && mismatch < 0.3, "{mismatch}");
             // max(2%, 4 σ of the noise): the growth itself leaks into the out-of-band
             // noise estimate, not to its own size.
-            assert!(threshold >= 0.02 && threshold < mismatch / 4.0, "{threshold}");
+            assert!(
+                threshold >= 0.02 && threshold < mismatch / 4.0,
+                "{threshold}"
+            );
         }
         other => panic!("{other:?}"),
     }
