@@ -17,8 +17,9 @@ use crate::report::count;
 pub const ILL_CONDITIONED: f64 = 1e8;
 
 /// Upper-tail probability of χ² below which the report warns that the residuals are
-/// larger than the estimated noise explains.
-pub const INADEQUATE_P_VALUE: f64 = 0.01;
+/// larger than the estimated noise explains, and shows standard errors scaled by
+/// √(χ²/dof) ([`crate::analysis::diagnostics::REJECTION_P_VALUE`]).
+pub const INADEQUATE_P_VALUE: f64 = crate::analysis::diagnostics::REJECTION_P_VALUE;
 
 /// Something the user must know before trusting the numbers.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -91,7 +92,8 @@ impl fmt::Display for Warning {
                 p_value,
             } => write!(
                 f,
-                "the weighted residual sum of squares is {chi_square:.3e} for {degrees_of_freedom} degrees of freedom (P = {p_value:.1e}): the residuals are larger than the estimated sensor noise explains, so the model may miss a mechanism, the records may not be in steady state, or the noise is not white; the plug-in standard errors are then too small"
+                "the weighted residual sum of squares is {chi_square:.3e} for {degrees_of_freedom} degrees of freedom (P = {p_value:.1e}): the residuals are larger than the estimated sensor noise explains, so the model may miss a mechanism, the records may not be in steady state, the noise is not white, or (on clean simulated data) the residual is discretisation error; the plug-in standard errors would be too small, so the standard errors and intervals shown are scaled by √(χ²/dof) = {:.3}",
+                (chi_square / *degrees_of_freedom as f64).sqrt()
             ),
             Warning::NoRedundancy { equations } => write!(
                 f,
