@@ -28,6 +28,7 @@ use serde::{Deserialize, Serialize};
 use crate::analysis::bootstrap::{Bootstrap, BootstrapSummary, ConfidenceInterval};
 use crate::analysis::diagnostics::{Correlation, Diagnostics, ResidualBias, StandardErrorBasis};
 use crate::analysis::identifiability::Identifiability;
+use crate::analysis::velocity_noise::VelocityNoise;
 use crate::fit::{ActiveConstraint, Fit, FitMethod, FitStatus, SolverInfo};
 use crate::regressor::robust::WindowNoise;
 use crate::regressor::{Regressor, RowLabel};
@@ -121,6 +122,10 @@ pub struct FitReport {
     /// The noise-robust pipeline's estimates and model check, when it ran.
     #[serde(default)]
     pub noise: Option<NoiseSummary>,
+    /// The noise bias of a differencing velocity estimator, when one was assessed
+    /// ([`crate::analysis::velocity_noise`], [`FitReport::with_velocity_noise`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub velocity_noise: Option<VelocityNoise>,
     /// What to be careful about.
     pub warnings: Vec<Warning>,
 }
@@ -228,6 +233,7 @@ impl FitReport {
             identifiability,
             bootstrap: None,
             noise,
+            velocity_noise: None,
             warnings,
         }
     }
@@ -243,6 +249,36 @@ impl FitReport {
                 .cloned();
         }
         self.bootstrap = Some(bootstrap.summary);
+        self
+    }
+
+    /// Adds the assessment of the velocity estimator's noise bias
+    /// ([`crate::analysis::velocity_noise::assess`] on the records and settings this
+    /// report's regressor was built from); when the bias is material the report warns
+    /// first ([`Warning::VelocityNoiseBias`]), naming the estimator to use.
+    pub fn with_velocity_noise(mut self, assessment: Option<VelocityNoise>) -> Self {
+        if let Some(noise) = &assessment
+            && noise.material
+            && let Some(worst) = noise.worst()
+        {
+            self.warnings.insert(
+                0,
+                Warning::VelocityNoiseBias {
+                    estimator: noise.estimator.clone(),
+                    gain: noise.gain,
+                    displacement_noise: noise.displacement_noise[1],
+                    worst: worst.name.clone(),
+                    share: worst.share,
+                    shifts: noise
+                        .columns
+                        .iter()
+                        .map(|c| (c.name.clone(), c.corrected))
+                        .collect(),
+                    recommended: noise.recommended.clone(),
+                },
+            );
+        }
+        self.velocity_noise = assessment;
         self
     }
 
