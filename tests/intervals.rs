@@ -56,8 +56,11 @@ fn default_pipeline(path: &str) -> (FitReport, Vec<(String, f64)>, Regressor) {
     (report, job.truth.expect("simulated truth"), regressor)
 }
 
-fn reference_reports() -> &'static [(String, FitReport, Vec<(String, f64)>)] {
-    static REPORTS: OnceLock<Vec<(String, FitReport, Vec<(String, f64)>)>> = OnceLock::new();
+/// A reference case: its model file, the default pipeline's report, the truth.
+type Case = (String, FitReport, Vec<(String, f64)>);
+
+fn reference_reports() -> &'static [Case] {
+    static REPORTS: OnceLock<Vec<Case>> = OnceLock::new();
     REPORTS.get_or_init(|| {
         REFERENCE_CASES
             .iter()
