@@ -18,6 +18,7 @@
 use crate::analysis::bootstrap::{BootstrapSettings, bootstrap};
 use crate::analysis::diagnostics::diagnose_factored;
 use crate::analysis::identifiability::require_information;
+use crate::analysis::velocity_noise;
 use crate::error::Result;
 use crate::fit::{FitSettings, solve_factored};
 use crate::model::DampingModel;
@@ -69,6 +70,8 @@ pub fn identify(
 }
 
 /// [`identify`], also returning the regressor the fit used (for plots and research).
+/// With a differencing velocity estimator the report also says how much of the damping
+/// columns its noise makes up ([`crate::analysis::velocity_noise`]).
 pub fn identify_with_regressor(
     model: &DampingModel,
     records: &[Record],
@@ -76,7 +79,8 @@ pub fn identify_with_regressor(
 ) -> Result<(Regressor, FitReport)> {
     settings.fit.validate()?;
     let regressor = Regressor::build(model, records, &settings.regressor)?;
-    let report = identify_regressor(&regressor, &settings.fit)?;
+    let noise = velocity_noise::assess_or_none(model, records, &settings.regressor, &regressor);
+    let report = identify_regressor(&regressor, &settings.fit)?.with_velocity_noise(noise);
     Ok((regressor, report))
 }
 

@@ -16,9 +16,27 @@
 //!   the residuals is computed on the weighted rows e_r/s_r, and the plug-in covariance
 //!   (A_Fᵀ W A_F)⁻¹, W = diag(1/s_r²), gives standard errors that need no residual
 //!   variance. The weighted residual sum of squares χ² = Σ (e_r/s_r)² against its
-//!   m − |F| degrees of freedom checks the model: a χ² far above its degrees of freedom
-//!   (upper-tail probability below 1%) says the residuals are larger than the noise
-//!   explains, so the model misses a mechanism or the noise is not white.
+//!   ν = m − |F| degrees of freedom checks the model: a χ² far above ν (upper-tail
+//!   probability P(χ²_ν > χ²) below [`REJECTION_P_VALUE`] = 1%) says the residuals are
+//!   larger than the noise explains (a missing mechanism, a transient, coloured noise,
+//!   or, on clean simulated data, discretisation error that no noise model describes).
+//! - The standard errors the report shows ([`Diagnostics::std_errors`], their basis in
+//!   [`StandardErrorBasis`]), one rule:
+//!
+//!   ```text
+//!     unweighted fit:                     se_k = √(s² [(A_FᵀA_F)⁻¹]_kk),  s² = ‖e‖²/ν
+//!     weighted, P(χ²_ν > χ²) ≥ 1%:        se_k = √([(A_FᵀWA_F)⁻¹]_kk)          (plug-in)
+//!     weighted, P(χ²_ν > χ²) < 1%:        se_k = √(χ²/ν) · √([(A_FᵀWA_F)⁻¹]_kk) (scaled)
+//!   ```
+//!
+//!   When the model check rejects the fit the noise model does not describe the
+//!   residuals, so the plug-in errors (which on clean data rest on a round-off noise
+//!   estimate) say nothing; the residual scatter does, and χ²/ν is its ratio to the
+//!   noise model. The scale is then > 1 (a rejected χ² exceeds ν), so the rule never
+//!   narrows an interval, and it leaves the intervals of every fit that passes the check
+//!   exactly as they were. It is the weighted form of the unweighted rule, the same
+//!   s² (A_FᵀWA_F)⁻¹ with s² = χ²/ν. The sandwich (heteroscedasticity-consistent) form
+//!   was measured against it on the reference cases (docs/noise.md) and is not used.
 //! - Identifiability (see [`crate::analysis::identifiability`]): practically zero singular values
 //!   against the noise level of the equations, near-null directions and determined
 //!   combinations by name, variance inflation factors.
@@ -35,6 +53,34 @@ use crate::fit::scaling::{Scaling, norm};
 use crate::fit::svd::numerical_rank;
 use crate::fit::{Fit, ScaledSvd};
 use crate::regressor::Regressor;
+
+/// Upper-tail probability P(χ²_ν > χ²) below which the model check rejects a weighted
+/// fit: its standard errors are then scaled by √(χ²/ν) (see the module doc), and the
+/// report warns ([`crate::report::INADEQUATE_P_VALUE`] is this level). At 1% a fit
+/// whose residuals are noise as modelled is rejected once in a hundred, and then its
+/// errors grow by √(χ²/ν), which is close to 1 for many degrees of freedom (1.3 at
+/// ν = 30 on the rejection boundary, 2.1 at ν = 2).
+pub const REJECTION_P_VALUE: f64 = 0.01;
+
+/// Where the standard errors of a fit come from (one rule, in the module doc).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", tag = "basis")]
+pub enum StandardErrorBasis {
+    /// An unweighted fit: s² (A_FᵀA_F)⁻¹ with s² = ‖e‖²/ν, the residual variance.
+    #[default]
+    ResidualVariance,
+    /// A weighted fit whose χ² check passes (or has no degrees of freedom): the plug-in
+    /// (A_FᵀWA_F)⁻¹ of the propagated noise.
+    PlugIn,
+    /// A weighted fit whose χ² check rejects it: (χ²/ν) (A_FᵀWA_F)⁻¹, the plug-in
+    /// errors times `scale` = √(χ²/ν), from the residual scatter.
+    ScaledPlugIn {
+        /// χ²/ν.
+        chi_square_per_dof: f64,
+        /// √(χ²/ν), the factor on every plug-in standard error.
+        scale: f64,
+    },
+}
 
 /// Mean signed residual relative to the mean |b|, and the sign counts.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -91,8 +137,11 @@ pub struct Diagnostics {
     pub condition_number: f64,
     /// Numerical rank.
     pub rank: usize,
-    /// Standard error per coefficient (None when not estimable).
+    /// The standard error per coefficient the report shows (None when not estimable),
+    /// by the rule of the module doc.
     pub std_errors: Vec<Option<f64>>,
+    /// Which covariance `std_errors` come from.
+    pub std_error_basis: StandardErrorBasis,
     /// Correlation of the free coefficients, when standard errors exist.
     pub correlation: Option<Correlation>,
     /// What the data can and cannot determine.
@@ -108,11 +157,14 @@ pub struct WeightedDiagnostics {
     pub chi_square: f64,
     /// m − |F|.
     pub degrees_of_freedom: usize,
-    /// P(χ²_dof > χ²): small values (< 0.01) say the residuals exceed the noise. None
-    /// without degrees of freedom.
+    /// P(χ²_dof > χ²): values below [`REJECTION_P_VALUE`] say the residuals exceed the
+    /// noise. None without degrees of freedom.
     pub p_value: Option<f64>,
     /// Plug-in standard errors √diag((A_Fᵀ W A_F)⁻¹) (None for coefficients at a bound).
     pub plug_in_std_errors: Vec<Option<f64>>,
+    /// The plug-in standard errors times √(χ²/dof), from the residual scatter
+    /// (None without degrees of freedom).
+    pub scaled_std_errors: Vec<Option<f64>>,
     /// s_r, the propagated standard deviation of each equation's residual.
     pub residual_std: Vec<f64>,
 }
@@ -243,9 +295,25 @@ fn diagnose_rows(
             p_value: (dof > 0)
                 .then(|| crate::analysis::stats::chi_square_upper_tail(chi_square, dof as f64)),
             plug_in_std_errors,
+            // s² (A_FᵀWA_F)⁻¹ on the weighted rows, s² = χ²/dof
+            scaled_std_errors: std_errors.clone(),
             residual_std: std.clone(),
         }
     });
+    let (std_errors, std_error_basis) = match &weighted {
+        None => (std_errors, StandardErrorBasis::ResidualVariance),
+        Some(w) => match w.p_value {
+            Some(p) if p < REJECTION_P_VALUE => {
+                let per_dof = w.chi_square / w.degrees_of_freedom as f64;
+                let basis = StandardErrorBasis::ScaledPlugIn {
+                    chi_square_per_dof: per_dof,
+                    scale: per_dof.sqrt(),
+                };
+                (w.scaled_std_errors.clone(), basis)
+            }
+            _ => (w.plug_in_std_errors.clone(), StandardErrorBasis::PlugIn),
+        },
+    };
     let identifiability = match &svd {
         Ok(svd) => analyse_factored(
             regressor.columns().to_vec(),
@@ -263,6 +331,7 @@ fn diagnose_rows(
         condition_number,
         rank,
         std_errors,
+        std_error_basis,
         correlation,
         identifiability,
         weighted,

@@ -1,6 +1,7 @@
 //! Analyses of a regressor and its fit: diagnostics (residuals, conditioning, standard
 //! errors), identifiability (near-null directions and determined combinations by
-//! name), the window bootstrap, model comparison and experiment design. They read a
+//! name), the window bootstrap, model comparison, experiment design, and the noise
+//! bias of the velocity estimator (velocity_noise). They read a
 //! [`crate::regressor::Regressor`] and a [`crate::fit::Fit`]; nothing in the chain
 //! before them imports them.
 
@@ -11,3 +12,4 @@ pub mod design;
 pub mod diagnostics;
 pub mod identifiability;
 pub(crate) mod stats;
+pub mod velocity_noise;

@@ -1,11 +1,50 @@
 //! The fit report as text: the coefficient table (value, standard error, relative
-//! standard error, plug-in 95% interval est ± 1.96 se with propagated weights, bootstrap
-//! percentile interval), conditioning, identifiability, correlation, the noise check,
-//! the residual and its bias, and the warnings.
+//! standard error, 95% interval est ± 1.96 se with propagated weights, bootstrap
+//! percentile interval) and the basis of its standard errors in words
+//! ([`StandardErrorBasis`]: residual variance, plug-in, or plug-in scaled by √(χ²/dof)),
+//! conditioning, identifiability, correlation, the noise check, the residual and its
+//! bias, and the warnings.
 
 use std::fmt;
 
+use crate::analysis::diagnostics::StandardErrorBasis;
 use crate::report::{CoefficientEstimate, FitReport, NoiseSummary};
+
+/// `x` with three significant digits, in plain notation between 0.01 and 10⁵
+/// ("840", "29.0", "1.23"), else in exponent notation.
+pub(crate) fn significant(x: f64) -> String {
+    let a = x.abs();
+    if a.is_finite() && (0.01..1e5).contains(&a) {
+        let decimals = (2 - a.log10().floor() as i32).max(0) as usize;
+        format!("{x:.decimals$}")
+    } else {
+        format!("{x:.2e}")
+    }
+}
+
+impl fmt::Display for StandardErrorBasis {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            StandardErrorBasis::ResidualVariance => write!(
+                f,
+                "standard errors from the residual variance: se = √(s² diag((AᵀA)⁻¹)), s² = ‖b − Aθ‖²/(equations − free coefficients)"
+            ),
+            StandardErrorBasis::PlugIn => write!(
+                f,
+                "standard errors are plug-in, from the propagated sensor noise: se = √diag((AᵀWA)⁻¹), W = diag(1/Var e_r); the χ² check passes"
+            ),
+            StandardErrorBasis::ScaledPlugIn {
+                chi_square_per_dof,
+                scale,
+            } => write!(
+                f,
+                "χ²/dof = {}: the residual is not noise; standard errors are scaled by √(χ²/dof) = {}, se = √(χ²/dof) · √diag((AᵀWA)⁻¹), from the residual scatter",
+                significant(*chi_square_per_dof),
+                significant(*scale)
+            ),
+        }
+    }
+}
 
 impl FitReport {
     /// One line of the coefficient table.
@@ -65,18 +104,20 @@ impl fmt::Display for FitReport {
             })
             .unwrap_or_default();
         let weighted = self.noise.is_some();
+        let (se_header, wald_header) = match self.std_error_basis {
+            StandardErrorBasis::ResidualVariance => ("std error", "95% interval"),
+            StandardErrorBasis::PlugIn => ("plug-in se", "95% plug-in interval"),
+            StandardErrorBasis::ScaledPlugIn { .. } => ("scaled se", "95% scaled interval"),
+        };
         let wald_header = if weighted {
-            format!("  {:>27}", "95% plug-in interval")
+            format!("  {wald_header:>27}")
         } else {
             String::new()
         };
         writeln!(
             f,
             "{:<20} {:>14} {:>12} {:>9}{wald_header}{interval_header}",
-            "coefficient",
-            "value",
-            if weighted { "plug-in se" } else { "std error" },
-            "rel. se"
+            "coefficient", "value", se_header, "rel. se"
         )?;
         for c in &self.coefficients {
             self.write_estimate(f, c, weighted, level)?;
@@ -89,6 +130,9 @@ impl fmt::Display for FitReport {
             for c in &self.nuisance {
                 self.write_estimate(f, c, weighted, level)?;
             }
+        }
+        if self.coefficients.iter().any(|c| c.std_error.is_some()) {
+            writeln!(f, "{}", self.std_error_basis)?;
         }
         if let Some(b) = &self.bootstrap {
             writeln!(

@@ -26,8 +26,9 @@ pub use warning::{ILL_CONDITIONED, INADEQUATE_P_VALUE, Warning};
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::bootstrap::{Bootstrap, BootstrapSummary, ConfidenceInterval};
-use crate::analysis::diagnostics::{Correlation, Diagnostics, ResidualBias};
+use crate::analysis::diagnostics::{Correlation, Diagnostics, ResidualBias, StandardErrorBasis};
 use crate::analysis::identifiability::Identifiability;
+use crate::analysis::velocity_noise::VelocityNoise;
 use crate::fit::{ActiveConstraint, Fit, FitMethod, FitStatus, SolverInfo};
 use crate::regressor::robust::WindowNoise;
 use crate::regressor::{Regressor, RowLabel};
@@ -39,12 +40,19 @@ pub struct CoefficientEstimate {
     pub name: String,
     /// Estimate.
     pub value: f64,
-    /// Standard error, when the data have redundancy and the coefficient is free: the
-    /// plug-in √diag((AᵀWA)⁻¹) when the fit was weighted by propagated variances (see
-    /// [`FitReport::noise`]), else from the residual variance.
+    /// The standard error, when the data have redundancy and the coefficient is free,
+    /// by one rule ([`crate::analysis::diagnostics`], its basis in
+    /// [`FitReport::std_error_basis`]): from the residual variance for an unweighted
+    /// fit; for a fit weighted by propagated variances, `plug_in_std_error` when the χ²
+    /// check passes and `residual_std_error` when it rejects the fit.
     pub std_error: Option<f64>,
-    /// The standard error from the residual variance s²(AᵀWA)⁻¹ of the weighted fit, next
-    /// to the plug-in one (None for an unweighted fit, where it is `std_error`).
+    /// Weighted fits: the plug-in √diag((AᵀWA)⁻¹) of the propagated noise (None for an
+    /// unweighted fit).
+    #[serde(default)]
+    pub plug_in_std_error: Option<f64>,
+    /// Weighted fits: the plug-in standard error times √(χ²/dof), from the residual
+    /// scatter, s²(AᵀWA)⁻¹ with s² = χ²/dof (None for an unweighted fit, where
+    /// `std_error` is the residual one).
     #[serde(default)]
     pub residual_std_error: Option<f64>,
     /// False when the data cannot separate this coefficient from others: `value` is
@@ -99,6 +107,10 @@ pub struct FitReport {
     pub residual_bias: ResidualBias,
     /// Correlation of the free coefficients.
     pub correlation: Option<Correlation>,
+    /// Where the standard errors come from: the residual variance, the plug-in noise
+    /// model, or the plug-in scaled by √(χ²/dof) when the model check rejects the fit.
+    #[serde(default)]
+    pub std_error_basis: StandardErrorBasis,
     /// Constraints the solution touches.
     pub active_constraints: Vec<ActiveConstraint>,
     /// Constrained-solver details.
@@ -110,6 +122,10 @@ pub struct FitReport {
     /// The noise-robust pipeline's estimates and model check, when it ran.
     #[serde(default)]
     pub noise: Option<NoiseSummary>,
+    /// The noise bias of a differencing velocity estimator, when one was assessed
+    /// ([`crate::analysis::velocity_noise`], [`FitReport::with_velocity_noise`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub velocity_noise: Option<VelocityNoise>,
     /// What to be careful about.
     pub warnings: Vec<Warning>,
 }
@@ -177,8 +193,9 @@ impl FitReport {
             .map(|(k, ((name, value), se))| CoefficientEstimate {
                 name: name.clone(),
                 value: *value,
-                std_error: weighted.map_or(*se, |w| w.plug_in_std_errors[k]),
-                residual_std_error: weighted.and(*se),
+                std_error: *se,
+                plug_in_std_error: weighted.and_then(|w| w.plug_in_std_errors[k]),
+                residual_std_error: weighted.and_then(|w| w.scaled_std_errors[k]),
                 determined: identifiability.is_identifiable(name),
                 interval: None,
             })
@@ -210,11 +227,13 @@ impl FitReport {
             relative_residual: diagnostics.relative_residual,
             residual_bias: diagnostics.residual_bias,
             correlation: diagnostics.correlation,
+            std_error_basis: diagnostics.std_error_basis,
             active_constraints: fit.active,
             solver: fit.solver,
             identifiability,
             bootstrap: None,
             noise,
+            velocity_noise: None,
             warnings,
         }
     }
@@ -230,6 +249,36 @@ impl FitReport {
                 .cloned();
         }
         self.bootstrap = Some(bootstrap.summary);
+        self
+    }
+
+    /// Adds the assessment of the velocity estimator's noise bias
+    /// ([`crate::analysis::velocity_noise::assess`] on the records and settings this
+    /// report's regressor was built from); when the bias is material the report warns
+    /// first ([`Warning::VelocityNoiseBias`]), naming the estimator to use.
+    pub fn with_velocity_noise(mut self, assessment: Option<VelocityNoise>) -> Self {
+        if let Some(noise) = &assessment
+            && noise.material
+            && let Some(worst) = noise.worst()
+        {
+            self.warnings.insert(
+                0,
+                Warning::VelocityNoiseBias {
+                    estimator: noise.estimator.clone(),
+                    gain: noise.gain,
+                    displacement_noise: noise.displacement_noise[1],
+                    worst: worst.name.clone(),
+                    share: worst.share,
+                    shifts: noise
+                        .columns
+                        .iter()
+                        .map(|c| (c.name.clone(), c.corrected))
+                        .collect(),
+                    recommended: noise.recommended.clone(),
+                },
+            );
+        }
+        self.velocity_noise = assessment;
         self
     }
 

@@ -2,8 +2,9 @@
 //! tagged by `kind`) with a `Display` that says in words what happened and what to do.
 //! [`crate::report::FitReport::new`] raises them from the fit's status, the rank and
 //! condition number of the column-scaled regressor (κ > [`ILL_CONDITIONED`]), the χ²
-//! check of the weighted fit (P < [`INADEQUATE_P_VALUE`]), redundancy, and the
-//! identifiability analysis.
+//! check of the weighted fit (P < [`INADEQUATE_P_VALUE`]), redundancy, the
+//! identifiability analysis, and the noise bias of a differencing velocity estimator
+//! ([`crate::report::FitReport::with_velocity_noise`]).
 
 use std::fmt;
 
@@ -17,8 +18,9 @@ use crate::report::count;
 pub const ILL_CONDITIONED: f64 = 1e8;
 
 /// Upper-tail probability of χ² below which the report warns that the residuals are
-/// larger than the estimated noise explains.
-pub const INADEQUATE_P_VALUE: f64 = 0.01;
+/// larger than the estimated noise explains, and shows standard errors scaled by
+/// √(χ²/dof) ([`crate::analysis::diagnostics::REJECTION_P_VALUE`]).
+pub const INADEQUATE_P_VALUE: f64 = crate::analysis::diagnostics::REJECTION_P_VALUE;
 
 /// Something the user must know before trusting the numbers.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -54,6 +56,24 @@ pub enum Warning {
         degrees_of_freedom: usize,
         /// Its upper-tail probability.
         p_value: f64,
+    },
+    /// The velocity estimator's noise is a material share of the damping columns
+    /// ([`crate::analysis::velocity_noise`]): the coefficients are biased low.
+    VelocityNoiseBias {
+        /// The estimator used (model-file name).
+        estimator: String,
+        /// Its velocity noise relative to the fundamental's, σ_v/(ωσ).
+        gain: f64,
+        /// The largest displacement noise σ estimated.
+        displacement_noise: f64,
+        /// The column with the largest noise share.
+        worst: String,
+        /// Its share Σ B / Σ |A|.
+        share: f64,
+        /// Each coefficient's least-squares estimate with the bias removed.
+        shifts: Vec<(String, f64)>,
+        /// The estimator to use instead (model-file name).
+        recommended: String,
     },
     /// Some directions of the column-scaled regressor are practically null (below the
     /// level the equation noise can resolve): these coefficients are not separated.
@@ -91,8 +111,30 @@ impl fmt::Display for Warning {
                 p_value,
             } => write!(
                 f,
-                "the weighted residual sum of squares is {chi_square:.3e} for {degrees_of_freedom} degrees of freedom (P = {p_value:.1e}): the residuals are larger than the estimated sensor noise explains, so the model may miss a mechanism, the records may not be in steady state, or the noise is not white; the plug-in standard errors are then too small"
+                "the weighted residual sum of squares is {chi_square:.3e} for {degrees_of_freedom} degrees of freedom (P = {p_value:.1e}): the residuals are larger than the estimated sensor noise explains, so the model may miss a mechanism, the records may not be in steady state, the noise is not white, or (on clean simulated data) the residual is discretisation error; the plug-in standard errors would be too small, so the standard errors and intervals shown are scaled by √(χ²/dof) = {:.3}",
+                (chi_square / *degrees_of_freedom as f64).sqrt()
             ),
+            Warning::VelocityNoiseBias {
+                estimator,
+                gain,
+                displacement_noise,
+                worst,
+                share,
+                shifts,
+                recommended,
+            } => {
+                let corrected: Vec<String> = shifts
+                    .iter()
+                    .map(|(name, value)| format!("{name} = {value:.4e}"))
+                    .collect();
+                write!(
+                    f,
+                    "the {} velocities amplify the displacement noise (σ up to {displacement_noise:.2e}) {gain:.1} times relative to the fundamental, and their noise makes up {:.1}% of the {worst} column (the damping columns are biased upwards by Var v, so the coefficients come out low or negative); with the bias removed least squares gives {}; use velocity = \"{recommended}\" with noise = \"auto\" (the default noise-robust pipeline), which corrects for it, before adding experiments",
+                    estimator.replace('_', " "),
+                    100.0 * share,
+                    corrected.join(", ")
+                )
+            }
             Warning::NoRedundancy { equations } => write!(
                 f,
                 "{} for as many free coefficients: the fit is exact by construction and gives no uncertainty; add windows or records",

@@ -175,7 +175,13 @@ fn identify(
     let (job, steady) = load_steady_job(path, accept_transient)?;
     job.settings.fit.validate()?;
     let regressor = build_regressor(&job)?;
-    let mut report = dampid::identify::identify_regressor(&regressor, &job.settings.fit)?;
+    let mut report = dampid::identify::identify_regressor(&regressor, &job.settings.fit)?
+        .with_velocity_noise(dampid::analysis::velocity_noise::assess_or_none(
+            &job.model,
+            &job.records,
+            &job.settings.regressor,
+            &regressor,
+        ));
     if let Some(settings) = bootstrap {
         let intervals = bootstrap_intervals(&regressor, &job.settings.fit, &settings)?;
         report = report.with_bootstrap(intervals);

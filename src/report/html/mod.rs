@@ -173,6 +173,18 @@ impl HtmlReport<'_> {
             table.push_str("</tr>\n");
         }
         table.push_str("</table>\n");
+        if self
+            .report
+            .coefficients
+            .iter()
+            .any(|c| c.std_error.is_some())
+        {
+            let _ = writeln!(
+                table,
+                "<p>{} (intervals: estimate ± 1.96 se).</p>",
+                escape(&self.report.std_error_basis.to_string())
+            );
+        }
         table
     }
 
@@ -255,7 +267,7 @@ fn noise_section(noise: &crate::report::NoiseSummary) -> String {
     };
     let _ = writeln!(
         section,
-        "<p>Equations weighted by their propagated residual standard deviation; standard errors are plug-in. {check}.</p>"
+        "<p>Equations weighted by their propagated residual standard deviation. {check}.</p>"
     );
     section.push_str(
         "<table><tr><th>record</th><th>window</th><th>harmonics kept</th><th>displacement noise σ</th><th>residual sd</th></tr>\n",
