@@ -263,6 +263,25 @@ pub enum Error {
         /// Why, and what would fix it.
         reason: String,
     },
+
+    /// An output file is already there, and the caller did not ask to replace it.
+    #[error("will not write '{path}': {reason}")]
+    OutputExists {
+        /// The file.
+        path: String,
+        /// What is there, and how to replace it.
+        reason: String,
+    },
+
+    /// Writing an output file failed (its temporary file is removed, the target is
+    /// left as it was).
+    #[error("could not write '{path}': {message}")]
+    Output {
+        /// The file.
+        path: String,
+        /// The system's message.
+        message: String,
+    },
 }
 
 /// `, window k` for an error about one window.
@@ -294,6 +313,8 @@ pub const KINDS: &[&str] = &[
     "not_steady",
     "no_input_work",
     "no_information",
+    "output_exists",
+    "output",
 ];
 
 impl Error {
@@ -323,6 +344,8 @@ impl Error {
             Error::NotSteady { .. } => "not_steady",
             Error::NoInputWork { .. } => "no_input_work",
             Error::NoInformation { .. } => "no_information",
+            Error::OutputExists { .. } => "output_exists",
+            Error::Output { .. } => "output",
         }
     }
 

@@ -50,6 +50,9 @@ pub(crate) enum Command {
         /// Also write a self-contained HTML report with plots to DIR/report.html.
         #[arg(long, value_name = "DIR")]
         report: Option<PathBuf>,
+        /// Replace an existing DIR/report.html (it is never replaced otherwise).
+        #[arg(long, requires = "report")]
+        force: bool,
         /// Identify from windows that are not in steady state (they are reported).
         #[arg(long)]
         accept_transient: bool,
@@ -122,9 +125,13 @@ pub(crate) enum Command {
     Simulate {
         /// The model file (TOML) with a [simulation] section.
         model: PathBuf,
-        /// Output folder (created if missing).
+        /// Output folder (created if missing): record_1.csv … and manifest.json.
         #[arg(long)]
         out: PathBuf,
+        /// Replace another run's files in the folder (refused otherwise); its extra
+        /// record files are removed.
+        #[arg(long)]
+        force: bool,
     },
     /// Simulate and identify a reference system from the paper.
     Reference {
