@@ -264,6 +264,15 @@ pub enum Error {
         reason: String,
     },
 
+    /// Linear constraints that, with the bounds, no set of coefficients can meet.
+    #[error(
+        "the constraints admit no coefficients: {constraints} (with the bounds); remove or relax one"
+    )]
+    InfeasibleConstraints {
+        /// The linear constraints, as written.
+        constraints: String,
+    },
+
     /// An output file is already there, and the caller did not ask to replace it.
     #[error("will not write '{path}': {reason}")]
     OutputExists {
@@ -313,6 +322,7 @@ pub const KINDS: &[&str] = &[
     "not_steady",
     "no_input_work",
     "no_information",
+    "infeasible_constraints",
     "output_exists",
     "output",
 ];
@@ -344,6 +354,7 @@ impl Error {
             Error::NotSteady { .. } => "not_steady",
             Error::NoInputWork { .. } => "no_input_work",
             Error::NoInformation { .. } => "no_information",
+            Error::InfeasibleConstraints { .. } => "infeasible_constraints",
             Error::OutputExists { .. } => "output_exists",
             Error::Output { .. } => "output",
         }

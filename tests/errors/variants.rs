@@ -64,6 +64,16 @@ fn every_variant_is_reachable() {
             identify(&zero, &[record()], &measured()).unwrap_err()
         },
         existing_output(),
+        {
+            let contradictory = Constraints {
+                linear: vec![
+                    LinearConstraint::equal("c[1]", "c[2]"),
+                    LinearConstraint::new(&[("c[1]", 1.0), ("c[2]", -1.0)], Relation::AtLeast, 1.0),
+                ],
+                ..Constraints::default()
+            };
+            identify(&per_dof_model(), &[record()], &two_windows(contradictory)).unwrap_err()
+        },
         dampid::io::records::write_record(
             std::path::Path::new("/nonexistent-dampid-folder/record_1.csv"),
             &record(),
