@@ -119,3 +119,27 @@ fn output_errors_name_the_file() {
     assert_eq!(failed.kind(), "output");
     assert!(failed.to_string().contains("report.html"), "{failed}");
 }
+
+/// A MAT file cut short loses no variable silently: every cut inside the last data
+/// element (or its tag) of real v5 and compressed v7 files is `Data` saying so.
+#[test]
+fn truncated_mat_file_is_a_data_error() {
+    for source in [
+        "tests/data/chain3_record1_v5.mat",
+        "tests/data/chain3_record1_v7.mat",
+    ] {
+        let bytes = std::fs::read(source).unwrap();
+        assert!(read_mat_bytes("whole", &bytes).is_ok(), "{source}");
+        for cut in [bytes.len() - 1, bytes.len() - 9, bytes.len() - 200, 131] {
+            match read_mat_bytes("cut", &bytes[..cut]) {
+                Err(Error::Data { message, .. }) => {
+                    assert!(
+                        message.contains("truncated"),
+                        "{source} at {cut}: {message}"
+                    )
+                }
+                other => panic!("{source} cut at {cut}: {other:?}"),
+            }
+        }
+    }
+}
