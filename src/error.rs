@@ -273,6 +273,21 @@ pub enum Error {
         constraints: String,
     },
 
+    /// An input asks for more memory than the limit (the available memory, or
+    /// `--max-memory`), checked before allocating it, or for more time than the time
+    /// limit (a day unless lifted), estimated from a measured rate.
+    #[error("{what} needs {needed}, beyond the limit of {limit}: {reduce}")]
+    TooLarge {
+        /// What would be allocated or run.
+        what: String,
+        /// How much, readable (`8.0 GB`, `3.2 years`).
+        needed: String,
+        /// The limit, readable.
+        limit: String,
+        /// What to reduce.
+        reduce: String,
+    },
+
     /// An output file is already there, and the caller did not ask to replace it.
     #[error("will not write '{path}': {reason}")]
     OutputExists {
@@ -323,6 +338,7 @@ pub const KINDS: &[&str] = &[
     "no_input_work",
     "no_information",
     "infeasible_constraints",
+    "too_large",
     "output_exists",
     "output",
 ];
@@ -355,6 +371,7 @@ impl Error {
             Error::NoInputWork { .. } => "no_input_work",
             Error::NoInformation { .. } => "no_information",
             Error::InfeasibleConstraints { .. } => "infeasible_constraints",
+            Error::TooLarge { .. } => "too_large",
             Error::OutputExists { .. } => "output_exists",
             Error::Output { .. } => "output",
         }

@@ -65,6 +65,11 @@ fn every_variant_is_reachable() {
         },
         existing_output(),
         {
+            let mut huge = sim_settings();
+            huge.recorded_steps = 1_000_000_000_000_000;
+            simulate(&system(), &huge).unwrap_err()
+        },
+        {
             let contradictory = Constraints {
                 linear: vec![
                     LinearConstraint::equal("c[1]", "c[2]"),

@@ -36,6 +36,39 @@ step by step: docs/walkthrough.md.";
 pub(crate) struct Cli {
     #[command(subcommand)]
     pub(crate) command: Command,
+    /// Refuse inputs that would allocate more than this (bytes; k, M, G, T suffixes,
+    /// decimal). Default: the memory the system reports available.
+    #[arg(long, global = true, value_name = "BYTES", value_parser = parse_bytes)]
+    pub(crate) max_memory: Option<u64>,
+    /// Run simulations and bootstraps estimated to take longer than a day.
+    #[arg(long, global = true)]
+    pub(crate) no_time_limit: bool,
+}
+
+/// `4G`, `512M`, `1.5e9`: a byte count with an optional decimal suffix.
+fn parse_bytes(text: &str) -> Result<u64, String> {
+    let trimmed = text.trim();
+    let (number, scale) = match trimmed.char_indices().last() {
+        Some((i, c)) if c.is_ascii_alphabetic() => {
+            let scale = match c.to_ascii_uppercase() {
+                'K' => 1e3,
+                'M' => 1e6,
+                'G' => 1e9,
+                'T' => 1e12,
+                _ => return Err(format!("unknown unit '{c}': use k, M, G or T")),
+            };
+            (&trimmed[..i], scale)
+        }
+        _ => (trimmed, 1.0),
+    };
+    let value: f64 = number
+        .parse()
+        .map_err(|_| format!("'{text}' is not a size (e.g. 4G, 512M)"))?;
+    let bytes = value * scale;
+    if !(bytes.is_finite() && bytes >= 1.0) {
+        return Err(format!("'{text}' is not a positive size"));
+    }
+    Ok(bytes.min(u64::MAX as f64) as u64)
 }
 
 #[derive(Subcommand)]

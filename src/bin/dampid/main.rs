@@ -52,6 +52,12 @@ fn main() -> ExitCode {
 }
 
 fn run(cli: Cli) -> anyhow::Result<Outcome> {
+    if let Some(bytes) = cli.max_memory {
+        dampid::budget::set_max_memory(bytes);
+    }
+    if cli.no_time_limit {
+        dampid::budget::set_time_limit(None);
+    }
     match cli.command {
         Command::Identify {
             model,
