@@ -55,6 +55,7 @@ fn write_csv(record: &Record, folder: &PathBuf) -> Result<PathBuf> {
         &path,
         &["t".into(), "x".into(), "force".into()],
         &[time, x, force],
+        dampid::io::output::Overwrite::Replace, // this example's own scratch file
     )?;
     Ok(path)
 }

@@ -86,7 +86,7 @@ fn run(table_path: &Path) -> Result<Vec<Case>> {
     let records = simulated(SimSettings::default().transient_steps)?;
     let first_period = WindowSpec::cycles(1).first(1);
     let table = SteppedSineTable::from_records(&records, &first_period)?;
-    table.save_csv(table_path)?;
+    table.save_csv(table_path, dampid::io::output::Overwrite::Replace)?;
     let read_back = SteppedSineTable::load_csv(table_path)?;
     let paper_reading = HarmonicApproximation::default();
     let mut cases = vec![

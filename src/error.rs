@@ -263,6 +263,49 @@ pub enum Error {
         /// Why, and what would fix it.
         reason: String,
     },
+
+    /// Linear constraints that, with the bounds, no set of coefficients can meet.
+    #[error(
+        "the constraints admit no coefficients: {constraints} (with the bounds); remove or relax one"
+    )]
+    InfeasibleConstraints {
+        /// The linear constraints, as written.
+        constraints: String,
+    },
+
+    /// An input asks for more memory than the limit (the available memory, or
+    /// `--max-memory`), checked before allocating it, or for more time than the time
+    /// limit (a day unless lifted), estimated from a measured rate.
+    #[error("{what} needs {needed}, beyond the limit of {limit}: {reduce}")]
+    TooLarge {
+        /// What would be allocated or run.
+        what: String,
+        /// How much, readable (`8.0 GB`, `3.2 years`).
+        needed: String,
+        /// The limit, readable.
+        limit: String,
+        /// What to reduce.
+        reduce: String,
+    },
+
+    /// An output file is already there, and the caller did not ask to replace it.
+    #[error("will not write '{path}': {reason}")]
+    OutputExists {
+        /// The file.
+        path: String,
+        /// What is there, and how to replace it.
+        reason: String,
+    },
+
+    /// Writing an output file failed (its temporary file is removed, the target is
+    /// left as it was).
+    #[error("could not write '{path}': {message}")]
+    Output {
+        /// The file.
+        path: String,
+        /// The system's message.
+        message: String,
+    },
 }
 
 /// `, window k` for an error about one window.
@@ -294,6 +337,10 @@ pub const KINDS: &[&str] = &[
     "not_steady",
     "no_input_work",
     "no_information",
+    "infeasible_constraints",
+    "too_large",
+    "output_exists",
+    "output",
 ];
 
 impl Error {
@@ -323,6 +370,10 @@ impl Error {
             Error::NotSteady { .. } => "not_steady",
             Error::NoInputWork { .. } => "no_input_work",
             Error::NoInformation { .. } => "no_information",
+            Error::InfeasibleConstraints { .. } => "infeasible_constraints",
+            Error::TooLarge { .. } => "too_large",
+            Error::OutputExists { .. } => "output_exists",
+            Error::Output { .. } => "output",
         }
     }
 

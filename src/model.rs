@@ -60,6 +60,13 @@ impl DampingModel {
         }
         let mut seen = HashSet::with_capacity(names.len());
         for name in names {
+            if name.trim().is_empty() {
+                return Err(Error::choice(
+                    "coefficient name",
+                    format!("'{name}'"),
+                    "every coefficient needs a name that reports, bounds and the JSON output can refer to",
+                ));
+            }
             if !seen.insert(name.as_str()) {
                 return Err(Error::DuplicateCoefficient { name: name.clone() });
             }

@@ -431,3 +431,54 @@ fn zero_regressor_exits_with_2() {
     );
     std::fs::remove_dir_all(&folder).ok();
 }
+
+/// Absurd sizes are refused up front with exit 2, naming the setting to reduce: DOFs
+/// whose matrices do not fit in memory, harmonics beyond what a window holds, a
+/// transient of 10¹⁵ steps (refused from its measured rate) and 10⁹ bootstrap replicates.
+#[test]
+fn absurd_sizes_exit_with_2_before_allocating() {
+    let folder = std::env::temp_dir().join(format!("dampid-cli-sizes-{}", std::process::id()));
+    std::fs::create_dir_all(&folder).unwrap();
+    let four = std::fs::read_to_string("models/four_mass.toml").unwrap();
+    let cases = [
+        ("dofs", four.replace("dofs = 4", "dofs = 100000"), "dofs"),
+        (
+            "harmonics",
+            four.replace(
+                "velocity = \"central_difference\"",
+                "velocity = \"harmonic_projection\"\nharmonics = 1000000000",
+            ),
+            "harmonics",
+        ),
+        (
+            "transient",
+            four.replace(
+                "transient_steps = 1000",
+                "transient_steps = 1000000000000000",
+            ),
+            "transient_steps",
+        ),
+    ];
+    for (name, text, needle) in cases {
+        assert_ne!(text, four, "{name}");
+        let file = folder.join(format!("{name}.toml"));
+        std::fs::write(&file, text).unwrap();
+        let out = dampid(&["identify", file.to_str().unwrap()]);
+        assert_eq!(out.status.code(), Some(2), "{name}");
+        let error = text_of(&out.stderr);
+        assert!(error.contains(needle), "{name}: {error}");
+    }
+    let replicates = dampid(&[
+        "identify",
+        "models/four_mass.toml",
+        "--bootstrap",
+        "1000000000000",
+    ]);
+    assert_eq!(replicates.status.code(), Some(2));
+    assert!(text_of(&replicates.stderr).contains("--bootstrap"));
+    std::fs::remove_dir_all(&folder).ok();
+}
+
+fn text_of(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}

@@ -72,15 +72,21 @@ fn inequalities_active_and_inactive() {
     assert!((fit.coefficients[1] - 1.25).abs() < 1e-8);
 }
 
-/// θ_a = θ_b together with θ_a ≥ θ_b + 1 cannot hold: the solver says infeasible.
+/// θ_a = θ_b together with θ_a ≥ θ_b + 1 cannot hold: bad input, a typed error that
+/// lists the constraints (not a failed fit).
 #[test]
-fn contradictory_constraints_are_infeasible() {
-    let fit = fit_with(vec![
+fn contradictory_constraints_are_an_error() {
+    let error = fit_with(vec![
         LinearConstraint::equal("a", "b"),
         LinearConstraint::new(&[("a", 1.0), ("b", -1.0)], Relation::AtLeast, 1.0),
     ])
-    .unwrap();
-    assert_eq!(fit.status, FitStatus::Infeasible);
+    .unwrap_err();
+    assert_eq!(error.kind(), "infeasible_constraints");
+    let message = error.to_string();
+    assert!(
+        message.contains("a = b") || message.contains("a − b"),
+        "{message}"
+    );
 }
 
 #[test]

@@ -95,7 +95,13 @@ frequency = 0.765367
     .unwrap();
     let csv = std::env::temp_dir().join(format!("dampid-formats-{}.csv", std::process::id()));
     let table = csv_rows();
-    dampid::io::csv::write(&csv, &table.headers, &table.columns).unwrap();
+    dampid::io::csv::write(
+        &csv,
+        &table.headers,
+        &table.columns,
+        dampid::io::output::Overwrite::Replace,
+    )
+    .unwrap();
     let job_csv = dampid::model_file::parse(
         &model(csv.to_str().unwrap(), ["x1", "x2", "x3"], "f1"),
         "m.toml",

@@ -421,7 +421,9 @@ fn table_csv_round_trip_is_exact() {
     assert!(serde_json::from_str::<SteppedSineTable>(&bad).is_err());
     // Through a file.
     let path = std::env::temp_dir().join(format!("dampid_table_{}.csv", std::process::id()));
-    table.save_csv(&path).unwrap();
+    table
+        .save_csv(&path, dampid::io::output::Overwrite::Replace)
+        .unwrap();
     assert_eq!(SteppedSineTable::load_csv(&path).unwrap(), table);
     std::fs::remove_file(&path).unwrap();
 }

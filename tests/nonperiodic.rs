@@ -73,6 +73,7 @@ fn relative_error(report: &FitReport, name: &str, truth: f64) -> f64 {
 fn scratch(name: &str) -> PathBuf {
     let folder =
         std::env::temp_dir().join(format!("dampid-nonperiodic-{name}-{}", std::process::id()));
+    std::fs::remove_dir_all(&folder).ok(); // a stale folder of an earlier run
     std::fs::create_dir_all(&folder).unwrap();
     folder
 }
@@ -87,6 +88,7 @@ fn write_drive_csv(record: &Record, path: &Path) {
             record.displacements().col(0).iter().copied().collect(),
             record.forcing().signals.col_as_slice(0).to_vec(),
         ],
+        dampid::io::output::Overwrite::Replace,
     )
     .unwrap();
 }

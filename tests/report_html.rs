@@ -6,6 +6,7 @@ use support::cli::{dampid_json, dampid_ok};
 #[test]
 fn identify_writes_an_html_report_with_plots() {
     let folder = std::env::temp_dir().join(format!("dampid-html-{}", std::process::id()));
+    std::fs::remove_dir_all(&folder).ok(); // a stale folder of an earlier run
     // stdout stays pure JSON.
     let json = dampid_json(&[
         "identify",
@@ -54,6 +55,7 @@ fn identify_writes_an_html_report_with_plots() {
 #[test]
 fn pod_report_shows_the_proper_orthogonal_modes() {
     let folder = std::env::temp_dir().join(format!("dampid-html-pod-{}", std::process::id()));
+    std::fs::remove_dir_all(&folder).ok(); // a stale folder of an earlier run
     dampid_ok(&[
         "identify",
         "models/four_mass_pod.toml",

@@ -77,6 +77,8 @@ fn walkthrough_model_file_identifies_the_chain() {
     assert!(report.coefficients.iter().all(|c| c.std_error.is_some()));
 
     let folder = std::env::temp_dir().join(format!("dampid-walkthrough-{}", std::process::id()));
+
+    std::fs::remove_dir_all(&folder).ok(); // a stale folder of an earlier run
     dampid_ok(&[
         "identify",
         "models/walkthrough.toml",

@@ -159,6 +159,16 @@ pub fn bootstrap(
             coefficients: p,
         });
     }
+    crate::budget::require(
+        &format!(
+            "{} bootstrap replicates of {p} coefficients",
+            settings.replicates
+        ),
+        // Each kept replicate: p values, its Vec and Option headers and allocator
+        // overhead (about 6 words).
+        crate::budget::f64s((settings.replicates as u128).saturating_mul(p as u128 + 6)),
+        "reduce the replicates (--bootstrap N); 1000 to 2000 give 95% intervals",
+    )?;
     let full_rank = rank_of(regressor, fit.rank_tolerance);
     let replicate = |k: usize| -> Result<Option<Vec<f64>>> {
         let mut rng = replicate_rng(settings.seed, k);
@@ -174,10 +184,28 @@ pub fn bootstrap(
             Err(e) => Err(e),
         }
     };
-    let outcomes: Vec<Option<Vec<f64>>> = (0..settings.replicates)
+    // The first replicates run one by one and time the rest: each replicate k has its
+    // own seeded generator, so the split changes no result.
+    let started = std::time::Instant::now();
+    let mut outcomes: Vec<Option<Vec<f64>>> = Vec::new();
+    while outcomes.len() < settings.replicates.min(64)
+        && started.elapsed() < std::time::Duration::from_millis(200)
+    {
+        outcomes.push(replicate(outcomes.len())?);
+    }
+    let timed = outcomes.len();
+    let per_replicate = started.elapsed().as_secs_f64() / timed.max(1) as f64;
+    crate::budget::require_time(
+        &format!("{} bootstrap replicates", settings.replicates),
+        per_replicate * (settings.replicates - timed) as f64
+            / rayon::current_num_threads().max(1) as f64,
+        "reduce the replicates (--bootstrap N); 1000 to 2000 give 95% intervals",
+    )?;
+    let rest: Vec<Option<Vec<f64>>> = (timed..settings.replicates)
         .into_par_iter()
         .map(replicate)
         .collect::<Result<_>>()?;
+    outcomes.extend(rest);
     let samples: Vec<Vec<f64>> = outcomes.into_iter().flatten().collect();
     let used = samples.len();
     if 2 * used < settings.replicates {

@@ -141,6 +141,18 @@ pub fn constrained(
         Some(theta_s) => (theta_s, FitStatus::Solved, 0, true),
         None => {
             let lifted = solve_lifted(&r, &c, &scaled, &scaled_linear, settings)?;
+            if lifted.primal_infeasible {
+                // Bounds alone were checked by `resolve`: the linear constraints, with
+                // them, admit no coefficients. That is bad input, not a failed fit.
+                return Err(Error::InfeasibleConstraints {
+                    constraints: constraints
+                        .linear
+                        .iter()
+                        .map(ToString::to_string)
+                        .collect::<Vec<_>>()
+                        .join("; "),
+                });
+            }
             let theta_s: Vec<f64> = lifted
                 .theta
                 .iter()
@@ -243,6 +255,8 @@ struct Lifted {
     /// θ_s (not yet clamped to the bounds).
     theta: Vec<f64>,
     status: FitStatus,
+    /// Clarabel found (or nearly found) a certificate that no θ meets the constraints.
+    primal_infeasible: bool,
     iterations: u32,
     /// Per coefficient, the bound whose multiplier exceeds its slack (z > s): the
     /// interior-point estimate of the active set, independent of scaling.
@@ -369,6 +383,10 @@ fn solve_lifted(
         detail: format!("{e}"),
     })?;
     solver.solve();
+    let primal_infeasible = matches!(
+        solver.solution.status,
+        SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible
+    );
     let status = match solver.solution.status {
         SolverStatus::Solved => FitStatus::Solved,
         SolverStatus::AlmostSolved => FitStatus::AlmostSolved,
@@ -396,6 +414,7 @@ fn solve_lifted(
     Ok(Lifted {
         theta: solver.solution.x[..p].to_vec(),
         status,
+        primal_infeasible,
         iterations: solver.solution.iterations,
         active_guess,
     })

@@ -1,9 +1,11 @@
 //! CSV files with a header row: every column numeric. Errors name the file, the 1-based
 //! data row and the column.
 
+use std::io::Write;
 use std::path::Path;
 
 use crate::error::{Error, Result};
+use crate::io::output::{self, Overwrite};
 use crate::io::table::Table;
 
 /// Reads a CSV file with a header row.
@@ -47,6 +49,26 @@ fn from_reader<R: std::io::Read>(mut reader: ::csv::Reader<R>, file: String) -> 
     if headers.is_empty() || headers.iter().all(String::is_empty) {
         return Err(data_error(0, "", "no header row".into()));
     }
+    for (k, name) in headers.iter().enumerate() {
+        if name.is_empty() {
+            return Err(data_error(
+                0,
+                "",
+                format!("column {} of the header has no name", k + 1),
+            ));
+        }
+        if let Some(first) = headers[..k].iter().position(|h| h == name) {
+            return Err(data_error(
+                0,
+                name,
+                format!(
+                    "the header names '{name}' twice (columns {} and {}): rename one, so that the model file's column names are unambiguous",
+                    first + 1,
+                    k + 1
+                ),
+            ));
+        }
+    }
     let mut columns = vec![Vec::new(); headers.len()];
     for (index, record) in reader.records().enumerate() {
         let row = index + 1;
@@ -82,23 +104,36 @@ fn from_reader<R: std::io::Read>(mut reader: ::csv::Reader<R>, file: String) -> 
     })
 }
 
-/// Writes `headers` and column-major `columns` as CSV.
-pub fn write(path: &Path, headers: &[String], columns: &[Vec<f64>]) -> Result<()> {
-    let io_error = |e: &dyn std::fmt::Display| Error::Data {
-        file: path.display().to_string(),
-        row: 0,
-        column: String::new(),
-        message: e.to_string(),
-    };
-    let mut writer = ::csv::Writer::from_path(path).map_err(|e| io_error(&e))?;
-    writer.write_record(headers).map_err(|e| io_error(&e))?;
+/// Writes `headers` and column-major `columns` as a CSV file at `path`, atomically
+/// ([`crate::io::output`]): an existing file is an error under [`Overwrite::Refuse`].
+pub fn write(
+    path: &Path,
+    headers: &[String],
+    columns: &[Vec<f64>],
+    overwrite: Overwrite,
+) -> Result<()> {
+    output::write_file(path, overwrite, |sink| {
+        write_to(sink, headers, columns).map_err(|e| Error::Output {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        })
+    })
+}
+
+/// Writes `headers` and column-major `columns` as CSV to `sink`.
+pub(crate) fn write_to(
+    sink: &mut dyn Write,
+    headers: &[String],
+    columns: &[Vec<f64>],
+) -> ::csv::Result<()> {
+    let mut writer = ::csv::Writer::from_writer(sink);
+    writer.write_record(headers)?;
     let rows = columns.first().map_or(0, Vec::len);
     for i in 0..rows {
-        writer
-            .write_record(columns.iter().map(|c| format!("{:.10e}", c[i])))
-            .map_err(|e| io_error(&e))?;
+        writer.write_record(columns.iter().map(|c| format!("{:.10e}", c[i])))?;
     }
-    writer.flush().map_err(|e| io_error(&e))
+    writer.flush()?;
+    Ok(())
 }
 
 #[cfg(test)]
@@ -127,5 +162,18 @@ mod tests {
             Err(Error::Data { row: 1, .. })
         ));
         assert!(matches!(table.column("x9"), Err(Error::UnknownName { .. })));
+    }
+
+    /// A header that names a column twice, or not at all, is refused: a model file's
+    /// column name must pick one column.
+    #[test]
+    fn duplicate_and_empty_column_names_are_errors() {
+        let twice = parse("t,x,f,x\n0,1,2,3\n", "mem.csv").unwrap_err();
+        assert!(
+            twice.to_string().contains("'x' twice (columns 2 and 4)"),
+            "{twice}"
+        );
+        let unnamed = parse("t,,f\n0,1,2\n", "mem.csv").unwrap_err();
+        assert!(unnamed.to_string().contains("column 2"), "{unnamed}");
     }
 }

@@ -1,6 +1,7 @@
 //! MATLAB `.mat` files, level 5 (MATLAB v5 to v7, compressed or not; v7.3 is HDF5 and is
 //! not read), with the matfile crate. Every real numeric 1-D or 2-D variable becomes
 //! columns (as for NPY arrays: `x[1]`…`x[k]` for N × k); complex and non-numeric variables are skipped.
+//! A file cut short inside a data element is an error, not a table without that variable.
 
 use std::path::Path;
 
@@ -34,6 +35,65 @@ fn real_values(data: &NumericData) -> Option<Vec<f64>> {
     }
 }
 
+/// The file holds whole data elements: matfile 0.5 stops quietly at a data element cut
+/// short (a file copied or written incompletely), so that variable would vanish from the
+/// table. Each element is an 8-byte tag (type, byte count; a small element packs both
+/// and its data into 8 bytes) followed by its data, padded to 8 bytes unless compressed.
+fn complete(bytes: &[u8]) -> std::result::Result<(), String> {
+    const HEADER: usize = 128;
+    const COMPRESSED: u32 = 15;
+    let length = bytes.len();
+    if length < HEADER {
+        return Err(format!(
+            "not a level-5 MAT file: {length} bytes, shorter than the {HEADER}-byte header"
+        ));
+    }
+    let little = &bytes[126..128] == b"IM";
+    let word = |at: usize| {
+        let quad = [bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]];
+        if little {
+            u32::from_le_bytes(quad)
+        } else {
+            u32::from_be_bytes(quad)
+        }
+    };
+    let (mut offset, mut element) = (HEADER, 1);
+    while offset < length {
+        if length - offset < 8 {
+            return Err(format!(
+                "the MAT file is truncated: it ends inside the tag of data element {element} (variable {element}), at byte {length}"
+            ));
+        }
+        let tag = word(offset);
+        let next = if tag >> 16 != 0 {
+            offset + 8
+        } else {
+            let size = word(offset + 4) as usize;
+            let padded = if tag == COMPRESSED {
+                size
+            } else {
+                size.div_ceil(8) * 8
+            };
+            // An unpadded last element is accepted: some writers omit its padding.
+            let end = offset.saturating_add(8).saturating_add(size);
+            if end > length {
+                return Err(format!(
+                    "the MAT file is truncated: data element {element} (variable {element}) needs {} bytes from byte {offset}, the file has {}; the variable would be lost",
+                    8 + size,
+                    length - offset
+                ));
+            }
+            offset
+                .saturating_add(8)
+                .saturating_add(padded)
+                .min(length.max(end))
+        };
+        offset = next;
+        element += 1;
+    }
+    Ok(())
+}
+
 /// Reads the real numeric variables of a `.mat` file.
 pub fn read_mat(path: &Path) -> Result<Table> {
     let file = path.display().to_string();
@@ -43,12 +103,13 @@ pub fn read_mat(path: &Path) -> Result<Table> {
         column: String::new(),
         message,
     };
-    let reader = std::fs::File::open(path).map_err(|e| error(e.to_string()))?;
+    let bytes = std::fs::read(path).map_err(|e| error(e.to_string()))?;
+    complete(&bytes).map_err(error)?;
     // matfile 0.5 panics on some malformed files (a data element whose size is within 8
     // of u32::MAX overflows its padding arithmetic; found by the `mat` fuzz target), so
     // a panic in the parser is turned into the same typed error as a parse failure.
     let parsed = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        MatFile::parse(std::io::BufReader::new(reader))
+        MatFile::parse(bytes.as_slice())
     }))
     .map_err(|_| error("not a level-5 MAT file: the MAT parser failed on it".into()))?;
     let mat =

@@ -8,16 +8,20 @@
 //! | `.npz` | [`npy::read_npz`] | each array's name, as above |
 //! | `.mat` | [`mat::read_mat`] | each real numeric variable's name, as above |
 //!
-//! Other files: [`records`] writes records as CSV (`dampid simulate`), [`stepped_sine`]
+//! Other files: [`records`] writes records as CSV and [`run`] a simulation run's folder
+//! with its manifest (`dampid simulate`), [`stepped_sine`]
 //! reads and writes stepped-sine tables, [`pod_files`] runs the POD of record files
-//! (`dampid pod`).
+//! (`dampid pod`). Every file is written through [`output`]: complete or absent, and
+//! never replacing an existing file unless asked to.
 
 mod arrays;
 pub mod csv;
 pub mod mat;
 pub mod npy;
+pub mod output;
 pub mod pod_files;
 pub mod records;
+pub mod run;
 pub mod stepped_sine;
 pub mod table;
 

@@ -7,6 +7,7 @@ use std::path::Path;
 
 use crate::error::Result;
 use crate::io::csv;
+use crate::io::output::Overwrite;
 use crate::record::Record;
 
 /// The column names and values of `record` in the layout above.
@@ -37,8 +38,9 @@ pub fn record_columns(record: &Record) -> (Vec<String>, Vec<Vec<f64>>) {
     (headers, columns)
 }
 
-/// Writes `record` as a CSV file at `path`.
-pub fn write_record(path: &Path, record: &Record) -> Result<()> {
+/// Writes `record` as a CSV file at `path` (atomically; an existing file is an error
+/// under [`Overwrite::Refuse`]).
+pub fn write_record(path: &Path, record: &Record, overwrite: Overwrite) -> Result<()> {
     let (headers, columns) = record_columns(record);
-    csv::write(path, &headers, &columns)
+    csv::write(path, &headers, &columns, overwrite)
 }

@@ -13,6 +13,7 @@ use std::io::{Read, Write};
 use std::path::Path;
 
 use crate::error::{Error, Result};
+use crate::io::output::{self, Overwrite};
 use crate::prep::harmonic::{SteppedSinePoint, SteppedSineTable};
 
 /// The leading columns, before the amplitude and phase of each DOF.
@@ -57,16 +58,11 @@ impl SteppedSineTable {
         out.flush().map_err(|e| io_error(0, &e))
     }
 
-    /// Writes the table as a CSV file.
-    pub fn save_csv(&self, path: &Path) -> Result<()> {
+    /// Writes the table as a CSV file (atomically; an existing file is an error under
+    /// [`Overwrite::Refuse`]).
+    pub fn save_csv(&self, path: &Path, overwrite: Overwrite) -> Result<()> {
         let file = path.display().to_string();
-        let handle = std::fs::File::create(path).map_err(|e| Error::Data {
-            file: file.clone(),
-            row: 0,
-            column: String::new(),
-            message: e.to_string(),
-        })?;
-        self.write_csv(handle, &file)
+        output::write_file(path, overwrite, |sink| self.write_csv(sink, &file))
     }
 
     /// Reads a CSV file.

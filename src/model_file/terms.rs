@@ -18,6 +18,13 @@ pub(super) fn resolve_matrix(
     spec: &ModelFileSpec,
     n: usize,
 ) -> Result<Mat<f64>> {
+    if matches!(reference, MatrixRef::Name(_)) {
+        crate::budget::require(
+            &format!("a {n} × {n} matrix"),
+            crate::budget::f64s((n as u128).pow(2)),
+            "reduce `dofs`; systems of many DOFs are reduced with [pod] or described by elements",
+        )?;
+    }
     let rows: &Vec<Vec<f64>> = match reference {
         MatrixRef::Name(name) if name == "identity" => return Ok(Mat::identity(n, n)),
         MatrixRef::Name(name) if name == "chain" => return Ok(chain_stiffness(n)),

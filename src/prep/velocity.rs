@@ -50,7 +50,9 @@ use faer::{Mat, MatRef};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
-use crate::prep::fourier::{HarmonicBasis, WholePeriods, default_harmonics, select_harmonics};
+use crate::prep::fourier::{
+    HarmonicBasis, WholePeriods, default_harmonics, first_orders, select_harmonics,
+};
 use crate::prep::window::Window;
 use crate::record::{Record, col};
 
@@ -190,8 +192,7 @@ impl VelocitySource {
                 let whole = whole_periods(record, start, count)?;
                 let x = record.displacements().subrows(start, whole.samples);
                 let orders = match harmonics {
-                    // K = 0 gives no orders, which the basis rejects.
-                    Some(k) => (1..=k).collect(),
+                    Some(k) => first_orders(k, whole.samples)?,
                     None => {
                         select_harmonics(x, record.step(), record.period(), whole.periods)?.kept
                     }

@@ -270,6 +270,18 @@ pub fn simulate_with_progress(
 ) -> Result<Record> {
     settings.validate()?;
     system.validate()?;
+    // The record holds x and v (N × n) and the force channels (N × c).
+    let values = (settings.recorded_steps as u128)
+        .saturating_mul(2 * system.dofs() as u128 + system.forcing.len() as u128);
+    crate::budget::require(
+        &format!(
+            "a simulated record of {} recorded steps × {} DOFs",
+            settings.recorded_steps,
+            system.dofs()
+        ),
+        crate::budget::f64s(values),
+        "reduce `recorded_steps` (or the DOFs)",
+    )?;
     let n = system.dofs();
     // A mass matrix is invertible in floating point only if it is well conditioned: an
     // LU pivot of round-off size is not a pivot.
@@ -331,6 +343,7 @@ pub fn simulate_with_progress(
     let mut v = Mat::<f64>::zeros(recorded, n);
     let mut signals = Mat::<f64>::zeros(recorded, system.forcing.len());
     let mut t = 0.0;
+    let mut stopwatch = crate::budget::Stopwatch::start();
     for step in 0..total {
         if step >= settings.transient_steps {
             let row = step - settings.transient_steps;
@@ -352,6 +365,14 @@ pub fn simulate_with_progress(
                 stage: "simulation".into(),
                 detail: format!("the state diverged at t = {t}; reduce the step or add substeps"),
             });
+        }
+        if (step + 1) % 64 == 0 {
+            stopwatch.check(
+                (step + 1) as u64,
+                total as u64,
+                &format!("a simulation of {total} steps of {n} DOFs"),
+                "reduce `transient_steps` or `recorded_steps`",
+            )?;
         }
         if (step + 1) % report_every == 0 || step + 1 == total {
             progress((step + 1) as u64, total as u64);

@@ -122,6 +122,13 @@ impl ElementTerm {
                     value,
                 });
             }
+            if let Some((k, &value)) = weights.iter().enumerate().find(|(_, w)| **w < 0.0) {
+                return Err(Error::invalid(
+                    &format!("weight of element {} in the {what}", k + 1),
+                    value,
+                    "an element weight scales a dissipative law and must be zero or positive: a negative weight would make the element supply energy",
+                ));
+            }
         }
         Ok(())
     }

@@ -82,3 +82,64 @@ fn mat_file_whose_element_size_overflows_is_a_data_error() {
         "{result:?}"
     );
 }
+
+/// A header naming one column twice is `Data` naming the column: a model file's column
+/// name must pick exactly one.
+#[test]
+fn duplicate_column_name_is_a_data_error() {
+    match dampid::io::csv::parse("t,x1,x1\n0,1,2\n", "dup.csv") {
+        Err(Error::Data { file, column, .. }) => {
+            assert_eq!((file.as_str(), column.as_str()), ("dup.csv", "x1"));
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+/// Output files: an existing target is `OutputExists` naming it; a folder that does
+/// not exist is `Output` naming the file; neither leaves a file behind.
+#[test]
+fn output_errors_name_the_file() {
+    use dampid::io::output::{Overwrite, write_file};
+    let path = std::env::temp_dir().join(format!("dampid-errors-out-{}.txt", std::process::id()));
+    std::fs::write(&path, "mine").unwrap();
+    let exists = write_file(&path, Overwrite::Refuse, |w| {
+        w.write_all(b"new").map_err(|e| Error::Output {
+            path: String::new(),
+            message: e.to_string(),
+        })
+    })
+    .unwrap_err();
+    assert_eq!(exists.kind(), "output_exists");
+    assert!(exists.to_string().contains(&path.display().to_string()));
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), "mine");
+    std::fs::remove_file(&path).ok();
+
+    let nowhere = std::path::Path::new("/nonexistent-dampid-folder/report.html");
+    let failed = write_file(nowhere, Overwrite::Replace, |_| Ok(())).unwrap_err();
+    assert_eq!(failed.kind(), "output");
+    assert!(failed.to_string().contains("report.html"), "{failed}");
+}
+
+/// A MAT file cut short loses no variable silently: every cut inside the last data
+/// element (or its tag) of real v5 and compressed v7 files is `Data` saying so.
+#[test]
+fn truncated_mat_file_is_a_data_error() {
+    for source in [
+        "tests/data/chain3_record1_v5.mat",
+        "tests/data/chain3_record1_v7.mat",
+    ] {
+        let bytes = std::fs::read(source).unwrap();
+        assert!(read_mat_bytes("whole", &bytes).is_ok(), "{source}");
+        for cut in [bytes.len() - 1, bytes.len() - 9, bytes.len() - 200, 131] {
+            match read_mat_bytes("cut", &bytes[..cut]) {
+                Err(Error::Data { message, .. }) => {
+                    assert!(
+                        message.contains("truncated"),
+                        "{source} at {cut}: {message}"
+                    )
+                }
+                other => panic!("{source} cut at {cut}: {other:?}"),
+            }
+        }
+    }
+}

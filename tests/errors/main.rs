@@ -32,6 +32,10 @@
 //! | `NotSteady` | `prep::steady_state` (`enforce`) | prep |
 //! | `NoInputWork` | `Regressor::build` (`regressor::input_work`): a record whose force channels read zero or are absent, a window whose net work is nothing beside its gross work | variants, regressor, degenerate (tests/), nonperiodic (tests/), cli (tests/) |
 //! | `NoInformation` | `identify_regressor` and `RegressorCheck::new` (`analysis::identifiability::require_information`): every column of the regressor zero | variants, regressor, degenerate (tests/), cli (tests/) |
+//! | `InfeasibleConstraints` | the constrained fit: linear constraints that no coefficients meet (clarabel's infeasibility certificate) | variants, constraints (tests/) |
+//! | `TooLarge` | `budget::require` before allocations sized by input (simulated records, named `dofs` × `dofs` matrices, bootstrap replicates), `budget::Stopwatch`/`require_time` for work estimated past the time limit (simulation, bootstrap) | variants, simulate, cli (tests/) |
+//! | `OutputExists` | `io::output` (every file dampid writes): the target exists and `Overwrite::Refuse` | variants, data_files, outputs (tests/), `io::output` unit tests |
+//! | `Output` | `io::output`: the temporary file cannot be created, written or renamed | variants, data_files |
 
 mod data_files;
 mod fit;

@@ -141,3 +141,33 @@ fn negative_or_non_finite_power_law_exponent_is_invalid_parameter() {
     assert_invalid(PowerLaw::new(f64::INFINITY), "exponent", f64::INFINITY);
     assert!(PowerLaw::new(0.0).is_ok());
 }
+
+/// A coefficient without a name is `InvalidChoice`: reports, bounds and JSON refer to
+/// coefficients by name.
+#[test]
+fn empty_coefficient_name_is_invalid_choice() {
+    let model =
+        DampingModel::new().with(Term::per_dof(Linear, 2, Coefficients::Shared(" ".into())));
+    let err = model.validate(2).unwrap_err();
+    assert_eq!(err.kind(), "invalid_choice");
+    assert!(err.to_string().contains("coefficient name"), "{err}");
+}
+
+/// A negative element weight would make a dashpot supply energy (c came out −0.111
+/// before): `InvalidParameter` naming the element, from 1, and the value.
+#[test]
+fn negative_element_weight_is_invalid_parameter() {
+    let model = DampingModel::new().with(Term::weighted(
+        Linear,
+        vec![Element::to_ground(0), Element::to_ground(1)],
+        vec![1.0, -2.0],
+        Coefficients::Shared("c".into()),
+    ));
+    let err = model.validate(2).unwrap_err();
+    assert_eq!(err.kind(), "invalid_parameter");
+    let message = err.to_string();
+    assert!(
+        message.contains("element 2") && message.contains("-2"),
+        "{message}"
+    );
+}

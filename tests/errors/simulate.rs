@@ -90,6 +90,28 @@ fn invalid_sim_settings_are_invalid_parameter() {
     assert_invalid(simulate(&system(), &settings), "recorded_steps", 2.0);
 }
 
+/// Sizes are checked before allocation, and time from a measured rate: a record of
+/// 10¹⁵ samples is `TooLarge` (memory) at once, 10¹⁵ transient steps `TooLarge` (time)
+/// after a fraction of a second, each naming the setting to reduce.
+#[test]
+fn absurd_simulation_sizes_are_too_large() {
+    let mut settings = sim_settings();
+    settings.recorded_steps = 1_000_000_000_000_000;
+    let memory = simulate(&system(), &settings).unwrap_err();
+    assert_eq!(memory.kind(), "too_large");
+    assert!(memory.to_string().contains("recorded_steps"), "{memory}");
+
+    let mut settings = sim_settings();
+    settings.transient_steps = 1_000_000_000_000_000;
+    let time = simulate(&system(), &settings).unwrap_err();
+    assert_eq!(time.kind(), "too_large");
+    let message = time.to_string();
+    assert!(
+        message.contains("years") && message.contains("transient_steps"),
+        "{message}"
+    );
+}
+
 #[test]
 fn cubic_spring_on_missing_dof_is_dof_out_of_range() {
     let cubic = |dof: usize, coefficient: f64| {

@@ -3,6 +3,7 @@
 //! the crate keeps complete with an exhaustive match in `Error::kind`): a new variant
 //! fails this test until an input here produces it. Every message names something.
 
+use dampid::io::output::Overwrite;
 use dampid::prelude::*;
 use dampid::regressor::SpanWindows;
 use dampid::simulate::simulate;
@@ -62,6 +63,28 @@ fn every_variant_is_reachable() {
             let zero = DampingModel::new().with(Term::viscous("zero", Mat::zeros(2, 2)));
             identify(&zero, &[record()], &measured()).unwrap_err()
         },
+        existing_output(),
+        {
+            let mut huge = sim_settings();
+            huge.recorded_steps = 1_000_000_000_000_000;
+            simulate(&system(), &huge).unwrap_err()
+        },
+        {
+            let contradictory = Constraints {
+                linear: vec![
+                    LinearConstraint::equal("c[1]", "c[2]"),
+                    LinearConstraint::new(&[("c[1]", 1.0), ("c[2]", -1.0)], Relation::AtLeast, 1.0),
+                ],
+                ..Constraints::default()
+            };
+            identify(&per_dof_model(), &[record()], &two_windows(contradictory)).unwrap_err()
+        },
+        dampid::io::records::write_record(
+            std::path::Path::new("/nonexistent-dampid-folder/record_1.csv"),
+            &record(),
+            Overwrite::Refuse,
+        )
+        .unwrap_err(),
     ];
     let mut seen: Vec<&str> = errors.iter().map(Error::kind).collect();
     seen.sort_unstable();
@@ -73,4 +96,14 @@ fn every_variant_is_reachable() {
     for e in &errors {
         assert!(e.to_string().len() > 10, "{e:?}");
     }
+}
+
+/// Writing a record twice to one path without `Replace`.
+fn existing_output() -> Error {
+    let path = std::env::temp_dir().join(format!("dampid-variants-{}.csv", std::process::id()));
+    std::fs::remove_file(&path).ok();
+    dampid::io::records::write_record(&path, &record(), Overwrite::Refuse).unwrap();
+    let error = dampid::io::records::write_record(&path, &record(), Overwrite::Refuse).unwrap_err();
+    std::fs::remove_file(&path).ok();
+    error
 }

@@ -36,6 +36,39 @@ step by step: docs/walkthrough.md.";
 pub(crate) struct Cli {
     #[command(subcommand)]
     pub(crate) command: Command,
+    /// Refuse inputs that would allocate more than this (bytes; k, M, G, T suffixes,
+    /// decimal). Default: the memory the system reports available.
+    #[arg(long, global = true, value_name = "BYTES", value_parser = parse_bytes)]
+    pub(crate) max_memory: Option<u64>,
+    /// Run simulations and bootstraps estimated to take longer than a day.
+    #[arg(long, global = true)]
+    pub(crate) no_time_limit: bool,
+}
+
+/// `4G`, `512M`, `1.5e9`: a byte count with an optional decimal suffix.
+fn parse_bytes(text: &str) -> Result<u64, String> {
+    let trimmed = text.trim();
+    let (number, scale) = match trimmed.char_indices().last() {
+        Some((i, c)) if c.is_ascii_alphabetic() => {
+            let scale = match c.to_ascii_uppercase() {
+                'K' => 1e3,
+                'M' => 1e6,
+                'G' => 1e9,
+                'T' => 1e12,
+                _ => return Err(format!("unknown unit '{c}': use k, M, G or T")),
+            };
+            (&trimmed[..i], scale)
+        }
+        _ => (trimmed, 1.0),
+    };
+    let value: f64 = number
+        .parse()
+        .map_err(|_| format!("'{text}' is not a size (e.g. 4G, 512M)"))?;
+    let bytes = value * scale;
+    if !(bytes.is_finite() && bytes >= 1.0) {
+        return Err(format!("'{text}' is not a positive size"));
+    }
+    Ok(bytes.min(u64::MAX as f64) as u64)
 }
 
 #[derive(Subcommand)]
@@ -50,6 +83,9 @@ pub(crate) enum Command {
         /// Also write a self-contained HTML report with plots to DIR/report.html.
         #[arg(long, value_name = "DIR")]
         report: Option<PathBuf>,
+        /// Replace an existing DIR/report.html (it is never replaced otherwise).
+        #[arg(long, requires = "report")]
+        force: bool,
         /// Identify from windows that are not in steady state (they are reported).
         #[arg(long)]
         accept_transient: bool,
@@ -122,9 +158,13 @@ pub(crate) enum Command {
     Simulate {
         /// The model file (TOML) with a [simulation] section.
         model: PathBuf,
-        /// Output folder (created if missing).
+        /// Output folder (created if missing): record_1.csv … and manifest.json.
         #[arg(long)]
         out: PathBuf,
+        /// Replace another run's files in the folder (refused otherwise); its extra
+        /// record files are removed.
+        #[arg(long)]
+        force: bool,
     },
     /// Simulate and identify a reference system from the paper.
     Reference {

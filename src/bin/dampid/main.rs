@@ -13,6 +13,7 @@ use std::process::ExitCode;
 use anyhow::{Context, bail};
 use clap::Parser;
 use dampid::analysis::bootstrap::{BootstrapSettings, bootstrap as bootstrap_intervals};
+use dampid::io::output::Overwrite;
 use dampid::io::pod_files::{Columns, PodTables, pod_of_files};
 use dampid::model_file::{CheckReport, Job, load_with_progress};
 use dampid::prep::pod::{PodBasis, PodSettings, Retain};
@@ -51,11 +52,18 @@ fn main() -> ExitCode {
 }
 
 fn run(cli: Cli) -> anyhow::Result<Outcome> {
+    if let Some(bytes) = cli.max_memory {
+        dampid::budget::set_max_memory(bytes);
+    }
+    if cli.no_time_limit {
+        dampid::budget::set_time_limit(None);
+    }
     match cli.command {
         Command::Identify {
             model,
             json,
             report,
+            force,
             accept_transient,
             bootstrap,
             seed,
@@ -65,7 +73,9 @@ fn run(cli: Cli) -> anyhow::Result<Outcome> {
                 seed,
                 ..Default::default()
             });
-            identify(&model, json, report.as_deref(), accept_transient, bootstrap)
+            let report =
+                report.map(|folder| (folder.join("report.html"), Overwrite::from_force(force)));
+            identify(&model, json, report, accept_transient, bootstrap)
         }
         Command::Check {
             model,
@@ -87,7 +97,9 @@ fn run(cli: Cli) -> anyhow::Result<Outcome> {
             json,
         } => compare(&model_a, &model_b, json),
         Command::Design { model, json } => design(&model, json),
-        Command::Simulate { model, out } => write_records(&model, &out),
+        Command::Simulate { model, out, force } => {
+            write_records(&model, &out, Overwrite::from_force(force))
+        }
         Command::Reference {
             system: ReferenceSystem::FourMass,
             json,
@@ -168,10 +180,14 @@ fn build_regressor(job: &Job) -> anyhow::Result<Regressor> {
 fn identify(
     path: &Path,
     as_json: bool,
-    html: Option<&Path>,
+    html: Option<(PathBuf, Overwrite)>,
     accept_transient: bool,
     bootstrap: Option<BootstrapSettings>,
 ) -> anyhow::Result<Outcome> {
+    // Refuse an existing report before any work, and again when it is renamed into place.
+    if let Some((file, Overwrite::Refuse)) = &html {
+        dampid::io::output::refuse_existing(file)?;
+    }
     let (job, steady) = load_steady_job(path, accept_transient)?;
     job.settings.fit.validate()?;
     let regressor = build_regressor(&job)?;
@@ -187,7 +203,7 @@ fn identify(
         report = report.with_bootstrap(intervals);
     }
     let mut out = String::new();
-    if let Some(folder) = html {
+    if let Some((file, overwrite)) = html {
         let page = HtmlReport {
             title: &job.title,
             model: &job.model,
@@ -198,10 +214,17 @@ fn identify(
             pod: job.pod.as_ref(),
         }
         .render()?;
-        std::fs::create_dir_all(folder)
-            .with_context(|| format!("creating {}", folder.display()))?;
-        let file = folder.join("report.html");
-        std::fs::write(&file, page).with_context(|| format!("writing {}", file.display()))?;
+        if let Some(folder) = file.parent() {
+            std::fs::create_dir_all(folder)
+                .with_context(|| format!("creating {}", folder.display()))?;
+        }
+        dampid::io::output::write_file(&file, overwrite, |sink| {
+            sink.write_all(page.as_bytes())
+                .map_err(|e| dampid::Error::Output {
+                    path: file.display().to_string(),
+                    message: e.to_string(),
+                })
+        })?;
         // Keep stdout pure JSON with --json: say where the report went on stderr.
         eprintln!("wrote {}", file.display());
     }
@@ -368,7 +391,7 @@ fn design(path: &Path, as_json: bool) -> anyhow::Result<Outcome> {
     })
 }
 
-fn write_records(path: &Path, folder: &Path) -> anyhow::Result<Outcome> {
+fn write_records(path: &Path, folder: &Path, overwrite: Overwrite) -> anyhow::Result<Outcome> {
     let job = load_job(path)?;
     if job.truth.is_none() {
         bail!(
@@ -376,11 +399,10 @@ fn write_records(path: &Path, folder: &Path) -> anyhow::Result<Outcome> {
             path.display()
         );
     }
-    std::fs::create_dir_all(folder).with_context(|| format!("creating {}", folder.display()))?;
+    let source = path.display().to_string();
+    let run = dampid::io::run::write_run(folder, &job.source_records, &source, overwrite)?;
     let mut out = String::new();
-    for (k, record) in job.source_records.iter().enumerate() {
-        let file = folder.join(format!("record_{}.csv", k + 1));
-        dampid::io::records::write_record(&file, record)?;
+    for (file, record) in run.written.iter().zip(&job.source_records) {
         writeln!(
             out,
             "{} ({}, period {:.6})",
@@ -388,6 +410,12 @@ fn write_records(path: &Path, folder: &Path) -> anyhow::Result<Outcome> {
             record.label(),
             record.period()
         )?;
+    }
+    if let Some(manifest) = run.written.last() {
+        writeln!(out, "{} (this run's records)", manifest.display())?;
+    }
+    for stale in &run.removed {
+        eprintln!("removed {} (an earlier run's record)", stale.display());
     }
     Ok(Outcome {
         text: out,

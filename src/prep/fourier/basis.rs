@@ -17,6 +17,25 @@ pub(crate) struct HarmonicBasis {
     samples: usize,
 }
 
+/// Harmonic orders 1..=K, checked against a window of `samples` samples before they are
+/// allocated (K comes from the user: K = 10⁹ must be refused, not allocated).
+pub(crate) fn first_orders(harmonics: usize, samples: usize) -> Result<Vec<usize>> {
+    if harmonics == 0 {
+        return Err(Error::invalid("harmonics", 0.0, "must be at least 1"));
+    }
+    if harmonics > samples.saturating_sub(1) / 2 {
+        return Err(Error::invalid(
+            "harmonics",
+            harmonics as f64,
+            &format!(
+                "a window of {samples} samples can fit at most {} harmonics",
+                samples.saturating_sub(1) / 2
+            ),
+        ));
+    }
+    Ok((1..=harmonics).collect())
+}
+
 impl HarmonicBasis {
     /// Harmonics 1..=K. Checks that the fit is overdetermined and below the Nyquist
     /// frequency.
@@ -35,7 +54,7 @@ impl HarmonicBasis {
                 ),
             ));
         }
-        Self::with_orders(omega, (1..=harmonics).collect(), step, samples)
+        Self::with_orders(omega, first_orders(harmonics, samples)?, step, samples)
     }
 
     /// The harmonic orders `orders` (ascending, distinct, ≥ 1).

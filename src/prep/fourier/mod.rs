@@ -19,7 +19,7 @@
 mod basis;
 mod noise_floor;
 
-pub(crate) use basis::HarmonicBasis;
+pub(crate) use basis::{HarmonicBasis, first_orders};
 pub use noise_floor::HarmonicSelection;
 pub(crate) use noise_floor::select_harmonics;
 

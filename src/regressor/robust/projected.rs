@@ -16,7 +16,9 @@
 use faer::Mat;
 
 use crate::error::{Error, Result};
-use crate::prep::fourier::{HarmonicBasis, HarmonicSelection, WholePeriods, select_harmonics};
+use crate::prep::fourier::{
+    HarmonicBasis, HarmonicSelection, WholePeriods, first_orders, select_harmonics,
+};
 use crate::record::Record;
 
 /// The projection of one window's displacements.
@@ -72,7 +74,7 @@ impl ProjectedWindow {
         let fitted = record.displacements().subrows(start, whole.samples);
         let mut selection = select_harmonics(fitted, step, period, whole.periods)?;
         if let Some(k) = harmonics {
-            selection.kept = (1..=k).collect();
+            selection.kept = first_orders(k, whole.samples)?;
         }
         let omega = 2.0 * std::f64::consts::PI / period;
         let basis = HarmonicBasis::with_orders(omega, selection.kept.clone(), step, whole.samples)?;

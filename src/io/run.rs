@@ -1,0 +1,148 @@
+//! A simulation run written to a folder: `record_1.csv` … `record_K.csv` (the layout of
+//! [`crate::io::records`]) and `manifest.json`, which lists this run's records:
+//!
+//! ```json
+//! { "dampid": "0.1.0", "source": "models/four_mass.toml",
+//!   "records": [ { "file": "record_1.csv", "label": "…", "period": 0.628 } ] }
+//! ```
+//!
+//! A folder that already holds record files or a manifest (of another run, or of an
+//! earlier dampid that wrote no manifest) is refused under [`Overwrite::Refuse`], so a
+//! model file listing `record_*.csv` never mixes two runs. Under
+//! [`Overwrite::Replace`] the new files replace the old ones and the earlier run's
+//! extra `record_K.csv` files are removed. Every file is staged and renamed into place
+//! ([`crate::io::output::Staged`]), the manifest last: a run that fails part way leaves
+//! the folder as it was.
+
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+use crate::error::{Error, Result};
+use crate::io::output::{Overwrite, Staged};
+use crate::io::{csv, records};
+use crate::record::Record;
+
+/// The manifest's file name.
+pub const MANIFEST: &str = "manifest.json";
+
+/// What a run wrote and removed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunFiles {
+    /// The record files, then the manifest.
+    pub written: Vec<PathBuf>,
+    /// An earlier run's record files that this run does not replace (only under
+    /// [`Overwrite::Replace`]).
+    pub removed: Vec<PathBuf>,
+}
+
+#[derive(Serialize)]
+struct Manifest<'a> {
+    dampid: &'static str,
+    source: &'a str,
+    records: Vec<Entry<'a>>,
+}
+
+#[derive(Serialize)]
+struct Entry<'a> {
+    file: String,
+    label: &'a str,
+    period: f64,
+}
+
+/// The file name of record `k` (1-based).
+pub fn record_file(k: usize) -> String {
+    format!("record_{k}.csv")
+}
+
+/// Writes `records` into `folder` (created if missing) with a manifest naming
+/// `source` (the model file), under `overwrite`.
+pub fn write_run(
+    folder: &Path,
+    records: &[Record],
+    source: &str,
+    overwrite: Overwrite,
+) -> Result<RunFiles> {
+    let failed = |e: &dyn std::fmt::Display| Error::Output {
+        path: folder.display().to_string(),
+        message: e.to_string(),
+    };
+    std::fs::create_dir_all(folder).map_err(|e| failed(&e))?;
+    let earlier = earlier_run(folder).map_err(|e| failed(&e))?;
+    if overwrite == Overwrite::Refuse
+        && let Some(first) = earlier.first()
+    {
+        let names: Vec<String> = earlier
+            .iter()
+            .filter_map(|p| p.file_name().map(|n| n.to_string_lossy().into_owned()))
+            .collect();
+        return Err(Error::OutputExists {
+            path: first.display().to_string(),
+            reason: format!(
+                "the folder holds another run's files ({}); pass --force to replace that run, or write to an empty folder",
+                names.join(", ")
+            ),
+        });
+    }
+    let mut staged = Staged::new(overwrite);
+    let mut entries = Vec::with_capacity(records.len());
+    for (k, record) in records.iter().enumerate() {
+        let name = record_file(k + 1);
+        let (headers, columns) = records::record_columns(record);
+        staged.add(&folder.join(&name), |sink| {
+            csv::write_to(sink, &headers, &columns).map_err(|e| Error::Output {
+                path: folder.join(&name).display().to_string(),
+                message: e.to_string(),
+            })
+        })?;
+        entries.push(Entry {
+            file: name,
+            label: record.label(),
+            period: record.period(),
+        });
+    }
+    let manifest = Manifest {
+        dampid: env!("CARGO_PKG_VERSION"),
+        source,
+        records: entries,
+    };
+    let manifest_path = folder.join(MANIFEST);
+    staged.add(&manifest_path, |sink| {
+        serde_json::to_writer_pretty(&mut *sink, &manifest)
+            .and_then(|()| sink.write_all(b"\n").map_err(serde_json::Error::io))
+            .map_err(|e| Error::Output {
+                path: manifest_path.display().to_string(),
+                message: e.to_string(),
+            })
+    })?;
+    let written = staged.commit()?;
+    let mut removed = Vec::new();
+    for stale in earlier.into_iter().filter(|p| !written.contains(p)) {
+        std::fs::remove_file(&stale).map_err(|e| Error::Output {
+            path: stale.display().to_string(),
+            message: format!("could not remove the earlier run's file: {e}"),
+        })?;
+        removed.push(stale);
+    }
+    Ok(RunFiles { written, removed })
+}
+
+/// The record files and manifest already in `folder`, sorted by record number.
+fn earlier_run(folder: &Path) -> std::io::Result<Vec<PathBuf>> {
+    let mut found: Vec<(usize, PathBuf)> = Vec::new();
+    for entry in std::fs::read_dir(folder)? {
+        let entry = entry?;
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let number = name
+            .strip_prefix("record_")
+            .and_then(|rest| rest.strip_suffix(".csv"))
+            .and_then(|k| k.parse::<usize>().ok());
+        match number {
+            Some(k) => found.push((k, entry.path())),
+            None if name == MANIFEST => found.push((usize::MAX, entry.path())),
+            None => {}
+        }
+    }
+    found.sort();
+    Ok(found.into_iter().map(|(_, p)| p).collect())
+}
