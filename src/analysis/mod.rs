@@ -1,6 +1,7 @@
 //! Analyses of a regressor and its fit: diagnostics (residuals, conditioning, standard
 //! errors), identifiability (near-null directions and determined combinations by
-//! name), the window bootstrap, model comparison and experiment design. They read a
+//! name), the window bootstrap, model comparison and experiment design; [`solved`] is the one
+//! solve-and-diagnose path `identify` and `dampid check` share. They read a
 //! [`crate::regressor::Regressor`] and a [`crate::fit::Fit`]; nothing in the chain
 //! before them imports them.
 
@@ -10,4 +11,5 @@ pub mod compare;
 pub mod design;
 pub mod diagnostics;
 pub mod identifiability;
+pub mod solved;
 pub(crate) mod stats;

@@ -176,7 +176,7 @@ impl CheckReport {
             steady_state: steady,
             non_periodic_window: job.settings.regressor.windows.spans().map(|s| s.length),
             records: job.records.len(),
-            regressor: RegressorCheck::new(regressor, job.settings.fit.rank_tolerance)?,
+            regressor: RegressorCheck::new(regressor, &job.settings.fit)?,
         })
     }
 }
