@@ -207,7 +207,9 @@ pub enum Error {
     },
 
     /// No driving period can be detected from a record's force signals.
-    #[error("record '{record}': no driving period can be detected from the force: {reason}")]
+    #[error(
+        "record '{record}': no driving period can be detected from the force: {reason}; give the record's `period` or `frequency`"
+    )]
     NoPeriod {
         /// The record's label.
         record: String,

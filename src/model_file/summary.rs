@@ -133,13 +133,19 @@ pub struct DetectedPeriod {
 impl fmt::Display for DetectedPeriod {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let p = &self.estimate;
+        let cycles = match p.whole_periods {
+            Some(k) => format!(
+                "exactly {k} whole periods (estimated {:.4} ± {:.1e}, so T = record length / {k})",
+                p.cycles, p.cycles_std
+            ),
+            None => format!("{:.1} cycles", p.cycles),
+        };
         write!(
             f,
-            "period detected from the force of '{}': T = {:.9} (ω = {:.9}), {:.1} cycles, the fundamental explains {:.3}% of the force",
+            "period detected from the force of '{}': T = {:.9} (ω = {:.9}), {cycles}, the fundamental explains {:.3}% of the force",
             self.record,
             p.period,
             p.frequency,
-            p.cycles,
             100.0 * p.explained
         )
     }
