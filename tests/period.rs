@@ -41,7 +41,11 @@ fn exact_two_period_records_give_their_period() {
         let samples = 2 * per_period;
         let (s, h, period) = force(per_period as f64, samples, 0.0, 0);
         let estimate = detect_period(s.as_ref(), h, "clean").unwrap();
-        assert_eq!(estimate.whole_periods, Some(2), "{per_period}: {estimate:?}");
+        assert_eq!(
+            estimate.whole_periods,
+            Some(2),
+            "{per_period}: {estimate:?}"
+        );
         assert!(
             (estimate.period - period).abs() < 1e-12 * period,
             "{per_period}: {estimate:?}"
@@ -103,11 +107,17 @@ fn only_records_of_whole_periods_are_rounded() {
     let (s, h, period) = force(40.0, 201, 0.0, 0);
     let estimate = detect_period(s.as_ref(), h, "five and a step").unwrap();
     assert_eq!(estimate.whole_periods, None);
-    assert!((estimate.period - period).abs() < 1e-8 * period, "{estimate:?}");
+    assert!(
+        (estimate.period - period).abs() < 1e-8 * period,
+        "{estimate:?}"
+    );
     let (s, h, period) = force(39.7, 200, 0.0, 0);
     let estimate = detect_period(s.as_ref(), h, "fractional").unwrap();
     assert_eq!(estimate.whole_periods, None);
-    assert!((estimate.period - period).abs() < 1e-8 * period, "{estimate:?}");
+    assert!(
+        (estimate.period - period).abs() < 1e-8 * period,
+        "{estimate:?}"
+    );
 }
 
 /// 1.5 periods cannot be told apart from other periods well enough: detection fails
@@ -124,7 +134,10 @@ fn a_record_too_short_to_detect_asks_for_the_period() {
         other => panic!("{other:?}"),
     }
     let text = error.to_string();
-    assert!(text.contains("give the record's `period` or `frequency`"), "{text}");
+    assert!(
+        text.contains("give the record's `period` or `frequency`"),
+        "{text}"
+    );
     assert!(!text.contains("windows need"), "{text}");
 }
 
@@ -178,7 +191,11 @@ forces = [{{ column = "f", dof = 1 }}]
             let detected = job.detected_periods[0].unwrap();
             assert_eq!(detected.whole_periods, Some(2), "{detected:?}");
             assert!((detected.period - 2.0 * PI).abs() < 1e-12, "{detected:?}");
-            assert!(job.periods().to_string().contains("exactly 2 whole periods"));
+            assert!(
+                job.periods()
+                    .to_string()
+                    .contains("exactly 2 whole periods")
+            );
             let report = dampid::identify(&job.model, &job.records, &job.settings).unwrap();
             let c = report.coefficient("c").unwrap();
             let truth = 0.3f64.sin();

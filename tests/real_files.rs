@@ -101,7 +101,10 @@ fn a_jittery_time_column_is_read_at_its_mean_step() {
     let error = parse(&model_file("", 0.25), "m.toml", &dir).unwrap_err();
     match &error {
         Error::ModelFile {
-            line, cause, message, ..
+            line,
+            cause,
+            message,
+            ..
         } => {
             assert_eq!(*line, 18, "{message}");
             match cause.as_deref() {
@@ -176,7 +179,9 @@ fn the_window_length_used_is_reported() {
     let job = parse(&model_file("", 0.25025), "m.toml", &dir).unwrap();
     let preamble = job.preamble(None).to_string();
     assert!(
-        preamble.contains("windows of 0.25 (250 steps of 0.001) time units (whole steps; 0.25025 requested)"),
+        preamble.contains(
+            "windows of 0.25 (250 steps of 0.001) time units (whole steps; 0.25025 requested)"
+        ),
         "{preamble}"
     );
     let regressor = job.regressor().unwrap();
@@ -190,7 +195,10 @@ fn the_window_length_used_is_reported() {
 
     let job = parse(&model_file("", 0.25), "m.toml", &dir).unwrap();
     let preamble = job.preamble(None).to_string();
-    assert!(preamble.contains("windows of 0.25 time units,"), "{preamble}");
+    assert!(
+        preamble.contains("windows of 0.25 time units,"),
+        "{preamble}"
+    );
     let regressor = job.regressor().unwrap();
     let check = CheckReport::new(&job, None, &regressor).unwrap();
     assert!(check.non_periodic_window_used.is_empty());

@@ -58,7 +58,10 @@ fn too_short_or_aperiodic_force_is_rejected() {
         matches!(error, Error::NoPeriod { ref record, .. } if record == "short"),
         "{error:?}"
     );
-    assert!(error.to_string().contains("`period` or `frequency`"), "{error}");
+    assert!(
+        error.to_string().contains("`period` or `frequency`"),
+        "{error}"
+    );
     let tiny = Mat::from_fn(5, 1, |i, _| (i as f64).cos());
     let error = detect_period(tiny.as_ref(), h, "tiny").unwrap_err();
     assert!(matches!(error, Error::NoPeriod { .. }), "{error:?}");

@@ -75,7 +75,7 @@ pub(super) fn periodic_only_key(text: &str) -> Option<(Spanned<toml::Value>, Err
         raw.identification.get(*key).map(|value| {
             let error = Error::choice(
                 key,
-                &value.get_ref().to_string(),
+                value.get_ref(),
                 &format!(
                     "[identification] {key} does not apply beside [non_periodic]: {reason}; remove it"
                 ),

@@ -59,11 +59,13 @@ impl Job {
             .iter()
             .zip(&self.time_jitter)
             .filter_map(|(record, jitter)| {
-                jitter.filter(|j| *j > NOTED_JITTER).map(|jitter| JitteredTime {
-                    record: record.label().to_string(),
-                    step: record.step(),
-                    jitter,
-                })
+                jitter
+                    .filter(|j| *j > NOTED_JITTER)
+                    .map(|jitter| JitteredTime {
+                        record: record.label().to_string(),
+                        step: record.step(),
+                        jitter,
+                    })
             })
             .collect()
     }

@@ -173,17 +173,16 @@ pub fn detect_period(signals: MatRef<'_, f64>, step: f64, label: &str) -> Result
             ),
         });
     }
-    let whole_periods = (whole >= 1.0
-        && (cycles - whole).abs() <= tolerance
-        && samples % (whole as usize) == 0)
-        .then_some(whole as usize);
-    let period = match whole_periods {
-        Some(k) => duration / k as f64,
-        None => 2.0 * PI / frequency,
+    let whole_periods =
+        (whole >= 1.0 && (cycles - whole).abs() <= tolerance && samples % (whole as usize) == 0)
+            .then_some(whole as usize);
+    let (period, frequency) = match whole_periods {
+        Some(k) => (duration / k as f64, 2.0 * PI * k as f64 / duration),
+        None => (2.0 * PI / frequency, frequency),
     };
     Ok(PeriodEstimate {
         period,
-        frequency: 2.0 * PI / period,
+        frequency,
         explained: share,
         cycles,
         cycles_std,
