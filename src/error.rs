@@ -197,6 +197,26 @@ pub enum Error {
         message: String,
     },
 
+    /// A time column is not uniform: its steps depart from their mean by more than the
+    /// jitter accepted ([`crate::io::table::MAX_TIME_JITTER`]).
+    #[error(
+        "{file}, column '{column}': the time steps depart from their mean {} by up to {jitter:.2e} of it (worst at row {row}), more than the {tolerance:e} accepted; resample the record, or give `step = {}` instead of the time column if the samples are uniform", short(.step), short(.step)
+    )]
+    TimeJitter {
+        /// The file.
+        file: String,
+        /// The time column.
+        column: String,
+        /// 1-based data row of the worst step's end.
+        row: usize,
+        /// max |Δt − h| / h.
+        jitter: f64,
+        /// The largest jitter accepted.
+        tolerance: f64,
+        /// The mean step h.
+        step: f64,
+    },
+
     /// A numerical step failed (a singular mass matrix, a failed decomposition).
     #[error("numerical failure in {stage}: {detail}")]
     Numerical {
@@ -207,7 +227,9 @@ pub enum Error {
     },
 
     /// No driving period can be detected from a record's force signals.
-    #[error("record '{record}': no driving period can be detected from the force: {reason}")]
+    #[error(
+        "record '{record}': no driving period can be detected from the force: {reason}; give the record's `period` or `frequency`"
+    )]
     NoPeriod {
         /// The record's label.
         record: String,
@@ -308,6 +330,18 @@ pub enum Error {
     },
 }
 
+/// `x` to 10 significant digits, without trailing zeros (`1e-3`, not `1.000000000e-3`).
+fn short(x: &f64) -> String {
+    let text = format!("{x:.9e}");
+    match text.split_once('e') {
+        Some((mantissa, exponent)) if mantissa.contains('.') => {
+            let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
+            format!("{mantissa}e{exponent}")
+        }
+        _ => text,
+    }
+}
+
 /// `, window k` for an error about one window.
 fn window_text(window: &Option<usize>) -> String {
     window.map_or_else(String::new, |w| format!(", window {w}"))
@@ -332,6 +366,7 @@ pub const KINDS: &[&str] = &[
     "model_file",
     "unknown_name",
     "data",
+    "time_jitter",
     "numerical",
     "no_period",
     "not_steady",
@@ -365,6 +400,7 @@ impl Error {
             Error::ModelFile { .. } => "model_file",
             Error::UnknownName { .. } => "unknown_name",
             Error::Data { .. } => "data",
+            Error::TimeJitter { .. } => "time_jitter",
             Error::Numerical { .. } => "numerical",
             Error::NoPeriod { .. } => "no_period",
             Error::NotSteady { .. } => "not_steady",

@@ -16,11 +16,10 @@
 //! and [`FitReport::new`].
 
 use crate::analysis::bootstrap::{BootstrapSettings, bootstrap};
-use crate::analysis::diagnostics::diagnose_factored;
-use crate::analysis::identifiability::require_information;
+use crate::analysis::solved::{Solved, solved};
 use crate::analysis::velocity_noise;
 use crate::error::Result;
-use crate::fit::{FitSettings, solve_factored};
+use crate::fit::FitSettings;
 use crate::model::DampingModel;
 use crate::record::Record;
 use crate::regressor::{Regressor, RegressorSettings};
@@ -88,12 +87,10 @@ pub fn identify_with_regressor(
 /// hand or kept from [`Regressor::build`]. A regressor whose every column is zero
 /// carries no information and is an error
 /// ([`crate::analysis::identifiability::require_information`]).
-/// The rows are factored once: a plain least-squares fit hands its factorization of
-/// the column-scaled regressor ([`crate::fit::ScaledSvd`]) to the diagnostics.
+/// The solve and the diagnostics are [`crate::analysis::solved::solved`], which `dampid
+/// check` shares; the rows are factored once there.
 pub fn identify_regressor(regressor: &Regressor, settings: &FitSettings) -> Result<FitReport> {
-    require_information(regressor)?;
-    let (fit, factorization) = solve_factored(regressor, settings)?;
-    let diagnostics = diagnose_factored(regressor, &fit, settings.rank_tolerance, factorization);
+    let Solved { fit, diagnostics } = solved(regressor, settings)?;
     Ok(FitReport::new(regressor, fit, diagnostics))
 }
 

@@ -420,7 +420,7 @@ fn zero_regressor_is_no_information() {
             "{err}"
         );
         let regressor = Regressor::build(&model, &records, &exact().regressor).unwrap();
-        let check = dampid::analysis::check::RegressorCheck::new(&regressor, 1e-10);
+        let check = dampid::analysis::check::RegressorCheck::new(&regressor, &exact().fit);
         assert!(
             matches!(check, Err(Error::NoInformation { .. })),
             "{check:?}"

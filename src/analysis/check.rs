@@ -1,49 +1,65 @@
 //! What a regressor says before any fit is trusted: its size, the singular values of
-//! the column-scaled regressor A_s = A S⁻¹ (S = diag ‖A_j‖), the numerical rank
-//! r = #{σ_i > tol·σ_1}, the condition number κ = σ_1/σ_p (infinite when r < p), the
+//! the column-scaled solved rows, the numerical rank, the condition number, the
 //! identifiability analysis ([`crate::analysis::identifiability`]) and the correlation
-//! of the ordinary least-squares estimates. `dampid check` prints it.
+//! of the estimates. `dampid check` prints it.
+//!
+//! Every number comes from the fit `identify` makes with the same settings
+//! ([`crate::analysis::solved::solved`]): the same rows, weighted by the propagated
+//! noise model when the fit is, so that `check` and `identify` agree on the rank, the
+//! condition number and what is determined. With W the row weights (W = I for an
+//! unweighted fit):
+//!
+//! ```text
+//!   A_s = W^{1/2} A S⁻¹,  S = diag ‖(W^{1/2} A)_j‖,   r = #{σ_i > tol·σ_1},
+//!   κ = σ_1/σ_p   (infinite when r < p).
+//! ```
 
 use std::fmt;
 
 use serde::Serialize;
 
-use crate::analysis::diagnostics::{Correlation, diagnose};
-use crate::analysis::identifiability::{Identifiability, require_information};
+use crate::analysis::diagnostics::Correlation;
+use crate::analysis::identifiability::Identifiability;
+use crate::analysis::solved::{conditioning_basis, solved};
 use crate::error::Result;
-use crate::fit::least_squares;
+use crate::fit::FitSettings;
 use crate::regressor::Regressor;
 
-/// The conditioning and identifiability of a regressor, from its ordinary
-/// least-squares fit.
+/// The conditioning and identifiability of a regressor, from the fit `identify` makes
+/// of it.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct RegressorCheck {
     /// Equations m.
     pub equations: usize,
     /// Coefficient names, one per column.
     pub coefficients: Vec<String>,
-    /// Singular values of the column-scaled regressor, descending.
+    /// Whether the rows are weighted by the propagated noise model (W ≠ I), as the fit
+    /// weights them.
+    pub weighted: bool,
+    /// Singular values of the column-scaled (weighted) rows A_s, descending.
     pub singular_values: Vec<f64>,
     /// Numerical rank.
     pub rank: usize,
-    /// σ_1/σ_p; `None` (infinite) when rank deficient.
+    /// σ_1/σ_p of A_s; `None` (infinite) when rank deficient.
     pub condition_number: Option<f64>,
     /// What the data can and cannot determine.
     pub identifiability: Identifiability,
-    /// Correlation of the least-squares estimates, when they have standard errors.
+    /// Correlation of the estimates, when they have standard errors.
     pub correlation: Option<Correlation>,
 }
 
 impl RegressorCheck {
-    /// Checks `regressor` with numerical rank tolerance `rank_tolerance`; a regressor
-    /// whose every column is zero is [`crate::Error::NoInformation`].
-    pub fn new(regressor: &Regressor, rank_tolerance: f64) -> Result<Self> {
-        require_information(regressor)?;
-        let fit = least_squares(regressor, rank_tolerance)?;
-        let diagnostics = diagnose(regressor, &fit, rank_tolerance);
+    /// Checks `regressor` as [`crate::identify::identify_regressor`] fits it with
+    /// `settings` (its weighting, constraints and rank tolerance); a regressor whose
+    /// every column is zero is [`crate::Error::NoInformation`].
+    pub fn new(regressor: &Regressor, settings: &FitSettings) -> Result<Self> {
+        let solved = solved(regressor, settings)?;
+        let weighted = solved.weighted();
+        let diagnostics = solved.diagnostics;
         Ok(RegressorCheck {
             equations: regressor.equations(),
             coefficients: regressor.columns().to_vec(),
+            weighted,
             singular_values: diagnostics.singular_values,
             rank: diagnostics.rank,
             condition_number: diagnostics
@@ -64,11 +80,8 @@ impl fmt::Display for RegressorCheck {
             .iter()
             .map(|s| format!("{s:.3e}"))
             .collect();
-        writeln!(
-            f,
-            "singular values of the column-scaled regressor: [{}]",
-            sv.join(", ")
-        )?;
+        let basis = conditioning_basis(self.weighted);
+        writeln!(f, "singular values of the {basis}: [{}]", sv.join(", "))?;
         writeln!(
             f,
             "numerical rank: {} of {}",
@@ -76,10 +89,10 @@ impl fmt::Display for RegressorCheck {
             self.coefficients.len()
         )?;
         match self.condition_number {
-            Some(k) => writeln!(f, "condition number: {k:.3e}")?,
+            Some(k) => writeln!(f, "condition number σ₁/σₚ of the {basis}: {k:.3e}")?,
             None => writeln!(
                 f,
-                "condition number: infinite: these data cannot separate the coefficients"
+                "condition number σ₁/σₚ of the {basis}: infinite: these data cannot separate the coefficients"
             )?,
         }
         write!(f, "{}", self.identifiability)?;

@@ -8,7 +8,9 @@ use faer::Mat;
 
 use super::context::Context;
 use super::records::{Truth, read_record, simulate_records};
-use super::settings::{design_settings, identification_settings, span_settings, stored_energy};
+use super::settings::{
+    design_settings, identification_settings, periodic_only_key, span_settings, stored_energy,
+};
 use super::spec::{MatrixRef, ModelFileSpec};
 use super::terms::{build_term, resolve_matrix};
 use super::{reduction, string};
@@ -40,6 +42,9 @@ pub struct Job {
     /// The period detected from the force of each source record, where the model file
     /// gave none (`None`: given or simulated).
     pub detected_periods: Vec<Option<PeriodEstimate>>,
+    /// The jitter of each source record's time column, max |Δt − h|/h with h the mean
+    /// step (`None`: no time column).
+    pub time_jitter: Vec<Option<f64>>,
     /// Identification settings (for a harmonic approximation, those of the synthesized
     /// records; for `[non_periodic]`, fixed spans with the stored-energy unknowns).
     pub settings: IdentifySettings,
@@ -95,6 +100,7 @@ struct Sources {
     records: Vec<Record>,
     truth: Option<Truth>,
     detected_periods: Vec<Option<PeriodEstimate>>,
+    time_jitter: Vec<Option<f64>>,
     stored_energy: Option<StoredEnergy>,
 }
 
@@ -136,6 +142,11 @@ impl Context<'_> {
         }
         let mut settings =
             identification_settings(&spec.identification, spec.non_periodic.is_some());
+        if spec.non_periodic.is_some()
+            && let Some((value, error)) = periodic_only_key(self.text)
+        {
+            return Err(self.typed_error_at(&value, error));
+        }
         let steady_state = SteadyStateSettings {
             max_energy_mismatch: spec.identification.max_energy_mismatch,
             max_state_mismatch: spec.identification.max_state_mismatch,
@@ -206,6 +217,7 @@ impl Context<'_> {
             records,
             source_records: sources.records,
             detected_periods: sources.detected_periods,
+            time_jitter: sources.time_jitter,
             settings,
             source_windows,
             truth: sources.truth,
@@ -262,6 +274,7 @@ impl Context<'_> {
             })?;
             return Ok(Sources {
                 detected_periods: vec![None; records.len()],
+                time_jitter: vec![None; records.len()],
                 records,
                 truth: Some(truth),
                 stored_energy: Some(energy),
@@ -272,6 +285,7 @@ impl Context<'_> {
                 self.at(string, |s| string::string_records(s, model, n, progress))?;
             return Ok(Sources {
                 detected_periods: vec![None; records.len()],
+                time_jitter: vec![None; records.len()],
                 records,
                 truth: Some(truth),
                 stored_energy: None,
@@ -285,17 +299,20 @@ impl Context<'_> {
         let total = list.len() as u64;
         let mut records = Vec::new();
         let mut detected_periods = Vec::new();
+        let mut time_jitter = Vec::new();
         for (k, r) in list.iter().enumerate() {
-            let (record, detected) =
+            let (record, detected, jitter) =
                 self.at(r, |r| read_record(r, n, base, spec.non_periodic.is_none()))?;
             records.push(record);
             detected_periods.push(detected);
+            time_jitter.push(jitter);
             progress(k as u64 + 1, total);
         }
         Ok(Sources {
             records,
             truth: None,
             detected_periods,
+            time_jitter,
             stored_energy: system,
         })
     }

@@ -15,6 +15,7 @@ mod job;
 mod records;
 mod reduction;
 mod settings;
+pub use settings::PERIODIC_ONLY;
 mod spec;
 mod string;
 mod summary;
@@ -24,7 +25,7 @@ use std::path::Path;
 
 pub use job::Job;
 pub use spec::*;
-pub use summary::{CheckReport, DetectedPeriod, Periods, Preamble};
+pub use summary::{CheckReport, DetectedPeriod, JitteredTime, NOTED_JITTER, Periods, Preamble};
 
 use crate::error::{Error, Result};
 use crate::progress::Progress;

@@ -112,13 +112,14 @@ pub(super) fn simulate_records(
 }
 
 /// Reads one record; a `periodic` record without a period or frequency gets one detected
-/// from its force, a non-periodic one gets its duration (which nothing uses).
+/// from its force, a non-periodic one gets its duration (which nothing uses). Also
+/// returns the jitter of its time column, when it has one.
 pub(super) fn read_record(
     spec: &RecordSpec,
     n: usize,
     base: &Path,
     periodic: bool,
-) -> Result<(Record, Option<PeriodEstimate>)> {
+) -> Result<(Record, Option<PeriodEstimate>, Option<f64>)> {
     let path = base.join(&spec.file);
     let table = crate::io::read_table(&path)?;
     if spec.displacements.len() != n {
@@ -128,9 +129,12 @@ pub(super) fn read_record(
             spec.displacements.len(),
         ));
     }
-    let step = match (&spec.time, spec.step) {
-        (Some(time), None) => table.uniform_step(time)?,
-        (None, Some(step)) => step,
+    let (step, jitter) = match (&spec.time, spec.step) {
+        (Some(time), None) => {
+            let time = table.uniform_step(time)?;
+            (time.step, Some(time.jitter))
+        }
+        (None, Some(step)) => (step, None),
         (time, _) => {
             let given = if time.is_some() {
                 "both `time` and `step`"
@@ -194,5 +198,5 @@ pub(super) fn read_record(
         period,
     })?
     .with_channel_names(force_names)?;
-    Ok((record, detected))
+    Ok((record, detected, jitter))
 }

@@ -1,8 +1,14 @@
 //! Model-file sections as library settings: `[identification]`, `[non_periodic]`,
 //! `[design]`, and the mass and stiffness of `[simulation]` or `[system]`. DOFs are
-//! 1-based in the file and 0-based here.
+//! 1-based in the file and 0-based here. `[identification]` keys that only windows of
+//! whole periods read ([`PERIODIC_ONLY`]) are refused beside `[non_periodic]`, never
+//! ignored.
+
+use std::collections::BTreeMap;
 
 use faer::Mat;
+use serde::Deserialize;
+use toml::Spanned;
 
 use super::spec::{
     CubicSpec, DesignSpec, ElementsSpec, IdentificationSpec, MatrixRef, NonPeriodicSpec,
@@ -18,6 +24,66 @@ use crate::prep::velocity::VelocitySource;
 use crate::prep::window::WindowSpec;
 use crate::regressor::nonperiodic::{Kinetic, Potential, StorageModel};
 use crate::regressor::{RegressorSettings, SpanWindows, Windows};
+
+/// The `[identification]` keys that apply only to windows of whole periods, with the
+/// reason; beside `[non_periodic]` each is an error, not silently ignored. (No key
+/// applies only to the non-periodic mode: its settings live in `[non_periodic]`.)
+pub const PERIODIC_ONLY: &[(&str, &str)] = &[
+    (
+        "cycles",
+        "it sets the whole periods per window; [non_periodic] windows are `window` time units long",
+    ),
+    (
+        "windows",
+        "it sets the windows of whole periods per record; [non_periodic] cuts as many windows of `window` time units as fit",
+    ),
+    (
+        "harmonics",
+        "it sets the harmonics of the drive for spectral or harmonic-projection velocities; non-periodic records have no drive period",
+    ),
+    (
+        "noise",
+        "the noise-robust rows project whole periods on harmonics; the non-periodic mode builds plain rows",
+    ),
+    (
+        "max_energy_mismatch",
+        "it is a threshold of the steady-state check of windows of whole periods; the non-periodic mode needs no steady state",
+    ),
+    (
+        "max_state_mismatch",
+        "it is a threshold of the steady-state check of windows of whole periods; the non-periodic mode needs no steady state",
+    ),
+    (
+        "accept_transient",
+        "it accepts windows of whole periods that fail the steady-state check; the non-periodic mode needs no steady state",
+    ),
+];
+
+/// The keys of `[identification]` as written, with their positions.
+#[derive(Deserialize)]
+struct RawIdentification {
+    #[serde(default)]
+    identification: BTreeMap<String, Spanned<toml::Value>>,
+}
+
+/// The first `[identification]` key of `text` that the non-periodic mode does not read:
+/// its value (for its position) and the error ([`Error::InvalidChoice`] naming the key,
+/// the value and the reason).
+pub(super) fn periodic_only_key(text: &str) -> Option<(Spanned<toml::Value>, Error)> {
+    let raw: RawIdentification = toml::from_str(text).ok()?;
+    PERIODIC_ONLY.iter().find_map(|(key, reason)| {
+        raw.identification.get(*key).map(|value| {
+            let error = Error::choice(
+                key,
+                value.get_ref(),
+                &format!(
+                    "[identification] {key} does not apply beside [non_periodic]: {reason}; remove it"
+                ),
+            );
+            (value.clone(), error)
+        })
+    })
+}
 
 pub(super) fn identification_settings(
     spec: &IdentificationSpec,

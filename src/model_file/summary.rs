@@ -1,4 +1,5 @@
 //! What is printed about a job around its fit: the periods detected from the force, the
+//! time columns read with jitter (above [`NOTED_JITTER`]), the
 //! preamble of `dampid identify` (the mode, windows accepted although not steady, the
 //! POD reduction, the harmonic approximation), and the report of `dampid check`
 //! (periods, steady state, and the regressor's conditioning and identifiability before
@@ -15,6 +16,11 @@ use crate::prep::period::PeriodEstimate;
 use crate::prep::steady_state::SteadyStateReport;
 use crate::regressor::Regressor;
 use crate::report::count;
+
+/// Time-column jitter below this (round-off of printed times) goes unmentioned; above
+/// it, up to [`crate::io::table::MAX_TIME_JITTER`], the record was read with its mean
+/// step and the summary says so.
+pub const NOTED_JITTER: f64 = 1e-6;
 
 /// The periods detected from the force of a job's records ([`Job::periods`]).
 pub struct Periods<'a> {
@@ -47,6 +53,23 @@ impl Job {
             .collect()
     }
 
+    /// The records whose time column was read with a jitter above [`NOTED_JITTER`].
+    pub fn jittered(&self) -> Vec<JitteredTime> {
+        self.source_records
+            .iter()
+            .zip(&self.time_jitter)
+            .filter_map(|(record, jitter)| {
+                jitter
+                    .filter(|j| *j > NOTED_JITTER)
+                    .map(|jitter| JitteredTime {
+                        record: record.label().to_string(),
+                        step: record.step(),
+                        jitter,
+                    })
+            })
+            .collect()
+    }
+
     /// Detected periods, the non-periodic mode, windows accepted although not in steady
     /// state (from `steady`), the POD reduction and the harmonic approximation, when
     /// there are any.
@@ -60,6 +83,9 @@ impl fmt::Display for Periods<'_> {
         for detected in self.job.detected() {
             writeln!(f, "{detected}")?;
         }
+        for jittered in self.job.jittered() {
+            writeln!(f, "{jittered}")?;
+        }
         Ok(())
     }
 }
@@ -71,8 +97,8 @@ impl fmt::Display for Preamble<'_> {
         if let Some(spans) = job.settings.regressor.windows.spans() {
             writeln!(
                 f,
-                "non-periodic energy balance: windows of {} time units, stored energy and constant forces as unknowns",
-                spans.length
+                "non-periodic energy balance: windows of {}, stored energy and constant forces as unknowns",
+                WindowLengths::of(job, spans.length)
             )?;
         }
         let rejected = self.steady.iter().flat_map(|s| s.rejected()).count();
@@ -133,14 +159,44 @@ pub struct DetectedPeriod {
 impl fmt::Display for DetectedPeriod {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let p = &self.estimate;
+        let cycles = match p.whole_periods {
+            Some(k) => format!(
+                "exactly {k} whole periods (estimated {:.4} ± {:.1e}, so T = record length / {k})",
+                p.cycles, p.cycles_std
+            ),
+            None => format!("{:.1} cycles", p.cycles),
+        };
         write!(
             f,
-            "period detected from the force of '{}': T = {:.9} (ω = {:.9}), {:.1} cycles, the fundamental explains {:.3}% of the force",
+            "period detected from the force of '{}': T = {:.9} (ω = {:.9}), {cycles}, the fundamental explains {:.3}% of the force",
             self.record,
             p.period,
             p.frequency,
-            p.cycles,
             100.0 * p.explained
+        )
+    }
+}
+
+/// A record whose time column was read with jitter: uniform samples at the mean step.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct JitteredTime {
+    /// The record's label.
+    pub record: String,
+    /// The mean step used.
+    pub step: f64,
+    /// max |Δt − h| / h.
+    pub jitter: f64,
+}
+
+impl fmt::Display for JitteredTime {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "time column of '{}': steps depart from their mean h = {:e} by up to {:.2e} of it (accepted up to {:e}); read as uniform samples at h",
+            self.record,
+            self.step,
+            self.jitter,
+            crate::io::table::MAX_TIME_JITTER
         )
     }
 }
@@ -152,10 +208,17 @@ pub struct CheckReport {
     pub model: String,
     /// Periods detected from the force, for records that gave none.
     pub detected_periods: Vec<DetectedPeriod>,
+    /// Records whose time column was read with jitter above [`NOTED_JITTER`].
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub time_jitter: Vec<JitteredTime>,
     /// How far each window is from steady state (`None` in the non-periodic mode).
     pub steady_state: Option<SteadyStateReport>,
-    /// The window length of the non-periodic mode (`None` for whole periods).
+    /// The window length the non-periodic mode was asked for (`None` for whole periods).
     pub non_periodic_window: Option<f64>,
+    /// The lengths the windows have where they differ from the one asked for: L h with
+    /// L = round(length/h) whole steps of each record's step h (absent when equal).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub non_periodic_window_used: Vec<f64>,
     /// Number of records the equations come from.
     pub records: usize,
     /// The regressor's size, conditioning and identifiability.
@@ -173,10 +236,18 @@ impl CheckReport {
         Ok(CheckReport {
             model: job.title.clone(),
             detected_periods: job.detected(),
+            time_jitter: job.jittered(),
             steady_state: steady,
             non_periodic_window: job.settings.regressor.windows.spans().map(|s| s.length),
+            non_periodic_window_used: job
+                .settings
+                .regressor
+                .windows
+                .spans()
+                .map(|s| WindowLengths::of(job, s.length).rounded())
+                .unwrap_or_default(),
             records: job.records.len(),
-            regressor: RegressorCheck::new(regressor, job.settings.fit.rank_tolerance)?,
+            regressor: RegressorCheck::new(regressor, &job.settings.fit)?,
         })
     }
 }
@@ -187,13 +258,26 @@ impl fmt::Display for CheckReport {
         for detected in &self.detected_periods {
             writeln!(f, "{detected}")?;
         }
+        for jittered in &self.time_jitter {
+            writeln!(f, "{jittered}")?;
+        }
         match (&self.steady_state, self.non_periodic_window) {
             (Some(steady), _) => write!(f, "{steady}")?,
-            (None, window) => writeln!(
-                f,
-                "non-periodic mode: windows of {} time units, no steady state needed",
-                window.unwrap_or(0.0)
-            )?,
+            (None, window) => {
+                let requested = window.unwrap_or(0.0);
+                let lengths = WindowLengths {
+                    requested,
+                    used: self
+                        .non_periodic_window_used
+                        .iter()
+                        .map(|&length| (length, None))
+                        .collect(),
+                };
+                writeln!(
+                    f,
+                    "non-periodic mode: windows of {lengths}, no steady state needed"
+                )?
+            }
         }
         let check = &self.regressor;
         writeln!(
@@ -205,5 +289,59 @@ impl fmt::Display for CheckReport {
             check.coefficients.join(", ")
         )?;
         write!(f, "{check}")
+    }
+}
+
+/// The window length of the non-periodic mode: the one asked for and, where a record's
+/// step does not divide it, the length used, L h with L = round(length/h)
+/// ([`crate::prep::window::span_windows`]).
+struct WindowLengths {
+    requested: f64,
+    /// Each distinct length used that differs from `requested`, with its steps and step.
+    used: Vec<(f64, Option<(usize, f64)>)>,
+}
+
+impl WindowLengths {
+    fn of(job: &Job, requested: f64) -> Self {
+        let mut used: Vec<(f64, Option<(usize, f64)>)> = Vec::new();
+        for record in &job.records {
+            let h = record.step();
+            let steps = (requested / h).round();
+            let length = steps * h;
+            let same = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs());
+            if steps >= 1.0
+                && !same(length, requested)
+                && !used.iter().any(|(l, _)| same(*l, length))
+            {
+                used.push((length, Some((steps as usize, h))));
+            }
+        }
+        WindowLengths { requested, used }
+    }
+
+    fn rounded(&self) -> Vec<f64> {
+        self.used.iter().map(|(length, _)| *length).collect()
+    }
+}
+
+impl fmt::Display for WindowLengths {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.used.is_empty() {
+            return write!(f, "{} time units", self.requested);
+        }
+        let used: Vec<String> = self
+            .used
+            .iter()
+            .map(|(length, steps)| match steps {
+                Some((l, h)) => format!("{length} ({l} steps of {h})"),
+                None => format!("{length}"),
+            })
+            .collect();
+        write!(
+            f,
+            "{} time units (whole steps; {} requested)",
+            used.join(", "),
+            self.requested
+        )
     }
 }

@@ -147,9 +147,11 @@ impl fmt::Display for FitReport {
             self.residuals.len(),
             self.rank
         )?;
+        // One definition, shared with `dampid check` (analysis::solved).
+        let basis = crate::analysis::solved::conditioning_basis(self.noise.is_some());
         match self.condition_number {
-            Some(k) => writeln!(f, "condition number (column-scaled): {k:.3e}")?,
-            None => writeln!(f, "condition number (column-scaled): infinite")?,
+            Some(k) => writeln!(f, "condition number σ₁/σₚ of the {basis}: {k:.3e}")?,
+            None => writeln!(f, "condition number σ₁/σₚ of the {basis}: infinite")?,
         }
         let sv: Vec<String> = self
             .singular_values

@@ -142,4 +142,49 @@ fn truncated_mat_file_is_a_data_error() {
             }
         }
     }
+
+/// A 1 kHz time column with the jitter of a real MATLAB export (2.4e-5 of a step) is
+/// accepted with its mean step and its jitter; one with 2e-3 is `TimeJitter`, naming
+/// the file, the column, the worst row and the jitter, and suggesting `step = h`; a
+/// column that goes back is `Data`.
+#[test]
+fn time_jitter_is_accepted_up_to_its_tolerance() {
+    let h = 1e-3;
+    let column = |jitter: f64| {
+        let mut csv = String::from("time,x\n");
+        for i in 0..1000 {
+            // sample 500 late by jitter·h: the steps around it are h(1 ± jitter)
+            let wobble = if i == 500 { jitter } else { 0.0 };
+            csv.push_str(&format!("{:.17e},0\n", (i as f64 + wobble) * h));
+        }
+        dampid::io::csv::parse(&csv, "drive.csv").unwrap()
+    };
+    let accepted = column(2.4e-5).uniform_step("time").unwrap();
+    assert!((accepted.step - h).abs() < 1e-12 * h, "{accepted:?}");
+    assert!((accepted.jitter - 2.4e-5).abs() < 1e-7, "{accepted:?}");
+    let table = column(2e-3);
+    let error = table.uniform_step("time").unwrap_err();
+    match &error {
+        Error::TimeJitter {
+            file,
+            column,
+            row,
+            jitter,
+            tolerance,
+            step,
+        } => {
+            assert_eq!((file.as_str(), column.as_str()), ("drive.csv", "time"));
+            assert!(*row == 501 || *row == 502, "{row}");
+            assert!((jitter - 2e-3).abs() < 1e-6, "{jitter}");
+            assert_eq!(*tolerance, dampid::io::table::MAX_TIME_JITTER);
+            assert!((step - h).abs() < 1e-9);
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(error.to_string().contains("`step = 1e-3`"), "{error}");
+    let backwards = dampid::io::csv::parse("t,x\n0,0\n2,0\n1,0\n3,0\n", "b.csv").unwrap();
+    assert!(matches!(
+        backwards.uniform_step("t"),
+        Err(Error::Data { row: 3, .. })
+    ));
 }

@@ -40,6 +40,10 @@ fn every_variant_is_reachable() {
             .column("y")
             .unwrap_err(),
         dampid::io::csv::parse("t,x\n0,abc\n", "t.csv").unwrap_err(),
+        dampid::io::csv::parse("t,x\n0,1\n1,1\n2.1,1\n3,1\n", "t.csv")
+            .unwrap()
+            .uniform_step("t")
+            .unwrap_err(),
         dampid::prep::period::detect_period(Mat::<f64>::zeros(N, 1).as_ref(), H, "still")
             .unwrap_err(),
         growing_record_is_not_steady(),
