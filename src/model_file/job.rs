@@ -7,7 +7,8 @@ use std::path::Path;
 use faer::Mat;
 
 use super::context::Context;
-use super::records::{Truth, read_record, simulate_records};
+use super::measured::{RecordInputs, read_record};
+use super::records::{Truth, simulate_records};
 use super::settings::{design_settings, identification_settings, span_settings, stored_energy};
 use super::spec::{MatrixRef, ModelFileSpec};
 use super::terms::{build_term, resolve_matrix};
@@ -37,6 +38,9 @@ pub struct Job {
     pub records: Vec<Record>,
     /// The records as simulated or read (before any reduction).
     pub source_records: Vec<Record>,
+    /// How the columns of each data record were read (gains, sensors); empty for
+    /// simulated records.
+    pub inputs: Vec<RecordInputs>,
     /// The period detected from the force of each source record, where the model file
     /// gave none (`None`: given or simulated).
     pub detected_periods: Vec<Option<PeriodEstimate>>,
@@ -94,6 +98,7 @@ impl Job {
 struct Sources {
     records: Vec<Record>,
     truth: Option<Truth>,
+    inputs: Vec<RecordInputs>,
     detected_periods: Vec<Option<PeriodEstimate>>,
     stored_energy: Option<StoredEnergy>,
 }
@@ -204,6 +209,7 @@ impl Context<'_> {
             model,
             records,
             source_records: sources.records,
+            inputs: sources.inputs,
             detected_periods: sources.detected_periods,
             settings,
             source_windows,
@@ -261,6 +267,7 @@ impl Context<'_> {
             })?;
             return Ok(Sources {
                 detected_periods: vec![None; records.len()],
+                inputs: Vec::new(),
                 records,
                 truth: Some(truth),
                 stored_energy: Some(energy),
@@ -271,6 +278,7 @@ impl Context<'_> {
                 self.at(string, |s| string::string_records(s, model, n, progress))?;
             return Ok(Sources {
                 detected_periods: vec![None; records.len()],
+                inputs: Vec::new(),
                 records,
                 truth: Some(truth),
                 stored_energy: None,
@@ -284,15 +292,19 @@ impl Context<'_> {
         let total = list.len() as u64;
         let mut records = Vec::new();
         let mut detected_periods = Vec::new();
+        let mut inputs = Vec::new();
         for (k, r) in list.iter().enumerate() {
-            let (record, detected) =
-                self.at(r, |r| read_record(r, n, base, spec.non_periodic.is_none()))?;
-            records.push(record);
-            detected_periods.push(detected);
+            let read = self.at(r, |r| {
+                read_record(self, r, n, base, spec.non_periodic.is_none())
+            })?;
+            records.push(read.record);
+            detected_periods.push(read.detected);
+            inputs.push(read.inputs);
             progress(k as u64 + 1, total);
         }
         Ok(Sources {
             records,
+            inputs,
             truth: None,
             detected_periods,
             stored_energy: system,

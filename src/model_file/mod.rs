@@ -12,6 +12,7 @@
 
 mod context;
 mod job;
+mod measured;
 mod records;
 mod reduction;
 mod settings;
@@ -23,6 +24,7 @@ mod terms;
 use std::path::Path;
 
 pub use job::Job;
+pub use measured::{ChannelGain, RecordInputs};
 pub use spec::*;
 pub use summary::{CheckReport, DetectedPeriod, Periods, Preamble};
 
