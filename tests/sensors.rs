@@ -239,3 +239,218 @@ fn zero_or_non_finite_gains_are_errors_at_their_line() {
         "{err}"
     );
 }
+
+// ---------------------------------------------------------------------------------
+// Motion from velocity and acceleration sensors: the four-mass chain
+// ---------------------------------------------------------------------------------
+
+use dampid::reference::four_mass::{
+    FOUR_MASS_C, FOUR_MASS_D, FOUR_MASS_OMEGA, four_mass_model, four_mass_records_with,
+};
+use dampid::simulate::SimSettings;
+use faer::Mat;
+use rand::SeedableRng;
+use rand_distr::{Distribution, Normal};
+
+/// The chain of models/four_mass.toml (M = I, K = tridiag(−1, 2, −1), C = 0.15 K,
+/// d = 0.10 on every mass, force on mass 4 at ω = 0.618), recorded for 40 periods after
+/// 6000 steps (600 time units, 17 decay times of the slowest mode: steady), with its
+/// states x, v, the acceleration a = f − K x − c K v − d v|v| (M = I) and the force.
+struct Chain {
+    records: Vec<Record>,
+    accelerations: Vec<Mat<f64>>,
+}
+
+fn four_mass_chain() -> &'static Chain {
+    static CHAIN: std::sync::OnceLock<Chain> = std::sync::OnceLock::new();
+    CHAIN.get_or_init(|| {
+        let period = 2.0 * std::f64::consts::PI / FOUR_MASS_OMEGA;
+        let settings = SimSettings {
+            transient_steps: 6000,
+            recorded_steps: (40.0 * period / 0.1).ceil() as usize + 2,
+            ..SimSettings::default()
+        };
+        let records = four_mass_records_with(false, &settings).unwrap();
+        let accelerations = records
+            .iter()
+            .map(|r| {
+                let (x, v) = (r.displacements(), r.velocities().unwrap());
+                let f = &r.forcing().signals;
+                let kx = |m: faer::MatRef<f64>, i: usize, j: usize| {
+                    let left = if j > 0 { m[(i, j - 1)] } else { 0.0 };
+                    let right = if j < 3 { m[(i, j + 1)] } else { 0.0 };
+                    2.0 * m[(i, j)] - left - right
+                };
+                Mat::from_fn(r.samples(), 4, |i, j| {
+                    let force = if j == 3 { f[(i, 0)] } else { 0.0 };
+                    force
+                        - kx(x, i, j)
+                        - FOUR_MASS_C * kx(v, i, j)
+                        - FOUR_MASS_D * v[(i, j)] * v[(i, j)].abs()
+                })
+            })
+            .collect();
+        Chain {
+            records,
+            accelerations,
+        }
+    })
+}
+
+/// The chain's records as sensed by `sensors` (per DOF), with white Gaussian noise of
+/// 1 % of each signal kind's RMS over the record (all its channels of that kind).
+fn sensed(sensors: [Sensor; 4], level: f64, seed: u64) -> Vec<Record> {
+    let chain = four_mass_chain();
+    let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
+    chain
+        .records
+        .iter()
+        .zip(&chain.accelerations)
+        .map(|(r, a)| {
+            let x = r.displacements();
+            let v = r.velocities().unwrap();
+            let signal = |j: usize| -> Vec<f64> {
+                (0..r.samples())
+                    .map(|i| match sensors[j] {
+                        Sensor::Displacement => x[(i, j)],
+                        Sensor::Velocity => v[(i, j)],
+                        Sensor::Acceleration => a[(i, j)],
+                    })
+                    .collect()
+            };
+            let columns: Vec<Vec<f64>> = (0..4).map(signal).collect();
+            let mut motion = Mat::from_fn(r.samples(), 4, |i, j| columns[j][i]);
+            for kind in [Sensor::Displacement, Sensor::Velocity, Sensor::Acceleration] {
+                let of_kind: Vec<usize> = (0..4).filter(|&j| sensors[j] == kind).collect();
+                if of_kind.is_empty() {
+                    continue;
+                }
+                let sum_sq: f64 = of_kind
+                    .iter()
+                    .flat_map(|&j| columns[j].iter().map(|s| s * s))
+                    .sum();
+                let rms = (sum_sq / (of_kind.len() * r.samples()) as f64).sqrt();
+                let normal = Normal::new(0.0, level * rms).unwrap();
+                for &j in &of_kind {
+                    for i in 0..r.samples() {
+                        motion[(i, j)] += normal.sample(&mut rng);
+                    }
+                }
+            }
+            record_from_sensors(SensorParts {
+                label: r.label().to_string(),
+                step: r.step(),
+                start_time: r.start_time(),
+                motion,
+                sensors: sensors.to_vec(),
+                forcing: r.forcing().clone(),
+                period: r.period(),
+            })
+            .unwrap()
+        })
+        .collect()
+}
+
+/// (c, d) relative errors and their |error| / SE over `seeds` draws of `level` noise,
+/// with the default (noise-robust) settings.
+fn study(sensors: [Sensor; 4], level: f64, seeds: u64) -> Vec<[(f64, f64); 2]> {
+    let truth = [FOUR_MASS_C, FOUR_MASS_D];
+    (0..seeds)
+        .map(|seed| {
+            let records = sensed(sensors, level, seed);
+            let report =
+                dampid::identify(&four_mass_model(), &records, &IdentifySettings::default())
+                    .unwrap();
+            let mut out = [(0.0, 0.0); 2];
+            for (k, c) in report.coefficients.iter().enumerate() {
+                let se = c.std_error.expect("a standard error");
+                out[k] = (
+                    (c.value - truth[k]) / truth[k],
+                    (c.value - truth[k]).abs() / se,
+                );
+            }
+            out
+        })
+        .collect()
+}
+
+/// At 1 % noise over 12 draws: the truth within 3 reported standard errors on every
+/// draw and within 2 on at least 80 % (calibrated intervals), and c and d within 0.5 %
+/// of the truth on average over the draws. (One draw alone is not: on this design, four
+/// amplitudes at one frequency, the standard errors of c and d at 1 % noise are about
+/// 0.5 % whatever the sensor, displacement sensors included; see
+/// `sensor_kind_costs_no_accuracy`.) At 0.2 % noise every draw is within 0.5 %.
+fn assert_accurate_and_calibrated(sensors: [Sensor; 4]) {
+    let results = study(sensors, 0.01, 12);
+    let mut within_two = 0;
+    let mut mean = [0.0; 2];
+    for draw in &results {
+        for (k, (error, z)) in draw.iter().enumerate() {
+            assert!(*z < 3.0, "{sensors:?}: {results:?}");
+            within_two += usize::from(*z < 2.0);
+            mean[k] += error / results.len() as f64;
+        }
+    }
+    let total = 2 * results.len();
+    assert!(
+        within_two * 10 >= total * 8,
+        "{within_two} of {total} within 2 SE: {results:?}"
+    );
+    assert!(
+        mean.iter().all(|m| m.abs() < 0.005),
+        "{mean:?}: {results:?}"
+    );
+    for draw in study(sensors, 0.002, 4) {
+        for (error, z) in draw {
+            assert!(
+                error.abs() < 0.005 && z < 3.0,
+                "{sensors:?}: {error} ({z} SE)"
+            );
+        }
+    }
+}
+
+#[test]
+fn accelerations_only_identify_the_four_mass_chain() {
+    assert_accurate_and_calibrated([Sensor::Acceleration; 4]);
+}
+
+#[test]
+fn velocities_only_identify_the_four_mass_chain() {
+    assert_accurate_and_calibrated([Sensor::Velocity; 4]);
+}
+
+#[test]
+fn mixed_sensors_identify_the_four_mass_chain() {
+    assert_accurate_and_calibrated([
+        Sensor::Acceleration,
+        Sensor::Velocity,
+        Sensor::Displacement,
+        Sensor::Acceleration,
+    ]);
+}
+
+/// Integrating per harmonic loses nothing: over the same 12 draws of 1 % noise, the RMS
+/// error of c and d from accelerometers or velocity sensors is within 30 % of that from
+/// displacement sensors (same relative noise on each signal).
+#[test]
+fn sensor_kind_costs_no_accuracy() {
+    let rms = |sensors| {
+        let results = study(sensors, 0.01, 12);
+        let mut sq = [0.0; 2];
+        for draw in &results {
+            for k in 0..2 {
+                sq[k] += draw[k].0.powi(2) / results.len() as f64;
+            }
+        }
+        sq.map(f64::sqrt)
+    };
+    let x = rms([Sensor::Displacement; 4]);
+    for sensors in [[Sensor::Acceleration; 4], [Sensor::Velocity; 4]] {
+        let other = rms(sensors);
+        eprintln!("RMS relative error (c, d): {sensors:?} {other:?}, displacements {x:?}");
+        for k in 0..2 {
+            assert!(other[k] < 1.3 * x[k], "{sensors:?}: {other:?} vs {x:?}");
+        }
+    }
+}
