@@ -7,7 +7,7 @@ use std::path::Path;
 use faer::Mat;
 
 use super::context::Context;
-use super::measured::{RecordInputs, read_record};
+use super::measured::{Mode, RecordInputs, read_record};
 use super::records::{Truth, simulate_records};
 use super::settings::{design_settings, identification_settings, span_settings, stored_energy};
 use super::spec::{MatrixRef, ModelFileSpec};
@@ -295,7 +295,11 @@ impl Context<'_> {
         let mut inputs = Vec::new();
         for (k, r) in list.iter().enumerate() {
             let read = self.at(r, |r| {
-                read_record(self, r, n, base, spec.non_periodic.is_none())
+                let mode = match &spec.non_periodic {
+                    None => Mode::Periodic,
+                    Some(np) => Mode::NonPeriodic(np.get_ref().high_pass.as_ref()),
+                };
+                read_record(self, r, n, base, mode)
             })?;
             records.push(read.record);
             detected_periods.push(read.detected);

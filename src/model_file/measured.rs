@@ -15,7 +15,7 @@ use super::context::Context;
 use super::spec::{ColumnSpec, RecordSpec};
 use crate::error::{Error, Result};
 use crate::io::Table;
-use crate::prep::motion::{SensorParts, record_from_sensors};
+use crate::prep::motion::{Integration, SensorParts, record_from_sensors};
 use crate::prep::period::{PeriodEstimate, detect_period};
 use crate::record::{Forcing, Record, RecordParts, Sensor};
 
@@ -31,6 +31,9 @@ pub struct RecordInputs {
     pub gains: Vec<ChannelGain>,
     /// What each DOF's motion channel measures.
     pub sensors: Vec<Sensor>,
+    /// The high-pass cut-off that treated the drift of integrated channels in the
+    /// non-periodic mode (`None`: integrated over whole periods, or nothing integrated).
+    pub high_pass: Option<f64>,
 }
 
 /// One column's gain: value = scale × column + offset.
@@ -74,13 +77,22 @@ impl fmt::Display for RecordInputs {
                 .filter(|&j| self.sensors[j] == kind)
                 .map(|j| (j + 1).to_string())
                 .collect();
-            if !dofs.is_empty() {
-                writeln!(
+            if dofs.is_empty() {
+                continue;
+            }
+            match self.high_pass {
+                None => writeln!(
                     f,
                     "  {} sensors on DOF {}: integrated over whole periods per harmonic; the mean of x and v over each window is set to zero (the k = 0 component is removed)",
                     kind.name(),
                     dofs.join(", ")
-                )?;
+                )?,
+                Some(cutoff) => writeln!(
+                    f,
+                    "  {} sensors on DOF {}: integrated over the record with a zero-phase high-pass at {cutoff} cycles per time unit against drift (content below it is removed)",
+                    kind.name(),
+                    dofs.join(", ")
+                )?,
             }
         }
         Ok(())
@@ -235,15 +247,23 @@ fn motion_columns<'a>(
     Ok((motion, None))
 }
 
-/// Reads one record; a `periodic` record without a period or frequency gets one detected
+/// The records' mode: periodic, or `[non_periodic]` with its high-pass cut-off (at its
+/// line) for integrating velocity and acceleration columns.
+pub(super) enum Mode<'a> {
+    Periodic,
+    NonPeriodic(Option<&'a Spanned<f64>>),
+}
+
+/// Reads one record; a periodic record without a period or frequency gets one detected
 /// from its force, a non-periodic one gets its duration (which nothing uses).
 pub(super) fn read_record(
     ctx: &Context,
     spec: &RecordSpec,
     n: usize,
     base: &Path,
-    periodic: bool,
+    mode: Mode,
 ) -> Result<ReadRecord> {
+    let periodic = matches!(mode, Mode::Periodic);
     let path = base.join(&spec.file);
     let table = crate::io::read_table(&path)?;
     let label = spec.label.clone().unwrap_or_else(|| spec.file.clone());
@@ -337,6 +357,7 @@ pub(super) fn read_record(
     };
     let sensors: Vec<Sensor> = motion.iter().map(|m| m.sensor).collect();
     let forcing = Forcing::on_dofs(signals, dofs);
+    let mut cutoff = None;
     let record = if let Some(velocities) = velocities {
         Record::new(RecordParts {
             label: label.clone(),
@@ -348,14 +369,28 @@ pub(super) fn read_record(
             period,
         })?
     } else {
-        if !periodic && sensors.iter().any(|s| *s != Sensor::Displacement) {
-            return Err(Error::choice(
-                "motion columns",
-                "velocity or acceleration sensors in [non_periodic]",
-                "integrating them without whole periods needs a drift treatment, which this version does not have; give displacements",
-            ));
-        }
-        record_from_sensors(SensorParts {
+        let integration = match mode {
+            Mode::Periodic => Integration::WholePeriods,
+            _ if sensors.iter().all(|s| *s == Sensor::Displacement) => Integration::WholePeriods,
+            Mode::NonPeriodic(Some(cutoff)) => Integration::HighPass {
+                cutoff: *cutoff.get_ref(),
+            },
+            Mode::NonPeriodic(None) => {
+                return Err(Error::missing(
+                    "high_pass in [non_periodic]",
+                    "velocity or acceleration columns in a record that is not periodic are integrated with a zero-phase high-pass against drift: add `high_pass = f_c` (the cut-off frequency, cycles per time unit, well below the slowest motion of interest, e.g. 0.05 for moves of about a second) to [non_periodic]; content below f_c is removed",
+                ));
+            }
+        };
+        cutoff = match integration {
+            Integration::HighPass { cutoff } => Some(cutoff),
+            Integration::WholePeriods => None,
+        };
+        let high_pass_line = match mode {
+            Mode::NonPeriodic(Some(cutoff)) => Some(cutoff),
+            _ => None,
+        };
+        let built = record_from_sensors(SensorParts {
             label: label.clone(),
             step,
             start_time,
@@ -363,7 +398,14 @@ pub(super) fn read_record(
             sensors: sensors.clone(),
             forcing,
             period,
-        })?
+            integration,
+        });
+        match (built, high_pass_line) {
+            (Err(e @ Error::InvalidParameter { .. }), Some(at)) => {
+                return Err(ctx.typed_error_at(at, e));
+            }
+            (built, _) => built?,
+        }
     }
     .with_channel_names(force_names)?;
     Ok(ReadRecord {
@@ -374,6 +416,7 @@ pub(super) fn read_record(
             time_scale,
             gains,
             sensors,
+            high_pass: cutoff,
         },
     })
 }

@@ -63,6 +63,10 @@ pub struct NonPeriodicSpec {
     /// DOFs (1-based) with an unknown constant force, or `"each_dof"`.
     #[serde(default)]
     pub offsets: Option<OffsetsSpec>,
+    /// Cut-off frequency f_c (cycles per time unit) of the zero-phase high-pass that
+    /// treats the drift when velocity or acceleration columns are integrated
+    /// (`dampid::prep::motion`); required with such columns, unused without.
+    pub high_pass: Option<Spanned<f64>>,
 }
 
 /// A stored-energy term of `[non_periodic]`.
