@@ -559,3 +559,27 @@ fn the_drive_from_accelerations_with_a_high_pass() {
     );
     std::fs::remove_dir_all(dir).ok();
 }
+
+/// The bundled accelerometer model file (walkthrough section 7): volts with gains, c and
+/// d within 0.5 % of the truth and within 3 reported standard errors.
+#[test]
+fn bundled_accelerometer_model_identifies_the_chain() {
+    let job = dampid::model_file::load(Path::new("models/four_mass_accelerometers.toml")).unwrap();
+    assert!(job.records.iter().all(|r| r.measured_motion().is_some()));
+    let report = dampid::identify(&job.model, &job.records, &job.settings).unwrap();
+    for (c, truth) in report.coefficients.iter().zip([FOUR_MASS_C, FOUR_MASS_D]) {
+        let se = c.std_error.unwrap();
+        assert!(
+            (c.value / truth - 1.0).abs() < 0.005,
+            "{}: {}",
+            c.name,
+            c.value
+        );
+        assert!(
+            (c.value - truth).abs() < 3.0 * se,
+            "{}: {} ± {se}",
+            c.name,
+            c.value
+        );
+    }
+}
