@@ -112,6 +112,20 @@ pub enum Error {
         what: String,
     },
 
+    /// A DOF of a record has no motion column, or more than one kind of motion column
+    /// (displacement, velocity, acceleration).
+    #[error(
+        "record '{record}', DOF {dof}: {found}; give exactly one of a displacement, velocity or acceleration column per DOF (or displacements and velocities for every DOF: measured velocities)"
+    )]
+    MotionSensors {
+        /// The record's label.
+        record: String,
+        /// The DOF, numbered from 1.
+        dof: usize,
+        /// What was found for it, in words.
+        found: String,
+    },
+
     /// Two coefficients share a name.
     #[error("coefficient name '{name}' is used twice")]
     DuplicateCoefficient {
@@ -358,6 +372,7 @@ pub const KINDS: &[&str] = &[
     "too_few_equations",
     "dof_out_of_range",
     "empty",
+    "motion_sensors",
     "duplicate_coefficient",
     "unknown_coefficient",
     "infeasible_bounds",
@@ -392,6 +407,7 @@ impl Error {
             Error::TooFewEquations { .. } => "too_few_equations",
             Error::DofOutOfRange { .. } => "dof_out_of_range",
             Error::Empty { .. } => "empty",
+            Error::MotionSensors { .. } => "motion_sensors",
             Error::DuplicateCoefficient { .. } => "duplicate_coefficient",
             Error::UnknownCoefficient { .. } => "unknown_coefficient",
             Error::InfeasibleBounds { .. } => "infeasible_bounds",

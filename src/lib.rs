@@ -92,11 +92,12 @@ pub mod prelude {
     pub use crate::prep::harmonic::{
         HarmonicApproximation, PhaseReading, SteppedSinePoint, SteppedSineTable,
     };
+    pub use crate::prep::motion::{SensorParts, record_from_sensors};
     pub use crate::prep::pod::{Pod, PodBasis, PodSettings, Retain, reduce};
     pub use crate::prep::quadrature::Quadrature;
     pub use crate::prep::velocity::VelocitySource;
     pub use crate::prep::window::WindowSpec;
-    pub use crate::record::{Forcing, Record, RecordParts};
+    pub use crate::record::{Forcing, MeasuredMotion, Record, RecordParts, Sensor};
     pub use crate::regressor::{Regressor, RegressorSettings};
     pub use crate::report::FitReport;
     pub use crate::terms::laws::{

@@ -5,8 +5,18 @@
 //! they produce, r(t) = D s(t), where column k of D (n × c) is the load distribution of
 //! channel k. A force on one DOF is a unit column; a full generalized force record is
 //! D = I. The input power is then v^T r = Σ_k s_k(t) (d_k · v(t)).
+//!
+//! Motion may come from any sensor: per DOF a displacement, a velocity or an
+//! acceleration ([`Sensor`]). A record whose sensors are not all displacements is built
+//! by [`crate::prep::motion::record_from_sensors`]: its [`Record::displacements`] and
+//! [`Record::velocities`] are then reconstructed from the measured signals (frequency-
+//! domain integration over whole periods, mean removed), and the signals themselves stay
+//! with the record ([`Record::measured_motion`]) for the noise-robust pipeline, which
+//! projects them and integrates per harmonic. No consumer ever reads an acceleration or
+//! a velocity as a displacement.
 
 use faer::{Mat, MatRef};
+use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result, check_finite};
 
@@ -105,6 +115,49 @@ impl Forcing {
     }
 }
 
+/// What a motion channel measures.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Sensor {
+    /// Displacement x (a position sensor, a strain gauge, a camera).
+    #[default]
+    Displacement,
+    /// Velocity ẋ (a laser vibrometer, a velocity pickup).
+    Velocity,
+    /// Acceleration ẍ (an accelerometer).
+    Acceleration,
+}
+
+impl Sensor {
+    /// How many times the signal is differentiated from the displacement (0, 1, 2).
+    pub fn order(self) -> u32 {
+        match self {
+            Sensor::Displacement => 0,
+            Sensor::Velocity => 1,
+            Sensor::Acceleration => 2,
+        }
+    }
+
+    /// "displacement", "velocity" or "acceleration".
+    pub fn name(self) -> &'static str {
+        match self {
+            Sensor::Displacement => "displacement",
+            Sensor::Velocity => "velocity",
+            Sensor::Acceleration => "acceleration",
+        }
+    }
+}
+
+/// The signals a record's sensors measured (N × n, column j in the units of
+/// `sensors[j]`), kept beside the displacements reconstructed from them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeasuredMotion {
+    /// What each DOF's channel measures.
+    pub sensors: Vec<Sensor>,
+    /// N × n measured signals.
+    pub signals: Mat<f64>,
+}
+
 /// The parts of a record, by name. Pass to [`Record::new`], which validates them.
 #[derive(Debug, Clone)]
 pub struct RecordParts {
@@ -114,7 +167,8 @@ pub struct RecordParts {
     pub step: f64,
     /// Time of the first sample (used only for labels and plots).
     pub start_time: f64,
-    /// N × n displacements.
+    /// N × n displacements (for a record of other sensors, see
+    /// [`crate::prep::motion::record_from_sensors`]).
     pub displacements: Mat<f64>,
     /// Optional N × n measured velocities.
     pub velocities: Option<Mat<f64>>,
@@ -133,6 +187,9 @@ pub struct Record {
     /// The force channels' names (their data-file columns), one per channel; empty
     /// when the record was built without them.
     channel_names: Vec<String>,
+    /// The signals of sensors that are not all displacements, from which the
+    /// displacements and velocities were reconstructed; `None` for displacement records.
+    measured: Option<MeasuredMotion>,
 }
 
 impl Record {
@@ -193,7 +250,60 @@ impl Record {
             parts,
             active_channels,
             channel_names: Vec::new(),
+            measured: None,
         })
+    }
+
+    /// This record with the signals `motion` its sensors measured, its displacements and
+    /// velocities having been reconstructed from them ([`crate::prep::motion`], the only
+    /// caller, which keeps the two consistent).
+    pub(crate) fn with_measured_motion(mut self, motion: MeasuredMotion) -> Result<Self> {
+        let shape = (self.samples(), self.dofs());
+        if motion.sensors.len() != shape.1 {
+            return Err(Error::mismatch(
+                "sensors vs DOFs",
+                shape.1,
+                motion.sensors.len(),
+            ));
+        }
+        if motion.signals.shape() != shape {
+            let (what, expected, found) = if motion.signals.nrows() != shape.0 {
+                (
+                    "rows of measured motion vs samples",
+                    shape.0,
+                    motion.signals.nrows(),
+                )
+            } else {
+                (
+                    "columns of measured motion vs DOFs",
+                    shape.1,
+                    motion.signals.ncols(),
+                )
+            };
+            return Err(Error::mismatch(what, expected, found));
+        }
+        check_finite("measured motion", motion.signals.as_ref())?;
+        self.measured = motion
+            .sensors
+            .iter()
+            .any(|s| *s != Sensor::Displacement)
+            .then_some(motion);
+        Ok(self)
+    }
+
+    /// The signals the sensors measured, when they are not all displacements (the
+    /// displacements and velocities of this record were then reconstructed from them).
+    pub fn measured_motion(&self) -> Option<&MeasuredMotion> {
+        self.measured.as_ref()
+    }
+
+    /// What each DOF's sensor measures (all displacements unless the record was built
+    /// from other sensors).
+    pub fn sensors(&self) -> Vec<Sensor> {
+        self.measured.as_ref().map_or_else(
+            || vec![Sensor::Displacement; self.dofs()],
+            |m| m.sensors.clone(),
+        )
     }
 
     /// This record with a name for each force channel (the data-file columns they came
@@ -245,11 +355,12 @@ impl Record {
     pub fn dofs(&self) -> usize {
         self.parts.displacements.ncols()
     }
-    /// N × n displacements.
+    /// N × n displacements: measured, or reconstructed from the sensors' signals
+    /// ([`Record::measured_motion`]).
     pub fn displacements(&self) -> MatRef<'_, f64> {
         self.parts.displacements.as_ref()
     }
-    /// N × n measured velocities, if any.
+    /// N × n measured velocities, if any (reconstructed for a record of other sensors).
     pub fn velocities(&self) -> Option<MatRef<'_, f64>> {
         self.parts.velocities.as_ref().map(|v| v.as_ref())
     }
@@ -262,7 +373,8 @@ impl Record {
     pub fn active_channels(&self) -> &[usize] {
         &self.active_channels
     }
-    /// The validated parts, for transforms that build a new record from this one.
+    /// The validated parts, for transforms that build a new record from this one (a
+    /// record built from them has the displacements and velocities, not the sensors).
     pub fn parts(&self) -> &RecordParts {
         &self.parts
     }

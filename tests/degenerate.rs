@@ -589,7 +589,7 @@ frequency = 0.765367
 }
 
 /// Model files number DOFs from 1 (0 is ground): a force column on DOF 3 of a 2-DOF
-/// model, or on DOF 0, is `DofOutOfRange`, reported at the record's line.
+/// model, or on DOF 0, is `DofOutOfRange`, reported at the force column's line.
 #[test]
 fn force_on_missing_dof_in_a_model_file_is_dof_out_of_range() {
     for (dof, needle) in [(3, "DOF 3"), (0, "DOF 0")] {
@@ -602,7 +602,7 @@ fn force_on_missing_dof_in_a_model_file_is_dof_out_of_range() {
                 ..
             } => {
                 assert_eq!(file, "force.toml");
-                assert_eq!(*line, 10, "{err}");
+                assert_eq!(*line, 14, "{err}");
                 assert!(message.contains(needle), "{err}");
                 assert!(message.contains("numbered 1..2"), "{err}");
             }

@@ -34,6 +34,7 @@ fn write_csv(record: &Record, path: &Path, jitter: impl Fn(usize) -> f64) {
             record.displacements().col(0).iter().copied().collect(),
             record.forcing().signals.col_as_slice(0).to_vec(),
         ],
+        dampid::io::output::Overwrite::Replace, // the test's scratch file
     )
     .unwrap();
 }

@@ -7,7 +7,8 @@ use std::path::Path;
 use faer::Mat;
 
 use super::context::Context;
-use super::records::{Truth, read_record, simulate_records};
+use super::measured::{Mode, RecordInputs, read_record};
+use super::records::{Truth, simulate_records};
 use super::settings::{
     design_settings, identification_settings, periodic_only_key, span_settings, stored_energy,
 };
@@ -39,6 +40,9 @@ pub struct Job {
     pub records: Vec<Record>,
     /// The records as simulated or read (before any reduction).
     pub source_records: Vec<Record>,
+    /// How the columns of each data record were read (gains, sensors); empty for
+    /// simulated records.
+    pub inputs: Vec<RecordInputs>,
     /// The period detected from the force of each source record, where the model file
     /// gave none (`None`: given or simulated).
     pub detected_periods: Vec<Option<PeriodEstimate>>,
@@ -99,6 +103,7 @@ impl Job {
 struct Sources {
     records: Vec<Record>,
     truth: Option<Truth>,
+    inputs: Vec<RecordInputs>,
     detected_periods: Vec<Option<PeriodEstimate>>,
     time_jitter: Vec<Option<f64>>,
     stored_energy: Option<StoredEnergy>,
@@ -216,6 +221,7 @@ impl Context<'_> {
             model,
             records,
             source_records: sources.records,
+            inputs: sources.inputs,
             detected_periods: sources.detected_periods,
             time_jitter: sources.time_jitter,
             settings,
@@ -275,6 +281,7 @@ impl Context<'_> {
             return Ok(Sources {
                 detected_periods: vec![None; records.len()],
                 time_jitter: vec![None; records.len()],
+                inputs: Vec::new(),
                 records,
                 truth: Some(truth),
                 stored_energy: Some(energy),
@@ -286,6 +293,7 @@ impl Context<'_> {
             return Ok(Sources {
                 detected_periods: vec![None; records.len()],
                 time_jitter: vec![None; records.len()],
+                inputs: Vec::new(),
                 records,
                 truth: Some(truth),
                 stored_energy: None,
@@ -300,16 +308,24 @@ impl Context<'_> {
         let mut records = Vec::new();
         let mut detected_periods = Vec::new();
         let mut time_jitter = Vec::new();
+        let mut inputs = Vec::new();
         for (k, r) in list.iter().enumerate() {
-            let (record, detected, jitter) =
-                self.at(r, |r| read_record(r, n, base, spec.non_periodic.is_none()))?;
-            records.push(record);
-            detected_periods.push(detected);
-            time_jitter.push(jitter);
+            let read = self.at(r, |r| {
+                let mode = match &spec.non_periodic {
+                    None => Mode::Periodic,
+                    Some(np) => Mode::NonPeriodic(np.get_ref().high_pass.as_ref()),
+                };
+                read_record(self, r, n, base, mode)
+            })?;
+            records.push(read.record);
+            detected_periods.push(read.detected);
+            time_jitter.push(read.jitter);
+            inputs.push(read.inputs);
             progress(k as u64 + 1, total);
         }
         Ok(Sources {
             records,
+            inputs,
             truth: None,
             detected_periods,
             time_jitter,

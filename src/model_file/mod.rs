@@ -12,6 +12,7 @@
 
 mod context;
 mod job;
+mod measured;
 mod records;
 mod reduction;
 mod settings;
@@ -24,6 +25,7 @@ mod terms;
 use std::path::Path;
 
 pub use job::Job;
+pub use measured::{ChannelGain, RecordInputs};
 pub use spec::*;
 pub use summary::{CheckReport, DetectedPeriod, JitteredTime, NOTED_JITTER, Periods, Preamble};
 

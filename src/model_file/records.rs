@@ -1,19 +1,16 @@
-//! Where a model file's records come from: `[simulation]` (with the true
-//! coefficients) or `[[data.records]]` (columns of a data file, DOFs 1-based, the
-//! period given or detected from the force).
+//! Simulated records: `[simulation]`, with the true coefficients (measured ones are
+//! read by `measured.rs`).
 
 use std::collections::BTreeMap;
-use std::path::Path;
 
 use faer::Mat;
 
 use super::settings::one_based;
-use super::spec::{MatrixRef, RecordSpec, SimulationSpec};
+use super::spec::{MatrixRef, SimulationSpec};
 use crate::error::{Error, Result};
 use crate::model::DampingModel;
-use crate::prep::period::{PeriodEstimate, detect_period};
 use crate::progress::Progress;
-use crate::record::{Forcing, Record, RecordParts};
+use crate::record::Record;
 use crate::simulate::{
     ConservativeForce, HarmonicForce, SimSettings, System, simulate_with_progress,
 };
@@ -109,94 +106,4 @@ pub(super) fn simulate_records(
         })
         .collect::<Result<Vec<_>>>()?;
     Ok((records, truth))
-}
-
-/// Reads one record; a `periodic` record without a period or frequency gets one detected
-/// from its force, a non-periodic one gets its duration (which nothing uses). Also
-/// returns the jitter of its time column, when it has one.
-pub(super) fn read_record(
-    spec: &RecordSpec,
-    n: usize,
-    base: &Path,
-    periodic: bool,
-) -> Result<(Record, Option<PeriodEstimate>, Option<f64>)> {
-    let path = base.join(&spec.file);
-    let table = crate::io::read_table(&path)?;
-    if spec.displacements.len() != n {
-        return Err(Error::mismatch(
-            "displacement columns vs dofs",
-            n,
-            spec.displacements.len(),
-        ));
-    }
-    let (step, jitter) = match (&spec.time, spec.step) {
-        (Some(time), None) => {
-            let time = table.uniform_step(time)?;
-            (time.step, Some(time.jitter))
-        }
-        (None, Some(step)) => (step, None),
-        (time, _) => {
-            let given = if time.is_some() {
-                "both `time` and `step`"
-            } else {
-                "neither `time` nor `step`"
-            };
-            return Err(Error::choice(
-                "step",
-                given,
-                "give exactly one of `time` (a column) or `step`",
-            ));
-        }
-    };
-    let columns = |names: &[String]| table.matrix(names);
-    let displacements = columns(&spec.displacements)?;
-    let velocities = spec.velocities.as_deref().map(columns).transpose()?;
-    let force_names: Vec<String> = spec.forces.iter().map(|f| f.column.clone()).collect();
-    let dofs = spec
-        .forces
-        .iter()
-        .map(|f| {
-            f.dof
-                .checked_sub(1)
-                .filter(|d| *d < n)
-                .ok_or_else(|| Error::DofOutOfRange {
-                    what: format!("force column '{}'", f.column),
-                    dof: f.dof,
-                    dofs: n,
-                })
-        })
-        .collect::<Result<Vec<_>>>()?;
-    let start_time = spec
-        .time
-        .as_deref()
-        .map_or(Ok(0.0), |t| table.column(t).map(|c| c[0]))?;
-    let label = spec.label.clone().unwrap_or_else(|| spec.file.clone());
-    let signals = columns(&force_names)?;
-    let (period, detected) = match (spec.period, spec.frequency) {
-        (Some(period), None) => (period, None),
-        (None, Some(omega)) => (2.0 * std::f64::consts::PI / omega, None),
-        (None, None) if !periodic => (step * (signals.nrows().max(2) - 1) as f64, None),
-        (None, None) => {
-            let estimate = detect_period(signals.as_ref(), step, &label)?;
-            (estimate.period, Some(estimate))
-        }
-        (Some(period), Some(_)) => {
-            return Err(Error::invalid(
-                "period",
-                period,
-                "give at most one of `period` or `frequency` (rad per unit time); with neither, the period is detected from the force",
-            ));
-        }
-    };
-    let record = Record::new(RecordParts {
-        label,
-        step,
-        start_time,
-        displacements,
-        velocities,
-        forcing: Forcing::on_dofs(signals, dofs),
-        period,
-    })?
-    .with_channel_names(force_names)?;
-    Ok((record, detected, jitter))
 }

@@ -63,6 +63,10 @@ pub struct NonPeriodicSpec {
     /// DOFs (1-based) with an unknown constant force, or `"each_dof"`.
     #[serde(default)]
     pub offsets: Option<OffsetsSpec>,
+    /// Cut-off frequency f_c (cycles per time unit) of the zero-phase high-pass that
+    /// treats the drift when velocity or acceleration columns are integrated
+    /// (`dampid::prep::motion`); required with such columns, unused without.
+    pub high_pass: Option<Spanned<f64>>,
 }
 
 /// A stored-energy term of `[non_periodic]`.
@@ -441,7 +445,13 @@ pub struct DataSpec {
     pub records: Vec<Spanned<RecordSpec>>,
 }
 
-/// One measured record in a CSV file with a header row.
+/// One measured record in a data file with a header row.
+///
+/// Motion: per DOF exactly one of a displacement, velocity or acceleration column
+/// (`displacements`, `velocities`, `accelerations`; an entry without `dof` is the DOF of
+/// its position in the list). Displacements *and* velocities for every DOF keep their
+/// older meaning: measured velocities beside the displacements (`velocity = "measured"`).
+/// Every column may carry a gain: physical value = `scale` × column + `offset`.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RecordSpec {
@@ -453,12 +463,20 @@ pub struct RecordSpec {
     pub time: Option<String>,
     /// … or the step h.
     pub step: Option<f64>,
-    /// Displacement columns, one per DOF in order.
-    pub displacements: Vec<String>,
-    /// Measured velocity columns, one per DOF in order.
-    pub velocities: Option<Vec<String>>,
+    /// Time = `time_scale` × the time column (default 1), e.g. 1e-3 for milliseconds.
+    pub time_scale: Option<Spanned<f64>>,
+    /// Displacement columns.
+    #[serde(default)]
+    pub displacements: Vec<Spanned<ColumnSpec>>,
+    /// Velocity columns (velocity sensors, or measured velocities beside displacements
+    /// of every DOF).
+    #[serde(default)]
+    pub velocities: Vec<Spanned<ColumnSpec>>,
+    /// Acceleration columns.
+    #[serde(default)]
+    pub accelerations: Vec<Spanned<ColumnSpec>>,
     /// Force columns and the DOF each acts on.
-    pub forces: Vec<ForceColumn>,
+    pub forces: Vec<Spanned<ForceColumn>>,
     /// Driving period T …
     pub period: Option<f64>,
     /// … or driving frequency ω (rad per unit time); with neither, the period is
@@ -466,7 +484,65 @@ pub struct RecordSpec {
     pub frequency: Option<f64>,
 }
 
-/// A force column and its DOF (1-based).
+/// A motion column: its name (`"x1"`), or `{ column = "qm", dof = 2, scale = 1e-3,
+/// offset = 0.0 }` (all but `column` optional).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ColumnSpec {
+    /// Column name.
+    pub column: String,
+    /// DOF, 1-based (default: the entry's position in its list).
+    pub dof: Option<usize>,
+    /// Gain: physical value = scale × column + offset (default 1).
+    pub scale: Option<f64>,
+    /// Offset in physical units (default 0).
+    pub offset: Option<f64>,
+}
+
+/// The table form of [`ColumnSpec`].
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ColumnTable {
+    column: String,
+    dof: Option<usize>,
+    scale: Option<f64>,
+    offset: Option<f64>,
+}
+
+impl<'de> Deserialize<'de> for ColumnSpec {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Visitor;
+        impl<'de> serde::de::Visitor<'de> for Visitor {
+            type Value = ColumnSpec;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("a column name or a table { column, dof, scale, offset }")
+            }
+            fn visit_str<E: serde::de::Error>(self, name: &str) -> Result<ColumnSpec, E> {
+                Ok(ColumnSpec {
+                    column: name.to_string(),
+                    dof: None,
+                    scale: None,
+                    offset: None,
+                })
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                map: A,
+            ) -> Result<ColumnSpec, A::Error> {
+                let t =
+                    ColumnTable::deserialize(serde::de::value::MapAccessDeserializer::new(map))?;
+                Ok(ColumnSpec {
+                    column: t.column,
+                    dof: t.dof,
+                    scale: t.scale,
+                    offset: t.offset,
+                })
+            }
+        }
+        deserializer.deserialize_any(Visitor)
+    }
+}
+
+/// A force column, the DOF (1-based) it acts on, and its gain.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ForceColumn {
@@ -474,4 +550,8 @@ pub struct ForceColumn {
     pub column: String,
     /// DOF, 1-based.
     pub dof: usize,
+    /// Gain: force = scale × column + offset (default 1), e.g. 35.15 N/V.
+    pub scale: Option<f64>,
+    /// Offset in force units (default 0).
+    pub offset: Option<f64>,
 }

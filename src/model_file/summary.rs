@@ -94,6 +94,9 @@ impl fmt::Display for Preamble<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let job = self.job;
         write!(f, "{}", job.periods())?;
+        for inputs in job.inputs.iter().filter(|i| !i.is_plain()) {
+            write!(f, "{inputs}")?;
+        }
         if let Some(spans) = job.settings.regressor.windows.spans() {
             writeln!(
                 f,

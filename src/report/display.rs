@@ -203,8 +203,43 @@ impl fmt::Display for NoiseSummary {
         let all: Vec<f64> = self
             .windows
             .iter()
-            .flat_map(|w| w.displacement_noise.iter().copied())
+            .flat_map(|w| {
+                let plain = w.sensors.is_empty();
+                w.displacement_noise
+                    .iter()
+                    .enumerate()
+                    .filter(move |(j, _)| {
+                        plain || w.sensors[*j] == crate::record::Sensor::Displacement
+                    })
+                    .map(|(_, s)| *s)
+            })
             .collect();
+        for kind in [
+            crate::record::Sensor::Velocity,
+            crate::record::Sensor::Acceleration,
+        ] {
+            let of_kind: Vec<f64> = self
+                .windows
+                .iter()
+                .flat_map(|w| {
+                    w.sensors
+                        .iter()
+                        .zip(&w.displacement_noise)
+                        .filter(|(s, _)| **s == kind)
+                        .map(|(_, n)| *n)
+                })
+                .collect();
+            if let (Some(lo), Some(hi)) = (
+                of_kind.iter().copied().reduce(f64::min),
+                of_kind.iter().copied().reduce(f64::max),
+            ) {
+                writeln!(
+                    f,
+                    "  {} noise (per sample, estimated per window and channel): {lo:.3e} to {hi:.3e}; integrated per kept harmonic, the mean of x and v over each window set to zero (k = 0 removed)",
+                    kind.name()
+                )?;
+            }
+        }
         if let (Some(lo), Some(hi)) = (
             all.iter().copied().reduce(f64::min),
             all.iter().copied().reduce(f64::max),

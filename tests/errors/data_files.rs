@@ -142,6 +142,7 @@ fn truncated_mat_file_is_a_data_error() {
             }
         }
     }
+}
 
 /// A 1 kHz time column with the jitter of a real MATLAB export (2.4e-5 of a step) is
 /// accepted with its mean step and its jitter; one with 2e-3 is `TimeJitter`, naming

@@ -209,6 +209,17 @@ pub fn assert_nan_at(err: &Error, what: &str, row: usize, column: usize) {
 }
 
 /// [`dampid::model_file::parse`] of `text` as the file `file`, relative to `.`.
+/// A 3-DOF model file reading models/data/chain3/record_1.csv with the motion columns
+/// `motion` (lines of `[[data.records]]`; the block starts on line 7).
+pub fn chain3_with_motion(motion: &str) -> String {
+    let file =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models/data/chain3/record_1.csv");
+    format!(
+        "dofs = 3\n[[terms]]\nkind = \"law\"\nlaw = \"linear\"\nelements = \"chain\"\ncoefficient = \"c\"\n[[data.records]]\nfile = \"{}\"\ntime = \"t\"\n{motion}\nforces = [{{ column = \"f1\", dof = 1 }}]\nfrequency = 0.765367\n",
+        file.display()
+    )
+}
+
 pub fn parse_model(text: &str, file: &str) -> Result<dampid::model_file::Job> {
     dampid::model_file::parse(text, file, std::path::Path::new("."))
 }

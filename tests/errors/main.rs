@@ -19,6 +19,7 @@
 //! | `TooFewEquations` | the fit: fewer rows than free coefficients | fit |
 //! | `DofOutOfRange` | `Record::new` (force channels); model elements; `simulate` (springs, forces, elements) | record, model, simulate |
 //! | `Empty` | `Record::new` (no DOFs); an empty model or term; no records; `simulate` (no forcing, no DOFs) | record, model, regressor, simulate |
+//! | `MotionSensors` | a model file's `[[data.records]]` with a DOF that has no motion column or two kinds (displacement, velocity, acceleration) | variants, record |
 //! | `DuplicateCoefficient` | model validation | model |
 //! | `UnknownCoefficient` | constraints naming a coefficient the model lacks | fit |
 //! | `InfeasibleBounds` | bounds and fixed values that admit no value | fit, regressions |

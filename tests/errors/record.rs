@@ -240,3 +240,82 @@ fn nonpositive_or_non_finite_period_is_invalid_parameter() {
         assert!(err.to_string().contains("period"), "{err}");
     }
 }
+
+// ---------------------------------------------------------------------------------
+// Motion sensors (model files): per DOF exactly one kind of motion column
+// ---------------------------------------------------------------------------------
+
+/// A DOF with no motion column, or with two kinds, is `MotionSensors` naming the record
+/// and the DOF from 1; displacements and velocities of every DOF are measured velocities.
+#[test]
+fn a_dof_needs_exactly_one_kind_of_motion_column() {
+    let cases = [
+        ("displacements = [\"x1\", \"x2\"]", 3, "no motion column"),
+        (
+            "displacements = [\"x1\", \"x2\", \"x3\"]\naccelerations = [{ column = \"v2\", dof = 2 }]",
+            2,
+            "2 kinds of motion column (displacement 'x2', acceleration 'v2')",
+        ),
+        (
+            "displacements = [\"x1\", \"x2\"]\nvelocities = [{ column = \"v1\", dof = 1 }]",
+            1,
+            "2 kinds",
+        ),
+    ];
+    for (motion, dof, found) in cases {
+        let err = parse_model(&chain3_with_motion(motion), "m.toml").unwrap_err();
+        match err.innermost() {
+            Error::MotionSensors {
+                record,
+                dof: d,
+                found: f,
+            } => {
+                assert!(record.ends_with("record_1.csv"), "{err}");
+                assert_eq!(*d, dof, "{err}");
+                assert!(f.contains(found), "{err}");
+            }
+            other => panic!("{motion}: {other:?}"),
+        }
+        assert!(err.to_string().contains(&format!("DOF {dof}")), "{err}");
+    }
+    // the same DOF twice in one list points at the second entry's line (line 11)
+    let err = parse_model(
+        &chain3_with_motion(
+            "displacements = [\"x1\", \"x2\", \"x3\"]\naccelerations = [\n  { column = \"v2\", dof = 2 },\n  { column = \"v3\", dof = 2 },\n]\nvelocities = [\"v1\"]",
+        ),
+        "m.toml",
+    )
+    .unwrap_err();
+    assert!(matches!(err, Error::ModelFile { line: 13, .. }), "{err}");
+    assert!(
+        err.to_string().contains("two acceleration columns"),
+        "{err}"
+    );
+    // a motion column on a DOF the model does not have
+    let err = parse_model(
+        &chain3_with_motion("displacements = [\"x1\", \"x2\", \"x3\", \"v1\"]"),
+        "m.toml",
+    )
+    .unwrap_err();
+    assert!(
+        matches!(
+            err.innermost(),
+            Error::DofOutOfRange {
+                dof: 4,
+                dofs: 3,
+                ..
+            }
+        ),
+        "{err}"
+    );
+    // displacements and velocities of every DOF: measured velocities, as before
+    let job = parse_model(
+        &chain3_with_motion(
+            "displacements = [\"x1\", \"x2\", \"x3\"]\nvelocities = [\"v1\", \"v2\", \"v3\"]",
+        ),
+        "m.toml",
+    )
+    .unwrap();
+    assert!(job.records[0].velocities().is_some());
+    assert!(job.records[0].measured_motion().is_none());
+}

@@ -89,6 +89,13 @@ fn every_variant_is_reachable() {
             Overwrite::Refuse,
         )
         .unwrap_err(),
+        parse_model(
+            &chain3_with_motion("displacements = [\"x1\", \"x2\"]"),
+            "m.toml",
+        )
+        .unwrap_err()
+        .innermost()
+        .clone(),
     ];
     let mut seen: Vec<&str> = errors.iter().map(Error::kind).collect();
     seen.sort_unstable();

@@ -8,6 +8,9 @@
 //!    [`crate::prep::velocity::harmonic_selection`]), and keeps the harmonics that stand above
 //!    it in any channel (one set per window, so that relative velocities of nearly
 //!    rigid DOF pairs are not biased by per-channel masks);
+//!    A channel measured by a velocity or acceleration sensor is projected as measured
+//!    and mapped per harmonic to displacement coefficients, c_x = S c_m, with its noise
+//!    propagated through S (see `projected.rs`); below, c is c_x and R⁻ᵀ reads R⁻ᵀSᵀ;
 //! 2. projects each displacement channel on the kept harmonics,
 //!    x̂ = B c, c = (BᵀB)⁻¹ Bᵀ x with B = QR the m × p design of the whole periods;
 //!    v̂ = D c with D the derivative design. White noise of variance σ_j² on channel j
@@ -97,8 +100,14 @@ pub struct WindowNoise {
     pub window: usize,
     /// Harmonic orders kept for the velocities.
     pub harmonics: Vec<usize>,
-    /// Estimated noise standard deviation per displacement channel (per sample).
+    /// Estimated noise standard deviation per motion channel (per sample, in the units
+    /// of its sensor: a displacement unless `sensors` says otherwise).
     pub displacement_noise: Vec<f64>,
+    /// What each motion channel measures, when not every one is a displacement (empty
+    /// otherwise); those channels are integrated per kept harmonic, with the mean of x̂
+    /// and v̂ over the window set to zero.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub sensors: Vec<crate::record::Sensor>,
     /// Estimated noise standard deviation per force channel (per sample).
     pub force_noise: Vec<f64>,
 }

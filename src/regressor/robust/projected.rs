@@ -4,6 +4,16 @@
 //! t_E = t_0 + kT. For unit white noise on a channel, Var x̂_i = ‖R⁻ᵀ b_i‖² and
 //! Var v̂_i = ‖R⁻ᵀ d_i‖² (b_i, d_i the design and derivative rows at sample i).
 //!
+//! A channel measured by a velocity or acceleration sensor ([`Record::measured_motion`])
+//! is projected as measured, c_m = (BᵀB)⁻¹ Bᵀ s, and mapped per kept harmonic k to the
+//! displacement coefficients c_x = S c_m: for an acceleration (a_k, b_k) → −(a_k, b_k)/(kω)²,
+//! for a velocity (a_k, b_k) → (−b_k, a_k)/(kω) (x = −a/(kω)², x = v/(ikω)); the mean
+//! coefficient maps to 0 (the mean of x̂ and v̂ over the window is zero: the k = 0
+//! component, whose integral is unknown, is removed). Then Cov c_x = σ² S(RᵀR)⁻¹Sᵀ, so
+//! Var x̂_i = σ² ‖R⁻ᵀ Sᵀ b_i‖², Var v̂_i = σ² ‖R⁻ᵀ Sᵀ d_i‖², and a gradient u in c_x is
+//! whitened as σ R⁻ᵀ Sᵀ u. Everything downstream reads c_x, x̂ and v̂ as for a
+//! displacement channel (S = I).
+//!
 //! The total variation of a combination x̂_e = Σ_j s_j x̂_j (an element's relative
 //! displacement) over [t_0, t_0 + kT] is computed exactly from the series: its turning
 //! points τ (zeros of v̂_e, bracketed by sign changes between samples and refined by
@@ -19,7 +29,7 @@ use crate::error::{Error, Result};
 use crate::prep::fourier::{
     HarmonicBasis, HarmonicSelection, WholePeriods, first_orders, select_harmonics,
 };
-use crate::record::Record;
+use crate::record::{Record, Sensor};
 
 /// The projection of one window's displacements.
 pub(crate) struct ProjectedWindow {
@@ -37,16 +47,18 @@ pub(crate) struct ProjectedWindow {
     pub(crate) derivative: Mat<f64>,
     /// The design row at the window's end t_E = t_0 + kT.
     pub(crate) end_row: Vec<f64>,
-    /// Projection coefficients (p × n).
+    /// Displacement coefficients c_x (p × n).
     pub(crate) coefficients: Mat<f64>,
     /// x̂ (rows × n).
     pub(crate) x: Mat<f64>,
     /// v̂ (rows × n).
     pub(crate) v: Mat<f64>,
-    /// Var x̂_i per unit noise variance.
-    pub(crate) var_x: Vec<f64>,
-    /// Var v̂_i per unit noise variance.
-    pub(crate) var_v: Vec<f64>,
+    /// What each channel's sensor measures.
+    pub(crate) sensors: Vec<Sensor>,
+    /// S of each channel whose sensor is not a displacement (c_x = S c_m).
+    maps: Vec<Option<Mat<f64>>>,
+    /// (Var x̂_i, Var v̂_i) per unit noise variance, one pair per sensor kind present.
+    variances: Vec<(Sensor, Vec<f64>, Vec<f64>)>,
 }
 
 impl ProjectedWindow {
@@ -71,7 +83,14 @@ impl ProjectedWindow {
         }
         let (step, period) = (record.step(), record.period());
         let whole = WholePeriods::of_window(count, available, step, period)?;
-        let fitted = record.displacements().subrows(start, whole.samples);
+        let (signals, sensors) = match record.measured_motion() {
+            Some(m) => (m.signals.as_ref(), m.sensors.clone()),
+            None => (
+                record.displacements(),
+                vec![Sensor::Displacement; record.dofs()],
+            ),
+        };
+        let fitted = signals.subrows(start, whole.samples);
         let mut selection = select_harmonics(fitted, step, period, whole.periods)?;
         if let Some(k) = harmonics {
             selection.kept = first_orders(k, whole.samples)?;
@@ -79,13 +98,43 @@ impl ProjectedWindow {
         let omega = 2.0 * std::f64::consts::PI / period;
         let basis = HarmonicBasis::with_orders(omega, selection.kept.clone(), step, whole.samples)?;
         let r = basis.r_factor();
-        let coefficients = basis.fit_with(&r, fitted);
+        let measured = basis.fit_with(&r, fitted);
+        let maps: Vec<Option<Mat<f64>>> = sensors
+            .iter()
+            .map(|s| sensor_map(*s, &selection.kept, omega))
+            .collect();
+        let coefficients = if maps.iter().all(Option::is_none) {
+            measured
+        } else {
+            let mut c = measured.clone();
+            for (j, map) in maps.iter().enumerate() {
+                if let Some(map) = map {
+                    let mapped = map * measured.col(j);
+                    for k in 0..c.nrows() {
+                        c[(k, j)] = mapped[k];
+                    }
+                }
+            }
+            c
+        };
         let design = basis.design(rows);
         let derivative = basis.derivative_design(rows);
         let x = &design * &coefficients;
         let v = &derivative * &coefficients;
-        let var_x = unit_variances(&r, &design);
-        let var_v = unit_variances(&r, &derivative);
+        let mut variances = Vec::new();
+        for kind in [Sensor::Displacement, Sensor::Velocity, Sensor::Acceleration] {
+            let Some(j) = sensors.iter().position(|s| *s == kind) else {
+                continue;
+            };
+            let pair = match &maps[j] {
+                None => (unit_variances(&r, &design), unit_variances(&r, &derivative)),
+                Some(map) => (
+                    unit_variances(&r, &(&design * map)),
+                    unit_variances(&r, &(&derivative * map)),
+                ),
+            };
+            variances.push((kind, pair.0, pair.1));
+        }
         let end_row = basis.row_at(span);
         Ok(ProjectedWindow {
             selection,
@@ -98,9 +147,28 @@ impl ProjectedWindow {
             coefficients,
             x,
             v,
-            var_x,
-            var_v,
+            sensors,
+            maps,
+            variances,
         })
+    }
+
+    fn variances(&self, channel: usize) -> &(Sensor, Vec<f64>, Vec<f64>) {
+        let kind = self.sensors[channel];
+        self.variances
+            .iter()
+            .find(|(k, _, _)| *k == kind)
+            .expect("a variance pair for every sensor kind present")
+    }
+
+    /// Var x̂_i of channel `j` per unit noise variance of that channel.
+    pub(crate) fn var_x(&self, j: usize) -> &[f64] {
+        &self.variances(j).1
+    }
+
+    /// Var v̂_i of channel `j` per unit noise variance of that channel.
+    pub(crate) fn var_v(&self, j: usize) -> &[f64] {
+        &self.variances(j).2
     }
 
     /// Number of projection coefficients per channel, p.
@@ -117,10 +185,16 @@ impl ProjectedWindow {
             .sum()
     }
 
-    /// σ R⁻ᵀ u: the whitened sensitivity of a quantity with gradient `u` in the
-    /// coefficients of a channel with noise σ.
-    pub(crate) fn whiten(&self, u: &[f64], sigma: f64) -> Vec<f64> {
-        let mut y = Mat::from_fn(u.len(), 1, |k, _| u[k]);
+    /// σ R⁻ᵀ Sᵀ u: the whitened sensitivity of a quantity with gradient `u` in the
+    /// displacement coefficients of `channel`, whose measured signal has noise σ.
+    pub(crate) fn whiten(&self, u: &[f64], sigma: f64, channel: usize) -> Vec<f64> {
+        let mut y = match &self.maps[channel] {
+            None => Mat::from_fn(u.len(), 1, |k, _| u[k]),
+            Some(map) => {
+                let u = Mat::from_fn(u.len(), 1, |k, _| u[k]);
+                map.transpose() * &u
+            }
+        };
         self.r
             .transpose()
             .solve_lower_triangular_in_place(y.as_mut());
@@ -208,6 +282,30 @@ fn bisect(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, fa: f64) -> f64 {
         }
     }
     0.5 * (a + b)
+}
+
+/// S, the map c_x = S c_m from the projection coefficients of a `sensor`'s signal to
+/// those of the displacement, for the basis [1, cos k₁ωt, sin k₁ωt, …] of `orders`;
+/// `None` for a displacement (S = I).
+fn sensor_map(sensor: Sensor, orders: &[usize], omega: f64) -> Option<Mat<f64>> {
+    let p = 2 * orders.len() + 1;
+    let mut map = Mat::zeros(p, p);
+    for (q, k) in orders.iter().enumerate() {
+        let w = *k as f64 * omega;
+        let (cos, sin) = (2 * q + 1, 2 * q + 2);
+        match sensor {
+            Sensor::Displacement => return None,
+            Sensor::Velocity => {
+                map[(cos, sin)] = -1.0 / w;
+                map[(sin, cos)] = 1.0 / w;
+            }
+            Sensor::Acceleration => {
+                map[(cos, cos)] = -1.0 / (w * w);
+                map[(sin, sin)] = -1.0 / (w * w);
+            }
+        }
+    }
+    (sensor != Sensor::Displacement).then_some(map)
 }
 
 /// ‖R⁻ᵀ row_i‖² for every row of `rows` (rows × p).

@@ -17,7 +17,7 @@ use crate::model::DampingModel;
 use crate::prep::fourier::{WholePeriods, select_harmonics};
 use crate::prep::quadrature::Quadrature;
 use crate::prep::window::Window;
-use crate::record::{LoadDistribution, Record, col};
+use crate::record::{LoadDistribution, Record, Sensor, col};
 use crate::regressor::derivative_free::{Path, stieltjes};
 use crate::regressor::robust::WindowNoise;
 use crate::regressor::robust::projected::ProjectedWindow;
@@ -76,7 +76,7 @@ impl Gradients {
                 let mut input = Vec::new();
                 let mut columns = Vec::new();
                 for (slot, u) in slots {
-                    let z = projected.whiten(&u, sigma[channel]);
+                    let z = projected.whiten(&u, sigma[channel], channel);
                     if slot == 0 {
                         input = z;
                     } else {
@@ -286,6 +286,11 @@ pub(super) fn robust_row(
             window: w.index,
             harmonics: projected.selection.kept.clone(),
             displacement_noise: sigma,
+            sensors: if projected.sensors.iter().all(|s| *s == Sensor::Displacement) {
+                Vec::new()
+            } else {
+                projected.sensors.clone()
+            },
             force_noise: force_sigma,
         },
     })
@@ -352,11 +357,21 @@ fn matrix_column(
             }
         }
     }
-    let diagonal_noise: f64 = (0..n).map(|j| c0[(j, j)] * sigma[j] * sigma[j]).sum();
-    let bias: f64 = (0..count)
-        .map(|i| weights[i] * projected.var_v[i])
-        .sum::<f64>()
-        * diagonal_noise;
+    // Σ over sensor kinds of (Σ_i w_i Var v̂_i per unit variance) Σ_{j of that kind} C₀,jj σ_j²
+    let mut bias = 0.0;
+    let mut kinds = projected.sensors.clone();
+    kinds.dedup();
+    kinds.sort_unstable_by_key(|k| k.order());
+    kinds.dedup();
+    for kind in kinds {
+        let of_kind: Vec<usize> = (0..n).filter(|&j| projected.sensors[j] == kind).collect();
+        let diagonal_noise: f64 = of_kind
+            .iter()
+            .map(|&j| c0[(j, j)] * sigma[j] * sigma[j])
+            .sum();
+        let var_v = projected.var_v(of_kind[0]);
+        bias += (0..count).map(|i| weights[i] * var_v[i]).sum::<f64>() * diagonal_noise;
+    }
     columns[column] = value - bias;
     for j in 0..n {
         let g: Vec<f64> = (0..count).map(|i| weights[i] * cv[(i, j)]).collect();
@@ -393,6 +408,8 @@ fn element_columns(
         };
         let (xa, va) = (col(x, element.a), col(v, element.a));
         let mut variance = sigma[element.a].powi(2);
+        // the second end's noise, when its sensor differs (its own Var per unit variance)
+        let mut other: Option<(f64, usize)> = None;
         let mut terms = vec![(element.a, 1.0)];
         match element.b {
             None => {
@@ -405,7 +422,11 @@ fn element_columns(
                     xr[i] = xa[i] - xb[i];
                     vr[i] = va[i] - vb[i];
                 }
-                variance += sigma[b].powi(2);
+                if projected.sensors[b] == projected.sensors[element.a] {
+                    variance += sigma[b].powi(2);
+                } else {
+                    other = Some((sigma[b].powi(2), b));
+                }
                 terms.push((b, -1.0));
             }
         }
@@ -418,9 +439,15 @@ fn element_columns(
             let mut value = 0.0;
             let mut g_v = vec![0.0; count];
             let mut g_x = vec![0.0; count];
+            let (unit_x, unit_v) = (projected.var_x(element.a), projected.var_v(element.a));
+            let other = other.map(|(s2, b)| (s2, projected.var_x(b), projected.var_v(b)));
             for i in 0..count {
-                let var_x = variance * projected.var_x[i];
-                let var_v = variance * projected.var_v[i];
+                let mut var_x = variance * unit_x[i];
+                let mut var_v = variance * unit_v[i];
+                if let Some((s2, ox, ov)) = other {
+                    var_x += s2 * ox[i];
+                    var_v += s2 * ov[i];
+                }
                 let p = law.power(xr[i], vr[i]);
                 let bias = law.noise_bias(xr[i], vr[i], var_x, var_v);
                 value += weights[i] * (p - bias);

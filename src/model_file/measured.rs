@@ -1,0 +1,428 @@
+//! A measured record from a data file (`[[data.records]]`): its time base, its motion
+//! columns (per DOF one displacement, velocity or acceleration sensor, or displacements
+//! and measured velocities of every DOF), its force columns, and the gain of each
+//! column: physical value = scale × column + offset (`time_scale` × the time column).
+//! DOFs are 1-based; the period is given or detected from the force.
+
+use std::fmt;
+use std::path::Path;
+
+use faer::Mat;
+use serde::Serialize;
+use toml::Spanned;
+
+use super::context::Context;
+use super::spec::{ColumnSpec, RecordSpec};
+use crate::error::{Error, Result};
+use crate::io::Table;
+use crate::prep::motion::{Integration, SensorParts, record_from_sensors};
+use crate::prep::period::{PeriodEstimate, detect_period};
+use crate::record::{Forcing, Record, RecordParts, Sensor};
+
+/// How the columns of one data record were read: the gains that are not the identity,
+/// and what each DOF's sensor measures.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RecordInputs {
+    /// The record's label.
+    pub record: String,
+    /// Time = `time_scale` × the time column (1 when not given).
+    pub time_scale: f64,
+    /// The columns read with a gain other than scale 1, offset 0.
+    pub gains: Vec<ChannelGain>,
+    /// What each DOF's motion channel measures.
+    pub sensors: Vec<Sensor>,
+    /// The high-pass cut-off that treated the drift of integrated channels in the
+    /// non-periodic mode (`None`: integrated over whole periods, or nothing integrated).
+    pub high_pass: Option<f64>,
+}
+
+/// One column's gain: value = scale × column + offset.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ChannelGain {
+    /// The data-file column.
+    pub column: String,
+    /// What it gives ("force on DOF 1", "acceleration of DOF 2").
+    pub quantity: String,
+    /// The scale.
+    pub scale: f64,
+    /// The offset.
+    pub offset: f64,
+}
+
+impl RecordInputs {
+    /// Whether anything is worth saying: a gain, a time scale or a sensor that is not a
+    /// displacement.
+    pub fn is_plain(&self) -> bool {
+        self.gains.is_empty()
+            && self.time_scale == 1.0
+            && self.sensors.iter().all(|s| *s == Sensor::Displacement)
+    }
+}
+
+impl fmt::Display for RecordInputs {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(f, "record '{}':", self.record)?;
+        if self.time_scale != 1.0 {
+            writeln!(f, "  time = {} × time column", self.time_scale)?;
+        }
+        for g in &self.gains {
+            write!(f, "  {} = {} × '{}'", g.quantity, g.scale, g.column)?;
+            if g.offset != 0.0 {
+                write!(f, " + {}", g.offset)?;
+            }
+            writeln!(f)?;
+        }
+        for kind in [Sensor::Velocity, Sensor::Acceleration] {
+            let dofs: Vec<String> = (0..self.sensors.len())
+                .filter(|&j| self.sensors[j] == kind)
+                .map(|j| (j + 1).to_string())
+                .collect();
+            if dofs.is_empty() {
+                continue;
+            }
+            match self.high_pass {
+                None => writeln!(
+                    f,
+                    "  {} sensors on DOF {}: integrated over whole periods per harmonic; the mean of x and v over each window is set to zero (the k = 0 component is removed)",
+                    kind.name(),
+                    dofs.join(", ")
+                )?,
+                Some(cutoff) => writeln!(
+                    f,
+                    "  {} sensors on DOF {}: integrated over the record with a zero-phase high-pass at {cutoff} cycles per time unit against drift (content below it is removed)",
+                    kind.name(),
+                    dofs.join(", ")
+                )?,
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A record read from its data file, the period detected from its force (when none was
+/// given), and how its columns were read.
+pub(super) struct ReadRecord {
+    pub(super) record: Record,
+    pub(super) detected: Option<PeriodEstimate>,
+    /// The jitter of its time column, when it has one.
+    pub(super) jitter: Option<f64>,
+    pub(super) inputs: RecordInputs,
+}
+
+/// The gain (scale, offset) of a column, checked: a scale of 0 or a non-finite scale
+/// or offset is an error at the column's line.
+fn gain<T>(
+    ctx: &Context,
+    at: &Spanned<T>,
+    column: &str,
+    scale: Option<f64>,
+    offset: Option<f64>,
+) -> Result<(f64, f64)> {
+    let scale = scale.unwrap_or(1.0);
+    let offset = offset.unwrap_or(0.0);
+    if !scale.is_finite() || scale == 0.0 {
+        let e = Error::invalid(
+            &format!("scale of column '{column}'"),
+            scale,
+            "must be finite and not zero (value = scale × column + offset)",
+        );
+        return Err(ctx.typed_error_at(at, e));
+    }
+    if !offset.is_finite() {
+        let e = Error::invalid(
+            &format!("offset of column '{column}'"),
+            offset,
+            "must be finite (value = scale × column + offset)",
+        );
+        return Err(ctx.typed_error_at(at, e));
+    }
+    Ok((scale, offset))
+}
+
+/// A column of `table` read as scale × column + offset (as stored when the gain is
+/// the identity).
+fn scaled(table: &Table, column: &str, (scale, offset): (f64, f64)) -> Result<Vec<f64>> {
+    let values = table.column(column)?;
+    if scale == 1.0 && offset == 0.0 {
+        return Ok(values.to_vec());
+    }
+    Ok(values.iter().map(|c| scale * c + offset).collect())
+}
+
+/// One motion channel of a DOF: the column, its gain and its line.
+struct MotionColumn<'a> {
+    spec: &'a Spanned<ColumnSpec>,
+    sensor: Sensor,
+    gain: (f64, f64),
+}
+
+/// The motion columns of `spec` per DOF, and the measured velocities when displacements
+/// and velocities are given for every DOF (their older meaning).
+#[allow(clippy::type_complexity)]
+fn motion_columns<'a>(
+    ctx: &Context,
+    spec: &'a RecordSpec,
+    n: usize,
+    label: &str,
+) -> Result<(Vec<MotionColumn<'a>>, Option<Vec<MotionColumn<'a>>>)> {
+    let lists = [
+        (Sensor::Displacement, &spec.displacements),
+        (Sensor::Velocity, &spec.velocities),
+        (Sensor::Acceleration, &spec.accelerations),
+    ];
+    let mut per_kind: Vec<Vec<Option<MotionColumn<'a>>>> = Vec::new();
+    for (sensor, list) in lists {
+        let mut slots: Vec<Option<MotionColumn<'a>>> = (0..n).map(|_| None).collect();
+        for (position, entry) in list.iter().enumerate() {
+            let c = entry.get_ref();
+            let dof = c.dof.unwrap_or(position + 1);
+            let index = dof.checked_sub(1).filter(|d| *d < n).ok_or_else(|| {
+                let e = Error::DofOutOfRange {
+                    what: format!("{} column '{}'", sensor.name(), c.column),
+                    dof,
+                    dofs: n,
+                };
+                ctx.typed_error_at(entry, e)
+            })?;
+            if let Some(other) = &slots[index] {
+                let e = Error::MotionSensors {
+                    record: label.to_string(),
+                    dof,
+                    found: format!(
+                        "two {} columns ('{}' and '{}')",
+                        sensor.name(),
+                        other.spec.get_ref().column,
+                        c.column
+                    ),
+                };
+                return Err(ctx.typed_error_at(entry, e));
+            }
+            let gain = gain(ctx, entry, &c.column, c.scale, c.offset)?;
+            slots[index] = Some(MotionColumn {
+                spec: entry,
+                sensor,
+                gain,
+            });
+        }
+        per_kind.push(slots);
+    }
+    let full = |slots: &Vec<Option<MotionColumn>>| slots.iter().all(Option::is_some);
+    let mut accelerations = per_kind.pop().unwrap_or_default();
+    let mut velocities = per_kind.pop().unwrap_or_default();
+    let mut displacements = per_kind.pop().unwrap_or_default();
+    if full(&displacements) && full(&velocities) && accelerations.iter().all(Option::is_none) {
+        let x = displacements.into_iter().flatten().collect();
+        return Ok((x, Some(velocities.into_iter().flatten().collect())));
+    }
+    let mut motion = Vec::with_capacity(n);
+    for dof in 0..n {
+        let found: Vec<MotionColumn> = [
+            displacements[dof].take(),
+            velocities[dof].take(),
+            accelerations[dof].take(),
+        ]
+        .into_iter()
+        .flatten()
+        .collect();
+        if found.len() != 1 {
+            let text = if found.is_empty() {
+                "no motion column".to_string()
+            } else {
+                let names: Vec<String> = found
+                    .iter()
+                    .map(|m| format!("{} '{}'", m.sensor.name(), m.spec.get_ref().column))
+                    .collect();
+                format!(
+                    "{} kinds of motion column ({})",
+                    found.len(),
+                    names.join(", ")
+                )
+            };
+            return Err(Error::MotionSensors {
+                record: label.to_string(),
+                dof: dof + 1,
+                found: text,
+            });
+        }
+        motion.extend(found);
+    }
+    Ok((motion, None))
+}
+
+/// The records' mode: periodic, or `[non_periodic]` with its high-pass cut-off (at its
+/// line) for integrating velocity and acceleration columns.
+pub(super) enum Mode<'a> {
+    Periodic,
+    NonPeriodic(Option<&'a Spanned<f64>>),
+}
+
+/// Reads one record; a periodic record without a period or frequency gets one detected
+/// from its force, a non-periodic one gets its duration (which nothing uses).
+pub(super) fn read_record(
+    ctx: &Context,
+    spec: &RecordSpec,
+    n: usize,
+    base: &Path,
+    mode: Mode,
+) -> Result<ReadRecord> {
+    let periodic = matches!(mode, Mode::Periodic);
+    let path = base.join(&spec.file);
+    let table = crate::io::read_table(&path)?;
+    let label = spec.label.clone().unwrap_or_else(|| spec.file.clone());
+    let time_scale = match &spec.time_scale {
+        None => 1.0,
+        Some(s) => gain(ctx, s, "time", Some(*s.get_ref()), None)?.0,
+    };
+    let (step, jitter) = match (&spec.time, spec.step) {
+        (Some(time), None) => {
+            let time = table.uniform_step(time)?;
+            (time_scale * time.step, Some(time.jitter))
+        }
+        (None, Some(step)) => (step, None),
+        (time, _) => {
+            let given = if time.is_some() {
+                "both `time` and `step`"
+            } else {
+                "neither `time` nor `step`"
+            };
+            return Err(Error::choice(
+                "step",
+                given,
+                "give exactly one of `time` (a column) or `step`",
+            ));
+        }
+    };
+    let mut gains = Vec::new();
+    let mut read = |column: &str, gain: (f64, f64), quantity: String| {
+        if gain != (1.0, 0.0) {
+            gains.push(ChannelGain {
+                column: column.to_string(),
+                quantity,
+                scale: gain.0,
+                offset: gain.1,
+            });
+        }
+        scaled(&table, column, gain)
+    };
+    let (motion, measured_velocities) = motion_columns(ctx, spec, n, &label)?;
+    let mut matrix = |columns: &[MotionColumn]| -> Result<Mat<f64>> {
+        let data = columns
+            .iter()
+            .enumerate()
+            .map(|(j, m)| {
+                let quantity = format!("{} of DOF {}", m.sensor.name(), j + 1);
+                read(&m.spec.get_ref().column, m.gain, quantity)
+            })
+            .collect::<Result<Vec<_>>>()?;
+        Ok(Mat::from_fn(table.rows(), data.len(), |i, j| data[j][i]))
+    };
+    let signals_motion = matrix(&motion)?;
+    let velocities = measured_velocities
+        .as_deref()
+        .map(&mut matrix)
+        .transpose()?;
+    let mut force_names = Vec::with_capacity(spec.forces.len());
+    let mut dofs = Vec::with_capacity(spec.forces.len());
+    let mut force_data = Vec::with_capacity(spec.forces.len());
+    for force in &spec.forces {
+        let f = force.get_ref();
+        let dof = f.dof.checked_sub(1).filter(|d| *d < n).ok_or_else(|| {
+            let e = Error::DofOutOfRange {
+                what: format!("force column '{}'", f.column),
+                dof: f.dof,
+                dofs: n,
+            };
+            ctx.typed_error_at(force, e)
+        })?;
+        let g = gain(ctx, force, &f.column, f.scale, f.offset)?;
+        force_data.push(read(&f.column, g, format!("force on DOF {}", f.dof))?);
+        force_names.push(f.column.clone());
+        dofs.push(dof);
+    }
+    let signals = Mat::from_fn(table.rows(), force_data.len(), |i, k| force_data[k][i]);
+    let start_time = spec
+        .time
+        .as_deref()
+        .map_or(Ok(0.0), |t| table.column(t).map(|c| time_scale * c[0]))?;
+    let (period, detected) = match (spec.period, spec.frequency) {
+        (Some(period), None) => (period, None),
+        (None, Some(omega)) => (2.0 * std::f64::consts::PI / omega, None),
+        (None, None) if !periodic => (step * (signals.nrows().max(2) - 1) as f64, None),
+        (None, None) => {
+            let estimate = detect_period(signals.as_ref(), step, &label)?;
+            (estimate.period, Some(estimate))
+        }
+        (Some(period), Some(_)) => {
+            return Err(Error::invalid(
+                "period",
+                period,
+                "give at most one of `period` or `frequency` (rad per unit time); with neither, the period is detected from the force",
+            ));
+        }
+    };
+    let sensors: Vec<Sensor> = motion.iter().map(|m| m.sensor).collect();
+    let forcing = Forcing::on_dofs(signals, dofs);
+    let mut cutoff = None;
+    let record = if let Some(velocities) = velocities {
+        Record::new(RecordParts {
+            label: label.clone(),
+            step,
+            start_time,
+            displacements: signals_motion,
+            velocities: Some(velocities),
+            forcing,
+            period,
+        })?
+    } else {
+        let integration = match mode {
+            Mode::Periodic => Integration::WholePeriods,
+            _ if sensors.iter().all(|s| *s == Sensor::Displacement) => Integration::WholePeriods,
+            Mode::NonPeriodic(Some(cutoff)) => Integration::HighPass {
+                cutoff: *cutoff.get_ref(),
+            },
+            Mode::NonPeriodic(None) => {
+                return Err(Error::missing(
+                    "high_pass in [non_periodic]",
+                    "velocity or acceleration columns in a record that is not periodic are integrated with a zero-phase high-pass against drift: add `high_pass = f_c` (the cut-off frequency, cycles per time unit, well below the slowest motion of interest, e.g. 0.05 for moves of about a second) to [non_periodic]; content below f_c is removed",
+                ));
+            }
+        };
+        cutoff = match integration {
+            Integration::HighPass { cutoff } => Some(cutoff),
+            Integration::WholePeriods => None,
+        };
+        let high_pass_line = match mode {
+            Mode::NonPeriodic(Some(cutoff)) => Some(cutoff),
+            _ => None,
+        };
+        let built = record_from_sensors(SensorParts {
+            label: label.clone(),
+            step,
+            start_time,
+            motion: signals_motion,
+            sensors: sensors.clone(),
+            forcing,
+            period,
+            integration,
+        });
+        match (built, high_pass_line) {
+            (Err(e @ Error::InvalidParameter { .. }), Some(at)) => {
+                return Err(ctx.typed_error_at(at, e));
+            }
+            (built, _) => built?,
+        }
+    }
+    .with_channel_names(force_names)?;
+    Ok(ReadRecord {
+        record,
+        detected,
+        jitter,
+        inputs: RecordInputs {
+            record: label,
+            time_scale,
+            gains,
+            sensors,
+            high_pass: cutoff,
+        },
+    })
+}
