@@ -24,14 +24,25 @@
 //!    significance RSS_j / ((m − p) σ̂_j²) (≈ 1 for white noise alone).
 //!
 //! Every channel is described by displacement and velocity coefficients in one basis
-//! with their joint covariance, so that a channel measured as velocity or acceleration
-//! can be mapped into the same form (per harmonic, x = −a/(qω)², v = a/(iqω)).
+//! with their joint covariance. A channel measured as velocity or acceleration
+//! ([`crate::record::Sensor`]) is projected as measured, where its noise is white, and
+//! mapped per kept harmonic into that form, c_x = S c_m:
+//!
+//! ```text
+//!   velocity:      (c_x)_{cos q} = −(c_m)_{sin q}/(qω),   (c_x)_{sin q} = (c_m)_{cos q}/(qω),
+//!   acceleration:  (c_x)_{cos q} = −(c_m)_{cos q}/(qω)²,  (c_x)_{sin q} = −(c_m)_{sin q}/(qω)²,
+//! ```
+//!
+//! the constant term set to zero (a mean position cannot be known from them), and
+//! Cov [c_x; c_v] = σ̂_j² [I; J] S (RᵀR)⁻¹ Sᵀ [I; J]ᵀ. Their non-harmonic RMS is given
+//! as the displacement it would be at the drive frequency, r_j/ω^d (d = 1 for velocity,
+//! 2 for acceleration), which overstates content above ω and understates it below.
 
 use faer::{Mat, MatRef};
 
 use crate::error::{Error, Result};
 use crate::prep::fourier::{HarmonicBasis, select_harmonics};
-use crate::record::Record;
+use crate::record::{Record, Sensor};
 
 /// One channel over one period: coefficients of x̂ and v̂ in the basis b(t), and their
 /// joint covariance.
@@ -144,7 +155,14 @@ pub fn project_periods(
 ) -> Result<StateProjection> {
     let (step, period) = (record.step(), record.period());
     let length = period / step;
-    let x = record.displacements();
+    // The measured signals, where the noise is white (module doc).
+    let (x, sensors) = match record.measured_motion() {
+        Some(m) => (m.signals.as_ref(), m.sensors.clone()),
+        None => (
+            record.displacements(),
+            vec![Sensor::Displacement; record.dofs()],
+        ),
+    };
     let (first, end) = samples_in(origin, periods as f64 * length, record.samples());
     let whole = x.subrows(first, end - first);
     let selection = select_harmonics(whole, step, period, periods)?;
@@ -164,7 +182,8 @@ pub fn project_periods(
             .map(|i| (whole[(i, j)] - fitted[(i, j)]).powi(2))
             .sum();
         let mean_square = rss / dof as f64;
-        non_harmonic.push((mean_square - sigma[j] * sigma[j]).max(0.0).sqrt());
+        let as_displacement = omega.powi(sensors[j].order() as i32);
+        non_harmonic.push((mean_square - sigma[j] * sigma[j]).max(0.0).sqrt() / as_displacement);
         residual_ratio.push(if mean_square == 0.0 {
             0.0
         } else {
@@ -183,6 +202,7 @@ pub fn project_periods(
                 &orders,
                 step,
                 &sigma,
+                &sensors,
             )
         })
         .collect::<Result<Vec<_>>>()?;
@@ -198,6 +218,35 @@ pub fn project_periods(
     })
 }
 
+/// S: the displacement coefficients [a₀, a_q, b_q, …] of a channel measured by `sensor`
+/// from its own (module doc).
+fn to_displacement(sensor: Sensor, orders: &[usize], omega: f64) -> Mat<f64> {
+    let p = 2 * orders.len() + 1;
+    let mut s = Mat::<f64>::zeros(p, p);
+    match sensor {
+        Sensor::Displacement => {
+            for k in 0..p {
+                s[(k, k)] = 1.0;
+            }
+        }
+        Sensor::Velocity => {
+            for (q, &order) in orders.iter().enumerate() {
+                let qw = order as f64 * omega;
+                s[(2 * q + 1, 2 * q + 2)] = -1.0 / qw;
+                s[(2 * q + 2, 2 * q + 1)] = 1.0 / qw;
+            }
+        }
+        Sensor::Acceleration => {
+            for (q, &order) in orders.iter().enumerate() {
+                let qw2 = (order as f64 * omega).powi(2);
+                s[(2 * q + 1, 2 * q + 1)] = -1.0 / qw2;
+                s[(2 * q + 2, 2 * q + 2)] = -1.0 / qw2;
+            }
+        }
+    }
+    s
+}
+
 /// One period's samples `x` (from record sample `first`) projected on `orders`.
 fn project_period(
     x: MatRef<'_, f64>,
@@ -206,6 +255,7 @@ fn project_period(
     orders: &[usize],
     step: f64,
     sigma: &[f64],
+    sensors: &[Sensor],
 ) -> Result<PeriodProjection> {
     let basis = HarmonicBasis::with_orders(omega, orders.to_vec(), step, x.nrows())?;
     let r = basis.r_factor();
@@ -233,12 +283,14 @@ fn project_period(
         map[(p + 2 * q + 1, 2 * q + 2)] = qw;
         map[(p + 2 * q + 2, 2 * q + 1)] = -qw;
     }
-    let unit = &map * &gram_inverse * map.transpose();
     let c = basis.fit_with(&r, x);
     let channels = (0..x.ncols())
         .map(|j| {
+            // [I; J] S: measured coefficients to [c_x; c_v].
+            let full = &map * to_displacement(sensors[j], orders, omega);
+            let unit = &full * &gram_inverse * full.transpose();
             let stacked: Vec<f64> = (0..2 * p)
-                .map(|a| (0..p).map(|k| map[(a, k)] * c[(k, j)]).sum())
+                .map(|a| (0..p).map(|k| full[(a, k)] * c[(k, j)]).sum())
                 .collect();
             let variance = sigma[j] * sigma[j];
             ChannelProjection {
