@@ -4,6 +4,8 @@
 
 use thiserror::Error;
 
+use crate::format::{integer, number};
+
 /// Result alias used throughout dampid.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
@@ -14,7 +16,7 @@ pub type Result<T, E = Error> = std::result::Result<T, E>;
 #[non_exhaustive]
 pub enum Error {
     /// A value that must be finite is NaN or infinite.
-    #[error("{what} has a non-finite value {value} at row {row}, column {column}")]
+    #[error("{what} has a non-finite value {} at row {row}, column {column}", number(*.value))]
     NonFinite {
         /// Which array or field.
         what: String,
@@ -38,7 +40,7 @@ pub enum Error {
     },
 
     /// A scalar parameter is outside its valid range.
-    #[error("invalid {name} = {value}: {reason}")]
+    #[error("invalid {name} = {}: {reason}", number(*.value))]
     InvalidParameter {
         /// The parameter's name (e.g. "step", "period", "exponent").
         name: String,
@@ -71,7 +73,7 @@ pub enum Error {
 
     /// A record holds fewer samples than the requested windows need.
     #[error(
-        "record '{record}' is too short: the windows need {needed} samples, it has {available}"
+        "record '{record}' is too short: the windows need {} samples, it has {}", integer(*.needed as u64), integer(*.available as u64)
     )]
     RecordTooShort {
         /// The record's label.
@@ -143,7 +145,7 @@ pub enum Error {
     },
 
     /// A lower bound exceeds an upper bound, or a fixed value violates its bounds.
-    #[error("infeasible bounds for '{name}': lower {lower} > upper {upper}")]
+    #[error("infeasible bounds for '{name}': lower {} > upper {}", number(*.lower), number(*.upper))]
     InfeasibleBounds {
         /// The coefficient.
         name: String,
@@ -214,7 +216,7 @@ pub enum Error {
     /// A time column is not uniform: its steps depart from their mean by more than the
     /// jitter accepted ([`crate::io::table::MAX_TIME_JITTER`]).
     #[error(
-        "{file}, column '{column}': the time steps depart from their mean {} by up to {jitter:.2e} of it (worst at row {row}), more than the {tolerance:e} accepted; resample the record, or give `step = {}` instead of the time column if the samples are uniform", short(.step), short(.step)
+        "{file}, column '{column}': the time steps depart from their mean {} by up to {jitter:.2e} of it (worst at row {row}), more than the {tolerance:e} accepted; resample the record, or give `step = {}` instead of the time column if the samples are uniform", number(*.step), number(*.step)
     )]
     TimeJitter {
         /// The file.
@@ -256,7 +258,7 @@ pub enum Error {
 
     /// A window is not in steady state: the motion at its end differs from its start.
     #[error(
-        "record '{record}', window {window} (starting at t = {start_time}): not in steady state: {measure} {mismatch:.3e} exceeds {threshold:.3e}; skip more of the transient, or accept it"
+        "record '{record}', window {window} (starting at t = {}): not in steady state: {measure} {mismatch:.3e} exceeds {threshold:.3e}; skip more of the transient, or accept it", number(*.start_time)
     )]
     NotSteady {
         /// The record's label.
@@ -342,18 +344,6 @@ pub enum Error {
         /// The system's message.
         message: String,
     },
-}
-
-/// `x` to 10 significant digits, without trailing zeros (`1e-3`, not `1.000000000e-3`).
-fn short(x: &f64) -> String {
-    let text = format!("{x:.9e}");
-    match text.split_once('e') {
-        Some((mantissa, exponent)) if mantissa.contains('.') => {
-            let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
-            format!("{mantissa}e{exponent}")
-        }
-        _ => text,
-    }
 }
 
 /// `, window k` for an error about one window.

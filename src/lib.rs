@@ -52,6 +52,7 @@ pub mod analysis;
 pub mod budget;
 pub mod error;
 pub mod fit;
+pub mod format;
 pub mod identify;
 pub mod interop;
 pub mod io;

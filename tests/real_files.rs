@@ -121,7 +121,7 @@ fn a_jittery_time_column_is_read_at_its_mean_step() {
                 }
                 other => panic!("{other:?}"),
             }
-            assert!(message.contains("`step = 1e-3`"), "{message}");
+            assert!(message.contains("`step = 0.001`"), "{message}");
         }
         other => panic!("{other:?}"),
     }

@@ -83,7 +83,13 @@ impl Table {
         let step = (t[t.len() - 1] - t[0]) / (t.len() - 1) as f64;
         // Values are finite (the table rejects others), so plain comparisons are safe.
         if step <= 0.0 {
-            return Err(data(2, format!("time does not increase: mean step {step}")));
+            return Err(data(
+                2,
+                format!(
+                    "time does not increase: mean step {}",
+                    crate::format::number(step)
+                ),
+            ));
         }
         let mut worst = (0.0, 0);
         for (i, pair) in t.windows(2).enumerate() {

@@ -363,7 +363,10 @@ pub fn simulate_with_progress(
         if state.iter().any(|s| !s.is_finite()) {
             return Err(Error::Numerical {
                 stage: "simulation".into(),
-                detail: format!("the state diverged at t = {t}; reduce the step or add substeps"),
+                detail: format!(
+                    "the state diverged at t = {}; reduce the step or add substeps",
+                    crate::format::number(t)
+                ),
             });
         }
         if (step + 1) % 64 == 0 {

@@ -182,7 +182,7 @@ fn time_jitter_is_accepted_up_to_its_tolerance() {
         }
         other => panic!("{other:?}"),
     }
-    assert!(error.to_string().contains("`step = 1e-3`"), "{error}");
+    assert!(error.to_string().contains("`step = 0.001`"), "{error}");
     let backwards = dampid::io::csv::parse("t,x\n0,0\n2,0\n1,0\n3,0\n", "b.csv").unwrap();
     assert!(matches!(
         backwards.uniform_step("t"),

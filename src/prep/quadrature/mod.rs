@@ -92,7 +92,10 @@ impl Quadrature {
             return Err(Error::invalid(
                 "window span",
                 span,
-                &format!("closes periodically only over a whole number of sample steps h = {step}"),
+                &format!(
+                    "closes periodically only over a whole number of sample steps h = {}",
+                    crate::format::number(step)
+                ),
             ));
         }
         Ok(WindowWeights::banded(vec![], step, vec![], whole))
