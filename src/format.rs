@@ -59,7 +59,10 @@ mod tests {
             available: 512,
         }
         .to_string();
-        assert!(short.contains("need 1.845e19 samples, it has 512"), "{short}");
+        assert!(
+            short.contains("need 1.845e19 samples, it has 512"),
+            "{short}"
+        );
     }
 
     #[test]

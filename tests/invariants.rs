@@ -1,6 +1,7 @@
 //! Invariants of the energy balance, checked on simulated records of the paper's
 //! four-mass chain:
-//! - scaling the force records by k scales every coefficient by k (b scales, A does not);
+//! - scaling the force records by k scales every coefficient by k (b scales, A does not),
+//!   and every standard error too, even at k = 1e±160 and 1e±250;
 //! - adding a conservative force changes nothing: to the data (r + K₂x, whose work over a
 //!   period is ½Δ(xᵀK₂x) = 0) or to the simulated system (a cubic spring);
 //! - splitting records into single-cycle windows gives the same estimates as one window;
@@ -79,6 +80,41 @@ fn scaling_the_force_by_k_scales_every_coefficient_by_k() {
     let (c1, d1) = estimates(&identify(&four_mass_model(), &scaled, &s).unwrap());
     assert!((c1 / c0 - k).abs() < 1e-12 * k);
     assert!((d1 / d0 - k).abs() < 1e-12 * k);
+}
+
+/// The same at the ends of the floating-point range: forces scaled by 1e±160 and
+/// 1e−250 scale every value and standard error by k and leave every VIF and
+/// correlation unchanged (they were exactly 0 before: the residual sum of squares
+/// overflowed or underflowed), on four windows so that there are standard errors.
+#[test]
+fn extreme_force_scales_change_no_reported_figure() {
+    let base = records(false, 1000, 4);
+    let s = support::identify_settings(
+        WindowSpec::cycles(1).first(4),
+        Quadrature::Trapezoid,
+        VelocitySource::CentralDifference,
+    );
+    let reference = identify(&four_mass_model(), &base, &s).unwrap();
+    for k in [1e-160, 1e160, 1e-250, 1e250] {
+        let scaled = with_forces(&base, |p| Forcing {
+            signals: Mat::from_fn(
+                p.forcing.signals.nrows(),
+                p.forcing.signals.ncols(),
+                |i, j| k * p.forcing.signals[(i, j)],
+            ),
+            distribution: p.forcing.distribution.clone(),
+        });
+        let report = identify(&four_mass_model(), &scaled, &s).unwrap();
+        for (a, b) in reference.coefficients.iter().zip(&report.coefficients) {
+            assert!((b.value / k / a.value - 1.0).abs() < 1e-12, "{k}: {b:?}");
+            let (sa, sb) = (a.std_error.unwrap(), b.std_error.unwrap() / k);
+            assert!((sb / sa - 1.0).abs() < 1e-10, "{k}: se {sa} vs {sb}");
+        }
+        let vif = |r: &FitReport| r.identifiability.variance_inflation.clone();
+        for (a, b) in vif(&reference).iter().zip(vif(&report)) {
+            assert!((b.unwrap() / a.unwrap() - 1.0).abs() < 1e-10, "{k}: VIF");
+        }
+    }
 }
 
 /// Adding K₂x to the recorded generalized force adds ∮ vᵀK₂x dt = ½Δ(xᵀK₂x) to the

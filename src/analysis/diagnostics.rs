@@ -278,15 +278,15 @@ fn diagnose_rows(
         .as_ref()
         .filter(|_| dof > 0)
         .map(|cov| {
-            let variance = residuals.iter().map(|e| e * e).sum::<f64>() / dof as f64;
-            let (se, corr) = standard_errors(cov, variance, &free, p, regressor.columns());
+            let (variance, beta) = scaled_variance(&residuals, dof);
+            let (se, corr) = standard_errors(cov, variance, beta, &free, p, regressor.columns());
             (se, Some(corr))
         })
         .unwrap_or((vec![None; p], None));
     let weighted = residual_std.map(|std| {
         let chi_square: f64 = residuals.iter().map(|e| e * e).sum();
         let plug_in_std_errors = match &unit {
-            Some(cov) => standard_errors(cov, 1.0, &free, p, regressor.columns()).0,
+            Some(cov) => standard_errors(cov, 1.0, 1.0, &free, p, regressor.columns()).0,
             None => vec![None; p],
         };
         WeightedDiagnostics {
@@ -340,27 +340,40 @@ fn diagnose_rows(
 
 /// (A_Fᵀ A_F)⁻¹ with every column free, from the factorization of the scaled regressor:
 /// S⁻¹ V Σ⁻² Vᵀ S⁻¹, when m > p and the columns have full rank.
-fn full_covariance(svd: &ScaledSvd, m: usize) -> Option<Mat<f64>> {
+/// (A_Fᵀ A_F)⁻¹ = S⁻¹ [(A_sᵀA_s)⁻¹] S⁻¹, kept as its scaled middle factor and the column
+/// scales S of the free columns: with columns of norm 1e±160 the product overflows or
+/// underflows, while the middle factor stays O(κ²) and a standard error is formed as
+/// √(s² [(A_sᵀA_s)⁻¹]_jj) · β/S_j in that order (β the residuals' scale).
+struct ScaledCovariance {
+    /// (A_sᵀA_s)⁻¹ of the free columns.
+    unit: Mat<f64>,
+    /// S_j of the free columns.
+    scales: Vec<f64>,
+}
+
+/// The covariance factors of every column, from the factorization already made.
+fn full_covariance(svd: &ScaledSvd, m: usize) -> Option<ScaledCovariance> {
     let (s, v) = (svd.singular_values(), svd.v());
     let f = s.len();
     if f == 0 || m <= f || svd.rank() < f {
         return None;
     }
-    let columns = &svd.scaling().columns;
-    Some(Mat::from_fn(f, f, |j, k| {
-        let sum: f64 = (0..f).map(|i| v[(j, i)] * v[(k, i)] / (s[i] * s[i])).sum();
-        sum / (columns[j] * columns[k])
-    }))
+    Some(ScaledCovariance {
+        unit: Mat::from_fn(f, f, |j, k| {
+            (0..f).map(|i| v[(j, i)] * v[(k, i)] / (s[i] * s[i])).sum()
+        }),
+        scales: svd.scaling().columns.clone(),
+    })
 }
 
-/// (A_Fᵀ A_F)⁻¹ = S⁻¹ V Σ⁻² Vᵀ S⁻¹ of the free columns (from the SVD of the scaled
-/// A_F), when m > |F| and the free columns have full rank.
+/// The covariance factors of the free columns (from the SVD of the scaled A_F), when
+/// m > |F| and the free columns have full rank.
 fn unit_covariance(
     a: &Mat<f64>,
     scaling: &Scaling,
     free: &[usize],
     rank_tolerance: f64,
-) -> Option<Mat<f64>> {
+) -> Option<ScaledCovariance> {
     let m = a.nrows();
     let f = free.len();
     if f == 0 || m <= f {
@@ -373,25 +386,41 @@ fn unit_covariance(
     if rank < f {
         return None;
     }
-    Some(Mat::from_fn(f, f, |j, k| {
-        let sum: f64 = (0..f).map(|i| v[(j, i)] * v[(k, i)] / (s[i] * s[i])).sum();
-        sum / (scaling.columns[free[j]] * scaling.columns[free[k]])
-    }))
+    Some(ScaledCovariance {
+        unit: Mat::from_fn(f, f, |j, k| {
+            (0..f).map(|i| v[(j, i)] * v[(k, i)] / (s[i] * s[i])).sum()
+        }),
+        scales: free.iter().map(|&j| scaling.columns[j]).collect(),
+    })
+}
+
+/// The residual variance s² = Σ e_i²/ν as (s²/β², β), β = max |e_i|: the squares of
+/// residuals of 1e±160 would overflow or underflow.
+fn scaled_variance(residuals: &[f64], dof: usize) -> (f64, f64) {
+    let beta = residuals.iter().fold(0.0f64, |m, e| m.max(e.abs()));
+    if beta == 0.0 || !beta.is_finite() {
+        return (0.0, 1.0);
+    }
+    let sum: f64 = residuals.iter().map(|e| (e / beta).powi(2)).sum();
+    (sum / dof as f64, beta)
 }
 
 /// Standard errors (one per coefficient, None when not free) and the correlation of
-/// the free coefficients for Cov(θ_F) = `variance` · `unit`.
+/// the free coefficients for Cov(θ_F) = β² · `variance` · S⁻¹ `cov.unit` S⁻¹.
 fn standard_errors(
-    unit: &Mat<f64>,
+    cov: &ScaledCovariance,
     variance: f64,
+    beta: f64,
     free: &[usize],
     coefficients: usize,
     names: &[String],
 ) -> (Vec<Option<f64>>, Correlation) {
+    let unit = &cov.unit;
     let f = free.len();
     let mut std_errors = vec![None; coefficients];
     for (k, &j) in free.iter().enumerate() {
-        std_errors[j] = Some((variance * unit[(k, k)]).max(0.0).sqrt());
+        let scaled = (variance * unit[(k, k)]).max(0.0).sqrt();
+        std_errors[j] = Some(scaled * (beta / cov.scales[k]));
     }
     let matrix = (0..f)
         .map(|j| {
