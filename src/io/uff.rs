@@ -431,12 +431,12 @@ fn function_record(
     characteristics(cursor, 10)?;
     characteristics(cursor, 11)?;
     let per_sample = if even { 1 } else { 2 };
-    let total = count.checked_mul(per_sample).unwrap_or(usize::MAX);
+    let total = count.saturating_mul(per_sample);
     let (pairs, data_line) = match binary {
         Some((little, declared)) => {
-            let bytes = total.checked_mul(size).unwrap_or(usize::MAX);
+            let bytes = total.saturating_mul(size);
             // pyuff 2.5 declares N·size bytes for uneven records that hold 2N values.
-            if declared != bytes && declared != count * size {
+            if declared != bytes && declared != count.saturating_mul(size) {
                 return Err(data_error(
                     cursor.file,
                     header_line,
