@@ -13,7 +13,7 @@
 //!
 //! Only time responses (function type 1, or 0 = general) with real ordinates are read;
 //! complex ordinates, other function types (spectra, FRFs) and a time axis of another
-//! kind are [`Error::Data`] naming the file line and record field.
+//! kind are [`Error::Data`](crate::error::Error::Data) naming the file line and record field.
 //!
 //! **Columns.** Each record gives the column named by its response node and direction,
 //! `{node}{±axis}`: `3+Z`, `12-X`, `7+RY` (rotations RX, RY, RZ; direction 0, a scalar,
