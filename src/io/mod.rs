@@ -7,6 +7,7 @@
 //! | `.npy` | [`npy::read_npy`] | the file stem (`x`, or `x[1]`…`x[k]` for N × k) |
 //! | `.npz` | [`npy::read_npz`] | each array's name, as above |
 //! | `.mat` | [`mat::read_mat`] | each real numeric variable's name, as above |
+//! | `.uff`, `.unv` | [`uff::read`] | `t`, then per dataset 58 record `3+Z` (node, direction) and its ID line 1 |
 //!
 //! Other files: [`records`] writes records as CSV and [`run`] a simulation run's folder
 //! with its manifest (`dampid simulate`), [`stepped_sine`]
@@ -24,6 +25,7 @@ pub mod records;
 pub mod run;
 pub mod stepped_sine;
 pub mod table;
+pub mod uff;
 
 use std::path::Path;
 
@@ -40,11 +42,14 @@ pub fn read_table(path: &Path) -> Result<Table> {
         Some("npy") => npy::read_npy(path),
         Some("npz") => npy::read_npz(path),
         Some("mat") => mat::read_mat(path),
+        Some("uff") | Some("unv") => uff::read(path),
         other => Err(Error::Data {
             file: path.display().to_string(),
             row: 0,
             column: String::new(),
-            message: format!("unknown data format {other:?}: use .csv, .npy, .npz or .mat"),
+            message: format!(
+                "unknown data format {other:?}: use .csv, .npy, .npz, .mat, .uff or .unv"
+            ),
         }),
     }
 }
