@@ -390,7 +390,7 @@ fn add_correlation(r: &mut Mat<f64>, x: MatRef<'_, f64>, mean: Option<&[f64]>) {
             block,
             BlockStructure::Rectangular,
             1.0,
-            faer::get_global_parallelism(),
+            faer::Par::Seq,
         )
     };
     match mean {

@@ -56,7 +56,7 @@ pub(crate) fn weighted_gram(v: MatRef<'_, f64>, w: &WindowWeights) -> Mat<f64> {
             weighted.as_ref().subrows(0, rows),
             BlockStructure::Rectangular,
             1.0,
-            faer::get_global_parallelism(),
+            faer::Par::Seq,
         );
     }
     gram
