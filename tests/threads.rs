@@ -51,7 +51,11 @@ fn every_model_gives_the_same_json_on_1_to_4_threads() {
         assert!(!reference.is_empty(), "{}: empty JSON", model.display());
         for &threads in &THREADS[1..] {
             let (ok, json, stderr) = identify(model, threads);
-            assert!(ok, "{} on {threads} threads failed: {stderr}", model.display());
+            assert!(
+                ok,
+                "{} on {threads} threads failed: {stderr}",
+                model.display()
+            );
             if json != reference {
                 differ.push(format!(
                     "{} on {threads} threads: {}",
@@ -64,7 +68,10 @@ fn every_model_gives_the_same_json_on_1_to_4_threads() {
     }
     eprintln!("compared on {THREADS:?} threads: {compared:?}");
     eprintln!("skipped (identify exits non-zero): {skipped:?}");
-    assert!(differ.is_empty(), "results depend on the thread count:\n{differ:#?}");
+    assert!(
+        differ.is_empty(),
+        "results depend on the thread count:\n{differ:#?}"
+    );
     assert!(
         compared.len() * 2 >= models.len(),
         "most models should identify: compared {compared:?}, skipped {skipped:?}"
