@@ -31,6 +31,13 @@
 //! [`model_file`] turns a TOML file into a job, [`mod@reference`] holds the paper's
 //! systems, and the `dampid` binary (feature `cli`) prints what the library returns.
 //!
+//! Threads: dampid parallelises over windows, kernel blocks, POD row chunks, bootstrap
+//! replicates and design candidates, and combines them in index order, so its own work
+//! gives the same bits on any rayon pool. faer's products and decompositions split by the
+//! thread count unless told otherwise: for results independent of the thread count (as
+//! the `dampid` binary gives, `tests/threads.rs`), call
+//! `faer::set_global_parallelism(faer::Par::Seq)` once before identifying.
+//!
 //! Where to add what (a damping law, a law with memory, a window kind, a file format, a
 //! report section, a CLI command): ARCHITECTURE.md.
 //!

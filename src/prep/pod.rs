@@ -35,7 +35,8 @@
 //! stacked displacements) is an option.
 
 use faer::linalg::matmul::triangular::{BlockStructure, matmul};
-use faer::{Accum, Mat, MatRef, Side};
+use faer::{Accum, Mat, MatRef, Par, Side};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result, check_finite};
@@ -367,14 +368,55 @@ impl Pod {
 /// Rows per block when the mean is removed: the centred copy of a block stays small.
 const CENTRED_ROWS: usize = 4096;
 
+/// Least rows in a chunk of the correlation product (see [`add_correlation`]).
+const CHUNK_ROWS: usize = 8192;
+
+/// Most chunks of the correlation product, each with an n × n partial sum.
+const MAX_CHUNKS: usize = 16;
+
 /// DOFs from which R is formed on its lower triangle only (below, the triangular
 /// product's recursion costs more than the half of the work it saves).
 const TRIANGLE_DOFS: usize = 64;
 
 /// r += X̃ᵀ X̃ on (at least) the lower triangle (row ≥ column), with X̃ = X − 1 x̄ᵀ when
-/// `mean` is given (centred block by block) and X̃ = X otherwise (no copy). One matrix
-/// product, on the triangle only for many DOFs: half the work of the full product.
+/// `mean` is given (centred block by block) and X̃ = X otherwise (no copy). Matrix
+/// products on the triangle only for many DOFs: half the work of the full product.
+///
+/// Rows are cut into chunks whose count depends on the sizes only (at least
+/// [`CHUNK_ROWS`] and n rows each, at most [`MAX_CHUNKS`], so the partial sums take no
+/// more memory than X); chunks run in parallel, each product sequential, and their sums
+/// are added in row order: the same bits on any number of threads.
 fn add_correlation(r: &mut Mat<f64>, x: MatRef<'_, f64>, mean: Option<&[f64]>) {
+    let (m, n) = x.shape();
+    let chunks = (m / CHUNK_ROWS.max(n)).clamp(1, MAX_CHUNKS);
+    if chunks == 1 {
+        return add_chunk(r, x, mean);
+    }
+    let rows = m.div_ceil(chunks);
+    let partials: Vec<Mat<f64>> = (0..chunks)
+        .into_par_iter()
+        .map(|c| {
+            let start = c * rows;
+            let mut partial = Mat::<f64>::zeros(n, n);
+            add_chunk(&mut partial, x.subrows(start, rows.min(m - start)), mean);
+            partial
+        })
+        .collect();
+    for partial in &partials {
+        for j in 0..n {
+            for (t, p) in r
+                .col_as_slice_mut(j)
+                .iter_mut()
+                .zip(partial.col_as_slice(j))
+            {
+                *t += p;
+            }
+        }
+    }
+}
+
+/// `add_correlation` on one chunk of rows, by one sequential product.
+fn add_chunk(r: &mut Mat<f64>, x: MatRef<'_, f64>, mean: Option<&[f64]>) {
     let structure = if x.ncols() >= TRIANGLE_DOFS {
         BlockStructure::TriangularLower
     } else {
@@ -390,7 +432,7 @@ fn add_correlation(r: &mut Mat<f64>, x: MatRef<'_, f64>, mean: Option<&[f64]>) {
             block,
             BlockStructure::Rectangular,
             1.0,
-            faer::get_global_parallelism(),
+            Par::Seq,
         )
     };
     match mean {

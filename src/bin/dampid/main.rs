@@ -34,6 +34,12 @@ struct Outcome {
 }
 
 fn main() -> ExitCode {
+    // faer's default parallelism splits each product and decomposition over all of rayon's
+    // threads, and how it splits changes the rounding. dampid's own parallelism (windows,
+    // kernel passes, bootstrap replicates, design candidates) collects in index order, so
+    // with faer sequential every result is bitwise the same at any RAYON_NUM_THREADS
+    // (tests/threads.rs).
+    faer::set_global_parallelism(faer::Par::Seq);
     match run(Cli::parse()) {
         Ok(outcome) => {
             // A closed pipe (`dampid … | head`) is not an error of ours.

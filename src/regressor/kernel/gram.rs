@@ -6,10 +6,12 @@
 //!
 //! for matrix terms with a dense C₀ (each column is then tr(C₀ᵀ G)). Formed block by
 //! block, G += V_bᵀ (W_b V_b), by faer's matrix product on its lower triangle only, with
-//! one scratch block of weighted velocities: no copy of the whole window.
+//! one scratch block of weighted velocities: no copy of the whole window. The product is
+//! sequential (`Par::Seq`): windows already run in parallel, and faer's own split follows
+//! the thread count and would change the rounding.
 
 use faer::linalg::matmul::triangular::{BlockStructure, matmul};
-use faer::{Accum, Mat, MatRef};
+use faer::{Accum, Mat, MatRef, Par};
 
 use crate::prep::quadrature::WindowWeights;
 use crate::record::col;
@@ -56,7 +58,7 @@ pub(crate) fn weighted_gram(v: MatRef<'_, f64>, w: &WindowWeights) -> Mat<f64> {
             weighted.as_ref().subrows(0, rows),
             BlockStructure::Rectangular,
             1.0,
-            faer::get_global_parallelism(),
+            Par::Seq,
         );
     }
     gram
