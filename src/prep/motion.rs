@@ -201,11 +201,7 @@ pub fn integrate(
         }
         forward.process(&mut spectrum);
         for q in 0..m {
-            let signed = if 2 * q < m {
-                q as f64
-            } else {
-                q as f64 - m as f64
-            };
+            let signed = signed_bin(q, m);
             let nyquist = 2 * q == m;
             let s = spectrum[q];
             let i_omega = Complex::new(0.0, base * signed);
@@ -271,11 +267,7 @@ pub fn integrate_high_pass(
         }
         forward.process(&mut spectrum);
         for q in 0..m {
-            let signed = if 2 * q < m {
-                q as f64
-            } else {
-                q as f64 - m as f64
-            };
+            let signed = signed_bin(q, m);
             if q == 0 || 2 * q == m {
                 (xs[q], vs[q]) = (zero, zero);
                 continue;
@@ -297,6 +289,15 @@ pub fn integrate_high_pass(
         }
     }
     (x, v)
+}
+
+/// The signed frequency index of FFT bin `q` of `m`: q below m/2, q − m above.
+fn signed_bin(q: usize, m: usize) -> f64 {
+    if 2 * q < m {
+        q as f64
+    } else {
+        q as f64 - m as f64
+    }
 }
 
 #[cfg(test)]
