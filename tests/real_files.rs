@@ -5,6 +5,8 @@
 
 use std::path::{Path, PathBuf};
 
+mod support;
+
 use dampid::error::Error;
 use dampid::model_file::{CheckReport, PERIODIC_ONLY, parse};
 use dampid::record::Record;
@@ -24,7 +26,7 @@ fn drive() -> Record {
 /// `record` as t, x, force, each time moved by `jitter(i)` steps.
 fn write_csv(record: &Record, path: &Path, jitter: impl Fn(usize) -> f64) {
     let n = record.samples();
-    dampid::io::csv::write(
+    support::write_scratch_csv(
         path,
         &["t".into(), "x".into(), "force".into()],
         &[
@@ -34,9 +36,7 @@ fn write_csv(record: &Record, path: &Path, jitter: impl Fn(usize) -> f64) {
             record.displacements().col(0).iter().copied().collect(),
             record.forcing().signals.col_as_slice(0).to_vec(),
         ],
-        dampid::io::output::Overwrite::Replace, // the test's scratch file
-    )
-    .unwrap();
+    );
 }
 
 /// The drive's model file with `[identification]` lines `identification` and a

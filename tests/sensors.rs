@@ -4,6 +4,8 @@
 
 use std::path::{Path, PathBuf};
 
+mod support;
+
 use dampid::io::Table;
 use dampid::prelude::*;
 use dampid::prep::motion::Integration;
@@ -85,13 +87,7 @@ fn write_lab_units(dir: &Path, k: usize) -> PathBuf {
         column("f1").iter().map(|f| f / 35.15).collect(),
     ];
     let path = dir.join(format!("lab_{k}.csv"));
-    dampid::io::csv::write(
-        &path,
-        &headers,
-        &columns,
-        dampid::io::output::Overwrite::Replace, // the test's scratch file
-    )
-    .unwrap();
+    support::write_scratch_csv(&path, &headers, &columns);
     path
 }
 
@@ -497,13 +493,7 @@ fn drive_as_accelerometer(dir: &Path) -> String {
     let headers: Vec<String> = ["t", "a_g", "force"].map(String::from).to_vec();
     let columns = vec![t.to_vec(), a, table.column("force").unwrap().to_vec()];
     let path = dir.join("drive_acc.csv");
-    dampid::io::csv::write(
-        &path,
-        &headers,
-        &columns,
-        dampid::io::output::Overwrite::Replace, // the test's scratch file
-    )
-    .unwrap();
+    support::write_scratch_csv(&path, &headers, &columns);
     let model = std::fs::read_to_string(
         Path::new(env!("CARGO_MANIFEST_DIR")).join("models/drive_nonperiodic.toml"),
     )

@@ -9,6 +9,17 @@ pub mod regressors;
 use dampid::prelude::*;
 use faer::Mat;
 
+/// Writes a test's scratch CSV file (replacing one an earlier run left behind).
+pub fn write_scratch_csv(path: &std::path::Path, headers: &[String], columns: &[Vec<f64>]) {
+    dampid::io::csv::write(
+        path,
+        headers,
+        columns,
+        dampid::io::output::Overwrite::Replace,
+    )
+    .unwrap();
+}
+
 /// Harmonic motion x_i = X_i cos(ωt + φ_i) on n DOFs with exact velocities, and a
 /// force F cos(ωt + ψ) on DOF `force_dof`; `per_period` samples per period (any real).
 pub struct Harmonic {
