@@ -12,6 +12,8 @@
 # the Python deps (numpy, scipy) go into a venv it creates ($VENV, default
 # /tmp/dampid-end-to-end-venv). Each timing is repeated REPEATS times (default 3) and
 # every run is printed; the page cache is warm after the first read of each file.
+# BASELINE=path/to/old/dampid also times an older build on the default pipeline, in
+# the same runs (before/after).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
@@ -55,6 +57,9 @@ for run in $(seq "$repeats"); do
     for velocity in measured central_difference harmonic_projection; do
         timed "dampid identify velocity=$velocity" "$bin" identify "$data/chain100_$velocity.toml" --json
     done
+    if [ -n "${BASELINE:-}" ]; then
+        timed "BASELINE identify velocity=harmonic_projection" "$BASELINE" identify "$data/chain100_harmonic_projection.toml" --json
+    fi
     timed "numpy/scipy pipeline (FFT projection)" "$py" "$here/numpy_pipeline.py" "$data"
 done
 echo "--- last outputs"

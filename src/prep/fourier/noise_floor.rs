@@ -20,6 +20,10 @@
 //! σ̂ = σ̂_A √m / 2. Harmonic k is kept when A_k > 3.5 σ̂_A in any channel; the
 //! fundamental is always kept. A noise-only bin passes with probability
 //! exp(−3.5²) ≈ 5·10⁻⁶.
+//!
+//! When the window holds a whole number of samples per period the fit and the residual
+//! bins are read off one real FFT per channel ([`WholeSampleDft`], whose module doc
+//! derives why they equal the least-squares ones); otherwise by least squares.
 
 use faer::MatRef;
 
