@@ -17,7 +17,10 @@
 //!     v(t) = Σ_{q ∈ S} qω (b_q cos qωt − a_q sin qωt),
 //!   ```
 //!
-//!   and the series' derivative is evaluated at every sample the rule reads. With
+//!   and the series' derivative is evaluated at every sample the rule reads. When the
+//!   window holds a whole number of samples per period the projection (and the noise
+//!   floor) is read off one real FFT per channel, the same coefficients to round-off
+//!   (`src/prep/fourier/dft.rs` derives why). With
 //!   `harmonics: Some(K)`, S = {1..K}. With `harmonics: None`, S is chosen from the
 //!   noise floor of the window ([`harmonic_selection`]): fit every harmonic up to
 //!   K_max = 45% of Nyquist; per displacement channel, estimate the per-bin noise
@@ -51,7 +54,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 use crate::prep::fourier::{
-    HarmonicBasis, WholePeriods, default_harmonics, first_orders, select_harmonics,
+    HarmonicBasis, WholePeriods, WholeSampleDft, default_harmonics, first_orders, select_harmonics,
+    select_with_spectrum,
 };
 use crate::prep::window::Window;
 use crate::record::{Record, col};
@@ -191,16 +195,25 @@ impl VelocitySource {
             VelocitySource::HarmonicProjection { harmonics } => {
                 let whole = whole_periods(record, start, count)?;
                 let x = record.displacements().subrows(start, whole.samples);
-                let orders = match harmonics {
-                    Some(k) => first_orders(k, whole.samples)?,
+                let (step, period) = (record.step(), record.period());
+                let (orders, spectrum) = match harmonics {
+                    Some(k) => {
+                        let orders = first_orders(k, whole.samples)?;
+                        let spectrum = WholeSampleDft::new(x, step, period, whole.periods, k, &[]);
+                        (orders, spectrum)
+                    }
                     None => {
-                        select_harmonics(x, record.step(), record.period(), whole.periods)?.kept
+                        let (selection, spectrum) =
+                            select_with_spectrum(x, step, period, whole.periods, 0)?;
+                        (selection.kept, spectrum)
                     }
                 };
-                let omega = 2.0 * std::f64::consts::PI / record.period();
-                let basis =
-                    HarmonicBasis::with_orders(omega, orders, record.step(), whole.samples)?;
-                let coefficients = basis.fit(x);
+                let omega = 2.0 * std::f64::consts::PI / period;
+                let basis = HarmonicBasis::with_orders(omega, orders, step, whole.samples)?;
+                let coefficients = match spectrum.filter(|s| s.covers(basis.orders())) {
+                    Some(spectrum) => spectrum.fit(basis.orders()),
+                    None => basis.fit(x),
+                };
                 let v = basis.derivative(&coefficients, count);
                 Ok(WindowVelocities::Estimated(without_round_off(
                     v, record, start,

@@ -103,6 +103,11 @@ impl HarmonicBasis {
         })
     }
 
+    /// The harmonic orders S, ascending.
+    pub(crate) fn orders(&self) -> &[usize] {
+        &self.orders
+    }
+
     pub(crate) fn columns(&self) -> usize {
         2 * self.orders.len() + 1
     }

@@ -7,21 +7,26 @@
 //! serves windows whose period is not a whole number of samples (the four-mass case has
 //! T/h = 101.67). Its derivative gives spectral velocities, and its mean a_0 times the
 //! window span gives the spectral quadrature rule. When T/h is an integer and
-//! K < T/(2h), the fit reproduces the truncated discrete Fourier series.
+//! K < T/(2h), the fit reproduces the truncated discrete Fourier series, and is computed
+//! as such: one real FFT per channel ([`WholeSampleDft`], `dft.rs`, which derives the
+//! agreement, also for the L + 1 samples that include the closing one).
 //!
 //! Harmonic k as a phasor: a_k cos θ + b_k sin θ = A_k cos(θ − φ_k) with
 //! A_k = √(a_k² + b_k²) and φ_k = atan2(b_k, a_k) (a phase lag).
 //!
 //!
 //! Files: `basis.rs` (the basis, its fit, derivative and integration weights),
+//! `dft.rs` (the same fit by one real FFT per channel on whole samples per period),
 //! `noise_floor.rs` (the noise floor and the harmonics that stand above it).
 
 mod basis;
+mod dft;
 mod noise_floor;
 
 pub(crate) use basis::{HarmonicBasis, first_orders};
+pub(crate) use dft::WholeSampleDft;
 pub use noise_floor::HarmonicSelection;
-pub(crate) use noise_floor::select_harmonics;
+pub(crate) use noise_floor::{select_harmonics, select_with_spectrum};
 
 use crate::error::{Error, Result};
 

@@ -20,9 +20,14 @@
 //! σ̂ = σ̂_A √m / 2. Harmonic k is kept when A_k > 3.5 σ̂_A in any channel; the
 //! fundamental is always kept. A noise-only bin passes with probability
 //! exp(−3.5²) ≈ 5·10⁻⁶.
+//!
+//! When the window holds a whole number of samples per period the fit and the residual
+//! bins are read off one real FFT per channel ([`WholeSampleDft`], whose module doc
+//! derives why they equal the least-squares ones); otherwise by least squares.
 
 use faer::MatRef;
 
+use super::dft::WholeSampleDft;
 use super::{HarmonicBasis, default_harmonics};
 use crate::error::Result;
 
@@ -60,29 +65,79 @@ pub struct HarmonicSelection {
 
 /// Selects the harmonics of ω = 2π/`period` that stand above the noise floor in any
 /// column of `x` (m × n samples of `periods` whole periods), by the rule of the module
-/// doc.
+/// doc: by one real FFT per column when the window holds a whole number of samples per
+/// period ([`WholeSampleDft`]), else by least squares.
 pub(crate) fn select_harmonics(
     x: MatRef<'_, f64>,
     step: f64,
     period: f64,
     periods: usize,
 ) -> Result<HarmonicSelection> {
+    Ok(select_with_spectrum(x, step, period, periods, 0)?.0)
+}
+
+/// [`select_harmonics`], also returning the window's spectrum when it holds a whole
+/// number of samples per period, with the bins of harmonics up to max(K_max,
+/// `highest`), so that the caller projects on the kept harmonics (or on 1..`highest`)
+/// without a second transform.
+pub(crate) fn select_with_spectrum(
+    x: MatRef<'_, f64>,
+    step: f64,
+    period: f64,
+    periods: usize,
+    highest: usize,
+) -> Result<(HarmonicSelection, Option<WholeSampleDft>)> {
+    let most = most_harmonics(x.nrows(), step, period);
+    let bins = if periods >= 2 {
+        between_bins(periods, most)
+    } else {
+        Vec::new()
+    };
+    let spectrum = WholeSampleDft::new(x, step, period, periods, most.max(highest), &bins);
+    let selection = select_with(x, step, period, periods, spectrum.as_ref())?;
+    Ok((selection, spectrum))
+}
+
+/// K_max for a window of `samples` samples: 45% of the Nyquist count, at most
+/// [`MAX_SELECTED_HARMONICS`] and at most (m − 1)/2.
+pub(crate) fn most_harmonics(samples: usize, step: f64, period: f64) -> usize {
+    default_harmonics(period / step)
+        .min(MAX_SELECTED_HARMONICS)
+        .min((samples.saturating_sub(1)) / 2)
+}
+
+/// [`select_harmonics`] from the window's spectrum when given (it must hold the bins of
+/// harmonics 1..K_max and of [`between_bins`]), else by least squares.
+pub(super) fn select_with(
+    x: MatRef<'_, f64>,
+    step: f64,
+    period: f64,
+    periods: usize,
+    spectrum: Option<&WholeSampleDft>,
+) -> Result<HarmonicSelection> {
     let m = x.nrows();
     let omega = 2.0 * std::f64::consts::PI / period;
-    let most = default_harmonics(period / step)
-        .min(MAX_SELECTED_HARMONICS)
-        .min((m.saturating_sub(1)) / 2);
+    let most = most_harmonics(m, step, period);
     let basis = HarmonicBasis::new(omega, most, step, m)?;
-    let coefficients = basis.fit(x);
+    let orders: Vec<usize> = (1..=most).collect();
+    let bins = if periods >= 2 {
+        between_bins(periods, most)
+    } else {
+        Vec::new()
+    };
+    let spectrum = spectrum.filter(|s| s.covers(&orders) && s.covers_between(&bins));
+    let coefficients = match spectrum {
+        Some(spectrum) => spectrum.fit(&orders),
+        None => basis.fit(x),
+    };
     let between = if periods >= 2 {
-        let residual = x - basis.design(m) * &coefficients;
-        Some(between_harmonics(
-            residual.as_ref(),
-            step,
-            omega,
-            periods,
-            most,
-        ))
+        Some(match spectrum {
+            Some(spectrum) => spectrum.between_powers(&coefficients),
+            None => {
+                let residual = x - basis.design(m) * &coefficients;
+                between_harmonics(residual.as_ref(), step, omega, periods, &bins)
+            }
+        })
     } else {
         None
     };
@@ -144,21 +199,27 @@ fn median(values: &mut [f64]) -> Option<f64> {
     })
 }
 
+/// The bins j between the harmonics whose residual power the noise floor reads:
+/// j = 1..P·K with j not a multiple of P, at most [`MAX_NOISE_BINS`] of them evenly
+/// strided (frequency jω/P).
+pub(crate) fn between_bins(periods: usize, most: usize) -> Vec<usize> {
+    let all: Vec<usize> = (1..periods * most).filter(|j| j % periods != 0).collect();
+    let stride = all.len().div_ceil(MAX_NOISE_BINS).max(1);
+    all.into_iter().step_by(stride).collect()
+}
+
 /// Powers a² + b² per channel of the residual (m × n) at the frequencies jω/P between
-/// the harmonics, j = 1..P·K with j not a multiple of P, at most [`MAX_NOISE_BINS`] of
-/// them evenly strided; a = (2/m) Σ r_i cos(jωt_i/P), b likewise with sin. The sines
-/// and cosines come from powers of the phasor e^{iωt_i/P}, one sincos per sample.
+/// the harmonics, for the bins j of [`between_bins`]; a = (2/m) Σ r_i cos(jωt_i/P), b
+/// likewise with sin. The sines and cosines come from powers of the phasor e^{iωt_i/P},
+/// one sincos per sample.
 fn between_harmonics(
     residual: MatRef<'_, f64>,
     step: f64,
     omega: f64,
     periods: usize,
-    most: usize,
+    bins: &[usize],
 ) -> Vec<Vec<f64>> {
     let (m, n) = residual.shape();
-    let all: Vec<usize> = (1..periods * most).filter(|j| j % periods != 0).collect();
-    let stride = all.len().div_ceil(MAX_NOISE_BINS).max(1);
-    let bins: Vec<usize> = all.into_iter().step_by(stride).collect();
     let Some(&highest) = bins.last() else {
         return Vec::new();
     };

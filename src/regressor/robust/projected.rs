@@ -1,6 +1,7 @@
 //! A window projected on the harmonics that stand above its noise floor:
 //! x̂ = B c, v̂ = D c with c = (BᵀB)⁻¹ Bᵀ x fitted over the window's m samples of whole
-//! periods (B = QR), evaluated at every sample the window reads and at its end
+//! periods (B = QR; by one real FFT per channel when the window holds a whole number of
+//! samples per period, `prep/fourier/dft.rs`, the same c to round-off), evaluated at every sample the window reads and at its end
 //! t_E = t_0 + kT. For unit white noise on a channel, Var x̂_i = ‖R⁻ᵀ b_i‖² and
 //! Var v̂_i = ‖R⁻ᵀ d_i‖² (b_i, d_i the design and derivative rows at sample i).
 //!
@@ -27,7 +28,7 @@ use faer::Mat;
 
 use crate::error::{Error, Result};
 use crate::prep::fourier::{
-    HarmonicBasis, HarmonicSelection, WholePeriods, first_orders, select_harmonics,
+    HarmonicBasis, HarmonicSelection, WholePeriods, first_orders, select_with_spectrum,
 };
 use crate::record::{Record, Sensor};
 
@@ -91,14 +92,18 @@ impl ProjectedWindow {
             ),
         };
         let fitted = signals.subrows(start, whole.samples);
-        let mut selection = select_harmonics(fitted, step, period, whole.periods)?;
+        let (mut selection, spectrum) =
+            select_with_spectrum(fitted, step, period, whole.periods, harmonics.unwrap_or(0))?;
         if let Some(k) = harmonics {
             selection.kept = first_orders(k, whole.samples)?;
         }
         let omega = 2.0 * std::f64::consts::PI / period;
         let basis = HarmonicBasis::with_orders(omega, selection.kept.clone(), step, whole.samples)?;
         let r = basis.r_factor();
-        let measured = basis.fit_with(&r, fitted);
+        let measured = match spectrum.filter(|s| s.covers(&selection.kept)) {
+            Some(spectrum) => spectrum.fit(&selection.kept),
+            None => basis.fit_with(&r, fitted),
+        };
         let maps: Vec<Option<Mat<f64>>> = sensors
             .iter()
             .map(|s| sensor_map(*s, &selection.kept, omega))
