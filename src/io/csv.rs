@@ -1,5 +1,8 @@
 //! CSV files with a header row: every column numeric. Errors name the file, the 1-based
-//! data row and the column.
+//! data row and the column. Plain numeric files are parsed by [`super::csv_fast`]
+//! (in parallel for files of [`PARALLEL_BLOCK`] bytes and more); anything it does not
+//! take (quoted fields, a bad cell) is read by the csv crate, which also words every
+//! error.
 
 use std::io::Write;
 use std::path::Path;
@@ -8,29 +11,45 @@ use crate::error::{Error, Result};
 use crate::io::output::{self, Overwrite};
 use crate::io::table::Table;
 
+/// The bytes per block of lines parsed on one thread: files of two blocks or more are
+/// parsed in parallel.
+pub const PARALLEL_BLOCK: usize = 1 << 20;
+
 /// Reads a CSV file with a header row.
 pub fn read(path: &Path) -> Result<Table> {
     let file = path.display().to_string();
-    let reader = ::csv::ReaderBuilder::new()
-        .trim(::csv::Trim::All)
-        .comment(Some(b'#'))
-        .from_path(path)
-        .map_err(|e| Error::Data {
-            file: file.clone(),
-            row: 0,
-            column: String::new(),
-            message: e.to_string(),
-        })?;
-    from_reader(reader, file)
+    let bytes = std::fs::read(path).map_err(|e| Error::Data {
+        file: file.clone(),
+        row: 0,
+        column: String::new(),
+        message: e.to_string(),
+    })?;
+    from_bytes(&bytes, file)
 }
 
 /// Reads CSV text with a header row (`file` names it in errors).
 pub fn parse(text: &str, file: &str) -> Result<Table> {
+    from_bytes(text.as_bytes(), file.to_string())
+}
+
+fn from_bytes(bytes: &[u8], file: String) -> Result<Table> {
+    if let Some((headers, columns)) = super::csv_fast::read(bytes, PARALLEL_BLOCK) {
+        return Ok(Table {
+            file,
+            headers,
+            columns,
+        });
+    }
+    general(bytes, file)
+}
+
+/// Reads CSV text with the csv crate: quoted fields, and the words of every error.
+pub(crate) fn general(bytes: &[u8], file: String) -> Result<Table> {
     let reader = ::csv::ReaderBuilder::new()
         .trim(::csv::Trim::All)
         .comment(Some(b'#'))
-        .from_reader(text.as_bytes());
-    from_reader(reader, file.to_string())
+        .from_reader(bytes);
+    from_reader(reader, file)
 }
 
 fn from_reader<R: std::io::Read>(mut reader: ::csv::Reader<R>, file: String) -> Result<Table> {
