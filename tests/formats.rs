@@ -145,7 +145,10 @@ fn unknown_format_and_bad_files_are_data_errors() {
 fn big_endian_npy_and_compressed_npz() {
     let csv = csv_rows();
     let table = read_table(Path::new("tests/data/x_big_endian.npy")).unwrap();
-    assert_eq!(table.headers, ["x_big_endian[1]", "x_big_endian[2]", "x_big_endian[3]"]);
+    assert_eq!(
+        table.headers,
+        ["x_big_endian[1]", "x_big_endian[2]", "x_big_endian[3]"]
+    );
     for j in 1..=3 {
         assert_same(
             &table,
@@ -220,7 +223,9 @@ fn records_read_only_the_arrays_they_name() {
         );
     }
     match read_table(Path::new("tests/data/chain3_extra.npz")) {
-        Err(Error::Data { column, message, .. }) => {
+        Err(Error::Data {
+            column, message, ..
+        }) => {
             assert_eq!(column, "cube");
             assert!(message.contains("[2, 3, 4]"), "{message}");
         }
@@ -235,15 +240,12 @@ fn records_read_only_the_arrays_they_name() {
         ("cube", "[2, 3, 4]"),
         ("cube[2]", "[2, 3, 4]"),
     ] {
-        let error = parse_model(&chain3_model(
-            "tests/data/chain3_extra.npz",
-            x,
-            name,
-        ))
-        .unwrap_err();
+        let error = parse_model(&chain3_model("tests/data/chain3_extra.npz", x, name)).unwrap_err();
         let text = error.to_string();
         let cause = match &error {
-            Error::ModelFile { cause: Some(cause), .. } => cause.as_ref().clone(),
+            Error::ModelFile {
+                cause: Some(cause), ..
+            } => cause.as_ref().clone(),
             other => panic!("{other:?}"),
         };
         assert!(
@@ -258,7 +260,10 @@ fn records_read_only_the_arrays_they_name() {
     // A name no array has lists the usable columns only.
     let error = parse_model(&chain3_model("tests/data/chain3_extra.npz", x, "g")).unwrap_err();
     let text = error.to_string();
-    assert!(text.contains("unknown column") && text.contains("x[3]"), "{text}");
+    assert!(
+        text.contains("unknown column") && text.contains("x[3]"),
+        "{text}"
+    );
     assert!(!text.contains("description"), "{text}");
 }
 
@@ -296,7 +301,9 @@ fn a_damaged_npz_member_is_a_crc_error() {
     let path = std::env::temp_dir().join(format!("dampid-crc-{}.npz", std::process::id()));
     std::fs::write(&path, &bytes).unwrap();
     match read_table(&path) {
-        Err(Error::Data { column, message, .. }) => {
+        Err(Error::Data {
+            column, message, ..
+        }) => {
             assert_eq!(column, "x");
             assert!(message.contains("CRC-32"), "{message}");
         }

@@ -183,6 +183,54 @@ mod tests {
         assert!(matches!(table.column("x9"), Err(Error::UnknownName { .. })));
     }
 
+    /// The fast path and the csv crate read the same tables from text written in the
+    /// ways people write CSV (spaces, tabs, CRLF, comments, blank lines, signs, short
+    /// and long mantissas, exponents), and quoted fields, which the fast path leaves to
+    /// the csv crate, still read.
+    #[test]
+    fn fast_and_general_paths_agree() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand::rngs::StdRng::seed_from_u64(17);
+        let cells = |rng: &mut rand::rngs::StdRng| -> String {
+            let v: f64 = rng.random_range(-1e3..1e3) * 10f64.powi(rng.random_range(-12..12));
+            let text = match rng.random_range(0..6) {
+                0 => format!("{v:e}"),
+                1 => format!("{v:.10e}"),
+                2 => format!("{v}"),
+                3 => format!("{:+.3}", v),
+                4 => format!("{}", v.round() as i64),
+                _ => format!("{v:.17E}"),
+            };
+            match rng.random_range(0..4) {
+                0 => format!(" {text}\t"),
+                _ => text,
+            }
+        };
+        for case in 0..200 {
+            let k = rng.random_range(1..6);
+            let mut text = String::from("# written by a test\n");
+            text.push_str(
+                &(0..k)
+                    .map(|j| format!(" c{j} "))
+                    .collect::<Vec<_>>()
+                    .join(","),
+            );
+            text.push('\n');
+            for _ in 0..rng.random_range(1..40) {
+                let row: Vec<String> = (0..k).map(|_| cells(&mut rng)).collect();
+                text.push_str(&row.join(","));
+                text.push_str(["\n", "\r\n", "\n\n", "\n# note\n"][rng.random_range(0..4)]);
+            }
+            let fast = super::super::csv_fast::read(text.as_bytes(), 16);
+            let general = general(text.as_bytes(), "f.csv".into()).unwrap();
+            let (headers, columns) = fast.unwrap_or_else(|| panic!("case {case}: {text}"));
+            assert_eq!(headers, general.headers, "case {case}");
+            assert_eq!(columns, general.columns, "case {case}: {text}");
+        }
+        let quoted = parse("\"t\",\"x\"\n\"0\",\" 1.5\"\n", "q.csv").unwrap();
+        assert_eq!(quoted.columns, [vec![0.0], vec![1.5]]);
+    }
+
     /// A header that names a column twice, or not at all, is refused: a model file's
     /// column name must pick one column.
     #[test]

@@ -10,12 +10,16 @@
 //! [`super::read_table`]: every array (complex and N-D MAT variables are skipped, as
 //! before).
 //!
+//! The arrays of one table are read in parallel (rayon), each in one pass.
+//!
 //! [`DataFiles`] opens each file a job names once, however many records name it
 //! (files are told apart by their canonical path), and lets go of it after its last
 //! record.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+
+use rayon::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::io::arrays::{self, NamedArray, table_from_arrays};
@@ -142,8 +146,10 @@ impl DataFile {
                     }
                 }
                 let arrays = chosen
-                    .into_iter()
+                    .into_par_iter()
                     .map(|k| self.read(&slots[k], npz.as_ref()))
+                    .collect::<Vec<_>>() // the first error in order, whichever thread saw it first
+                    .into_iter()
                     .collect::<Result<Vec<_>>>()?;
                 table_from_arrays(&self.file, arrays)
             }
@@ -155,16 +161,18 @@ impl DataFile {
         match self.content {
             Content::Table(table) => Ok(table),
             Content::Arrays { slots, npz } => {
-                let mut arrays = Vec::new();
-                for slot in &slots {
-                    match &slot.columns {
-                        Ok(_) => arrays.push(read_slot(&self.file, slot, npz.as_ref())?),
-                        Err(problem) if slot.strict => {
-                            return Err(data_error(&self.file, &slot.name, problem));
-                        }
-                        Err(_) => {}
-                    }
+                if let Some(slot) = slots.iter().find(|s| s.strict && s.columns.is_err())
+                    && let Err(problem) = &slot.columns
+                {
+                    return Err(data_error(&self.file, &slot.name, problem));
                 }
+                let arrays = slots
+                    .par_iter()
+                    .filter(|s| s.columns.is_ok())
+                    .map(|slot| read_slot(&self.file, slot, npz.as_ref()))
+                    .collect::<Vec<_>>() // the first error in order, whichever thread saw it first
+                    .into_iter()
+                    .collect::<Result<Vec<_>>>()?;
                 table_from_arrays(&self.file, arrays)
             }
         }

@@ -219,13 +219,31 @@ fn read_npy_bytes(name: &str, bytes: &[u8]) -> Result<Table> {
 #[test]
 fn npy_header_claiming_more_than_the_file_holds_is_a_data_error() {
     let data: Vec<u8> = [1.0f64, 2.0].iter().flat_map(|v| v.to_le_bytes()).collect();
-    let whole = npy_bytes("{'descr': '<f8', 'fortran_order': False, 'shape': (2,), }", &data);
-    assert_eq!(read_npy_bytes("whole", &whole).unwrap().columns, [vec![1.0, 2.0]]);
+    let whole = npy_bytes(
+        "{'descr': '<f8', 'fortran_order': False, 'shape': (2,), }",
+        &data,
+    );
+    assert_eq!(
+        read_npy_bytes("whole", &whole).unwrap().columns,
+        [vec![1.0, 2.0]]
+    );
     for (name, dict) in [
-        ("huge", "{'descr': '<f8', 'fortran_order': False, 'shape': (1000000000000,), }"),
-        ("wide", "{'descr': '<f8', 'fortran_order': True, 'shape': (2, 1000000000000), }"),
-        ("overflow", "{'descr': '<f8', 'fortran_order': False, 'shape': (4294967296, 4294967296, 4294967296), }"),
-        ("square", "{'descr': '<f8', 'fortran_order': False, 'shape': (4294967296, 4294967296), }"),
+        (
+            "huge",
+            "{'descr': '<f8', 'fortran_order': False, 'shape': (1000000000000,), }",
+        ),
+        (
+            "wide",
+            "{'descr': '<f8', 'fortran_order': True, 'shape': (2, 1000000000000), }",
+        ),
+        (
+            "overflow",
+            "{'descr': '<f8', 'fortran_order': False, 'shape': (4294967296, 4294967296, 4294967296), }",
+        ),
+        (
+            "square",
+            "{'descr': '<f8', 'fortran_order': False, 'shape': (4294967296, 4294967296), }",
+        ),
     ] {
         match read_npy_bytes(name, &npy_bytes(dict, &data)) {
             Err(Error::Data { row, message, .. }) => {
@@ -239,7 +257,9 @@ fn npy_header_claiming_more_than_the_file_holds_is_a_data_error() {
         }
     }
     match read_npy_bytes("cut", &whole[..whole.len() - 3]) {
-        Err(Error::Data { message, .. }) => assert!(message.contains("holds 13 bytes"), "{message}"),
+        Err(Error::Data { message, .. }) => {
+            assert!(message.contains("holds 13 bytes"), "{message}")
+        }
         other => panic!("{other:?}"),
     }
 }
