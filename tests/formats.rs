@@ -138,3 +138,176 @@ fn unknown_format_and_bad_files_are_data_errors() {
     }
     std::fs::remove_file(fake).ok();
 }
+
+/// Big-endian f8 in C order, and a compressed archive with x in Fortran order, give the
+/// CSV's values exactly.
+#[test]
+fn big_endian_npy_and_compressed_npz() {
+    let csv = csv_rows();
+    let table = read_table(Path::new("tests/data/x_big_endian.npy")).unwrap();
+    assert_eq!(
+        table.headers,
+        ["x_big_endian[1]", "x_big_endian[2]", "x_big_endian[3]"]
+    );
+    for j in 1..=3 {
+        assert_same(
+            &table,
+            &format!("x_big_endian[{j}]"),
+            csv.column(&format!("x{j}")).unwrap(),
+            0.0,
+        );
+    }
+    let table = read_table(Path::new("tests/data/chain3_compressed.npz")).unwrap();
+    assert_same(&table, "f", csv.column("f1").unwrap(), 0.0);
+    for j in 1..=3 {
+        assert_same(
+            &table,
+            &format!("x[{j}]"),
+            csv.column(&format!("x{j}")).unwrap(),
+            0.0,
+        );
+    }
+}
+
+/// A model file reading `file` with the columns t, x[1..3], f (or others).
+fn chain3_model(file: &str, x: [&str; 3], f: &str) -> String {
+    format!(
+        r#"dofs = 3
+[[terms]]
+kind = "law"
+law = "linear"
+elements = "chain"
+per_element = "dashpot"
+[identification]
+velocity = "spectral"
+cycles = 2
+[[data.records]]
+file = "{file}"
+time = "t"
+displacements = ["{}", "{}", "{}"]
+forces = [{{ column = "{f}", dof = 1 }}]
+frequency = 0.765367
+"#,
+        x[0], x[1], x[2]
+    )
+}
+
+fn parse_model(text: &str) -> dampid::Result<dampid::model_file::Job> {
+    dampid::model_file::parse(text, "m.toml", Path::new("."))
+}
+
+/// Only the arrays a record names are read: an `.npz` with a 0-d text description, a
+/// 3-D array and a scalar beside the record's arrays, and a `.mat` with scalars beside
+/// them (written by tests/data/write_selected.py), give the same record as the plain
+/// files. The whole-file read still refuses them, and a record that names an unusable
+/// array gets an error naming it.
+#[test]
+fn records_read_only_the_arrays_they_name() {
+    let x = ["x[1]", "x[2]", "x[3]"];
+    let plain = parse_model(&chain3_model("tests/data/chain3_record1.npz", x, "f")).unwrap();
+    for file in [
+        "tests/data/chain3_extra.npz",
+        "tests/data/chain3_scalars.mat",
+        "tests/data/chain3_compressed.npz",
+    ] {
+        let job = parse_model(&chain3_model(file, x, "f")).unwrap();
+        assert_eq!(
+            job.records[0].displacements(),
+            plain.records[0].displacements(),
+            "{file}"
+        );
+        assert_eq!(
+            job.records[0].forcing(),
+            plain.records[0].forcing(),
+            "{file}"
+        );
+    }
+    match read_table(Path::new("tests/data/chain3_extra.npz")) {
+        Err(Error::Data {
+            column, message, ..
+        }) => {
+            assert_eq!(column, "cube");
+            assert!(message.contains("[2, 3, 4]"), "{message}");
+        }
+        other => panic!("{other:?}"),
+    }
+    match read_table(Path::new("tests/data/chain3_scalars.mat")) {
+        Err(Error::Data { message, .. }) => assert!(message.contains("samples"), "{message}"),
+        other => panic!("{other:?}"),
+    }
+    for (name, words) in [
+        ("description", "dtype"),
+        ("cube", "[2, 3, 4]"),
+        ("cube[2]", "[2, 3, 4]"),
+    ] {
+        let error = parse_model(&chain3_model("tests/data/chain3_extra.npz", x, name)).unwrap_err();
+        let text = error.to_string();
+        let cause = match &error {
+            Error::ModelFile {
+                cause: Some(cause), ..
+            } => cause.as_ref().clone(),
+            other => panic!("{other:?}"),
+        };
+        assert!(
+            matches!(&cause, Error::Data { column, .. } if name.starts_with(column.as_str())),
+            "{cause:?}"
+        );
+        assert!(text.contains(words), "{text}");
+    }
+    // A scalar named beside the record's arrays has another length.
+    let error = parse_model(&chain3_model("tests/data/chain3_scalars.mat", x, "gain")).unwrap_err();
+    assert!(error.to_string().contains("'gain'"), "{error}");
+    // A name no array has lists the usable columns only.
+    let error = parse_model(&chain3_model("tests/data/chain3_extra.npz", x, "g")).unwrap_err();
+    let text = error.to_string();
+    assert!(
+        text.contains("unknown column") && text.contains("x[3]"),
+        "{text}"
+    );
+    assert!(!text.contains("description"), "{text}");
+}
+
+/// Several records naming one file open it once; each gets its own columns.
+#[test]
+fn a_file_named_by_several_records_is_opened_once() {
+    use dampid::io::data_file::DataFiles;
+    let path = Path::new("tests/data/chain3_extra.npz");
+    let mut files = DataFiles::new([path, path, path]);
+    let a = files.table(path, &["t", "x[2]"]).unwrap();
+    let b = files.table(path, &["f"]).unwrap();
+    let c = files.table(path, &["x[1]", "t"]).unwrap();
+    assert_eq!(files.opened(), 1);
+    assert_eq!(a.column("t").unwrap(), c.column("t").unwrap());
+    assert_eq!(b.headers, ["f"]);
+    let csv = csv_rows();
+    assert_same(&a, "x[2]", csv.column("x2").unwrap(), 0.0);
+    // After its last record the file is let go of; a fourth use opens it again.
+    files.table(path, &["f"]).unwrap();
+    assert_eq!(files.opened(), 2);
+}
+
+/// A damaged stored member (one data byte changed) is an error naming its CRC, as
+/// NumPy's zipfile reports it; the bytes are found from the zip local header.
+#[test]
+fn a_damaged_npz_member_is_a_crc_error() {
+    let mut bytes = std::fs::read("tests/data/chain3_record1.npz").unwrap();
+    let name = bytes.windows(5).position(|w| w == b"x.npy").unwrap();
+    // Local header: 30 bytes, the name at 26..28 (length) and 28..30 (extra length).
+    let header = name - 30;
+    let extra = u16::from_le_bytes([bytes[header + 28], bytes[header + 29]]) as usize;
+    let data = name + 5 + extra;
+    // The low byte of a little-endian f8 after the 128-byte NPY header: still finite.
+    bytes[data + 128 + 8 * 10] ^= 1;
+    let path = std::env::temp_dir().join(format!("dampid-crc-{}.npz", std::process::id()));
+    std::fs::write(&path, &bytes).unwrap();
+    match read_table(&path) {
+        Err(Error::Data {
+            column, message, ..
+        }) => {
+            assert_eq!(column, "x");
+            assert!(message.contains("CRC-32"), "{message}");
+        }
+        other => panic!("{other:?}"),
+    }
+    std::fs::remove_file(path).ok();
+}

@@ -1,15 +1,23 @@
 //! MATLAB `.mat` files, level 5 (MATLAB v5 to v7, compressed or not; v7.3 is HDF5 and is
-//! not read), with the matfile crate. Every real numeric 1-D or 2-D variable becomes
-//! columns (as for NPY arrays: `x[1]`…`x[k]` for N × k); complex and non-numeric variables are skipped.
-//! A file cut short inside a data element is an error, not a table without that variable.
+//! not read), with the matfile crate. Every real numeric 1-D or 2-D variable can become
+//! columns (as for NPY arrays: `x[1]`…`x[k]` for N × k); complex and other variables are
+//! kept with the reason they cannot, an error only when a record names them, and
+//! skipped by the whole-file read. A file cut short inside a data element is an error,
+//! not a table without that variable.
 
 use std::path::Path;
 
 use matfile::{MatFile, NumericData};
 
 use crate::error::{Error, Result};
-use crate::io::arrays::{NamedArray, table_from_arrays};
 use crate::io::table::Table;
+
+/// One variable of a MAT file: its name and its values column-major with its
+/// dimensions (r, c), or why it cannot be table columns.
+pub(crate) struct Variable {
+    pub name: String,
+    pub values: std::result::Result<(usize, usize, Vec<f64>), String>,
+}
 
 fn real_values(data: &NumericData) -> Option<Vec<f64>> {
     macro_rules! convert {
@@ -94,8 +102,14 @@ fn complete(bytes: &[u8]) -> std::result::Result<(), String> {
     Ok(())
 }
 
-/// Reads the real numeric variables of a `.mat` file.
+/// Reads the real numeric variables of a `.mat` file; every one must have the same
+/// number of samples.
 pub fn read_mat(path: &Path) -> Result<Table> {
+    super::data_file::DataFile::open(path)?.whole()
+}
+
+/// Reads the variables of a `.mat` file.
+pub(crate) fn variables(path: &Path) -> Result<Vec<Variable>> {
     let file = path.display().to_string();
     let error = |message: String| Error::Data {
         file: file.clone(),
@@ -114,19 +128,20 @@ pub fn read_mat(path: &Path) -> Result<Table> {
     .map_err(|_| error("not a level-5 MAT file: the MAT parser failed on it".into()))?;
     let mat =
         parsed.map_err(|e| error(format!("not a level-5 MAT file (v7.3 files are HDF5): {e}")))?;
-    let arrays = mat
+    Ok(mat
         .arrays()
         .iter()
-        .filter_map(|a| {
+        .map(|a| {
             let size = a.size();
-            let values = real_values(a.data())?;
-            (size.len() == 2).then(|| NamedArray {
+            let values = match (size.as_slice(), real_values(a.data())) {
+                (_, None) => Err("complex values: only real variables are read".to_string()),
+                ([r, c], Some(values)) => Ok((*r, *c, values)),
+                (size, Some(_)) => Err(format!("size {size:?}: expected one or two dimensions")),
+            };
+            Variable {
                 name: a.name().to_string(),
-                rows: size[0],
-                columns: size[1],
-                column_major: values,
-            })
+                values,
+            }
         })
-        .collect();
-    table_from_arrays(&file, arrays)
+        .collect())
 }

@@ -5,9 +5,13 @@
 //! |---|---|---|
 //! | `.csv` | [`csv::read`] | header names |
 //! | `.npy` | [`npy::read_npy`] | the file stem (`x`, or `x[1]`…`x[k]` for N × k) |
-//! | `.npz` | [`npy::read_npz`] | each array's name, as above |
+//! | `.npz` | [`npy::read_npz`] ([`npz`]) | each array's name, as above |
 //! | `.mat` | [`mat::read_mat`] | each real numeric variable's name, as above |
 //! | `.uff`, `.unv` | [`uff::read`] | `t`, then per dataset 58 record `3+Z` (node, direction) and its ID line 1 |
+//!
+//! [`read_table`] reads a whole file; a model file's records go through
+//! [`data_file::DataFiles`] instead, which opens each file once for all the records that
+//! name it and reads from a `.npz` or `.mat` file only the arrays a record names.
 //!
 //! Other files: [`records`] writes records as CSV and [`run`] a simulation run's folder
 //! with its manifest (`dampid simulate`), [`stepped_sine`]
@@ -17,8 +21,11 @@
 
 mod arrays;
 pub mod csv;
+mod csv_fast;
+pub mod data_file;
 pub mod mat;
 pub mod npy;
+mod npz;
 pub mod output;
 pub mod pod_files;
 pub mod records;
@@ -32,16 +39,21 @@ use std::path::Path;
 use crate::error::{Error, Result};
 pub use table::Table;
 
-/// Reads a data file by its extension.
+/// Reads a data file by its extension: every column of it (every array of a `.npz`,
+/// every real numeric variable of a `.mat`).
 pub fn read_table(path: &Path) -> Result<Table> {
+    data_file::DataFile::open(path)?.whole()
+}
+
+/// The formats read whole, and the error for an unknown extension; `.npz` and `.mat`
+/// files are opened by [`data_file::DataFile::open`].
+fn read_whole(path: &Path) -> Result<Table> {
     let extension = path
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase());
     match extension.as_deref() {
         Some("csv") | Some("txt") => csv::read(path),
         Some("npy") => npy::read_npy(path),
-        Some("npz") => npy::read_npz(path),
-        Some("mat") => mat::read_mat(path),
         Some("uff") | Some("unv") => uff::read(path),
         other => Err(Error::Data {
             file: path.display().to_string(),

@@ -1,17 +1,26 @@
-//! NumPy `.npy` (one array, named after the file stem) and `.npz` (every array in the
-//! archive, by name) files, read with npyz. Real dtypes f8, f4, i8, i4 are converted to
-//! f64; C and Fortran order are both handled.
+//! NumPy `.npy` files (one array, named after the file stem): a header, a Python dict
+//! literal with the dtype, the order and the shape (parsed by npyz), then the raw
+//! elements. The elements are read in one pass, in blocks of about 1 MiB straight from
+//! the file (no per-element reader), converted to f64 (f8, f4, i8, i4, little or big
+//! endian) and appended to their columns in file order; C and Fortran order and the
+//! orientation rule are [`Layout`]'s. The bytes the header's shape needs are checked
+//! against the bytes the file holds after it before anything of that size is
+//! allocated, so a header that claims more data than there is is an error, never a read
+//! past the end or an allocation of the claimed size. `.npz` archives: [`super::npz`].
 
-use std::io::Read;
+use std::io::{BufReader, Read, Seek};
 use std::path::Path;
 
-use npyz::{DType, NpyFile, Order, TypeChar};
+use npyz::{DType, Endianness, NpyHeader, Order, TypeChar};
 
 use crate::error::{Error, Result};
-use crate::io::arrays::{NamedArray, table_from_arrays};
+use crate::io::arrays::{Layout, NamedArray, table_from_arrays};
 use crate::io::table::Table;
 
-fn data_error(file: &str, column: &str, message: impl std::fmt::Display) -> Error {
+/// Elements converted per block (8 MiB of f64 at most per block of values).
+const BLOCK: usize = 1 << 17;
+
+pub(crate) fn data_error(file: &str, column: &str, message: impl std::fmt::Display) -> Error {
     Error::Data {
         file: file.to_string(),
         row: 0,
@@ -20,69 +29,160 @@ fn data_error(file: &str, column: &str, message: impl std::fmt::Display) -> Erro
     }
 }
 
-fn read_array<R: Read>(npy: NpyFile<R>, name: &str, file: &str) -> Result<NamedArray> {
-    let shape: Vec<usize> = npy.shape().iter().map(|&d| d as usize).collect();
-    let (rows, columns) = match shape.as_slice() {
-        [n] => (*n, 1),
-        [r, c] => (*r, *c),
+/// A stored element type read as f64.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    F64,
+    F32,
+    I64,
+    I32,
+}
+
+/// What an NPY header says about an array that can be table columns.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct Header {
+    pub layout: Layout,
+    kind: Kind,
+    big_endian: bool,
+    /// The dtype as written (`<f8`), for messages.
+    dtype: String,
+}
+
+impl Header {
+    fn element_size(&self) -> usize {
+        match self.kind {
+            Kind::F64 | Kind::I64 => 8,
+            Kind::F32 | Kind::I32 => 4,
+        }
+    }
+
+    /// The bytes of data the header's shape needs (`None`: more than a `u64` holds).
+    pub fn data_bytes(&self) -> Option<u64> {
+        (self.layout.len() as u64).checked_mul(self.element_size() as u64)
+    }
+}
+
+/// Reads an NPY header from `reader`, leaving it at the first data byte. `Err` is what
+/// makes the array unusable as columns (a malformed header, a shape of other than one
+/// or two dimensions, a dtype that is not f8, f4, i8 or i4), in words.
+pub(crate) fn read_header<R: Read>(reader: R) -> std::result::Result<Header, String> {
+    // npyz multiplies the shape's dimensions unchecked: with overflow checks on (tests,
+    // fuzzing) a huge shape panics inside it, which is the same bad header.
+    let parsed = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        NpyHeader::from_reader(reader)
+    }))
+    .map_err(|_| "the NPY header's shape overflows".to_string())?;
+    let header = parsed.map_err(|e| format!("not an NPY array: {e}"))?;
+    let DType::Plain(type_str) = header.dtype() else {
+        return Err("structured arrays are not supported".into());
+    };
+    let kind = match (type_str.type_char(), type_str.size_field()) {
+        (TypeChar::Float, 8) => Kind::F64,
+        (TypeChar::Float, 4) => Kind::F32,
+        (TypeChar::Int, 8) => Kind::I64,
+        (TypeChar::Int, 4) => Kind::I32,
         _ => {
-            return Err(data_error(
-                file,
-                name,
-                format!("shape {shape:?}: expected one or two dimensions"),
+            return Err(format!(
+                "dtype {type_str} is not a supported real type (f8, f4, i8, i4)"
             ));
         }
     };
-    let order = npy.order();
-    let dtype = npy.dtype();
-    let DType::Plain(type_str) = &dtype else {
+    let shape = header.shape();
+    let dims: Option<Vec<usize>> = shape.iter().map(|&d| usize::try_from(d).ok()).collect();
+    let (rows, cols) = match dims.as_deref() {
+        Some([n]) => (*n, 1),
+        Some([r, c]) => (*r, *c),
+        _ => {
+            return Err(format!("shape {shape:?}: expected one or two dimensions"));
+        }
+    };
+    let layout = Layout::new(rows, cols, header.order() == Order::C)
+        .ok_or_else(|| format!("shape {shape:?} overflows"))?;
+    Ok(Header {
+        layout,
+        kind,
+        big_endian: type_str.endianness() == Endianness::Big,
+        dtype: type_str.to_string(),
+    })
+}
+
+/// Converts whole elements of `bytes` into `values` (as many as `values` holds).
+fn convert(header: &Header, bytes: &[u8], values: &mut [f64]) {
+    macro_rules! each {
+        ($t:ty, $n:literal) => {{
+            let chunks = bytes.chunks_exact($n);
+            if header.big_endian {
+                for (v, b) in values.iter_mut().zip(chunks) {
+                    *v = <$t>::from_be_bytes(b.try_into().expect("chunk of the size")) as f64;
+                }
+            } else {
+                for (v, b) in values.iter_mut().zip(chunks) {
+                    *v = <$t>::from_le_bytes(b.try_into().expect("chunk of the size")) as f64;
+                }
+            }
+        }};
+    }
+    match header.kind {
+        Kind::F64 => each!(f64, 8),
+        Kind::F32 => each!(f32, 4),
+        Kind::I64 => each!(i64, 8),
+        Kind::I32 => each!(i32, 4),
+    }
+}
+
+/// Reads the data of the array `name` described by `header` from `reader`, which holds
+/// `available` bytes after the header: one pass, block by block (module doc).
+pub(crate) fn read_data<R: Read>(
+    reader: &mut R,
+    header: &Header,
+    available: u64,
+    name: &str,
+    file: &str,
+) -> Result<NamedArray> {
+    let layout = header.layout;
+    let needed = header.data_bytes();
+    if needed.is_none_or(|n| n > available) {
         return Err(data_error(
             file,
             name,
-            "structured arrays are not supported",
+            format!(
+                "the header says {} × {} elements of {} ({} bytes), but the file holds {available} bytes of data: it is truncated or its header is wrong",
+                layout.samples,
+                layout.columns,
+                header.dtype,
+                needed.map_or("more than 2^64".to_string(), |n| n.to_string()),
+            ),
         ));
-    };
-    let error = |e: std::io::Error| data_error(file, name, e);
-    let values: Vec<f64> = match (type_str.type_char(), type_str.size_field()) {
-        (TypeChar::Float, 8) => npy.into_vec::<f64>().map_err(error)?,
-        (TypeChar::Float, 4) => npy
-            .into_vec::<f32>()
-            .map_err(error)?
-            .into_iter()
-            .map(f64::from)
-            .collect(),
-        (TypeChar::Int, 8) => npy
-            .into_vec::<i64>()
-            .map_err(error)?
-            .into_iter()
-            .map(|v| v as f64)
-            .collect(),
-        (TypeChar::Int, 4) => npy
-            .into_vec::<i32>()
-            .map_err(error)?
-            .into_iter()
-            .map(f64::from)
-            .collect(),
-        _ => {
-            return Err(data_error(
-                file,
-                name,
-                format!("dtype {type_str} is not a supported real type (f8, f4, i8, i4)"),
-            ));
+    }
+    let size = header.element_size();
+    let block = layout.block(BLOCK).min(layout.len().max(1));
+    let mut bytes = vec![0u8; block * size];
+    let mut values = vec![0.0; block];
+    let mut columns = layout.allocate();
+    let mut done = 0;
+    while done < layout.len() {
+        let m = block.min(layout.len() - done);
+        reader
+            .read_exact(&mut bytes[..m * size])
+            .map_err(|e| data_error(file, name, format!("reading its data: {e}")))?;
+        let values = &mut values[..m];
+        convert(header, &bytes[..m * size], values);
+        if !values.iter().fold(true, |ok, v| ok & v.is_finite()) {
+            let at = values.iter().position(|v| !v.is_finite()).unwrap_or(0);
+            let (s, p) = layout.position(done + at);
+            return Err(Error::Data {
+                file: file.to_string(),
+                row: s + 1,
+                column: layout.headers(name)[p].clone(),
+                message: format!("non-finite value {}", values[at]),
+            });
         }
-    };
-    let column_major = match order {
-        Order::Fortran => values,
-        Order::C => (0..columns)
-            .flat_map(|j| (0..rows).map(move |i| (i, j)))
-            .map(|(i, j)| values[i * columns + j])
-            .collect(),
-    };
+        layout.place(done, values, &mut columns);
+        done += m;
+    }
     Ok(NamedArray {
         name: name.to_string(),
-        rows,
         columns,
-        column_major,
     })
 }
 
@@ -92,25 +192,27 @@ pub fn read_npy(path: &Path) -> Result<Table> {
     let name = path
         .file_stem()
         .map_or("x".into(), |s| s.to_string_lossy().into_owned());
-    let reader = std::fs::File::open(path).map_err(|e| data_error(&file, "", e))?;
-    let npy =
-        NpyFile::new(std::io::BufReader::new(reader)).map_err(|e| data_error(&file, "", e))?;
-    table_from_arrays(&file, vec![read_array(npy, &name, &file)?])
+    let opened = std::fs::File::open(path).map_err(|e| data_error(&file, "", e))?;
+    let length = opened
+        .metadata()
+        .map_err(|e| data_error(&file, "", e))?
+        .len();
+    let mut reader = BufReader::new(opened);
+    let header = read_header(&mut reader).map_err(|e| data_error(&file, &name, e))?;
+    let start = reader
+        .stream_position()
+        .map_err(|e| data_error(&file, "", e))?;
+    let array = read_data(
+        &mut reader,
+        &header,
+        length.saturating_sub(start),
+        &name,
+        &file,
+    )?;
+    table_from_arrays(&file, vec![array])
 }
 
-/// Reads every array of a `.npz` archive.
+/// Reads every array of a `.npz` archive ([`super::npz`]); each must be usable.
 pub fn read_npz(path: &Path) -> Result<Table> {
-    let file = path.display().to_string();
-    let mut archive = npyz::npz::NpzArchive::open(path).map_err(|e| data_error(&file, "", e))?;
-    let mut names: Vec<String> = archive.array_names().map(str::to_string).collect();
-    names.sort();
-    let mut arrays = Vec::new();
-    for name in names {
-        let npy = archive
-            .by_name(&name)
-            .map_err(|e| data_error(&file, &name, e))?
-            .ok_or_else(|| data_error(&file, &name, "listed but not found in the archive"))?;
-        arrays.push(read_array(npy, &name, &file)?);
-    }
-    table_from_arrays(&file, arrays)
+    super::data_file::DataFile::open(path)?.whole()
 }

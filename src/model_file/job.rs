@@ -18,6 +18,7 @@ use super::{reduction, string};
 use crate::analysis::design::DesignSettings;
 use crate::error::{Error, Result};
 use crate::identify::IdentifySettings;
+use crate::io::data_file::DataFiles;
 use crate::model::DampingModel;
 use crate::prep::harmonic::SteppedSineTable;
 use crate::prep::period::PeriodEstimate;
@@ -309,13 +310,17 @@ impl Context<'_> {
         let mut detected_periods = Vec::new();
         let mut time_jitter = Vec::new();
         let mut inputs = Vec::new();
+        // Each data file once, however many records name it.
+        let paths: Vec<std::path::PathBuf> =
+            list.iter().map(|r| base.join(&r.get_ref().file)).collect();
+        let mut files = DataFiles::new(paths.iter().map(|p| p.as_path()));
         for (k, r) in list.iter().enumerate() {
             let read = self.at(r, |r| {
                 let mode = match &spec.non_periodic {
                     None => Mode::Periodic,
                     Some(np) => Mode::NonPeriodic(np.get_ref().high_pass.as_ref()),
                 };
-                read_record(self, r, n, base, mode)
+                read_record(self, r, n, (base, &mut files), mode)
             })?;
             records.push(read.record);
             detected_periods.push(read.detected);

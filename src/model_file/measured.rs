@@ -15,6 +15,7 @@ use super::context::Context;
 use super::spec::{ColumnSpec, RecordSpec};
 use crate::error::{Error, Result};
 use crate::io::Table;
+use crate::io::data_file::DataFiles;
 use crate::prep::motion::{Integration, SensorParts, record_from_sensors};
 use crate::prep::period::{PeriodEstimate, detect_period};
 use crate::record::{Forcing, Record, RecordParts, Sensor};
@@ -256,18 +257,36 @@ pub(super) enum Mode<'a> {
     NonPeriodic(Option<&'a Spanned<f64>>),
 }
 
+/// The columns a record names: its time column, its motion columns, its forces.
+fn named_columns(spec: &RecordSpec) -> Vec<&str> {
+    let motion = [&spec.displacements, &spec.velocities, &spec.accelerations]
+        .into_iter()
+        .flatten()
+        .map(|c| c.get_ref().column.as_str());
+    let forces = spec.forces.iter().map(|f| f.get_ref().column.as_str());
+    spec.time
+        .as_deref()
+        .into_iter()
+        .chain(motion)
+        .chain(forces)
+        .collect()
+}
+
 /// Reads one record; a periodic record without a period or frequency gets one detected
-/// from its force, a non-periodic one gets its duration (which nothing uses).
+/// from its force, a non-periodic one gets its duration (which nothing uses). Only the
+/// columns it names are read from `files` (a `.npz` or `.mat` file may hold other
+/// arrays), each file once for all the records that name it.
 pub(super) fn read_record(
     ctx: &Context,
     spec: &RecordSpec,
     n: usize,
-    base: &Path,
+    files: (&Path, &mut DataFiles),
     mode: Mode,
 ) -> Result<ReadRecord> {
     let periodic = matches!(mode, Mode::Periodic);
+    let (base, files) = files;
     let path = base.join(&spec.file);
-    let table = crate::io::read_table(&path)?;
+    let table = files.table(&path, &named_columns(spec))?;
     let label = spec.label.clone().unwrap_or_else(|| spec.file.clone());
     let time_scale = match &spec.time_scale {
         None => 1.0,

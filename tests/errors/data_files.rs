@@ -189,3 +189,77 @@ fn time_jitter_is_accepted_up_to_its_tolerance() {
         Err(Error::Data { row: 3, .. })
     ));
 }
+
+/// An NPY file: the magic, version 1.0, the header dict padded with spaces to a
+/// multiple of 64 bytes (ending in a newline), then `data`.
+fn npy_bytes(dict: &str, data: &[u8]) -> Vec<u8> {
+    let mut header = dict.to_string();
+    while (10 + header.len() + 1) % 64 != 0 {
+        header.push(' ');
+    }
+    header.push('\n');
+    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+    bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
+    bytes.extend_from_slice(header.as_bytes());
+    bytes.extend_from_slice(data);
+    bytes
+}
+
+fn read_npy_bytes(name: &str, bytes: &[u8]) -> Result<Table> {
+    let path = std::env::temp_dir().join(format!("dampid-{name}-{}.npy", std::process::id()));
+    std::fs::write(&path, bytes).unwrap();
+    let result = dampid::io::npy::read_npy(&path);
+    std::fs::remove_file(&path).unwrap();
+    result
+}
+
+/// An NPY header that claims more data than the file holds is a `Data` error, found
+/// before anything of the claimed size is allocated (10^12 f8 would be 8 TB): so is a
+/// shape whose size overflows, and a file cut inside its data.
+#[test]
+fn npy_header_claiming_more_than_the_file_holds_is_a_data_error() {
+    let data: Vec<u8> = [1.0f64, 2.0].iter().flat_map(|v| v.to_le_bytes()).collect();
+    let whole = npy_bytes(
+        "{'descr': '<f8', 'fortran_order': False, 'shape': (2,), }",
+        &data,
+    );
+    assert_eq!(
+        read_npy_bytes("whole", &whole).unwrap().columns,
+        [vec![1.0, 2.0]]
+    );
+    for (name, dict) in [
+        (
+            "huge",
+            "{'descr': '<f8', 'fortran_order': False, 'shape': (1000000000000,), }",
+        ),
+        (
+            "wide",
+            "{'descr': '<f8', 'fortran_order': True, 'shape': (2, 1000000000000), }",
+        ),
+        (
+            "overflow",
+            "{'descr': '<f8', 'fortran_order': False, 'shape': (4294967296, 4294967296, 4294967296), }",
+        ),
+        (
+            "square",
+            "{'descr': '<f8', 'fortran_order': False, 'shape': (4294967296, 4294967296), }",
+        ),
+    ] {
+        match read_npy_bytes(name, &npy_bytes(dict, &data)) {
+            Err(Error::Data { row, message, .. }) => {
+                assert_eq!(row, 0, "{name}");
+                assert!(
+                    message.contains("holds 16 bytes") || message.contains("shape"),
+                    "{name}: {message}"
+                );
+            }
+            other => panic!("{name}: {other:?}"),
+        }
+    }
+    match read_npy_bytes("cut", &whole[..whole.len() - 3]) {
+        Err(Error::Data { message, .. }) => {
+            assert!(message.contains("holds 13 bytes"), "{message}")
+        }
+        other => panic!("{other:?}"),
+    }
+}

@@ -1,0 +1,306 @@
+//! A data file opened once, and the columns a record names read from it.
+//!
+//! [`DataFile::open`] reads what a file's columns are: a CSV or UFF file is parsed
+//! whole (its columns are one table), a `.npz` archive only its directory and each
+//! array's header, a `.mat` file its variables. [`DataFile::table`] gives the table of
+//! the columns asked for: from a `.npz` or `.mat` file only the arrays holding them are
+//! read, so the file may hold others that cannot be columns (a 0-d text description,
+//! a 3-D array, a scalar gain of another length), and only the arrays asked for must
+//! be valid and of one length. [`DataFile::whole`] is the whole-file read of
+//! [`super::read_table`]: every array (complex and N-D MAT variables are skipped, as
+//! before).
+//!
+//! The arrays of one table are read in parallel (rayon), each in one pass.
+//!
+//! [`DataFiles`] opens each file a job names once, however many records name it
+//! (files are told apart by their canonical path), and lets go of it after its last
+//! record.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use rayon::prelude::*;
+
+use crate::error::{Error, Result};
+use crate::io::arrays::{self, NamedArray, table_from_arrays};
+use crate::io::mat;
+use crate::io::npy::{Header, data_error};
+use crate::io::npz::Npz;
+use crate::io::table::Table;
+
+/// Where an array's data come from.
+enum Source {
+    /// Member `k` of the archive.
+    Npz(usize),
+    /// Column-major values, r × c.
+    Mat(usize, usize, Vec<f64>),
+}
+
+/// One array: the columns it offers, or why it cannot be columns.
+struct Slot {
+    name: String,
+    columns: std::result::Result<(Vec<String>, Source), String>,
+    /// Whether the whole-file read refuses the file for this slot's problem (NPZ) or
+    /// skips it (MAT, as the MAT reader always did).
+    strict: bool,
+}
+
+enum Content {
+    /// Read whole (CSV, UFF, NPY).
+    Table(Table),
+    /// Arrays read on demand (NPZ, MAT).
+    Arrays { slots: Vec<Slot>, npz: Option<Npz> },
+}
+
+/// A data file opened once (module doc).
+pub struct DataFile {
+    file: String,
+    content: Content,
+}
+
+impl DataFile {
+    /// Opens the data file at `path` by its extension (see [`super::read_table`]).
+    pub fn open(path: &Path) -> Result<DataFile> {
+        let file = path.display().to_string();
+        let extension = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase());
+        let content = match extension.as_deref() {
+            Some("npz") => {
+                let npz = Npz::open(path)?;
+                let slots = npz
+                    .members
+                    .iter()
+                    .enumerate()
+                    .map(|(k, m)| Slot {
+                        name: m.name.clone(),
+                        columns: m
+                            .header
+                            .as_ref()
+                            .map(|h: &Header| (h.layout.headers(&m.name), Source::Npz(k)))
+                            .map_err(Clone::clone),
+                        strict: true,
+                    })
+                    .collect();
+                Content::Arrays {
+                    slots,
+                    npz: Some(npz),
+                }
+            }
+            Some("mat") => {
+                let slots = mat::variables(path)?
+                    .into_iter()
+                    .map(|v| {
+                        let columns = v.values.and_then(|(r, c, values)| {
+                            let layout = arrays::Layout::new(r, c, false)
+                                .filter(|l| l.len() == values.len())
+                                .ok_or_else(|| format!("{r} × {c} with {} values", values.len()))?;
+                            Ok((layout.headers(&v.name), Source::Mat(r, c, values)))
+                        });
+                        Slot {
+                            name: v.name,
+                            columns,
+                            strict: false,
+                        }
+                    })
+                    .collect();
+                Content::Arrays { slots, npz: None }
+            }
+            _ => Content::Table(super::read_whole(path)?),
+        };
+        Ok(DataFile { file, content })
+    }
+
+    /// The file, as error messages name it.
+    pub fn file(&self) -> &str {
+        &self.file
+    }
+
+    /// The table of the columns `names` (module doc): the arrays that hold them, all of
+    /// one length. A name that no column has is [`Error::UnknownName`]; a name of an
+    /// array that cannot be columns is [`Error::Data`] naming it and why.
+    pub fn table(&self, names: &[&str]) -> Result<Table> {
+        match &self.content {
+            Content::Table(table) => {
+                let mut headers: Vec<String> = Vec::new();
+                let mut columns = Vec::new();
+                for name in names {
+                    if headers.iter().any(|h| h == name) {
+                        continue;
+                    }
+                    columns.push(table.column(name)?.to_vec());
+                    headers.push(name.to_string());
+                }
+                Ok(Table {
+                    file: table.file.clone(),
+                    headers,
+                    columns,
+                })
+            }
+            Content::Arrays { slots, npz } => {
+                let mut chosen: Vec<usize> = Vec::new();
+                for name in names {
+                    let k = self.slot_of(slots, name)?;
+                    if !chosen.contains(&k) {
+                        chosen.push(k);
+                    }
+                }
+                let arrays = chosen
+                    .into_par_iter()
+                    .map(|k| self.read(&slots[k], npz.as_ref()))
+                    .collect::<Vec<_>>() // the first error in order, whichever thread saw it first
+                    .into_iter()
+                    .collect::<Result<Vec<_>>>()?;
+                table_from_arrays(&self.file, arrays)
+            }
+        }
+    }
+
+    /// Every column of the file: the whole-file read ([`super::read_table`]).
+    pub fn whole(self) -> Result<Table> {
+        match self.content {
+            Content::Table(table) => Ok(table),
+            Content::Arrays { slots, npz } => {
+                if let Some(slot) = slots.iter().find(|s| s.strict && s.columns.is_err())
+                    && let Err(problem) = &slot.columns
+                {
+                    return Err(data_error(&self.file, &slot.name, problem));
+                }
+                let arrays = slots
+                    .par_iter()
+                    .filter(|s| s.columns.is_ok())
+                    .map(|slot| read_slot(&self.file, slot, npz.as_ref()))
+                    .collect::<Vec<_>>() // the first error in order, whichever thread saw it first
+                    .into_iter()
+                    .collect::<Result<Vec<_>>>()?;
+                table_from_arrays(&self.file, arrays)
+            }
+        }
+    }
+
+    /// The slot that holds the column `name`: an exact column name, or an unusable
+    /// array's name (`x`, `x[2]`).
+    fn slot_of(&self, slots: &[Slot], name: &str) -> Result<usize> {
+        if let Some(k) = slots.iter().position(
+            |s| matches!(&s.columns, Ok((headers, _)) if headers.iter().any(|h| h == name)),
+        ) {
+            return Ok(k);
+        }
+        let array = name.split_once('[').map_or(name, |(array, _)| array);
+        if let Some(slot) = slots.iter().find(|s| s.name == array && s.columns.is_err())
+            && let Err(problem) = &slot.columns
+        {
+            return Err(data_error(&self.file, &slot.name, problem));
+        }
+        let known: Vec<&str> = slots
+            .iter()
+            .filter_map(|s| s.columns.as_ref().ok())
+            .flat_map(|(headers, _)| headers.iter().map(String::as_str))
+            .collect();
+        Err(Error::UnknownName {
+            what: format!("column in {}", self.file),
+            name: name.to_string(),
+            known: known.join(", "),
+        })
+    }
+
+    fn read(&self, slot: &Slot, npz: Option<&Npz>) -> Result<NamedArray> {
+        read_slot(&self.file, slot, npz)
+    }
+
+    /// [`DataFile::table`] for the file's last use: a table read whole gives up its
+    /// columns instead of copying them.
+    pub fn into_table(self, names: &[&str]) -> Result<Table> {
+        let Content::Table(mut table) = self.content else {
+            return self.table(names);
+        };
+        for name in names {
+            table.column(name)?;
+        }
+        let mut headers: Vec<String> = Vec::new();
+        let mut columns = Vec::new();
+        for name in names {
+            if headers.iter().any(|h| h == name) {
+                continue;
+            }
+            let k = table.headers.iter().position(|h| h == name).unwrap_or(0);
+            columns.push(std::mem::take(&mut table.columns[k]));
+            headers.push(name.to_string());
+        }
+        Ok(Table {
+            file: table.file,
+            headers,
+            columns,
+        })
+    }
+}
+
+/// Reads the data of a slot (an error naming it when it cannot be columns).
+fn read_slot(file: &str, slot: &Slot, npz: Option<&Npz>) -> Result<NamedArray> {
+    let problem = |problem: &str| data_error(file, &slot.name, problem);
+    match &slot.columns {
+        Err(p) => Err(problem(p)),
+        Ok((_, Source::Mat(r, c, values))) => {
+            arrays::column_major(file, &slot.name, *r, *c, values)
+        }
+        Ok((_, Source::Npz(k))) => {
+            let member = npz.and_then(|npz| npz.members.get(*k).map(|m| (npz, m)));
+            match member {
+                Some((npz, member)) => match &member.header {
+                    Ok(header) => npz.read(member, header),
+                    Err(p) => Err(problem(p)),
+                },
+                None => Err(problem("not in the archive")),
+            }
+        }
+    }
+}
+
+/// The data files of a job, each opened once (module doc).
+#[derive(Default)]
+pub struct DataFiles {
+    /// Per canonical path: the open file and how many records will still ask for it.
+    files: HashMap<PathBuf, (Option<DataFile>, usize)>,
+    opened: usize,
+}
+
+fn canonical(path: &Path) -> PathBuf {
+    std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf())
+}
+
+impl DataFiles {
+    /// The files named by `paths`, one entry per record that will ask for one (a file
+    /// named twice is opened once and kept until its second record has read it).
+    pub fn new<'a>(paths: impl IntoIterator<Item = &'a Path>) -> DataFiles {
+        let mut files: HashMap<PathBuf, (Option<DataFile>, usize)> = HashMap::new();
+        for path in paths {
+            files.entry(canonical(path)).or_insert((None, 0)).1 += 1;
+        }
+        DataFiles { files, opened: 0 }
+    }
+
+    /// The table of the columns `names` of the file at `path` ([`DataFile::table`]),
+    /// opening the file on its first use.
+    pub fn table(&mut self, path: &Path, names: &[&str]) -> Result<Table> {
+        let key = canonical(path);
+        let (open, uses) = self.files.remove(&key).unwrap_or((None, 1));
+        let file = match open {
+            Some(file) => file,
+            None => {
+                self.opened += 1;
+                DataFile::open(path)?
+            }
+        };
+        if uses <= 1 {
+            return file.into_table(names);
+        }
+        let table = file.table(names);
+        self.files.insert(key, (Some(file), uses - 1));
+        table
+    }
+
+    /// How many files have been opened so far.
+    pub fn opened(&self) -> usize {
+        self.opened
+    }
+}

@@ -1,0 +1,172 @@
+//! NumPy `.npz` archives: a zip file with one `.npy` member per array (`x.npy` holds
+//! the array `x`). [`Npz::open`] reads the archive's directory (the zip crate) and
+//! every member's NPY header, and [`Npz::read`] reads one member's data only when it is
+//! asked for, so an archive may hold arrays that cannot be columns (a 0-d text
+//! description, a 3-D array) as long as nothing asks for them.
+//!
+//! A stored member (`np.savez`) is read in one pass straight from the file at its data
+//! offset ([`super::npy::read_data`]); its CRC-32 is computed on the way (crc32fast,
+//! SIMD, well above memory speed) and compared with the directory's, which is what
+//! NumPy does too: `numpy.load` reads members through Python's zipfile, which checks
+//! the CRC of every member read to its end, stored or deflated. A deflated member
+//! (`np.savez_compressed`) is inflated through zip's reader, which checks its CRC, into
+//! memory and read from there. A member's data must lie inside the file before any of
+//! it is read.
+
+use std::fs::File;
+use std::io::{BufReader, Read, Seek, SeekFrom};
+use std::path::{Path, PathBuf};
+
+use zip::{CompressionMethod, ZipArchive};
+
+use crate::error::Result;
+use crate::io::arrays::NamedArray;
+use crate::io::npy::{Header, data_error, read_data, read_header};
+
+/// Where a stored member's bytes lie in the file.
+#[derive(Debug, Clone, Copy)]
+struct Stored {
+    /// Offset of the member's first byte (its NPY header).
+    start: u64,
+    /// The member's length.
+    size: u64,
+    /// The CRC-32 the directory gives.
+    crc: u32,
+}
+
+/// One array of the archive: its name, its header (or why it cannot be columns), and
+/// where its bytes are.
+#[derive(Debug)]
+pub(crate) struct Member {
+    /// The array's name (the member's name without `.npy`).
+    pub name: String,
+    /// Its NPY header, or why it cannot be table columns.
+    pub header: std::result::Result<Header, String>,
+    /// Its index in the archive's directory.
+    index: usize,
+    /// Where its bytes are when stored; `None` when compressed.
+    stored: Option<Stored>,
+}
+
+/// A `.npz` archive's arrays, read on demand.
+#[derive(Debug)]
+pub(crate) struct Npz {
+    file: String,
+    path: PathBuf,
+    /// Sorted by name.
+    pub members: Vec<Member>,
+}
+
+/// A reader that computes the CRC-32 of the bytes it passes on.
+struct Crc<R> {
+    inner: R,
+    hasher: crc32fast::Hasher,
+}
+
+impl<R: Read> Read for Crc<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        self.hasher.update(&buf[..n]);
+        Ok(n)
+    }
+}
+
+impl Npz {
+    /// Reads the directory of the archive at `path` and each member's header.
+    pub fn open(path: &Path) -> Result<Npz> {
+        let file = path.display().to_string();
+        let error = |e: &dyn std::fmt::Display| data_error(&file, "", e);
+        let opened = File::open(path).map_err(|e| error(&e))?;
+        let length = opened.metadata().map_err(|e| error(&e))?.len();
+        let mut archive = ZipArchive::new(BufReader::new(opened))
+            .map_err(|e| error(&format!("not an .npz (zip) archive: {e}")))?;
+        let mut raw = File::open(path).map_err(|e| error(&e))?;
+        let mut members = Vec::with_capacity(archive.len());
+        for index in 0..archive.len() {
+            let entry = archive.by_index_raw(index).map_err(|e| error(&e))?;
+            if entry.is_dir() {
+                continue;
+            }
+            let name = entry.name();
+            let name = name.strip_suffix(".npy").unwrap_or(name).to_string();
+            let stored = (entry.compression() == CompressionMethod::Stored).then(|| Stored {
+                start: entry.data_start(),
+                size: entry.compressed_size(),
+                crc: entry.crc32(),
+            });
+            drop(entry);
+            let header = match stored {
+                Some(s) if s.start.checked_add(s.size).is_none_or(|end| end > length) => {
+                    Err(format!(
+                        "the archive is truncated: member '{name}.npy' needs bytes {} to {}, the file has {length}",
+                        s.start,
+                        s.start.saturating_add(s.size)
+                    ))
+                }
+                Some(s) => {
+                    raw.seek(SeekFrom::Start(s.start)).map_err(|e| error(&e))?;
+                    read_header(BufReader::new((&mut raw).take(s.size)))
+                }
+                None => match archive.by_index(index) {
+                    Ok(inflating) => read_header(BufReader::new(inflating)),
+                    Err(e) => Err(e.to_string()),
+                },
+            };
+            members.push(Member {
+                name,
+                header,
+                index,
+                stored,
+            });
+        }
+        members.sort_by(|a, b| a.name.cmp(&b.name));
+        Ok(Npz {
+            file,
+            path: path.to_path_buf(),
+            members,
+        })
+    }
+
+    /// Reads the data of `member` (whose header is usable: `header`).
+    pub fn read(&self, member: &Member, header: &Header) -> Result<NamedArray> {
+        let (file, name) = (self.file.as_str(), member.name.as_str());
+        let error = |e: &dyn std::fmt::Display| data_error(file, name, e);
+        let mut opened = File::open(&self.path).map_err(|e| error(&e))?;
+        let Some(stored) = member.stored else {
+            let mut archive = ZipArchive::new(BufReader::new(opened)).map_err(|e| error(&e))?;
+            let mut bytes = Vec::new();
+            archive
+                .by_index(member.index)
+                .and_then(|mut m| Ok(m.read_to_end(&mut bytes)?))
+                .map_err(|e| error(&format!("inflating '{name}.npy': {e}")))?;
+            let mut slice = bytes.as_slice();
+            read_header(&mut slice).map_err(|e| error(&e))?;
+            let available = slice.len() as u64;
+            return read_data(&mut slice, header, available, name, file);
+        };
+        opened
+            .seek(SeekFrom::Start(stored.start))
+            .map_err(|e| error(&e))?;
+        let mut reader = BufReader::with_capacity(
+            1 << 16,
+            Crc {
+                inner: opened.take(stored.size),
+                hasher: crc32fast::Hasher::new(),
+            },
+        );
+        read_header(&mut reader).map_err(|e| error(&e))?;
+        // What the BufReader took from the member but has not handed out yet.
+        let consumed = stored.size - reader.get_ref().inner.limit() - reader.buffer().len() as u64;
+        let array = read_data(&mut reader, header, stored.size - consumed, name, file)?;
+        // The CRC covers the whole member, whatever follows the data.
+        std::io::copy(&mut reader, &mut std::io::sink()).map_err(|e| error(&e))?;
+        let crc = reader.into_inner().hasher.finalize();
+        if crc != stored.crc {
+            return Err(error(&format!(
+                "member '{name}.npy' is damaged: its CRC-32 is {crc:08x}, the archive's directory says {:08x}",
+                stored.crc
+            )));
+        }
+        Ok(array)
+    }
+}
