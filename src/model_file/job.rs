@@ -310,6 +310,7 @@ impl Context<'_> {
         let mut time_jitter = Vec::new();
         let mut inputs = Vec::new();
         for (k, r) in list.iter().enumerate() {
+            crate::cancel::check("reading the records")?;
             let read = self.at(r, |r| {
                 let mode = match &spec.non_periodic {
                     None => Mode::Periodic,
