@@ -62,7 +62,7 @@ pub fn check(what: &str) -> Result<()> {
     if COUNTDOWN.load(Ordering::Relaxed) != u64::MAX {
         // Counts down to 0, then sets the flag; concurrent checks may each take one.
         let left = COUNTDOWN.fetch_update(Ordering::SeqCst, Ordering::SeqCst, |n| {
-            (n != u64::MAX).then(|| n.saturating_sub(1))
+            (n != u64::MAX).then_some(n.saturating_sub(1))
         });
         if left == Ok(0) {
             request();

@@ -389,7 +389,7 @@ fn require_stacks(blocks: &[Regressor], settings: &DesignSettings, p: usize) -> 
         .filter(|k| !settings.start.contains(k))
         .map(|k| blocks[k].equations() as u128)
         .collect();
-    others.sort_unstable_by(|a, b| b.cmp(a));
+    others.sort_unstable_by_key(|&rows| std::cmp::Reverse(rows));
     let rows: u128 = settings
         .start
         .iter()
