@@ -335,6 +335,15 @@ pub enum Error {
         reason: String,
     },
 
+    /// Long work stopped at a check between steps because cancellation was requested
+    /// (Ctrl-C in the command line; [`crate::cancel::request`]). No result, and no
+    /// output file, is produced.
+    #[error("cancelled: {what} stopped before it finished; nothing was written")]
+    Cancelled {
+        /// The work that stopped (`the simulation`, `the bootstrap`).
+        what: String,
+    },
+
     /// Writing an output file failed (its temporary file is removed, the target is
     /// left as it was).
     #[error("could not write '{path}': {message}")]
@@ -380,6 +389,7 @@ pub const KINDS: &[&str] = &[
     "infeasible_constraints",
     "too_large",
     "output_exists",
+    "cancelled",
     "output",
 ];
 
@@ -415,6 +425,7 @@ impl Error {
             Error::InfeasibleConstraints { .. } => "infeasible_constraints",
             Error::TooLarge { .. } => "too_large",
             Error::OutputExists { .. } => "output_exists",
+            Error::Cancelled { .. } => "cancelled",
             Error::Output { .. } => "output",
         }
     }

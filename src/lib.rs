@@ -57,6 +57,7 @@
 
 pub mod analysis;
 pub mod budget;
+pub mod cancel;
 pub mod error;
 pub mod fit;
 pub mod format;

@@ -386,6 +386,8 @@ impl Record {
 
 /// Column j of a column-major matrix view as a slice.
 pub(crate) fn col<'a>(m: MatRef<'a, f64>, j: usize) -> &'a [f64] {
+    // cannot fail: faer's Mat (every matrix a record holds) has unit row stride, and so
+    // have its column and row-range views, the only views passed here.
     m.col(j)
         .try_as_col_major()
         .expect("dampid stores matrices column-major")

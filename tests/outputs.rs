@@ -131,3 +131,47 @@ fn the_html_report_is_never_replaced_silently() {
     assert!(entries(&folder).iter().all(|n| !n.ends_with(".tmp")));
     std::fs::remove_dir_all(&folder).ok();
 }
+
+/// Ctrl-C during `simulate --out` (SIGINT to the child while it simulates a long
+/// transient): the run stops at its next check, exits with 130 naming the cancelled
+/// work, and leaves neither the output folder's files nor a temporary file.
+#[cfg(unix)]
+#[test]
+fn ctrl_c_during_simulate_leaves_no_file() {
+    let folder = scratch("ctrl-c");
+    // four_mass.toml with 10⁹ transient steps: minutes of work at any speed.
+    let model = folder.join("long.toml");
+    let long = std::fs::read_to_string(MODEL)
+        .unwrap()
+        .replace("transient_steps = 1000", "transient_steps = 1000000000");
+    assert!(long.contains("1000000000"));
+    std::fs::write(&model, long).unwrap();
+    let out = folder.join("run");
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_dampid"))
+        .args(["--no-time-limit", "simulate"])
+        .arg(&model)
+        .arg("--out")
+        .arg(&out)
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let kill = std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let started = std::time::Instant::now();
+    let output = child.wait_with_output().unwrap();
+    let error = text(&output.stderr);
+    assert_eq!(output.status.code(), Some(130), "{error}");
+    assert!(error.contains("cancelled"), "{error}");
+    assert!(started.elapsed() < std::time::Duration::from_secs(10));
+    assert!(
+        !out.exists() || entries(&out).is_empty(),
+        "{:?}",
+        entries(&out)
+    );
+    assert_eq!(entries(&folder), ["long.toml"]);
+    std::fs::remove_dir_all(&folder).ok();
+}

@@ -25,10 +25,12 @@ use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use crate::error::{Error, Result};
 use crate::fit::svd::{numerical_rank, scaled_singular_values};
 use crate::fit::{FitMethod, FitSettings, solve};
+use crate::progress::Progress;
 use crate::regressor::Regressor;
 
 /// How many replicates, from which seed, at which confidence level.
@@ -149,6 +151,18 @@ pub fn bootstrap(
     fit: &FitSettings,
     settings: &BootstrapSettings,
 ) -> Result<Bootstrap> {
+    bootstrap_with_progress(regressor, fit, settings, &crate::progress::silent)
+}
+
+/// [`bootstrap`], calling `progress(done, total)` in replicates as they finish (from
+/// the worker threads, in any order; `done` counts up). It checks
+/// [`crate::cancel::check`] before each replicate.
+pub fn bootstrap_with_progress(
+    regressor: &Regressor,
+    fit: &FitSettings,
+    settings: &BootstrapSettings,
+    progress: Progress<'_>,
+) -> Result<Bootstrap> {
     settings.validate()?;
     fit.validate()?;
     let m = regressor.equations();
@@ -170,7 +184,7 @@ pub fn bootstrap(
         "reduce the replicates (--bootstrap N); 1000 to 2000 give 95% intervals",
     )?;
     let full_rank = rank_of(regressor, fit.rank_tolerance);
-    let replicate = |k: usize| -> Result<Option<Vec<f64>>> {
+    let one_replicate = |k: usize| -> Result<Option<Vec<f64>>> {
         let mut rng = replicate_rng(settings.seed, k);
         let rows: Vec<usize> = (0..m).map(|_| rng.random_range(0..m)).collect();
         // The rows keep their noise model, so a weighted fit stays weighted.
@@ -183,6 +197,14 @@ pub fn bootstrap(
             Ok(_) | Err(Error::Numerical { .. }) => Ok(None),
             Err(e) => Err(e),
         }
+    };
+    let total = settings.replicates as u64;
+    let done = AtomicU64::new(0);
+    let replicate = |k: usize| -> Result<Option<Vec<f64>>> {
+        crate::cancel::check("the bootstrap")?;
+        let kept = one_replicate(k)?;
+        progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
+        Ok(kept)
     };
     // The first replicates run one by one and time the rest: each replicate k has its
     // own seeded generator, so the split changes no result.

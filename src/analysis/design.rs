@@ -27,9 +27,12 @@ use faer::Mat;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use std::sync::atomic::{AtomicU64, Ordering};
+
 use crate::error::{Error, Result};
 use crate::fit::svd::{numerical_rank, scaled_singular_values};
 use crate::model::DampingModel;
+use crate::progress::Progress;
 use crate::record::Record;
 use crate::regressor::{Regressor, RegressorSettings};
 use crate::simulate::{HarmonicForce, SimSettings, System, simulate};
@@ -208,9 +211,25 @@ pub fn simulate_candidates(
     candidates: &[HarmonicForce],
     simulation: &SimSettings,
 ) -> Result<Vec<Record>> {
+    // Every candidate's record is held at once: x and v (N × n) and its one force
+    // channel (N × 1), N recorded steps.
+    let values = (candidates.len() as u128)
+        .saturating_mul(simulation.recorded_steps as u128)
+        .saturating_mul(2 * system.dofs() as u128 + 1);
+    crate::budget::require(
+        &format!(
+            "{} design candidates of {} recorded steps × {} DOFs",
+            candidates.len(),
+            simulation.recorded_steps,
+            system.dofs()
+        ),
+        crate::budget::f64s(values),
+        "reduce the candidates or `recorded_steps`",
+    )?;
     candidates
         .par_iter()
         .map(|force| {
+            crate::cancel::check("simulating the design candidates")?;
             let mut one = system.clone();
             one.forcing = vec![*force];
             let mut parts = simulate(&one, simulation)?.into_parts();
@@ -241,10 +260,47 @@ pub fn select(
     regressor: &RegressorSettings,
     settings: &DesignSettings,
 ) -> Result<DesignReport> {
+    select_with_progress(
+        model,
+        records,
+        regressor,
+        settings,
+        &crate::progress::silent,
+    )
+}
+
+/// The units of work of a selection: one regressor block per candidate, then one
+/// evaluation per remaining candidate at each of the (at most) `picks` steps,
+/// Σ_{i<q} (c − s − i) with c candidates, s started with and q = min(picks, c − s).
+fn work_units(candidates: usize, started: usize, picks: usize) -> u64 {
+    let left = candidates.saturating_sub(started);
+    let steps = picks.min(left);
+    (0..steps).map(|i| (left - i) as u64).sum::<u64>() + candidates as u64
+}
+
+/// [`select`], calling `progress(done, total)` in units of [`work_units`] (blocks
+/// built, then candidate evaluations; the count jumps to the end when the target
+/// condition number stops the selection early). It checks [`crate::cancel::check`]
+/// before each unit.
+pub fn select_with_progress(
+    model: &DampingModel,
+    records: &[Record],
+    regressor: &RegressorSettings,
+    settings: &DesignSettings,
+    progress: Progress<'_>,
+) -> Result<DesignReport> {
     settings.validate(records.len())?;
+    let total = work_units(records.len(), settings.start.len(), settings.picks);
+    let done = AtomicU64::new(0);
+    let tick = || progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
     let blocks: Vec<Regressor> = records
         .par_iter()
-        .map(|r| Regressor::build(model, std::slice::from_ref(r), regressor))
+        .map(|r| {
+            crate::cancel::check("the design")?;
+            let block = Regressor::build(model, std::slice::from_ref(r), regressor);
+            tick();
+            block
+        })
         .collect::<Result<_>>()?;
     // Every column of the regressor: the damping coefficients, and in the non-periodic
     // mode the stored-energy and offset unknowns, which compete with them for the data.
@@ -252,6 +308,7 @@ pub fn select(
         .first()
         .map_or_else(|| model.coefficient_names(), |b| b.columns().to_vec());
     let p = columns.len();
+    require_stacks(&blocks, settings, p)?;
     let labels: Vec<String> = records.iter().map(|r| r.label().to_string()).collect();
     let mut selected: Vec<usize> = settings.start.clone();
     let mut steps = Vec::new();
@@ -285,11 +342,14 @@ pub fn select(
         let scored: Vec<(usize, State)> = remaining
             .par_iter()
             .map(|&k| {
+                crate::cancel::check("the design")?;
                 let mut trial = selected.clone();
                 trial.push(k);
-                (k, evaluate(&blocks, &trial, p, settings))
+                let state = evaluate(&blocks, &trial, p, settings);
+                tick();
+                Ok((k, state))
             })
-            .collect();
+            .collect::<Result<_>>()?;
         let mut best: Option<&(usize, State)> = None;
         for candidate in &scored {
             let better = match best {
@@ -307,6 +367,7 @@ pub fn select(
         chosen.push(k);
         steps.push(step(Some(k), labels[k].clone(), state));
     }
+    progress(total, total);
     Ok(DesignReport {
         criterion: settings.criterion,
         coefficients: columns,
@@ -316,6 +377,32 @@ pub fn select(
         steps,
         target_condition: settings.target_condition,
     })
+}
+
+/// Checks the memory of the candidate evaluations before any: each evaluation stacks
+/// its selection's rows, at most the start blocks and the `picks` largest others, R
+/// rows × p columns, and its SVD holds about 3 such matrices (the stack, its scaled
+/// copy, the factor's workspace); up to T evaluations (the rayon threads) run at once:
+/// 8 · 3 · T · R · p bytes.
+fn require_stacks(blocks: &[Regressor], settings: &DesignSettings, p: usize) -> Result<()> {
+    let mut others: Vec<u128> = (0..blocks.len())
+        .filter(|k| !settings.start.contains(k))
+        .map(|k| blocks[k].equations() as u128)
+        .collect();
+    others.sort_unstable_by_key(|&rows| std::cmp::Reverse(rows));
+    let rows: u128 = settings
+        .start
+        .iter()
+        .map(|&k| blocks[k].equations() as u128)
+        .chain(others.into_iter().take(settings.picks))
+        .sum::<u128>()
+        .max(p as u128);
+    let threads = rayon::current_num_threads().min(blocks.len()).max(1) as u128;
+    crate::budget::require(
+        &format!("evaluating designs of up to {rows} equations × {p} columns"),
+        crate::budget::f64s(rows.saturating_mul(p as u128).saturating_mul(3 * threads)),
+        "reduce the picks, the candidates' windows, or the model's coefficients",
+    )
 }
 
 /// Rank, condition number and log det of a stacked selection.

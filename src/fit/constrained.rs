@@ -540,6 +540,7 @@ fn polish(
                 side[j] = becomes;
             }
         } else {
+            // cannot fail: an empty list returned above.
             let (j, becomes) = *infeasible.last().expect("not empty");
             side[j] = becomes;
         }

@@ -315,6 +315,7 @@ impl Context<'_> {
             list.iter().map(|r| base.join(&r.get_ref().file)).collect();
         let mut files = DataFiles::new(paths.iter().map(|p| p.as_path()));
         for (k, r) in list.iter().enumerate() {
+            crate::cancel::check("reading the records")?;
             let read = self.at(r, |r| {
                 let mode = match &spec.non_periodic {
                     None => Mode::Periodic,

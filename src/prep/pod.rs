@@ -167,6 +167,18 @@ impl Pod {
             });
         }
         settings.retain.validate(n)?;
+        // R, its symmetric copy, the eigenvectors and the eigensolver's workspace (about
+        // 4 n × n), the parallel partial sums (up to MAX_CHUNKS n × n), and the centred
+        // rows of a chunk (CENTRED_ROWS × n): checked before any of them is allocated.
+        let n2 = (n as u128).saturating_mul(n as u128);
+        crate::budget::require(
+            &format!("a POD of {n} sensors (its {n} × {n} correlation matrix)"),
+            crate::budget::f64s(
+                n2.saturating_mul(MAX_CHUNKS as u128 + 4)
+                    .saturating_add((CENTRED_ROWS as u128).saturating_mul(n as u128)),
+            ),
+            "use fewer sensors (displacement columns) for the POD",
+        )?;
         let mut mean = vec![0.0; n];
         if settings.remove_mean {
             for block in blocks {
@@ -309,6 +321,21 @@ impl Pod {
     /// label gains " [m POMs]".
     pub fn project(&self, record: &Record) -> Result<Record> {
         self.check_dofs(record.dofs(), "DOFs of the record vs the POD basis")?;
+        // The projector (n × n), the centred and projected displacements (2 N × n) and
+        // the projected velocities (N × n).
+        let (samples, n) = (record.samples() as u128, self.dofs() as u128);
+        crate::budget::require(
+            &format!(
+                "the POD projection of {} samples × {} sensors",
+                record.samples(),
+                self.dofs()
+            ),
+            crate::budget::f64s(
+                n.saturating_mul(n)
+                    .saturating_add(samples.saturating_mul(n).saturating_mul(3)),
+            ),
+            "use fewer samples (a shorter record) or fewer sensors",
+        )?;
         let u = self.retained_modes();
         let projector = u * u.transpose();
         let x = record.displacements();

@@ -15,7 +15,7 @@ use rand::rngs::StdRng;
 use rand_distr::{Distribution, Normal};
 
 use super::dashpot_chain::chain_dashpots;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::model::DampingModel;
 use crate::record::Record;
 use crate::simulate::chain_stiffness;
@@ -138,8 +138,15 @@ pub fn with_displacement_noise(records: &[Record], level: f64, seed: u64) -> Res
                 }
             }
             let sigma = level * (sum_sq / count).sqrt();
-            // σ = 0 (no noise asked) is a valid normal distribution in rand_distr.
-            let normal = Normal::new(0.0, sigma).expect("σ ≥ 0 and finite");
+            // σ = 0 (no noise asked) is a valid normal distribution in rand_distr; a
+            // negative or non-finite level is the caller's error.
+            let normal = Normal::new(0.0, sigma).map_err(|_| {
+                Error::invalid(
+                    "noise level",
+                    level,
+                    "must be finite and ≥ 0 (a fraction of the RMS displacement)",
+                )
+            })?;
             let (rows, columns) = x.shape();
             for j in 0..columns {
                 for i in 0..rows {

@@ -51,10 +51,14 @@ pub(crate) fn map_windows<T: Send>(
     windows: &[Window],
     row: impl Fn(&Window) -> Result<T> + Sync + Send,
 ) -> Result<Vec<T>> {
+    let checked = |w: &Window| {
+        crate::cancel::check("building the regressor")?;
+        row(w)
+    };
     if parallel {
-        windows.par_iter().map(row).collect()
+        windows.par_iter().map(checked).collect()
     } else {
-        windows.iter().map(row).collect()
+        windows.iter().map(checked).collect()
     }
 }
 

@@ -115,6 +115,7 @@ fn record_weights(
         .iter()
         .zip(&ratios)
         .map(|(record, &ratio)| {
+            // cannot fail: `distinct` was built from these same ratios by `key`.
             let unit = distinct
                 .iter()
                 .position(|&d| key(d) == key(ratio))

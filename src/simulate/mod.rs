@@ -370,6 +370,7 @@ pub fn simulate_with_progress(
             });
         }
         if (step + 1) % 64 == 0 {
+            crate::cancel::check("the simulation")?;
             stopwatch.check(
                 (step + 1) as u64,
                 total as u64,

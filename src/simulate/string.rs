@@ -285,6 +285,9 @@ pub fn simulate_string(system: &StringSystem, settings: &SimSettings) -> Result<
         for sub in 0..settings.substeps {
             rk.step(t_sample + sub as f64 * h, h, &mut state, &mut derivative);
         }
+        if (step + 1) % 64 == 0 {
+            crate::cancel::check("the string simulation")?;
+        }
         if state.iter().any(|s| !s.is_finite()) {
             return Err(Error::Numerical {
                 stage: "string simulation".into(),

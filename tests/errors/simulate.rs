@@ -223,3 +223,37 @@ fn system_matrices_and_coefficients_are_checked() {
         })
     ));
 }
+
+/// A design whose candidates' records would not fit in memory together is `TooLarge`
+/// before the first simulation: 1000 candidates × 10¹² recorded steps × (2·2 + 1)
+/// values of 8 bytes is 4·10¹⁶ bytes, naming the candidates and `recorded_steps`.
+#[test]
+fn design_candidates_beyond_memory_are_too_large() {
+    let mut settings = sim_settings();
+    settings.recorded_steps = 1_000_000_000_000;
+    let force = system().forcing[0];
+    let candidates = vec![force; 1000];
+    let e = dampid::analysis::design::simulate_candidates(&system(), &candidates, &settings)
+        .unwrap_err();
+    assert_eq!(e.kind(), "too_large");
+    let message = e.to_string();
+    assert!(
+        message.contains("1000 design candidates") && message.contains("recorded_steps"),
+        "{message}"
+    );
+}
+
+/// A POD of 10⁵ sensors needs its 10⁵ × 10⁵ correlation matrix (and partial sums of
+/// that size): about 1.6 TB, refused before allocating it, naming the sensors. The
+/// samples themselves (1 × 10⁵) are small.
+#[test]
+fn pod_of_too_many_sensors_is_too_large() {
+    let x = Mat::from_fn(1, 100_000, |_, j| 1.0 + j as f64);
+    let settings = PodSettings {
+        retain: Retain::Count(1),
+        ..PodSettings::default()
+    };
+    let e = Pod::from_displacements(x.as_ref(), &settings).unwrap_err();
+    assert_eq!(e.kind(), "too_large");
+    assert!(e.to_string().contains("100000 sensors"), "{e}");
+}

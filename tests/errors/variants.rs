@@ -68,6 +68,9 @@ fn every_variant_is_reachable() {
             identify(&zero, &[record()], &measured()).unwrap_err()
         },
         existing_output(),
+        // A flag of the caller's own: the process-wide one would stop the other tests.
+        dampid::cancel::check_flag(&std::sync::atomic::AtomicBool::new(true), "the simulation")
+            .unwrap_err(),
         {
             let mut huge = sim_settings();
             huge.recorded_steps = 1_000_000_000_000_000;

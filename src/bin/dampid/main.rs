@@ -1,7 +1,9 @@
 //! The `dampid` command line: parse the arguments (args.rs), run the command through
 //! the library, print what it returns. The library composes every report; this file
 //! only draws progress bars, writes the HTML page where asked, and maps errors and
-//! untrusted results to exit codes 2 and 1.
+//! untrusted results to exit codes 2 and 1. Ctrl-C sets `dampid::cancel`: the running
+//! work stops at its next step, nothing is written, and the exit code is 130 (128 +
+//! SIGINT, as a shell reports a process stopped by Ctrl-C).
 
 mod args;
 
@@ -12,7 +14,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, bail};
 use clap::Parser;
-use dampid::analysis::bootstrap::{BootstrapSettings, bootstrap as bootstrap_intervals};
+use dampid::analysis::bootstrap::{BootstrapSettings, bootstrap_with_progress};
 use dampid::io::output::Overwrite;
 use dampid::io::pod_files::{Columns, PodTables, pod_of_files};
 use dampid::model_file::{CheckReport, Job, load_with_progress};
@@ -40,6 +42,11 @@ fn main() -> ExitCode {
     // with faer sequential every result is bitwise the same at any RAYON_NUM_THREADS
     // (tests/threads.rs).
     faer::set_global_parallelism(faer::Par::Seq);
+    // Without a handler Ctrl-C would kill the process mid-step; with it the library
+    // returns Error::Cancelled at its next check and the temporary files are removed.
+    // If the handler cannot be installed, Ctrl-C keeps its default (outputs are still
+    // written through temporary files, so none is left partial).
+    let _ = signal_hook::flag::register(signal_hook::consts::SIGINT, dampid::cancel::flag());
     match run(Cli::parse()) {
         Ok(outcome) => {
             // A closed pipe (`dampid … | head`) is not an error of ours.
@@ -52,7 +59,11 @@ fn main() -> ExitCode {
         }
         Err(e) => {
             eprintln!("error: {e:#}");
-            ExitCode::from(2)
+            let cancelled = e
+                .chain()
+                .filter_map(|cause| cause.downcast_ref::<dampid::Error>())
+                .any(|cause| matches!(cause.innermost(), dampid::Error::Cancelled { .. }));
+            ExitCode::from(if cancelled { 130 } else { 2 })
         }
     }
 }
@@ -136,13 +147,18 @@ fn progress_bar(message: &'static str) -> ProgressBar {
     bar
 }
 
+/// `progress(done, total)` drawn on `bar` (hidden when stderr is not a terminal).
+fn on_bar(bar: &ProgressBar) -> impl Fn(u64, u64) + Sync + '_ {
+    move |done, total| {
+        bar.set_length(total);
+        bar.set_position(done);
+    }
+}
+
 /// Loads a model file with a progress bar over simulating or reading its records.
 fn load_job(path: &Path) -> anyhow::Result<Job> {
     let bar = progress_bar("records");
-    let job = load_with_progress(path, &|done, total| {
-        bar.set_length(total);
-        bar.set_position(done);
-    });
+    let job = load_with_progress(path, &on_bar(&bar));
     bar.finish_and_clear();
     Ok(job?)
 }
@@ -205,7 +221,11 @@ fn identify(
             &regressor,
         ));
     if let Some(settings) = bootstrap {
-        let intervals = bootstrap_intervals(&regressor, &job.settings.fit, &settings)?;
+        let bar = progress_bar("bootstrap");
+        let intervals =
+            bootstrap_with_progress(&regressor, &job.settings.fit, &settings, &on_bar(&bar));
+        bar.finish_and_clear();
+        let intervals = intervals?;
         report = report.with_bootstrap(intervals);
     }
     let mut out = String::new();
@@ -377,12 +397,16 @@ fn design(path: &Path, as_json: bool) -> anyhow::Result<Outcome> {
         );
     }
     let settings = job.design.clone().unwrap_or_default();
-    let report = dampid::analysis::design::select(
+    let bar = progress_bar("design");
+    let report = dampid::analysis::design::select_with_progress(
         &job.model,
         &job.records,
         &job.settings.regressor,
         &settings,
-    )?;
+        &on_bar(&bar),
+    );
+    bar.finish_and_clear();
+    let report = report?;
     let text = if as_json {
         format!("{}\n", serde_json::to_string_pretty(&report)?)
     } else {
@@ -405,6 +429,8 @@ fn write_records(path: &Path, folder: &Path, overwrite: Overwrite) -> anyhow::Re
             path.display()
         );
     }
+    // Ctrl-C after the last simulation step: still nothing written.
+    dampid::cancel::check("simulate --out")?;
     let source = path.display().to_string();
     let run = dampid::io::run::write_run(folder, &job.source_records, &source, overwrite)?;
     let mut out = String::new();

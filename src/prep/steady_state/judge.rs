@@ -115,6 +115,8 @@ pub(super) fn check_window(
             best = Some(judged);
         }
     }
+    // cannot fail: compared_spans returns Err rather than an empty list, and every span
+    // sets `best` or returns.
     Ok(best.expect("at least one span"))
 }
 
@@ -271,6 +273,8 @@ fn judge(
         let excess = |c: &(&str, usize, f64, f64, f64)| {
             ratio(c.2, (settings.max_state_mismatch * c.4).max(z * c.3))
         };
+        // cannot fail: two components per DOF, and Record::new refuses a record
+        // without DOFs.
         let worst = components
             .iter()
             .max_by(|a, b| excess(a).total_cmp(&excess(b)))

@@ -109,6 +109,8 @@ pub(crate) fn group_sums(
             for (member, sum) in members.iter_mut().zip(sums) {
                 *member = match *sum {
                     Sum::Power { law, a, b } => {
+                        // cannot fail: the plan fuses only sums whose law has a power
+                        // form (plan.rs, `fusable`), and a law's form is fixed.
                         let form = law.power_form().expect("fusable sums have a power form");
                         match b {
                             None => Member {

@@ -141,6 +141,8 @@ impl<'m> Plan<'m> {
         for (term, range) in model.term_columns() {
             match term {
                 Term::Matrix(_) => {
+                    // cannot fail: matrix_entries holds one list per matrix term of
+                    // this same model, in term order.
                     let entries = matrix_entries
                         .next()
                         .expect("one entry list per matrix term");

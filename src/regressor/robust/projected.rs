@@ -160,6 +160,7 @@ impl ProjectedWindow {
 
     fn variances(&self, channel: usize) -> &(Sensor, Vec<f64>, Vec<f64>) {
         let kind = self.sensors[channel];
+        // cannot fail: `new` forms one variance pair per sensor kind in `sensors`.
         self.variances
             .iter()
             .find(|(k, _, _)| *k == kind)

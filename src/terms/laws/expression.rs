@@ -6,6 +6,14 @@
 //! `tanh`, …, constants `PI`, `E`) plus `sign(v)`, which is 0 at 0 (exmex's `signum`
 //! is 1 there). Identifiers other than `x` and `v` are rejected when parsing, so a typo
 //! cannot become a silent free variable.
+//!
+//! Length is capped at [`MAX_EXPRESSION_BYTES`]. exmex evaluates a flat expression by
+//! applying its operators in priority order and finding each operand's nearest
+//! unconsumed neighbour in a bit set; after k additions the accumulated sum sits k
+//! operands back, so a sum of n terms costs O(n²/64) word scans per sample (measured:
+//! `examples/expression_length.rs`). A real damping law is a few dozen characters; the
+//! cap keeps every evaluation at microseconds and refuses a generated megabyte up front
+//! instead of running for minutes.
 
 use std::sync::Arc;
 
@@ -47,6 +55,18 @@ pub(super) const REGISTRATION: LawRegistration = LawRegistration::new(
 )
 .with_expression();
 
+/// The longest expression accepted, in bytes (about 700 terms such as `0.5*v*abs(v)+`):
+/// beyond it, evaluation cost grows with the square of the length (module docs).
+pub const MAX_EXPRESSION_BYTES: usize = 10_000;
+
+/// The first characters of a long expression, for messages.
+fn excerpt(text: &str) -> String {
+    match text.char_indices().nth(60) {
+        Some((end, _)) => format!("{}… ({} bytes)", &text[..end], text.len()),
+        None => text.to_string(),
+    }
+}
+
 /// A damping law f(x, v) given as text.
 #[derive(Debug, Clone)]
 pub struct Expression {
@@ -58,6 +78,15 @@ pub struct Expression {
 impl Expression {
     /// Parses `text`; only the variables `x` and `v` are allowed.
     pub fn parse(text: &str) -> Result<Self> {
+        if text.len() > MAX_EXPRESSION_BYTES {
+            return Err(Error::Expression {
+                expression: excerpt(text),
+                message: format!(
+                    "the expression is {} bytes long, beyond the limit of {MAX_EXPRESSION_BYTES} bytes (evaluation time grows with the square of the length): write the law in fewer terms, or as a custom law in Rust (terms::laws::Custom)",
+                    text.len()
+                ),
+            });
+        }
         let parsed = Parsed::parse(text).map_err(|e| Error::Expression {
             expression: text.to_string(),
             message: e.to_string(),
@@ -159,5 +188,30 @@ mod tests {
             Expression::parse("v*(x"),
             Err(Error::Expression { .. })
         ));
+    }
+
+    /// At the cap an expression parses; one byte more is refused, naming the limit,
+    /// with a short excerpt instead of the whole text.
+    #[test]
+    fn length_is_capped() {
+        // "v+" repeated, ending in "v": 2k + 1 bytes.
+        let at_cap = format!("{}v", "v+".repeat((MAX_EXPRESSION_BYTES - 1) / 2));
+        assert!(at_cap.len() <= MAX_EXPRESSION_BYTES);
+        let law = Expression::parse(&at_cap).unwrap();
+        // n = 5000 terms of v: f = 5000 v.
+        let n = at_cap.len().div_ceil(2) as f64;
+        assert!((law.force(0.0, 0.5) - 0.5 * n).abs() < 1e-9 * n);
+        let over = format!("{}v", "v+".repeat(MAX_EXPRESSION_BYTES / 2));
+        assert!(over.len() > MAX_EXPRESSION_BYTES);
+        match Expression::parse(&over) {
+            Err(Error::Expression {
+                expression,
+                message,
+            }) => {
+                assert!(message.contains("10000 bytes"), "{message}");
+                assert!(expression.len() < 100, "{expression}");
+            }
+            other => panic!("{other:?}"),
+        }
     }
 }

@@ -33,6 +33,8 @@ macro_rules! builtin_laws {
     };
 }
 
+pub use expression::MAX_EXPRESSION_BYTES;
+
 builtin_laws! {
     linear => Linear,
     quadratic => Quadratic,
