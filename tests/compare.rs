@@ -248,3 +248,38 @@ fn empty_regressors_are_typed_errors() {
         Err(Error::Empty { .. })
     ));
 }
+
+/// A model that wins the F-test only through a negative Coulomb coefficient is flagged.
+/// Columns c = (1, 2, 3, 4) and friction = (1, 1, 1, 1); b = c − 0.5 friction plus
+/// (0, 0.01, −0.01, 0): least squares with both gives friction ≈ −0.5 and a tiny
+/// residual, c alone cannot follow the offset, so the larger model is "needed"; the
+/// conclusion says its preference rests on negative damping and that c alone is physical.
+#[test]
+fn negative_coulomb_winning_is_flagged() {
+    let c = [1.0, 2.0, 3.0, 4.0];
+    let b = [0.5, 1.51, 2.49, 3.5];
+    let with = regressor(&[("c", &c), ("friction", &X)], &b);
+    let without = regressor(&[("c", &c)], &b);
+    let comparison = compare_regressors(
+        ("with_friction", &with),
+        ("viscous", &without),
+        &CompareSettings::default(),
+    )
+    .unwrap();
+    assert_eq!(comparison.verdict, Verdict::LargerNeeded);
+    assert!(comparison.first.values[1] < -0.4);
+    let text = &comparison.text;
+    assert!(text.contains("caution: with_friction is preferred with negative damping (friction = -"), "{text}");
+    assert!(text.contains("while viscous is physical"), "{text}");
+    // Physical coefficients: no caution.
+    let b = [1.5, 2.51, 3.49, 4.5];
+    let with = regressor(&[("c", &c), ("friction", &X)], &b);
+    let without = regressor(&[("c", &c)], &b);
+    let comparison = compare_regressors(
+        ("with_friction", &with),
+        ("viscous", &without),
+        &CompareSettings::default(),
+    )
+    .unwrap();
+    assert!(!comparison.text.contains("caution"), "{}", comparison.text);
+}

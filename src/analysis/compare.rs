@@ -23,7 +23,10 @@
 //! larger model is needed when p < level (default 0.05), else the smaller suffices.
 //! AIC and BIC are reported beside it, and the conclusion says when they disagree. The
 //! F-test assumes errors of one variance; equations of very different amplitude violate
-//! that, so read p as a guide, not an exact probability.
+//! that, so read p as a guide, not an exact probability. A preferred model with a
+//! negative coefficient (a damper that feeds energy in) is flagged in the conclusion:
+//! least squares lets a negative Coulomb or viscous term absorb a missing mechanism, so
+//! its winning says nothing about physics until the nonnegative fits agree.
 
 use std::fmt;
 
@@ -426,6 +429,34 @@ fn conclusion(c: &Comparison, small: Which, large: Which) -> String {
             name(c.aic_prefers),
             name(c.bic_prefers)
         )),
+    }
+    // A model that wins with a negative coefficient wins unphysically: say so.
+    let winner = match c.verdict {
+        Verdict::LargerNeeded => large,
+        Verdict::SmallerSuffices => small,
+        _ => c.aic_prefers,
+    };
+    let negative = |w: Which| -> Vec<String> {
+        let m = c.model(w);
+        m.coefficients
+            .iter()
+            .zip(&m.values)
+            .filter(|(_, v)| **v < 0.0)
+            .map(|(n, v)| format!("{n} = {v:.4e}"))
+            .collect()
+    };
+    let (win, lose) = (negative(winner), negative(other(winner)));
+    if !win.is_empty() {
+        text.push_str(&format!(
+            "; caution: {} is preferred with negative damping ({}){}, which feeds energy in: it is not a physical preference; compare fits with nonnegative = true",
+            name(winner),
+            win.join(", "),
+            if lose.is_empty() {
+                format!(", while {} is physical", name(other(winner)))
+            } else {
+                String::new()
+            }
+        ));
     }
     text
 }

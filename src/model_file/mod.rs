@@ -18,6 +18,8 @@ mod reduction;
 mod settings;
 pub use settings::PERIODIC_ONLY;
 mod spec;
+mod stepped_sine;
+pub use stepped_sine::SteppedSineJob;
 mod string;
 mod summary;
 mod terms;

@@ -12,7 +12,9 @@ use std::process::ExitCode;
 
 use anyhow::{Context, bail};
 use clap::Parser;
-use dampid::analysis::bootstrap::{BootstrapSettings, bootstrap as bootstrap_intervals};
+use dampid::analysis::bootstrap::{
+    BootstrapSettings, bootstrap as bootstrap_intervals, bootstrap_groups,
+};
 use dampid::io::output::Overwrite;
 use dampid::io::pod_files::{Columns, PodTables, pod_of_files};
 use dampid::model_file::{CheckReport, Job, load_with_progress};
@@ -205,9 +207,15 @@ fn identify(
             &regressor,
         ));
     if let Some(settings) = bootstrap {
-        let intervals = bootstrap_intervals(&regressor, &job.settings.fit, &settings)?;
+        // Stepped-sine tables: errors are correlated within a sweep, so whole sweeps
+        // are resampled.
+        let intervals = match job.sweeps() {
+            Some(sweeps) => bootstrap_groups(&regressor, &job.settings.fit, &settings, sweeps)?,
+            None => bootstrap_intervals(&regressor, &job.settings.fit, &settings)?,
+        };
         report = report.with_bootstrap(intervals);
     }
+    let equivalent = job.equivalent_damping(&report);
     let mut out = String::new();
     if let Some((file, overwrite)) = html {
         let page = HtmlReport {
@@ -219,7 +227,7 @@ fn identify(
             truth: job.truth.as_deref(),
             pod: job.pod.as_ref(),
         }
-        .render()?;
+        .render_with(equivalent.as_ref().and_then(|e| e.as_ref().ok()))?;
         if let Some(folder) = file.parent() {
             std::fs::create_dir_all(folder)
                 .with_context(|| format!("creating {}", folder.display()))?;
@@ -250,6 +258,10 @@ fn identify(
                 "steady_state": steady,
                 "detected_periods": job.detected_periods,
                 "pod": job.pod.as_ref().map(|r| r.reports()),
+                "equivalent_damping": equivalent.as_ref().map(|e| match e {
+                    Ok(e) => json!(e),
+                    Err(e) => json!({ "error": e.to_string() }),
+                }),
             }))?
         )?;
     } else {
@@ -263,6 +275,11 @@ fn identify(
         write!(out, "{}{report}", job.preamble(steady.as_ref()))?;
         if let Some(truth) = &job.truth {
             write!(out, "{}", report.against(truth))?;
+        }
+        match &equivalent {
+            Some(Ok(e)) => write!(out, "{e}")?,
+            Some(Err(e)) => writeln!(out, "equivalent damping not computed: {e}")?,
+            None => {}
         }
     }
     Ok(Outcome {
