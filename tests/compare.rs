@@ -269,7 +269,10 @@ fn negative_coulomb_winning_is_flagged() {
     assert_eq!(comparison.verdict, Verdict::LargerNeeded);
     assert!(comparison.first.values[1] < -0.4);
     let text = &comparison.text;
-    assert!(text.contains("caution: with_friction is preferred with negative damping (friction = -"), "{text}");
+    assert!(
+        text.contains("caution: with_friction is preferred with negative damping (friction = -"),
+        "{text}"
+    );
     assert!(text.contains("while viscous is physical"), "{text}");
     // Physical coefficients: no caution.
     let b = [1.5, 2.51, 3.49, 4.5];
@@ -282,4 +285,31 @@ fn negative_coulomb_winning_is_flagged() {
     )
     .unwrap();
     assert!(!comparison.text.contains("caution"), "{}", comparison.text);
+}
+
+/// Leave-one-out cross-validation by hand: b = (1, 2, 3, 4) on x = 1 has residuals
+/// (−1.5, −0.5, 0.5, 1.5) and leverages h_ii = 1/4, so PRESS = Σ (e_i/(3/4))² =
+/// 5 · 16/9 = 80/9 (refitting without b_1 gives mean 3, error 2 = 1.5/(3/4): the
+/// formula is the exact refit). Adding a column that fits b exactly makes every
+/// residual zero: PRESS 0 unless a leverage is 1.
+#[test]
+fn leave_one_out_cross_validation_by_hand() {
+    let small = regressor(&[("x", &X)], &B);
+    let large = regressor(&[("x", &X), ("b", &B)], &B);
+    let c = compare_regressors(
+        ("small", &small),
+        ("large", &large),
+        &CompareSettings::default(),
+    )
+    .unwrap();
+    let press = c.first.cross_validation.unwrap();
+    assert!((press - 80.0 / 9.0).abs() < 1e-12, "{press}");
+    assert!(c.second.cross_validation.unwrap() < 1e-20);
+    assert_eq!(c.cross_validation_prefers, Some(Which::Second));
+    assert!(
+        c.text
+            .contains("leave-one-out cross-validation prefers large"),
+        "{}",
+        c.text
+    );
 }

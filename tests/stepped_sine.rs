@@ -159,7 +159,10 @@ fn viscous_and_power_law_come_back_noise_free() {
     let job = job_of("clean.csv", &table_columns(C, D, None), "");
     let regressor = job.regressor().unwrap();
     assert_eq!(regressor.equations(), 75);
-    assert!(regressor.noise().is_some(), "the equations carry a noise model");
+    assert!(
+        regressor.noise().is_some(),
+        "the equations carry a noise model"
+    );
     let report = identify_regressor(&regressor, &job.settings.fit).unwrap();
     let c = report.coefficient("c").unwrap();
     let d = report.coefficient("d").unwrap();
@@ -172,7 +175,11 @@ fn viscous_and_power_law_come_back_noise_free() {
 /// within four calibrated standard errors of each estimate.
 #[test]
 fn noisy_table_is_weighted_and_calibrated() {
-    let job = job_of("noisy.csv", &table_columns(C, D, Some((7, 0.005, 0.005))), "");
+    let job = job_of(
+        "noisy.csv",
+        &table_columns(C, D, Some((7, 0.005, 0.005))),
+        "",
+    );
     let regressor = job.regressor().unwrap();
     let report = identify_regressor(&regressor, &job.settings.fit).unwrap();
     let noise = report.noise.as_ref().expect("weighted fit");
@@ -183,18 +190,17 @@ fn noisy_table_is_weighted_and_calibrated() {
         noise.degrees_of_freedom
     );
     for (name, truth) in [("c", C), ("d", D)] {
-        let estimate = report
-            .coefficients
-            .iter()
-            .find(|c| c.name == name)
-            .unwrap();
+        let estimate = report.coefficients.iter().find(|c| c.name == name).unwrap();
         let se = estimate.std_error.unwrap();
         assert!(
             (estimate.value - truth).abs() < 4.0 * se,
             "{name} = {} ± {se}, truth {truth}",
             estimate.value
         );
-        assert!(se < 0.2 * truth, "{name}: se {se} too large to mean anything");
+        assert!(
+            se < 0.2 * truth,
+            "{name}: se {se} too large to mean anything"
+        );
     }
     // Whole sweeps resampled: five groups, intervals that contain the estimate.
     let sweeps = job.sweeps().unwrap();
@@ -246,7 +252,11 @@ fn equivalent_damping_of_a_viscous_oscillator() {
         let regressor = job.regressor().unwrap();
         let report = identify_regressor(&regressor, &job.settings.fit).unwrap();
         let equivalent = job.equivalent_damping(&report).unwrap().unwrap();
-        assert!((equivalent.modal.mass - M).abs() < 1e-6, "{:?}", equivalent.modal);
+        assert!(
+            (equivalent.modal.mass - M).abs() < 1e-6,
+            "{:?}",
+            equivalent.modal
+        );
         assert!((equivalent.modal.stiffness - K).abs() < 1e-6 * K);
         for p in &equivalent.points {
             assert!((p.damping_ratio - zeta).abs() < 1e-4 * zeta, "{p:?}");
@@ -254,7 +264,11 @@ fn equivalent_damping_of_a_viscous_oscillator() {
             assert!(p.damping_ratio_std.is_some());
         }
         let text = equivalent.to_string();
-        assert!(text.contains(if extra.is_empty() { "lowest level" } else { "[system]" }));
+        assert!(text.contains(if extra.is_empty() {
+            "lowest level"
+        } else {
+            "[system]"
+        }));
     }
 }
 

@@ -9,7 +9,10 @@
 //!   AIC = m ln(RSS/m) + 2k,        BIC = m ln(RSS/m) + k ln m        (lower is better)
 //! ```
 //!
-//! (Gaussian equation errors of one variance). The models are *nested* when every
+//! (Gaussian equation errors of one variance), and leave-one-out cross-validation over
+//! the equations (points or windows), PRESS = Σ_i (e_i/(1 − h_ii))² with h_ii the
+//! leverage of equation i (the exact refit-without-i residual of least squares), which
+//! compares models that are not nested without a likelihood. The models are *nested* when every
 //! column of the smaller one lies in the column space of the larger one (relative
 //! residual of its projection below `nesting_tolerance`): a subset of terms, or one
 //! shared coefficient whose column is the sum of per-element columns. For nested models
@@ -109,6 +112,10 @@ pub struct ModelFit {
     pub aic: f64,
     /// Bayesian (Schwarz) information criterion.
     pub bic: f64,
+    /// Leave-one-out cross-validation: the sum of squared prediction errors of each
+    /// equation from a fit without it, PRESS = Σ_i (e_i/(1 − h_ii))² (in the units of
+    /// b²); `None` when an equation has leverage 1 (it cannot be predicted without itself).
+    pub cross_validation: Option<f64>,
 }
 
 /// Which of the two models.
@@ -169,6 +176,9 @@ pub struct Comparison {
     pub aic_prefers: Which,
     /// The model BIC prefers.
     pub bic_prefers: Which,
+    /// The model leave-one-out cross-validation prefers (smaller PRESS), when both
+    /// have one.
+    pub cross_validation_prefers: Option<Which>,
     /// The conclusion.
     pub verdict: Verdict,
     /// The conclusion in words.
@@ -230,6 +240,12 @@ fn solve(label: &str, r: &Regressor, tolerance: f64) -> Result<Solved> {
         }
     }
     let rss_s: f64 = (0..m).map(|i| (b_s[(i, 0)] - fitted[i]).powi(2)).sum();
+    // Leverages h_ii = ‖U_i‖² over the rank's left singular vectors (the hat matrix of
+    // the column-scaled rows, which scaling columns does not change).
+    let press_s = (0..m).try_fold(0.0, |sum, i| {
+        let h: f64 = (0..rank).map(|k| u[(i, k)] * u[(i, k)]).sum();
+        (h < 1.0 - 1e-10).then(|| sum + ((b_s[(i, 0)] - fitted[i]) / (1.0 - h)).powi(2))
+    });
     let scaling = svd.scaling();
     let rss = rss_s * scaling.rhs * scaling.rhs;
     let mf = m as f64;
@@ -245,6 +261,7 @@ fn solve(label: &str, r: &Regressor, tolerance: f64) -> Result<Solved> {
             relative_residual: rss_s.sqrt(),
             aic: log_likelihood_term + 2.0 * rank as f64,
             bic: log_likelihood_term + rank as f64 * mf.ln(),
+            cross_validation: press_s.map(|p| p * scaling.rhs * scaling.rhs),
         },
         basis,
     })
@@ -336,6 +353,10 @@ pub fn compare_regressors(
     let prefers = |x: f64, y: f64| if y < x { Which::Second } else { Which::First };
     let aic_prefers = prefers(a.fit.aic, b.fit.aic);
     let bic_prefers = prefers(a.fit.bic, b.fit.bic);
+    let cross_validation_prefers = match (a.fit.cross_validation, b.fit.cross_validation) {
+        (Some(x), Some(y)) => Some(prefers(x, y)),
+        _ => None,
+    };
     let verdict = match (nested, &f_test) {
         (false, _) => Verdict::NotNested,
         (true, Some(t)) if t.p_value < settings.level => Verdict::LargerNeeded,
@@ -352,6 +373,7 @@ pub fn compare_regressors(
         level: settings.level,
         aic_prefers,
         bic_prefers,
+        cross_validation_prefers,
         verdict,
         text: String::new(),
     };
@@ -430,6 +452,12 @@ fn conclusion(c: &Comparison, small: Which, large: Which) -> String {
             name(c.bic_prefers)
         )),
     }
+    if let Some(w) = c.cross_validation_prefers {
+        text.push_str(&format!(
+            "; leave-one-out cross-validation prefers {}",
+            name(w)
+        ));
+    }
     // A model that wins with a negative coefficient wins unphysically: say so.
     let winner = match c.verdict {
         Verdict::LargerNeeded => large,
@@ -473,14 +501,23 @@ impl fmt::Display for Comparison {
             .max(5);
         writeln!(
             f,
-            "{:<width$} {:>6} {:>13} {:>11} {:>13} {:>13}",
-            "model", "k", "RSS", "rel. resid.", "AIC", "BIC"
+            "{:<width$} {:>6} {:>13} {:>11} {:>13} {:>13} {:>13}",
+            "model", "k", "RSS", "rel. resid.", "AIC", "BIC", "LOO PRESS"
         )?;
         for m in [&self.first, &self.second] {
+            let press = m
+                .cross_validation
+                .map_or("-".to_string(), |p| format!("{p:.4e}"));
             writeln!(
                 f,
-                "{:<width$} {:>6} {:>13.4e} {:>11.3e} {:>13.4e} {:>13.4e}",
-                m.label, m.parameters, m.residual_sum_of_squares, m.relative_residual, m.aic, m.bic
+                "{:<width$} {:>6} {:>13.4e} {:>11.3e} {:>13.4e} {:>13.4e} {:>13}",
+                m.label,
+                m.parameters,
+                m.residual_sum_of_squares,
+                m.relative_residual,
+                m.aic,
+                m.bic,
+                press
             )?;
         }
         match self.nested_in {

@@ -29,7 +29,9 @@ use std::path::Path;
 pub use job::Job;
 pub use measured::{ChannelGain, RecordInputs};
 pub use spec::*;
-pub use summary::{CheckReport, DetectedPeriod, JitteredTime, NOTED_JITTER, Periods, Preamble};
+pub use summary::{
+    CheckReport, DetectedPeriod, JitteredTime, NOTED_JITTER, Periods, Preamble, SteppedSineSummary,
+};
 
 use crate::error::{Error, Result};
 use crate::progress::Progress;

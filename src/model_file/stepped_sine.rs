@@ -363,6 +363,8 @@ impl super::Job {
     /// The sweep of each equation of a `[stepped_sine]` job (for resampling whole
     /// sweeps); `None` for other jobs.
     pub fn sweeps(&self) -> Option<&[usize]> {
-        self.stepped_sine.as_ref().map(|t| t.table.sweeps.as_slice())
+        self.stepped_sine
+            .as_ref()
+            .map(|t| t.table.sweeps.as_slice())
     }
 }

@@ -207,7 +207,9 @@ pub fn build(
     let all = rows(model, structural, &expanded, approximation)?;
     let p_count = columns.len();
     let matrix = Mat::from_fn(points.len(), p_count, |r, k| all[r * per_point].columns[k]);
-    let rhs: Vec<f64> = (0..points.len()).map(|r| all[r * per_point].input).collect();
+    let rhs: Vec<f64> = (0..points.len())
+        .map(|r| all[r * per_point].input)
+        .collect();
     let mut noise = NoiseModel {
         rows: Vec::with_capacity(points.len()),
         windows: Vec::with_capacity(points.len()),

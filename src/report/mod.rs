@@ -206,8 +206,7 @@ impl FitReport {
             .filter(|c| c.value < 0.0 && c.determined)
             .map(|c| (c.name.clone(), c.value, c.std_error))
             .collect();
-        if fit.method == FitMethod::LeastSquares && fit.status.is_usable() && !negative.is_empty()
-        {
+        if fit.method == FitMethod::LeastSquares && fit.status.is_usable() && !negative.is_empty() {
             warnings.push(Warning::NegativeDamping {
                 coefficients: negative,
             });

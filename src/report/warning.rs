@@ -147,7 +147,10 @@ impl fmt::Display for Warning {
                     .iter()
                     .map(|(name, value, se)| match se {
                         Some(se) if *se > 0.0 => {
-                            format!("{name} = {value:.4e} ({:.1} standard errors below zero)", -value / se)
+                            format!(
+                                "{name} = {value:.4e} ({:.1} standard errors below zero)",
+                                -value / se
+                            )
                         }
                         _ => format!("{name} = {value:.4e}"),
                     })

@@ -48,9 +48,15 @@ fn data_at(e: &Error) -> (String, usize, String, String) {
 #[test]
 fn missing_column_names_file_and_column() {
     let (file, e) = parse_table("missing.csv", "w,a,x\n1.0,1,0.5\n1.1,1,0.6\n1.2,1,0.5\n");
-    assert!(matches!(e, Error::ModelFile { line, .. } if line > 0), "{e}");
+    assert!(
+        matches!(e, Error::ModelFile { line, .. } if line > 0),
+        "{e}"
+    );
     let (f, row, column, message) = data_at(&e);
-    assert_eq!((f.as_str(), row, column.as_str()), (file.as_str(), 0, "phi"));
+    assert_eq!(
+        (f.as_str(), row, column.as_str()),
+        (file.as_str(), 0, "phi")
+    );
     assert!(message.contains("w, a, x"), "{message}");
 }
 
@@ -72,15 +78,15 @@ fn phase_out_of_range_names_row_and_column() {
     let csv = GOOD.replace("1.0,1,0.5,1.0", "1.0,1,0.5,80");
     let (file, e) = parse_table("degrees.csv", &csv);
     let (f, row, column, message) = data_at(&e);
-    assert_eq!((f.as_str(), row, column.as_str()), (file.as_str(), 1, "phi"));
+    assert_eq!(
+        (f.as_str(), row, column.as_str()),
+        (file.as_str(), 1, "phi")
+    );
     assert!(message.contains("0.017453292519943295"), "{message}");
 }
 
 #[test]
 fn too_few_points_per_sweep_for_the_scatter() {
     let (_, e) = parse_table("short.csv", "w,a,x,phi\n1.0,1,0.5,1.0\n1.1,1,0.6,1.2\n");
-    assert!(
-        matches!(e.innermost(), Error::InvalidChoice { .. }),
-        "{e}"
-    );
+    assert!(matches!(e.innermost(), Error::InvalidChoice { .. }), "{e}");
 }

@@ -96,7 +96,9 @@ impl SweptTable {
             for value in values {
                 if !(value.is_finite() && value >= 0.0) {
                     return Err(Error::invalid(
-                        &format!("noise standard deviation of stepped-sine point {index} ('{label}')"),
+                        &format!(
+                            "noise standard deviation of stepped-sine point {index} ('{label}')"
+                        ),
                         value,
                         "must be finite and nonnegative",
                     ));

@@ -520,7 +520,11 @@ pub(crate) fn energy_per_cycle(measured: &[(f64, f64)], curves: &[Curve]) -> Res
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-        let all = || points.iter().chain(lines.iter().flat_map(|(_, l)| l.iter()));
+        let all = || {
+            points
+                .iter()
+                .chain(lines.iter().flat_map(|(_, l)| l.iter()))
+        };
         let mut chart = frame_with_ticks(
             &root,
             "Dissipated energy per cycle",
@@ -537,7 +541,10 @@ pub(crate) fn energy_per_cycle(measured: &[(f64, f64)], curves: &[Curve]) -> Res
         for (k, (name, line)) in lines.iter().enumerate() {
             let colour = Palette99::pick(k + 1).to_rgba();
             chart
-                .draw_series(LineSeries::new(line.iter().copied(), colour.stroke_width(2)))
+                .draw_series(LineSeries::new(
+                    line.iter().copied(),
+                    colour.stroke_width(2),
+                ))
                 .map_err(plot_error)?
                 .label(name.as_str())
                 .legend(move |(x, y)| PathElement::new([(x, y), (x + 16, y)], colour));
