@@ -313,3 +313,52 @@ fn leave_one_out_cross_validation_by_hand() {
         c.text
     );
 }
+
+/// `--laws` ranking: three candidates on the same b. With b = c − 0.5·friction plus a
+/// little noise, viscous + friction ranks first by AIC with a negative friction, so the
+/// ranking names the best physical candidate (viscous alone, ahead of friction alone).
+#[test]
+fn ranking_flags_a_negative_winner_and_names_the_best_physical_one() {
+    use dampid::analysis::compare::rank;
+    let c = [1.0, 2.0, 3.0, 4.0, 5.0];
+    let one = [1.0; 5];
+    let b = [0.5, 1.51, 2.49, 3.5, 4.51];
+    let both = regressor(&[("c", &c), ("friction", &one)], &b);
+    let viscous = regressor(&[("c", &c)], &b);
+    let friction = regressor(&[("friction", &one)], &b);
+    let ranking = rank(
+        &[
+            ("friction", &friction),
+            ("viscous", &viscous),
+            ("linear+coulomb", &both),
+        ],
+        &CompareSettings::default(),
+    )
+    .unwrap();
+    let order: Vec<&str> = ranking
+        .models
+        .iter()
+        .map(|m| m.fit.label.as_str())
+        .collect();
+    assert_eq!(order, ["linear+coulomb", "viscous", "friction"]);
+    assert_eq!(ranking.models[0].negative.len(), 1);
+    assert_eq!(ranking.best_physical.as_deref(), Some("viscous"));
+    assert!(
+        ranking
+            .text
+            .contains("the best physical candidate is viscous"),
+        "{}",
+        ranking.text
+    );
+    let table = ranking.to_string();
+    assert!(table.contains("(negative)"), "{table}");
+    // Different input work: not the same data.
+    let other = regressor(&[("c", &c)], &[1.0, 2.0, 3.0, 4.0, 5.0]);
+    assert!(
+        rank(
+            &[("a", &viscous), ("b", &other)],
+            &CompareSettings::default()
+        )
+        .is_err()
+    );
+}

@@ -279,14 +279,14 @@ fn equivalent_damping_of_a_viscous_oscillator() {
 /// times η: the fit returns η exactly (to round-off), at any frequency.
 #[test]
 fn structural_damping_closed_form() {
-    let eta = 0.012;
-    let k = 2.0e5;
-    let m = 3.0;
-    let points: Vec<SteppedSinePoint> = [0.8, 0.95, 1.0, 1.07, 1.3]
+    let eta: f64 = 0.012;
+    let k: f64 = 2.0e5;
+    let m: f64 = 3.0;
+    let points: Vec<SteppedSinePoint> = [0.8f64, 0.95, 1.0, 1.07, 1.3]
         .iter()
         .enumerate()
         .map(|(i, r)| {
-            let omega = r * (k / m as f64).sqrt();
+            let omega = r * (k / m).sqrt();
             let a = 1.0 + i as f64;
             let (re, im) = (k - m * omega * omega, eta * k);
             let modulus = (re * re + im * im).sqrt();

@@ -112,7 +112,7 @@ impl Modal {
         }
         let det = s11 * s22 - s12 * s12;
         let name = &swept.sweep_names[lowest];
-        if !(det.abs() > 1e-12 * s22 * s11) {
+        if det.is_nan() || det.abs() <= 1e-12 * s22 * s11 {
             return Err(Error::choice(
                 "modal mass",
                 format!("the frequency response of sweep '{name}'"),
@@ -250,8 +250,8 @@ fn covariance(report: &FitReport) -> Option<Vec<Vec<f64>>> {
         .map(|c| c.std_error)
         .collect::<Option<_>>()?;
     let mut c = vec![vec![0.0; p]; p];
-    for i in 0..p {
-        c[i][i] = se[i] * se[i];
+    for (i, row) in c.iter_mut().enumerate() {
+        row[i] = se[i] * se[i];
     }
     if let Some(corr) = &report.correlation {
         let index = |name: &str| report.coefficients.iter().position(|c| c.name == name);

@@ -9,7 +9,10 @@
 //! or a registry extended with a program's own laws for [`parse_with_laws`].
 //!
 //! Errors carry the file and the line and column of the offending table or key.
+//!
+//! [`candidate_model`] builds the candidate models of `dampid compare --laws`.
 
+mod candidates;
 mod context;
 mod job;
 mod measured;
@@ -26,6 +29,7 @@ mod terms;
 
 use std::path::Path;
 
+pub use candidates::candidate_model;
 pub use job::Job;
 pub use measured::{ChannelGain, RecordInputs};
 pub use spec::*;

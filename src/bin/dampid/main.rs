@@ -102,8 +102,13 @@ fn run(cli: Cli) -> anyhow::Result<Outcome> {
         Command::Compare {
             model_a,
             model_b,
+            laws,
             json,
-        } => compare(&model_a, &model_b, json),
+        } => match (model_b, laws) {
+            (Some(model_b), _) => compare(&model_a, &model_b, json),
+            (None, Some(laws)) => rank_laws(&model_a, &laws, json),
+            (None, None) => bail!("give a second model file or --laws"),
+        },
         Command::Design { model, json } => design(&model, json),
         Command::Simulate { model, out, force } => {
             write_records(&model, &out, Overwrite::from_force(force))
@@ -377,6 +382,42 @@ fn compare(first: &Path, second: &Path, as_json: bool) -> anyhow::Result<Outcome
         format!(
             "records and identification settings of {}\n{comparison}",
             first.display()
+        )
+    };
+    Ok(Outcome {
+        text,
+        trusted: true,
+    })
+}
+
+/// Candidate laws fitted on the data of one model file and ranked.
+fn rank_laws(path: &Path, laws: &[String], as_json: bool) -> anyhow::Result<Outcome> {
+    let job = load_job(path)?;
+    let dofs = job.records.first().map_or(1, |r| r.dofs());
+    let registry = dampid::terms::laws::Registry::builtin();
+    let regressors = laws
+        .iter()
+        .map(|spec| {
+            let model = dampid::model_file::candidate_model(spec, dofs, &registry)
+                .with_context(|| format!("candidate '{spec}'"))?;
+            Ok((spec.clone(), job.regressor_of(&model)?))
+        })
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let candidates: Vec<(&str, &Regressor)> =
+        regressors.iter().map(|(l, r)| (l.as_str(), r)).collect();
+    let ranking = dampid::analysis::compare::rank(
+        &candidates,
+        &dampid::analysis::compare::CompareSettings {
+            rank_tolerance: job.settings.fit.rank_tolerance,
+            ..Default::default()
+        },
+    )?;
+    let text = if as_json {
+        format!("{}\n", serde_json::to_string_pretty(&ranking)?)
+    } else {
+        format!(
+            "records and identification settings of {}\n{ranking}",
+            path.display()
         )
     };
     Ok(Outcome {

@@ -136,7 +136,7 @@ impl SweptTable {
             if members.len() < 3 {
                 return Err(Error::choice(
                     "stepped-sine noise",
-                    &format!("sweep '{name}' with {} point(s)", members.len()),
+                    format!("sweep '{name}' with {} point(s)", members.len()),
                     "the scatter along a sweep needs at least 3 points per sweep; give the noise per point (force_std, amplitude_std, phase_std columns)",
                 ));
             }
@@ -238,10 +238,10 @@ pub(crate) fn scatter(x: &[f64], y: &[f64]) -> f64 {
     }
     normalised.sort_by(f64::total_cmp);
     let n = normalised.len();
-    let median = if n % 2 == 1 {
-        normalised[n / 2]
-    } else {
+    let median = if n.is_multiple_of(2) {
         0.5 * (normalised[n / 2 - 1] + normalised[n / 2])
+    } else {
+        normalised[n / 2]
     };
     1.4826 * median
 }
