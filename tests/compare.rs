@@ -248,3 +248,117 @@ fn empty_regressors_are_typed_errors() {
         Err(Error::Empty { .. })
     ));
 }
+
+/// A model that wins the F-test only through a negative Coulomb coefficient is flagged.
+/// Columns c = (1, 2, 3, 4) and friction = (1, 1, 1, 1); b = c − 0.5 friction plus
+/// (0, 0.01, −0.01, 0): least squares with both gives friction ≈ −0.5 and a tiny
+/// residual, c alone cannot follow the offset, so the larger model is "needed"; the
+/// conclusion says its preference rests on negative damping and that c alone is physical.
+#[test]
+fn negative_coulomb_winning_is_flagged() {
+    let c = [1.0, 2.0, 3.0, 4.0];
+    let b = [0.5, 1.51, 2.49, 3.5];
+    let with = regressor(&[("c", &c), ("friction", &X)], &b);
+    let without = regressor(&[("c", &c)], &b);
+    let comparison = compare_regressors(
+        ("with_friction", &with),
+        ("viscous", &without),
+        &CompareSettings::default(),
+    )
+    .unwrap();
+    assert_eq!(comparison.verdict, Verdict::LargerNeeded);
+    assert!(comparison.first.values[1] < -0.4);
+    let text = &comparison.text;
+    assert!(
+        text.contains("caution: with_friction is preferred with negative damping (friction = -"),
+        "{text}"
+    );
+    assert!(text.contains("while viscous is physical"), "{text}");
+    // Physical coefficients: no caution.
+    let b = [1.5, 2.51, 3.49, 4.5];
+    let with = regressor(&[("c", &c), ("friction", &X)], &b);
+    let without = regressor(&[("c", &c)], &b);
+    let comparison = compare_regressors(
+        ("with_friction", &with),
+        ("viscous", &without),
+        &CompareSettings::default(),
+    )
+    .unwrap();
+    assert!(!comparison.text.contains("caution"), "{}", comparison.text);
+}
+
+/// Leave-one-out cross-validation by hand: b = (1, 2, 3, 4) on x = 1 has residuals
+/// (−1.5, −0.5, 0.5, 1.5) and leverages h_ii = 1/4, so PRESS = Σ (e_i/(3/4))² =
+/// 5 · 16/9 = 80/9 (refitting without b_1 gives mean 3, error 2 = 1.5/(3/4): the
+/// formula is the exact refit). Adding a column that fits b exactly makes every
+/// residual zero: PRESS 0 unless a leverage is 1.
+#[test]
+fn leave_one_out_cross_validation_by_hand() {
+    let small = regressor(&[("x", &X)], &B);
+    let large = regressor(&[("x", &X), ("b", &B)], &B);
+    let c = compare_regressors(
+        ("small", &small),
+        ("large", &large),
+        &CompareSettings::default(),
+    )
+    .unwrap();
+    let press = c.first.cross_validation.unwrap();
+    assert!((press - 80.0 / 9.0).abs() < 1e-12, "{press}");
+    assert!(c.second.cross_validation.unwrap() < 1e-20);
+    assert_eq!(c.cross_validation_prefers, Some(Which::Second));
+    assert!(
+        c.text
+            .contains("leave-one-out cross-validation prefers large"),
+        "{}",
+        c.text
+    );
+}
+
+/// `--laws` ranking: three candidates on the same b. With b = c − 0.5·friction plus a
+/// little noise, viscous + friction ranks first by AIC with a negative friction, so the
+/// ranking names the best physical candidate (viscous alone, ahead of friction alone).
+#[test]
+fn ranking_flags_a_negative_winner_and_names_the_best_physical_one() {
+    use dampid::analysis::compare::rank;
+    let c = [1.0, 2.0, 3.0, 4.0, 5.0];
+    let one = [1.0; 5];
+    let b = [0.5, 1.51, 2.49, 3.5, 4.51];
+    let both = regressor(&[("c", &c), ("friction", &one)], &b);
+    let viscous = regressor(&[("c", &c)], &b);
+    let friction = regressor(&[("friction", &one)], &b);
+    let ranking = rank(
+        &[
+            ("friction", &friction),
+            ("viscous", &viscous),
+            ("linear+coulomb", &both),
+        ],
+        &CompareSettings::default(),
+    )
+    .unwrap();
+    let order: Vec<&str> = ranking
+        .models
+        .iter()
+        .map(|m| m.fit.label.as_str())
+        .collect();
+    assert_eq!(order, ["linear+coulomb", "viscous", "friction"]);
+    assert_eq!(ranking.models[0].negative.len(), 1);
+    assert_eq!(ranking.best_physical.as_deref(), Some("viscous"));
+    assert!(
+        ranking
+            .text
+            .contains("the best physical candidate is viscous"),
+        "{}",
+        ranking.text
+    );
+    let table = ranking.to_string();
+    assert!(table.contains("(negative)"), "{table}");
+    // Different input work: not the same data.
+    let other = regressor(&[("c", &c)], &[1.0, 2.0, 3.0, 4.0, 5.0]);
+    assert!(
+        rank(
+            &[("a", &viscous), ("b", &other)],
+            &CompareSettings::default()
+        )
+        .is_err()
+    );
+}

@@ -163,6 +163,63 @@ pub fn bootstrap_with_progress(
     settings: &BootstrapSettings,
     progress: Progress<'_>,
 ) -> Result<Bootstrap> {
+    let m = regressor.equations();
+    resample(regressor, fit, settings, progress, |rng: &mut StdRng| {
+        (0..m).map(|_| rng.random_range(0..m)).collect()
+    })
+}
+
+/// The cluster (block) bootstrap: resamples whole groups of rows, `groups[r]` the group
+/// of row r (the sweep of a stepped-sine point), so that errors correlated within a
+/// group (a drift of the sensor over one sweep, the residual compliance of one level)
+/// are resampled as they occur. A replicate draws as many groups as there are, with
+/// replacement, and keeps all rows of each; fewer than two groups is an error. Progress
+/// and cancellation as in [`bootstrap_with_progress`].
+pub fn bootstrap_groups(
+    regressor: &Regressor,
+    fit: &FitSettings,
+    settings: &BootstrapSettings,
+    groups: &[usize],
+    progress: Progress<'_>,
+) -> Result<Bootstrap> {
+    if groups.len() != regressor.equations() {
+        return Err(Error::mismatch(
+            "bootstrap groups vs regressor rows",
+            regressor.equations(),
+            groups.len(),
+        ));
+    }
+    let mut members: Vec<Vec<usize>> = Vec::new();
+    for (r, &g) in groups.iter().enumerate() {
+        if g >= members.len() {
+            members.resize(g + 1, Vec::new());
+        }
+        members[g].push(r);
+    }
+    members.retain(|m| !m.is_empty());
+    if members.len() < 2 {
+        return Err(Error::choice(
+            "bootstrap groups",
+            format!("{} group(s)", members.len()),
+            "resampling whole groups (sweeps) needs at least two of them",
+        ));
+    }
+    let k = members.len();
+    resample(regressor, fit, settings, progress, |rng: &mut StdRng| {
+        (0..k)
+            .flat_map(|_| members[rng.random_range(0..k)].iter().copied())
+            .collect()
+    })
+}
+
+/// The bootstrap with replicates whose rows `draw` picks.
+fn resample(
+    regressor: &Regressor,
+    fit: &FitSettings,
+    settings: &BootstrapSettings,
+    progress: Progress<'_>,
+    draw: impl Fn(&mut StdRng) -> Vec<usize> + Sync,
+) -> Result<Bootstrap> {
     settings.validate()?;
     fit.validate()?;
     let m = regressor.equations();
@@ -186,7 +243,7 @@ pub fn bootstrap_with_progress(
     let full_rank = rank_of(regressor, fit.rank_tolerance);
     let one_replicate = |k: usize| -> Result<Option<Vec<f64>>> {
         let mut rng = replicate_rng(settings.seed, k);
-        let rows: Vec<usize> = (0..m).map(|_| rng.random_range(0..m)).collect();
+        let rows = draw(&mut rng);
         // The rows keep their noise model, so a weighted fit stays weighted.
         let resampled = regressor.select_rows(&rows)?;
         if rank_of(&resampled, fit.rank_tolerance) < full_rank {

@@ -9,7 +9,10 @@
 //!   AIC = m ln(RSS/m) + 2k,        BIC = m ln(RSS/m) + k ln m        (lower is better)
 //! ```
 //!
-//! (Gaussian equation errors of one variance). The models are *nested* when every
+//! (Gaussian equation errors of one variance), and leave-one-out cross-validation over
+//! the equations (points or windows), PRESS = Σ_i (e_i/(1 − h_ii))² with h_ii the
+//! leverage of equation i (the exact refit-without-i residual of least squares), which
+//! compares models that are not nested without a likelihood. The models are *nested* when every
 //! column of the smaller one lies in the column space of the larger one (relative
 //! residual of its projection below `nesting_tolerance`): a subset of terms, or one
 //! shared coefficient whose column is the sum of per-element columns. For nested models
@@ -23,7 +26,10 @@
 //! larger model is needed when p < level (default 0.05), else the smaller suffices.
 //! AIC and BIC are reported beside it, and the conclusion says when they disagree. The
 //! F-test assumes errors of one variance; equations of very different amplitude violate
-//! that, so read p as a guide, not an exact probability.
+//! that, so read p as a guide, not an exact probability. A preferred model with a
+//! negative coefficient (a damper that feeds energy in) is flagged in the conclusion:
+//! least squares lets a negative Coulomb or viscous term absorb a missing mechanism, so
+//! its winning says nothing about physics until the nonnegative fits agree.
 
 use std::fmt;
 
@@ -106,6 +112,10 @@ pub struct ModelFit {
     pub aic: f64,
     /// Bayesian (Schwarz) information criterion.
     pub bic: f64,
+    /// Leave-one-out cross-validation: the sum of squared prediction errors of each
+    /// equation from a fit without it, PRESS = Σ_i (e_i/(1 − h_ii))² (in the units of
+    /// b²); `None` when an equation has leverage 1 (it cannot be predicted without itself).
+    pub cross_validation: Option<f64>,
 }
 
 /// Which of the two models.
@@ -166,6 +176,9 @@ pub struct Comparison {
     pub aic_prefers: Which,
     /// The model BIC prefers.
     pub bic_prefers: Which,
+    /// The model leave-one-out cross-validation prefers (smaller PRESS), when both
+    /// have one.
+    pub cross_validation_prefers: Option<Which>,
     /// The conclusion.
     pub verdict: Verdict,
     /// The conclusion in words.
@@ -227,6 +240,12 @@ fn solve(label: &str, r: &Regressor, tolerance: f64) -> Result<Solved> {
         }
     }
     let rss_s: f64 = (0..m).map(|i| (b_s[(i, 0)] - fitted[i]).powi(2)).sum();
+    // Leverages h_ii = ‖U_i‖² over the rank's left singular vectors (the hat matrix of
+    // the column-scaled rows, which scaling columns does not change).
+    let press_s = (0..m).try_fold(0.0, |sum, i| {
+        let h: f64 = (0..rank).map(|k| u[(i, k)] * u[(i, k)]).sum();
+        (h < 1.0 - 1e-10).then(|| sum + ((b_s[(i, 0)] - fitted[i]) / (1.0 - h)).powi(2))
+    });
     let scaling = svd.scaling();
     let rss = rss_s * scaling.rhs * scaling.rhs;
     let mf = m as f64;
@@ -242,6 +261,7 @@ fn solve(label: &str, r: &Regressor, tolerance: f64) -> Result<Solved> {
             relative_residual: rss_s.sqrt(),
             aic: log_likelihood_term + 2.0 * rank as f64,
             bic: log_likelihood_term + rank as f64 * mf.ln(),
+            cross_validation: press_s.map(|p| p * scaling.rhs * scaling.rhs),
         },
         basis,
     })
@@ -333,6 +353,10 @@ pub fn compare_regressors(
     let prefers = |x: f64, y: f64| if y < x { Which::Second } else { Which::First };
     let aic_prefers = prefers(a.fit.aic, b.fit.aic);
     let bic_prefers = prefers(a.fit.bic, b.fit.bic);
+    let cross_validation_prefers = match (a.fit.cross_validation, b.fit.cross_validation) {
+        (Some(x), Some(y)) => Some(prefers(x, y)),
+        _ => None,
+    };
     let verdict = match (nested, &f_test) {
         (false, _) => Verdict::NotNested,
         (true, Some(t)) if t.p_value < settings.level => Verdict::LargerNeeded,
@@ -349,6 +373,7 @@ pub fn compare_regressors(
         level: settings.level,
         aic_prefers,
         bic_prefers,
+        cross_validation_prefers,
         verdict,
         text: String::new(),
     };
@@ -427,6 +452,40 @@ fn conclusion(c: &Comparison, small: Which, large: Which) -> String {
             name(c.bic_prefers)
         )),
     }
+    if let Some(w) = c.cross_validation_prefers {
+        text.push_str(&format!(
+            "; leave-one-out cross-validation prefers {}",
+            name(w)
+        ));
+    }
+    // A model that wins with a negative coefficient wins unphysically: say so.
+    let winner = match c.verdict {
+        Verdict::LargerNeeded => large,
+        Verdict::SmallerSuffices => small,
+        _ => c.aic_prefers,
+    };
+    let negative = |w: Which| -> Vec<String> {
+        let m = c.model(w);
+        m.coefficients
+            .iter()
+            .zip(&m.values)
+            .filter(|(_, v)| **v < 0.0)
+            .map(|(n, v)| format!("{n} = {v:.4e}"))
+            .collect()
+    };
+    let (win, lose) = (negative(winner), negative(other(winner)));
+    if !win.is_empty() {
+        text.push_str(&format!(
+            "; caution: {} is preferred with negative damping ({}){}, which feeds energy in: it is not a physical preference; compare fits with nonnegative = true",
+            name(winner),
+            win.join(", "),
+            if lose.is_empty() {
+                format!(", while {} is physical", name(other(winner)))
+            } else {
+                String::new()
+            }
+        ));
+    }
     text
 }
 
@@ -442,14 +501,23 @@ impl fmt::Display for Comparison {
             .max(5);
         writeln!(
             f,
-            "{:<width$} {:>6} {:>13} {:>11} {:>13} {:>13}",
-            "model", "k", "RSS", "rel. resid.", "AIC", "BIC"
+            "{:<width$} {:>6} {:>13} {:>11} {:>13} {:>13} {:>13}",
+            "model", "k", "RSS", "rel. resid.", "AIC", "BIC", "LOO PRESS"
         )?;
         for m in [&self.first, &self.second] {
+            let press = m
+                .cross_validation
+                .map_or("-".to_string(), |p| format!("{p:.4e}"));
             writeln!(
                 f,
-                "{:<width$} {:>6} {:>13.4e} {:>11.3e} {:>13.4e} {:>13.4e}",
-                m.label, m.parameters, m.residual_sum_of_squares, m.relative_residual, m.aic, m.bic
+                "{:<width$} {:>6} {:>13.4e} {:>11.3e} {:>13.4e} {:>13.4e} {:>13}",
+                m.label,
+                m.parameters,
+                m.residual_sum_of_squares,
+                m.relative_residual,
+                m.aic,
+                m.bic,
+                press
             )?;
         }
         match self.nested_in {
@@ -460,6 +528,152 @@ impl fmt::Display for Comparison {
                 self.model(other(w)).label
             )?,
             None => writeln!(f, "the models are not nested")?,
+        }
+        writeln!(f, "{}", self.text)
+    }
+}
+
+/// One candidate of a [`Ranking`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RankedModel {
+    /// Its least-squares fit and criteria.
+    pub fit: ModelFit,
+    /// Its negative coefficients (`name = value`): a damper that feeds energy in.
+    pub negative: Vec<String>,
+}
+
+/// Candidate models fitted on the same equations, ranked by AIC (lower first).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Ranking {
+    /// Equations m.
+    pub equations: usize,
+    /// The candidates, best AIC first.
+    pub models: Vec<RankedModel>,
+    /// The best-ranked candidate without a negative coefficient, when the first has one.
+    pub best_physical: Option<String>,
+    /// The conclusion in words.
+    pub text: String,
+}
+
+/// Fits every candidate regressor (built from the same records and windows: same b) by
+/// least squares and ranks them by AIC, with BIC and leave-one-out cross-validation
+/// beside it. A candidate with a negative coefficient is flagged; when the first is
+/// one, the text names the best physical candidate.
+pub fn rank(candidates: &[(&str, &Regressor)], settings: &CompareSettings) -> Result<Ranking> {
+    settings.validate()?;
+    let Some((_, first)) = candidates.first() else {
+        return Err(Error::Empty {
+            what: "candidate models".into(),
+        });
+    };
+    for (label, r) in candidates {
+        if r.equations() != first.equations() || r.rhs() != first.rhs() {
+            return Err(Error::choice(
+                "candidate models",
+                format!("'{label}'"),
+                "every candidate must be built from the same records and windows (the same input work)",
+            ));
+        }
+    }
+    let mut models = candidates
+        .iter()
+        .map(|(label, r)| {
+            let fit = solve(label, r, settings.rank_tolerance)?.fit;
+            let negative = fit
+                .coefficients
+                .iter()
+                .zip(&fit.values)
+                .filter(|(_, v)| **v < 0.0)
+                .map(|(n, v)| format!("{n} = {v:.4e}"))
+                .collect();
+            Ok(RankedModel { fit, negative })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    models.sort_by(|a, b| a.fit.aic.total_cmp(&b.fit.aic));
+    let best_physical = match models.first() {
+        Some(top) if !top.negative.is_empty() => models
+            .iter()
+            .find(|m| m.negative.is_empty())
+            .map(|m| m.fit.label.clone()),
+        _ => None,
+    };
+    let top = &models[0];
+    let mut text = format!("AIC ranks {} first", top.fit.label);
+    let by = |key: fn(&ModelFit) -> Option<f64>| {
+        models
+            .iter()
+            .filter_map(|m| key(&m.fit).map(|v| (v, &m.fit.label)))
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .map(|(_, l)| l.clone())
+    };
+    if let Some(bic) = by(|f| Some(f.bic)) {
+        text.push_str(&format!("; BIC prefers {bic}"));
+    }
+    if let Some(cv) = by(|f| f.cross_validation) {
+        text.push_str(&format!("; leave-one-out cross-validation prefers {cv}"));
+    }
+    if !top.negative.is_empty() {
+        text.push_str(&format!(
+            "; caution: {} has negative damping ({}), which feeds energy in, so its rank is not a physical preference{}; compare fits with nonnegative = true",
+            top.fit.label,
+            top.negative.join(", "),
+            best_physical
+                .as_ref()
+                .map_or(String::new(), |b| format!(" (the best physical candidate is {b})"))
+        ));
+    }
+    Ok(Ranking {
+        equations: first.equations(),
+        models,
+        best_physical,
+        text,
+    })
+}
+
+impl fmt::Display for Ranking {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(f, "{} equations, candidates ranked by AIC", self.equations)?;
+        let width = self
+            .models
+            .iter()
+            .map(|m| m.fit.label.chars().count())
+            .max()
+            .unwrap_or(5)
+            .max(5);
+        writeln!(
+            f,
+            "{:>4} {:<width$} {:>4} {:>11} {:>13} {:>13} {:>13}  coefficients",
+            "rank", "model", "k", "rel. resid.", "AIC", "BIC", "LOO PRESS"
+        )?;
+        for (i, m) in self.models.iter().enumerate() {
+            let press = m
+                .fit
+                .cross_validation
+                .map_or("-".to_string(), |p| format!("{p:.4e}"));
+            let values: Vec<String> = m
+                .fit
+                .coefficients
+                .iter()
+                .zip(&m.fit.values)
+                .map(|(n, v)| format!("{n} = {v:.4e}"))
+                .collect();
+            let flag = if m.negative.is_empty() {
+                ""
+            } else {
+                "  (negative)"
+            };
+            writeln!(
+                f,
+                "{:>4} {:<width$} {:>4} {:>11.3e} {:>13.4e} {:>13.4e} {:>13}  {}{flag}",
+                i + 1,
+                m.fit.label,
+                m.fit.parameters,
+                m.fit.relative_residual,
+                m.fit.aic,
+                m.fit.bic,
+                press,
+                values.join(", ")
+            )?;
         }
         writeln!(f, "{}", self.text)
     }

@@ -11,6 +11,7 @@ pub mod check;
 pub mod compare;
 pub mod design;
 pub mod diagnostics;
+pub mod equivalent;
 pub mod identifiability;
 pub mod solved;
 pub(crate) mod stats;

@@ -13,6 +13,7 @@ use super::settings::{
     design_settings, identification_settings, periodic_only_key, span_settings, stored_energy,
 };
 use super::spec::{MatrixRef, ModelFileSpec};
+use super::stepped_sine::SteppedSineJob;
 use super::terms::{build_term, resolve_matrix};
 use super::{reduction, string};
 use crate::analysis::design::DesignSettings;
@@ -68,6 +69,9 @@ pub struct Job {
     pub pod: Option<Reduction>,
     /// The stepped-sine table of a harmonic approximation.
     pub harmonic: Option<SteppedSineTable>,
+    /// The measured stepped-sine table of `[stepped_sine]`: the regressor is built from
+    /// it (`records` are its points' synthesized periods).
+    pub stepped_sine: Option<SteppedSineJob>,
 }
 
 impl Job {
@@ -75,6 +79,10 @@ impl Job {
     /// ([`crate::prep::steady_state`]); `None` in the non-periodic mode, whose balance holds
     /// over any window.
     pub fn steady_state(&self) -> Result<Option<SteadyStateReport>> {
+        if self.stepped_sine.is_some() {
+            // A table of amplitudes and phases: no time records to check.
+            return Ok(None);
+        }
         let Some(windows) = self.source_windows.windows.cycles() else {
             return Ok(None);
         };
@@ -96,6 +104,14 @@ impl Job {
     /// The regressor of another damping `model` on this job's records, windows and
     /// mode (to compare models on the same equations).
     pub fn regressor_of(&self, model: &DampingModel) -> Result<Regressor> {
+        if let Some(table) = &self.stepped_sine {
+            return crate::regressor::stepped_sine::build(
+                model,
+                &table.structural,
+                &table.table,
+                &table.approximation,
+            );
+        }
         Regressor::build(model, &self.records, &self.settings.regressor)
     }
 }
@@ -108,6 +124,7 @@ struct Sources {
     detected_periods: Vec<Option<PeriodEstimate>>,
     time_jitter: Vec<Option<f64>>,
     stored_energy: Option<StoredEnergy>,
+    stepped_sine: Option<SteppedSineJob>,
 }
 
 impl Context<'_> {
@@ -173,6 +190,19 @@ impl Context<'_> {
             settings.regressor =
                 self.at(np, |np| span_settings(np, &settings.regressor, n, &matrix))?;
         }
+        if let Some(table) = &spec.stepped_sine
+            && (spec.pod.is_some()
+                || spec.harmonic_approximation.is_some()
+                || spec.non_periodic.is_some())
+        {
+            return Err(self.error_at(
+                table,
+                "[stepped_sine] is a table of amplitudes and phases; it does not combine with [pod], [harmonic_approximation] or [non_periodic]",
+            ));
+        }
+        if sources.stepped_sine.is_some() {
+            settings.regressor = RegressorSettings::harmonic_approximation();
+        }
         let source_windows = settings.regressor.clone();
         let mut records = sources.records.clone();
         let pod = spec
@@ -233,6 +263,7 @@ impl Context<'_> {
             steady_state,
             pod,
             harmonic,
+            stepped_sine: sources.stepped_sine,
         })
     }
 
@@ -251,10 +282,11 @@ impl Context<'_> {
             spec.simulation.is_some(),
             spec.string_simulation.is_some(),
             spec.data.is_some(),
+            spec.stepped_sine.is_some(),
         ];
         if given.iter().filter(|g| **g).count() != 1 {
             return Err(self.whole_file_error(
-                "give exactly one of [simulation] (generate the records), [string_simulation] (the paper's string) or [data] (read them)",
+                "give exactly one of [simulation] (generate the records), [string_simulation] (the paper's string), [data] (read them) or [stepped_sine] (a measured table)",
             ));
         }
         let system = spec
@@ -262,7 +294,7 @@ impl Context<'_> {
             .as_ref()
             .map(|s| {
                 self.at(s, |s| {
-                    if spec.data.is_none() {
+                    if spec.data.is_none() && spec.stepped_sine.is_none() {
                         return Err(Error::choice(
                             "system",
                             "a [system] section beside a simulation",
@@ -286,6 +318,7 @@ impl Context<'_> {
                 records,
                 truth: Some(truth),
                 stored_energy: Some(energy),
+                stepped_sine: None,
             });
         }
         if let Some(string) = &spec.string_simulation {
@@ -298,6 +331,20 @@ impl Context<'_> {
                 records,
                 truth: Some(truth),
                 stored_energy: None,
+                stepped_sine: None,
+            });
+        }
+        if let Some(table) = &spec.stepped_sine {
+            let job = self.at(table, |t| self.stepped_sine(t, n, base))?;
+            let records = job.approximation.records(&job.table.table)?;
+            return Ok(Sources {
+                detected_periods: vec![None; records.len()],
+                time_jitter: vec![None; records.len()],
+                inputs: Vec::new(),
+                records,
+                truth: None,
+                stored_energy: system,
+                stepped_sine: Some(job),
             });
         }
         let data = spec
@@ -336,6 +383,7 @@ impl Context<'_> {
             detected_periods,
             time_jitter,
             stored_energy: system,
+            stepped_sine: None,
         })
     }
 }

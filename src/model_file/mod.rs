@@ -9,7 +9,10 @@
 //! or a registry extended with a program's own laws for [`parse_with_laws`].
 //!
 //! Errors carry the file and the line and column of the offending table or key.
+//!
+//! [`candidate_model`] builds the candidate models of `dampid compare --laws`.
 
+mod candidates;
 mod context;
 mod job;
 mod measured;
@@ -18,16 +21,21 @@ mod reduction;
 mod settings;
 pub use settings::PERIODIC_ONLY;
 mod spec;
+mod stepped_sine;
+pub use stepped_sine::SteppedSineJob;
 mod string;
 mod summary;
 mod terms;
 
 use std::path::Path;
 
+pub use candidates::candidate_model;
 pub use job::Job;
 pub use measured::{ChannelGain, RecordInputs};
 pub use spec::*;
-pub use summary::{CheckReport, DetectedPeriod, JitteredTime, NOTED_JITTER, Periods, Preamble};
+pub use summary::{
+    CheckReport, DetectedPeriod, JitteredTime, NOTED_JITTER, Periods, Preamble, SteppedSineSummary,
+};
 
 use crate::error::{Error, Result};
 use crate::progress::Progress;

@@ -44,6 +44,80 @@ pub struct ModelFileSpec {
     /// Identify from records that are not periodic, with stored energy and constant
     /// forces as extra unknowns (`dampid::regressor::nonperiodic`).
     pub non_periodic: Option<Spanned<NonPeriodicSpec>>,
+    /// Read a measured stepped-sine table (`dampid::prep::harmonic::sweeps`) instead of
+    /// records.
+    pub stepped_sine: Option<Spanned<SteppedSineSpec>>,
+}
+
+/// `[stepped_sine]`: a measured stepped-sine table, one point per row: frequency, force
+/// amplitude, and per DOF a response amplitude and phase. Every column may carry a gain
+/// (value = `scale` × column + `offset`), e.g. `scale = 6.283185307179586` for a
+/// frequency in Hz, `scale = 0.017453292519943295` for a phase in degrees.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SteppedSineSpec {
+    /// The table file (CSV, NPY/NPZ, MAT), relative to the model file.
+    pub file: String,
+    /// Driving frequency ω (rad per unit time after the gain).
+    pub frequency: ColumnSpec,
+    /// Force amplitude a (the phase reference).
+    pub force: ColumnSpec,
+    /// The DOF the force acts on, 1-based (default 1).
+    pub force_dof: Option<usize>,
+    /// What the amplitude and phase columns measure: `"displacement"` (default),
+    /// `"velocity"` or `"acceleration"`.
+    #[serde(default)]
+    pub response: crate::record::Sensor,
+    /// Response amplitude per DOF (an entry without `dof` is the DOF of its position).
+    pub amplitudes: Vec<Spanned<ColumnSpec>>,
+    /// Response phase per DOF, in the order of `amplitudes`.
+    pub phases: Vec<Spanned<ColumnSpec>>,
+    /// `"lag"` (default): the response is X cos(ωt − φ); `"lead"`: X cos(ωt + φ), the
+    /// phase of a frequency response function (−π/2 at resonance).
+    #[serde(default)]
+    pub phase_convention: PhaseConvention,
+    /// A column whose distinct values group the points in sweeps (one force or
+    /// response level each); without it all points are one sweep.
+    pub sweep: Option<String>,
+    /// σ of the force amplitude per point (a column, same gain as `force`) …
+    pub force_std: Option<String>,
+    /// … σ of each amplitude (columns, the gains of `amplitudes`) …
+    pub amplitude_std: Option<Vec<String>>,
+    /// … and σ of each phase (columns, the gains of `phases`); all three or none. Without
+    /// them the noise is estimated from the scatter along each sweep.
+    pub phase_std: Option<Vec<String>>,
+    /// How the DOFs' common phase is read (as in `[harmonic_approximation]`).
+    #[serde(default)]
+    pub phase_reading: PhaseName,
+    /// The DOF (1-based) whose lag is used with `phase_reading = "dof"`.
+    pub phase_dof: Option<usize>,
+    /// Structural damping terms: a loss factor on an element of given stiffness.
+    #[serde(default)]
+    pub structural: Vec<Spanned<StructuralSpec>>,
+}
+
+/// Which way a stepped-sine phase is counted.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PhaseConvention {
+    /// x = X cos(ωt − φ): φ is the lag behind the force.
+    #[default]
+    Lag,
+    /// x = X cos(ωt + φ): φ is the phase of the response (an FRF's phase).
+    Lead,
+}
+
+/// `{ coefficient = "eta", stiffness = 2.0e5, element = [1, 0] }`: a loss factor η on
+/// an element of stiffness k (DOFs 1-based, 0 = ground), dissipating π η k X² per cycle.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StructuralSpec {
+    /// The loss factor's name.
+    pub coefficient: String,
+    /// k.
+    pub stiffness: f64,
+    /// [a, b], 1-based, 0 = ground (default [1, 0]).
+    pub element: Option<[usize; 2]>,
 }
 
 /// `[non_periodic]`: windows of a fixed length, and what stores energy.

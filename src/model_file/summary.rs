@@ -94,6 +94,9 @@ impl fmt::Display for Preamble<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let job = self.job;
         write!(f, "{}", job.periods())?;
+        if let Some(table) = &job.stepped_sine {
+            write!(f, "{}", SteppedSineSummary::of(table))?;
+        }
         for inputs in job.inputs.iter().filter(|i| !i.is_plain()) {
             write!(f, "{inputs}")?;
         }
@@ -224,6 +227,10 @@ pub struct CheckReport {
     pub non_periodic_window_used: Vec<f64>,
     /// Number of records the equations come from.
     pub records: usize,
+    /// What a `[stepped_sine]` table holds (its records are the points' synthesized
+    /// periods).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stepped_sine: Option<SteppedSineSummary>,
     /// The regressor's size, conditioning and identifiability.
     #[serde(flatten)]
     pub regressor: RegressorCheck,
@@ -250,14 +257,60 @@ impl CheckReport {
                 .map(|s| WindowLengths::of(job, s.length).rounded())
                 .unwrap_or_default(),
             records: job.records.len(),
+            stepped_sine: job.stepped_sine.as_ref().map(SteppedSineSummary::of),
             regressor: RegressorCheck::new(regressor, &job.settings.fit)?,
         })
+    }
+}
+
+/// The table of a `[stepped_sine]` job in a line.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SteppedSineSummary {
+    /// The data file.
+    pub file: String,
+    /// Points (equations).
+    pub points: usize,
+    /// Sweeps.
+    pub sweeps: usize,
+    /// Where the noise of the points came from.
+    pub noise: crate::prep::harmonic::sweeps::NoiseOrigin,
+}
+
+impl SteppedSineSummary {
+    fn of(job: &super::SteppedSineJob) -> Self {
+        SteppedSineSummary {
+            file: job.file.clone(),
+            points: job.table.table.points().len(),
+            sweeps: job.table.sweep_names.len(),
+            noise: job.table.noise_origin,
+        }
+    }
+}
+
+impl fmt::Display for SteppedSineSummary {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let noise = match self.noise {
+            crate::prep::harmonic::sweeps::NoiseOrigin::Given => "given per point",
+            crate::prep::harmonic::sweeps::NoiseOrigin::SweepScatter => {
+                "estimated from the scatter along each sweep"
+            }
+        };
+        writeln!(
+            f,
+            "stepped-sine table {}: {} in {}, noise {noise}; one energy equation per point, weighted by its propagated variance",
+            self.file,
+            count(self.points, "point"),
+            count(self.sweeps, "sweep")
+        )
     }
 }
 
 impl fmt::Display for CheckReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(f, "{}: model and data are valid", self.model)?;
+        if let Some(table) = &self.stepped_sine {
+            write!(f, "{table}")?;
+        }
         for detected in &self.detected_periods {
             writeln!(f, "{detected}")?;
         }
@@ -266,6 +319,7 @@ impl fmt::Display for CheckReport {
         }
         match (&self.steady_state, self.non_periodic_window) {
             (Some(steady), _) => write!(f, "{steady}")?,
+            (None, None) if self.stepped_sine.is_some() => {}
             (None, window) => {
                 let requested = window.unwrap_or(0.0);
                 let lengths = WindowLengths {

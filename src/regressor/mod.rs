@@ -28,6 +28,7 @@ pub mod nonperiodic;
 mod periodic;
 pub mod robust;
 mod settings;
+pub mod stepped_sine;
 
 pub use settings::{NoiseTreatment, RegressorSettings, SpanWindows, Windows, WorkForm};
 

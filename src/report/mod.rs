@@ -201,6 +201,16 @@ impl FitReport {
             })
             .collect();
         let nuisance = coefficients.split_off(p - regressor.nuisance_count());
+        let negative: Vec<(String, f64, Option<f64>)> = coefficients
+            .iter()
+            .filter(|c| c.value < 0.0 && c.determined)
+            .map(|c| (c.name.clone(), c.value, c.std_error))
+            .collect();
+        if fit.method == FitMethod::LeastSquares && fit.status.is_usable() && !negative.is_empty() {
+            warnings.push(Warning::NegativeDamping {
+                coefficients: negative,
+            });
+        }
         let noise = match (regressor.noise(), diagnostics.weighted) {
             (Some(model), Some(w)) => Some(NoiseSummary {
                 windows: model.windows.clone(),

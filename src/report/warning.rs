@@ -3,7 +3,8 @@
 //! [`crate::report::FitReport::new`] raises them from the fit's status, the rank and
 //! condition number of the column-scaled regressor (κ > [`ILL_CONDITIONED`]), the χ²
 //! check of the weighted fit (P < [`INADEQUATE_P_VALUE`]), redundancy, the
-//! identifiability analysis, and the noise bias of a differencing velocity estimator
+//! identifiability analysis, negative damping coefficients of an unconstrained fit,
+//! and the noise bias of a differencing velocity estimator
 //! ([`crate::report::FitReport::with_velocity_noise`]).
 
 use std::fmt;
@@ -88,6 +89,12 @@ pub enum Warning {
         /// along the near-null directions.
         constrained: bool,
     },
+    /// An unconstrained fit gave damping coefficients below zero: a damper that feeds
+    /// energy in, which no passive joint does.
+    NegativeDamping {
+        /// Each negative coefficient, its value and its standard error (when known).
+        coefficients: Vec<(String, f64, Option<f64>)>,
+    },
 }
 
 impl fmt::Display for Warning {
@@ -133,6 +140,25 @@ impl fmt::Display for Warning {
                     estimator.replace('_', " "),
                     100.0 * share,
                     corrected.join(", ")
+                )
+            }
+            Warning::NegativeDamping { coefficients } => {
+                let items: Vec<String> = coefficients
+                    .iter()
+                    .map(|(name, value, se)| match se {
+                        Some(se) if *se > 0.0 => {
+                            format!(
+                                "{name} = {value:.4e} ({:.1} standard errors below zero)",
+                                -value / se
+                            )
+                        }
+                        _ => format!("{name} = {value:.4e}"),
+                    })
+                    .collect();
+                write!(
+                    f,
+                    "the unconstrained fit gives negative damping: {}; a negative coefficient feeds energy in, so the law may be the wrong one or it compensates another term; refit with nonnegative = true in [identification] and compare the two (`dampid compare`)",
+                    items.join(", ")
                 )
             }
             Warning::NoRedundancy { equations } => write!(

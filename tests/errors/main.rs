@@ -49,6 +49,7 @@ mod record;
 mod regressions;
 mod regressor;
 mod simulate;
+mod stepped_sine;
 #[path = "../support/mod.rs"]
 mod support;
 mod variants;

@@ -19,6 +19,7 @@ const EXAMPLES: &str = "Examples:
   dampid identify models/drive_nonperiodic.toml  # non-periodic closed-loop motion; mass as a nuisance estimate
   dampid pod models/data/chain3/record_1.csv --prefix x   # energy table of the POMs of columns x1, x2, …
   dampid compare models/measured_chain.toml models/measured_chain_no_friction.toml   # is friction needed?
+  dampid compare models/bolted_joint_stepped_sine.toml --laws linear,quadratic,linear+coulomb,linear+power:1.5   # rank candidate laws
   dampid design models/per_dashpot.toml          # choose experiments that separate the coefficients
   dampid simulate models/four_mass.toml --out runs/   # write the simulated records as CSV
   dampid reference four-mass                     # the paper's section 2.2, every case
@@ -140,7 +141,13 @@ pub(crate) enum Command {
         /// The first model file; its records and identification settings are used.
         model_a: PathBuf,
         /// The second model file (its damping terms).
-        model_b: PathBuf,
+        #[arg(required_unless_present = "laws", conflicts_with = "laws")]
+        model_b: Option<PathBuf>,
+        /// Instead of a second model file: candidate laws fitted on the first file's data
+        /// and ranked, separated by commas, laws of one candidate joined by `+`, a power
+        /// law's exponent after `:` (e.g. `linear,coulomb,linear+coulomb,linear+power:1.5`).
+        #[arg(long, value_delimiter = ',', value_name = "LAWS")]
+        laws: Option<Vec<String>>,
         /// Print the comparison as one JSON object.
         #[arg(long)]
         json: bool,

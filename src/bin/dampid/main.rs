@@ -14,7 +14,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, bail};
 use clap::Parser;
-use dampid::analysis::bootstrap::{BootstrapSettings, bootstrap_with_progress};
+use dampid::analysis::bootstrap::{BootstrapSettings, bootstrap_groups, bootstrap_with_progress};
 use dampid::io::output::Overwrite;
 use dampid::io::pod_files::{Columns, PodTables, pod_of_files};
 use dampid::model_file::{CheckReport, Job, load_with_progress};
@@ -111,8 +111,13 @@ fn run(cli: Cli) -> anyhow::Result<Outcome> {
         Command::Compare {
             model_a,
             model_b,
+            laws,
             json,
-        } => compare(&model_a, &model_b, json),
+        } => match (model_b, laws) {
+            (Some(model_b), _) => compare(&model_a, &model_b, json),
+            (None, Some(laws)) => rank_laws(&model_a, &laws, json),
+            (None, None) => bail!("give a second model file or --laws"),
+        },
         Command::Design { model, json } => design(&model, json),
         Command::Simulate { model, out, force } => {
             write_records(&model, &out, Overwrite::from_force(force))
@@ -221,13 +226,24 @@ fn identify(
             &regressor,
         ));
     if let Some(settings) = bootstrap {
+        // Stepped-sine tables: errors are correlated within a sweep, so whole sweeps
+        // are resampled.
         let bar = progress_bar("bootstrap");
-        let intervals =
-            bootstrap_with_progress(&regressor, &job.settings.fit, &settings, &on_bar(&bar));
+        let intervals = match job.sweeps() {
+            Some(sweeps) => bootstrap_groups(
+                &regressor,
+                &job.settings.fit,
+                &settings,
+                sweeps,
+                &on_bar(&bar),
+            ),
+            None => bootstrap_with_progress(&regressor, &job.settings.fit, &settings, &on_bar(&bar)),
+        };
         bar.finish_and_clear();
         let intervals = intervals?;
         report = report.with_bootstrap(intervals);
     }
+    let equivalent = job.equivalent_damping(&report);
     let mut out = String::new();
     if let Some((file, overwrite)) = html {
         let page = HtmlReport {
@@ -239,7 +255,7 @@ fn identify(
             truth: job.truth.as_deref(),
             pod: job.pod.as_ref(),
         }
-        .render()?;
+        .render_with(equivalent.as_ref().and_then(|e| e.as_ref().ok()))?;
         if let Some(folder) = file.parent() {
             std::fs::create_dir_all(folder)
                 .with_context(|| format!("creating {}", folder.display()))?;
@@ -270,6 +286,10 @@ fn identify(
                 "steady_state": steady,
                 "detected_periods": job.detected_periods,
                 "pod": job.pod.as_ref().map(|r| r.reports()),
+                "equivalent_damping": equivalent.as_ref().map(|e| match e {
+                    Ok(e) => json!(e),
+                    Err(e) => json!({ "error": e.to_string() }),
+                }),
             }))?
         )?;
     } else {
@@ -283,6 +303,11 @@ fn identify(
         write!(out, "{}{report}", job.preamble(steady.as_ref()))?;
         if let Some(truth) = &job.truth {
             write!(out, "{}", report.against(truth))?;
+        }
+        match &equivalent {
+            Some(Ok(e)) => write!(out, "{e}")?,
+            Some(Err(e)) => writeln!(out, "equivalent damping not computed: {e}")?,
+            None => {}
         }
     }
     Ok(Outcome {
@@ -380,6 +405,42 @@ fn compare(first: &Path, second: &Path, as_json: bool) -> anyhow::Result<Outcome
         format!(
             "records and identification settings of {}\n{comparison}",
             first.display()
+        )
+    };
+    Ok(Outcome {
+        text,
+        trusted: true,
+    })
+}
+
+/// Candidate laws fitted on the data of one model file and ranked.
+fn rank_laws(path: &Path, laws: &[String], as_json: bool) -> anyhow::Result<Outcome> {
+    let job = load_job(path)?;
+    let dofs = job.records.first().map_or(1, |r| r.dofs());
+    let registry = dampid::terms::laws::Registry::builtin();
+    let regressors = laws
+        .iter()
+        .map(|spec| {
+            let model = dampid::model_file::candidate_model(spec, dofs, &registry)
+                .with_context(|| format!("candidate '{spec}'"))?;
+            Ok((spec.clone(), job.regressor_of(&model)?))
+        })
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let candidates: Vec<(&str, &Regressor)> =
+        regressors.iter().map(|(l, r)| (l.as_str(), r)).collect();
+    let ranking = dampid::analysis::compare::rank(
+        &candidates,
+        &dampid::analysis::compare::CompareSettings {
+            rank_tolerance: job.settings.fit.rank_tolerance,
+            ..Default::default()
+        },
+    )?;
+    let text = if as_json {
+        format!("{}\n", serde_json::to_string_pretty(&ranking)?)
+    } else {
+        format!(
+            "records and identification settings of {}\n{ranking}",
+            path.display()
         )
     };
     Ok(Outcome {

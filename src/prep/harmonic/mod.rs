@@ -33,6 +33,7 @@
 
 pub mod approximation;
 pub mod fundamentals;
+pub mod sweeps;
 pub mod table;
 
 pub use crate::prep::fourier::Phasor;

@@ -11,6 +11,7 @@ mod pom;
 
 use std::fmt::Write as _;
 
+use crate::analysis::equivalent::EquivalentDamping;
 use crate::error::Result;
 use crate::model::DampingModel;
 use crate::prep::pod::Reduction;
@@ -44,6 +45,15 @@ pub struct HtmlReport<'a> {
 impl HtmlReport<'_> {
     /// The whole page.
     pub fn render(&self) -> Result<String> {
+        self.render_with(None)
+    }
+
+    /// The whole page, with the dissipated energy per cycle against amplitude of a
+    /// one-mode stepped-sine identification (log-log; the measured points and the
+    /// fitted laws at ω_n over the measured amplitude range) when `stepped_sine` gives
+    /// the equivalent damping. The measured points are the input work of each equation
+    /// against the amplitude of the force DOF of `records` (the synthesized periods).
+    pub fn render_with(&self, stepped_sine: Option<&EquivalentDamping>) -> Result<String> {
         let report = self.report;
         let input = self.regressor.rhs();
         let dissipated: Vec<f64> = input
@@ -110,6 +120,9 @@ impl HtmlReport<'_> {
         if let Some(reduction) = self.pod {
             page.push_str(&pom::section(reduction)?);
         }
+        if let Some(equivalent) = stepped_sine {
+            page.push_str(&self.energy_section(equivalent)?);
+        }
         let json = serde_json::to_string_pretty(report).unwrap_or_default();
         let _ = write!(
             page,
@@ -117,6 +130,45 @@ impl HtmlReport<'_> {
             escape(&json)
         );
         Ok(page)
+    }
+
+    /// The stepped-sine section: energy per cycle against amplitude, log-log.
+    fn energy_section(&self, equivalent: &EquivalentDamping) -> Result<String> {
+        let measured: Vec<(f64, f64)> = self
+            .records
+            .iter()
+            .zip(self.regressor.rhs())
+            .map(|(record, b)| {
+                let x = record.displacements();
+                let peak = (0..x.nrows()).fold(0.0f64, |m, i| m.max(x[(i, 0)].abs()));
+                (peak, *b)
+            })
+            .collect();
+        let mut curves = vec![plots::Curve {
+            name: "fitted model at ω_n".into(),
+            points: equivalent
+                .points
+                .iter()
+                .map(|p| (p.amplitude, p.dissipated_energy))
+                .collect(),
+            band: None,
+        }];
+        for (k, c) in self.report.coefficients.iter().enumerate() {
+            curves.push(plots::Curve {
+                name: format!("{} term", c.name),
+                points: equivalent
+                    .points
+                    .iter()
+                    .filter_map(|p| p.terms.get(k).map(|e| (p.amplitude, *e)))
+                    .collect(),
+                band: None,
+            });
+        }
+        Ok(format!(
+            "\n<h2>Dissipated energy per cycle</h2>\n<p>Measured input work π a X sin φ of each point against its amplitude, and the fitted laws evaluated at ω_n = {:.4e} over the measured amplitude range only (log-log).</p>\n{}\n",
+            equivalent.modal.natural_frequency,
+            plots::energy_per_cycle(&measured, &curves)?
+        ))
     }
 
     fn coefficient_table(&self) -> String {

@@ -423,6 +423,59 @@ pub(crate) fn energy_shares(title: &str, shares: &[f64], retained: usize) -> Res
     Ok(svg)
 }
 
+/// Dissipated energy per cycle against amplitude on log-log axes: the measured input
+/// work of each point (`measured`, positive values only) and the fitted `curves`, each
+/// over the measured amplitude range only.
+pub(crate) fn energy_per_cycle(measured: &[(f64, f64)], curves: &[Curve]) -> Result<String> {
+    let log = |(x, y): (f64, f64)| (x > 0.0 && y > 0.0).then(|| (x.log10(), y.log10()));
+    let points: Vec<(f64, f64)> = measured.iter().copied().filter_map(log).collect();
+    let lines: Vec<(String, Vec<(f64, f64)>)> = curves
+        .iter()
+        .map(|c| {
+            (
+                c.name.clone(),
+                c.points.iter().copied().filter_map(log).collect(),
+            )
+        })
+        .collect();
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+        let all = || {
+            points
+                .iter()
+                .chain(lines.iter().flat_map(|(_, l)| l.iter()))
+        };
+        let mut chart = frame_with_ticks(
+            &root,
+            "Dissipated energy per cycle",
+            padded(all().map(|p| p.0)),
+            padded(all().map(|p| p.1)),
+            ("response amplitude X (log10)", "energy per cycle (log10)"),
+            (Ticks::Decades, Ticks::Decades),
+        )?;
+        chart
+            .draw_series(points.iter().map(|&p| Circle::new(p, 3, BLUE.filled())))
+            .map_err(plot_error)?
+            .label("measured π a X sin φ")
+            .legend(|(x, y)| Circle::new((x + 8, y), 3, BLUE.filled()));
+        for (k, (name, line)) in lines.iter().enumerate() {
+            let colour = Palette99::pick(k + 1).to_rgba();
+            chart
+                .draw_series(LineSeries::new(
+                    line.iter().copied(),
+                    colour.stroke_width(2),
+                ))
+                .map_err(plot_error)?
+                .label(name.as_str())
+                .legend(move |(x, y)| PathElement::new([(x, y), (x + 16, y)], colour));
+        }
+        legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
+        root.present().map_err(plot_error)?;
+    }
+    Ok(svg)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,0 +1,304 @@
+//! Equivalent viscous damping ratio and loss factor versus amplitude, for a one-DOF
+//! (one-mode) stepped-sine identification.
+//!
+//! With the identified coefficients θ and the columns g(X) of the model at amplitude X
+//! and the natural frequency ω_n (dissipated energy per cycle per unit coefficient,
+//! [`crate::regressor::stepped_sine::columns_of`]), the energy dissipated per cycle is
+//! E_d(X) = g(X)ᵀθ. A viscous damper c_eq dissipating the same energy has
+//! π c_eq ω_n X² = E_d, so with modal mass m and stiffness k = m ω_n²
+//!
+//! ```text
+//!   ζ_eq(X) = c_eq / (2 m ω_n) = E_d(X) / (2π k X²),      η(X) = E_d(X) / (π k X²) = 2 ζ_eq(X),
+//! ```
+//!
+//! the loss factor being E_d over 2π times the peak stored energy ½kX². Both are linear
+//! in θ, so their standard deviations are √(gᵀΣg) over the same factors, Σ the
+//! coefficient covariance of the report (its standard errors and correlation; the
+//! modal mass is taken as exact). Intervals are ± 1.96 standard deviations.
+//!
+//! **Modal mass and stiffness.** From `[system]` (1 × 1 mass and stiffness), or
+//! estimated from the frequency response of the lowest level (the sweep with the
+//! smallest median amplitude, the most nearly linear): with Z = X e^{−iφ} the response
+//! per unit force of a one-DOF oscillator satisfies Re(a/Z) = k − m ω², fitted by
+//! least squares over that sweep's points (viscous or hysteretic damping only changes
+//! the imaginary part).
+
+use std::fmt;
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::model::DampingModel;
+use crate::prep::harmonic::sweeps::SweptTable;
+use crate::prep::harmonic::{HarmonicApproximation, SteppedSinePoint};
+use crate::regressor::stepped_sine::{StructuralTerm, columns_of};
+use crate::report::FitReport;
+
+/// Amplitudes the curves are evaluated at.
+const GRID: usize = 12;
+
+/// Where the modal mass and stiffness came from.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", tag = "source")]
+pub enum ModalSource {
+    /// The model file's `[system]`.
+    System,
+    /// Re(a/Z) = k − mω² over the lowest sweep.
+    LowestLevelFrf {
+        /// The sweep's name.
+        sweep: String,
+        /// Its points.
+        points: usize,
+    },
+}
+
+/// Modal mass and stiffness of the one mode.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Modal {
+    /// m.
+    pub mass: f64,
+    /// k.
+    pub stiffness: f64,
+    /// ω_n = √(k/m).
+    pub natural_frequency: f64,
+    /// Where they came from.
+    pub source: ModalSource,
+}
+
+impl Modal {
+    /// Given m and k (both finite and positive).
+    pub fn given(mass: f64, stiffness: f64) -> Result<Self> {
+        for (name, v) in [("modal mass", mass), ("modal stiffness", stiffness)] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(Error::invalid(name, v, "must be finite and positive"));
+            }
+        }
+        Ok(Modal {
+            mass,
+            stiffness,
+            natural_frequency: (stiffness / mass).sqrt(),
+            source: ModalSource::System,
+        })
+    }
+
+    /// Estimated from the lowest sweep of a one-DOF table (module doc).
+    pub fn from_lowest_level(swept: &SweptTable) -> Result<Self> {
+        require_one_dof(swept)?;
+        let points = swept.table.points();
+        let median = |s: usize| {
+            let mut x: Vec<f64> = swept
+                .members(s)
+                .iter()
+                .map(|&i| points[i].amplitudes[0])
+                .collect();
+            x.sort_by(f64::total_cmp);
+            x[x.len() / 2]
+        };
+        let lowest = (0..swept.sweep_names.len())
+            .min_by(|&a, &b| median(a).total_cmp(&median(b)))
+            .unwrap_or(0);
+        let members = swept.members(lowest);
+        // Normal equations of [1, −ω²] (k, m) = (a/X) cos φ, two unknowns.
+        let (mut s11, mut s12, mut s22, mut r1, mut r2) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        for &i in &members {
+            let p = &points[i];
+            let w2 = p.frequency * p.frequency;
+            let y = p.force_amplitude / p.amplitudes[0] * p.phases[0].cos();
+            s11 += 1.0;
+            s12 -= w2;
+            s22 += w2 * w2;
+            r1 += y;
+            r2 -= w2 * y;
+        }
+        let det = s11 * s22 - s12 * s12;
+        let name = &swept.sweep_names[lowest];
+        if det.is_nan() || det.abs() <= 1e-12 * s22 * s11 {
+            return Err(Error::choice(
+                "modal mass",
+                format!("the frequency response of sweep '{name}'"),
+                "its points do not span two frequencies; give the mass and stiffness in [system]",
+            ));
+        }
+        let stiffness = (s22 * r1 - s12 * r2) / det;
+        let mass = (s11 * r2 - s12 * r1) / det;
+        if !(mass > 0.0 && stiffness > 0.0) {
+            return Err(Error::choice(
+                "modal mass",
+                format!("m = {mass:e}, k = {stiffness:e} from sweep '{name}'"),
+                "the lowest level's frequency response does not look like one mode; give the mass and stiffness in [system]",
+            ));
+        }
+        Ok(Modal {
+            mass,
+            stiffness,
+            natural_frequency: (stiffness / mass).sqrt(),
+            source: ModalSource::LowestLevelFrf {
+                sweep: name.clone(),
+                points: members.len(),
+            },
+        })
+    }
+}
+
+fn require_one_dof(swept: &SweptTable) -> Result<()> {
+    if swept.table.dofs() != 1 {
+        return Err(Error::mismatch(
+            "DOFs of a stepped-sine table for an equivalent damping ratio (one mode)",
+            1,
+            swept.table.dofs(),
+        ));
+    }
+    Ok(())
+}
+
+/// ζ_eq and η at one amplitude.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct EquivalentPoint {
+    /// Response amplitude X.
+    pub amplitude: f64,
+    /// Dissipated energy per cycle E_d(X) at ω_n.
+    pub dissipated_energy: f64,
+    /// Each coefficient's share θ_k g_k(X) of it, in coefficient order.
+    pub terms: Vec<f64>,
+    /// ζ_eq(X).
+    pub damping_ratio: f64,
+    /// Its standard deviation (None without standard errors).
+    pub damping_ratio_std: Option<f64>,
+    /// η(X) = 2 ζ_eq(X).
+    pub loss_factor: f64,
+    /// Its standard deviation.
+    pub loss_factor_std: Option<f64>,
+}
+
+/// Equivalent damping over the measured amplitude range.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct EquivalentDamping {
+    /// The modal mass and stiffness used.
+    pub modal: Modal,
+    /// From the smallest to the largest measured amplitude, log-spaced.
+    pub points: Vec<EquivalentPoint>,
+}
+
+/// ζ_eq(X) and η(X) of the fit `report` of `model` (plus `structural` terms) over the
+/// amplitude range of `swept`.
+pub fn equivalent_damping(
+    model: &DampingModel,
+    structural: &[StructuralTerm],
+    approximation: &HarmonicApproximation,
+    swept: &SweptTable,
+    report: &FitReport,
+    modal: Modal,
+) -> Result<EquivalentDamping> {
+    require_one_dof(swept)?;
+    let points = swept.table.points();
+    let (lo, hi) = points.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), p| {
+        (lo.min(p.amplitudes[0]), hi.max(p.amplitudes[0]))
+    });
+    let grid: Vec<f64> = (0..GRID)
+        .map(|i| lo * (hi / lo).powf(i as f64 / (GRID - 1) as f64))
+        .collect();
+    let synthetic: Vec<SteppedSinePoint> = grid
+        .iter()
+        .map(|&x| SteppedSinePoint {
+            label: format!("X = {x:e}"),
+            frequency: modal.natural_frequency,
+            force_dof: 0,
+            force_amplitude: 1.0,
+            amplitudes: vec![x],
+            phases: vec![std::f64::consts::FRAC_PI_2],
+        })
+        .collect();
+    let columns = columns_of(model, structural, approximation, &synthetic)?;
+    let theta: Vec<f64> = report.coefficients.iter().map(|c| c.value).collect();
+    let covariance = covariance(report);
+    let out = grid
+        .iter()
+        .zip(&columns)
+        .map(|(&x, g)| {
+            let energy: f64 = g.iter().zip(&theta).map(|(g, t)| g * t).sum();
+            let factor = 2.0 * std::f64::consts::PI * modal.stiffness * x * x;
+            let std = covariance.as_ref().map(|c| {
+                let mut v = 0.0;
+                for (i, gi) in g.iter().enumerate() {
+                    for (j, gj) in g.iter().enumerate() {
+                        v += gi * c[i][j] * gj;
+                    }
+                }
+                v.max(0.0).sqrt()
+            });
+            EquivalentPoint {
+                amplitude: x,
+                dissipated_energy: energy,
+                terms: g.iter().zip(&theta).map(|(g, t)| g * t).collect(),
+                damping_ratio: energy / factor,
+                damping_ratio_std: std.map(|s| s / factor),
+                loss_factor: 2.0 * energy / factor,
+                loss_factor_std: std.map(|s| 2.0 * s / factor),
+            }
+        })
+        .collect();
+    Ok(EquivalentDamping { modal, points: out })
+}
+
+/// Σ_ij = se_i se_j ρ_ij in coefficient order, when every coefficient has a standard
+/// error.
+fn covariance(report: &FitReport) -> Option<Vec<Vec<f64>>> {
+    let p = report.coefficients.len();
+    let se: Vec<f64> = report
+        .coefficients
+        .iter()
+        .map(|c| c.std_error)
+        .collect::<Option<_>>()?;
+    let mut c = vec![vec![0.0; p]; p];
+    for (i, row) in c.iter_mut().enumerate() {
+        row[i] = se[i] * se[i];
+    }
+    if let Some(corr) = &report.correlation {
+        let index = |name: &str| report.coefficients.iter().position(|c| c.name == name);
+        for (a, na) in corr.names.iter().enumerate() {
+            for (b, nb) in corr.names.iter().enumerate() {
+                if let (Some(i), Some(j)) = (index(na), index(nb)) {
+                    c[i][j] = se[i] * se[j] * corr.matrix[a][b];
+                }
+            }
+        }
+    }
+    Some(c)
+}
+
+impl fmt::Display for EquivalentDamping {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let m = &self.modal;
+        let source = match &m.source {
+            ModalSource::System => "from [system]".to_string(),
+            ModalSource::LowestLevelFrf { sweep, points } => format!(
+                "estimated from the frequency response of the lowest level ({sweep}, {points} points)"
+            ),
+        };
+        writeln!(
+            f,
+            "equivalent damping at ω_n = {:.6e} (modal mass {:.6e}, stiffness {:.6e}, {source}):",
+            m.natural_frequency, m.mass, m.stiffness
+        )?;
+        writeln!(
+            f,
+            "  {:>12}  {:>12}  {:>26}  {:>26}",
+            "amplitude", "E_d/cycle", "ζ_eq (95%)", "η (95%)"
+        )?;
+        for p in &self.points {
+            let band = |v: f64, s: Option<f64>| match s {
+                Some(s) => format!("{v:.4e} ± {:.2e}", 1.96 * s),
+                None => format!("{v:.4e}"),
+            };
+            writeln!(
+                f,
+                "  {:>12.4e}  {:>12.4e}  {:>26}  {:>26}",
+                p.amplitude,
+                p.dissipated_energy,
+                band(p.damping_ratio, p.damping_ratio_std),
+                band(p.loss_factor, p.loss_factor_std)
+            )?;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,370 @@
+//! `[stepped_sine]`: a measured stepped-sine table read from a data file into a
+//! [`SweptTable`], and the structural damping terms beside the model's.
+//!
+//! Each row is one point. A response column measured as velocity or acceleration is
+//! mapped to displacement by its harmonic: v = V cos(ωt − φ_v) is the derivative of
+//! X cos(ωt − φ_x) with X = V/ω and φ_x = φ_v + π/2; an acceleration A gives X = A/ω²
+//! and φ_x = φ_a + π (lags, wrapped into (−π, π]). With `phase_convention = "lead"`
+//! the column holds the phase of the response, φ = −(column). Noise columns, when
+//! given, are mapped by the same factors (σ_X = σ_V/ω, σ_X = σ_A/ω²).
+//!
+//! Every bad cell is an [`Error::Data`] naming the file, the 1-based data row and the
+//! column: a missing column, a non-positive frequency, force or amplitude, a phase
+//! beyond ±2π after its gain (a phase in degrees needs `scale = 0.017453292519943295`),
+//! a negative or non-finite standard deviation.
+
+use std::path::Path;
+
+use super::context::Context;
+use super::reduction::harmonic_settings;
+use super::spec::{
+    ColumnSpec, HarmonicApproximationSpec, PhaseConvention, SteppedSineSpec, StructuralSpec,
+};
+use crate::error::{Error, Result};
+use crate::io::Table;
+use crate::prep::fourier::wrap_phase;
+use crate::prep::harmonic::HarmonicApproximation;
+use crate::prep::harmonic::sweeps::{PointNoise, SweptTable};
+use crate::prep::harmonic::{SteppedSinePoint, SteppedSineTable};
+use crate::regressor::stepped_sine::StructuralTerm;
+
+/// What `[stepped_sine]` describes, ready to build the regressor from.
+#[derive(Debug, Clone)]
+pub struct SteppedSineJob {
+    /// The points, their sweeps and noise.
+    pub table: SweptTable,
+    /// Structural damping terms (their columns follow the model's).
+    pub structural: Vec<StructuralTerm>,
+    /// How the synthesized motion's phases are read.
+    pub approximation: HarmonicApproximation,
+    /// The data file.
+    pub file: String,
+}
+
+/// A data error in `file`.
+fn data_error(file: &str, row: usize, column: &str, message: impl Into<String>) -> Error {
+    Error::Data {
+        file: file.to_string(),
+        row,
+        column: column.to_string(),
+        message: message.into(),
+    }
+}
+
+/// The column `spec` of `table`, with its gain, or a data error naming it.
+fn column(table: &Table, spec: &ColumnSpec) -> Result<Vec<f64>> {
+    let scale = spec.scale.unwrap_or(1.0);
+    let offset = spec.offset.unwrap_or(0.0);
+    if !(scale.is_finite() && scale != 0.0 && offset.is_finite()) {
+        return Err(Error::invalid(
+            &format!("gain of column '{}'", spec.column),
+            if scale.is_finite() { offset } else { scale },
+            "scale must be finite and not zero, offset finite (value = scale × column + offset)",
+        ));
+    }
+    raw(table, &spec.column).map(|v| v.iter().map(|c| scale * c + offset).collect())
+}
+
+/// The column `name` of `table` as stored.
+fn raw(table: &Table, name: &str) -> Result<Vec<f64>> {
+    match table.headers.iter().position(|h| h == name) {
+        Some(k) => Ok(table.columns[k].clone()),
+        None => Err(data_error(
+            &table.file,
+            0,
+            name,
+            format!("no column '{name}' (columns: {})", table.headers.join(", ")),
+        )),
+    }
+}
+
+impl Context<'_> {
+    /// Reads `[stepped_sine]` for a model of `n` DOFs.
+    pub(super) fn stepped_sine(
+        &self,
+        spec: &SteppedSineSpec,
+        n: usize,
+        base: &Path,
+    ) -> Result<SteppedSineJob> {
+        let path = base.join(&spec.file);
+        let table = crate::io::read_table(&path)?;
+        let file = table.file.clone();
+        if spec.amplitudes.len() != n || spec.phases.len() != n {
+            return Err(Error::mismatch(
+                "amplitude and phase columns of [stepped_sine] vs dofs",
+                n,
+                if spec.amplitudes.len() != n {
+                    spec.amplitudes.len()
+                } else {
+                    spec.phases.len()
+                },
+            ));
+        }
+        let force_dof = spec.force_dof.unwrap_or(1);
+        if force_dof == 0 || force_dof > n {
+            return Err(Error::DofOutOfRange {
+                what: "stepped_sine.force_dof".into(),
+                dof: force_dof,
+                dofs: n,
+            });
+        }
+        // Each DOF's amplitude and phase column, in DOF order.
+        let mut by_dof: Vec<Option<(&ColumnSpec, &ColumnSpec, usize)>> = vec![None; n];
+        for (k, (a, p)) in spec.amplitudes.iter().zip(&spec.phases).enumerate() {
+            let dof = a.get_ref().dof.unwrap_or(k + 1);
+            if dof == 0 || dof > n {
+                return Err(self.typed_error_at(
+                    a,
+                    Error::DofOutOfRange {
+                        what: format!("amplitude column '{}'", a.get_ref().column),
+                        dof,
+                        dofs: n,
+                    },
+                ));
+            }
+            if by_dof[dof - 1].is_some() {
+                return Err(self.error_at(a, format!("DOF {dof} has two amplitude columns")));
+            }
+            by_dof[dof - 1] = Some((a.get_ref(), p.get_ref(), k));
+        }
+        let by_dof: Vec<(&ColumnSpec, &ColumnSpec, usize)> = by_dof
+            .into_iter()
+            .map(|c| c.expect("n entries for n DOFs, each DOF once"))
+            .collect();
+        let omega = column(&table, &spec.frequency)?;
+        let force = column(&table, &spec.force)?;
+        let amplitudes = by_dof
+            .iter()
+            .map(|(a, _, _)| column(&table, a))
+            .collect::<Result<Vec<_>>>()?;
+        let phases = by_dof
+            .iter()
+            .map(|(_, p, _)| column(&table, p))
+            .collect::<Result<Vec<_>>>()?;
+        let rows = table.rows();
+        let order = spec.response.order() as i32;
+        for r in 0..rows {
+            let line = r + 1;
+            let positive = |value: f64, name: &str, what: &str| -> Result<()> {
+                if value.is_finite() && value > 0.0 {
+                    Ok(())
+                } else {
+                    Err(data_error(
+                        &file,
+                        line,
+                        name,
+                        format!("{what} {value} must be finite and positive"),
+                    ))
+                }
+            };
+            positive(omega[r], &spec.frequency.column, "frequency")?;
+            positive(force[r], &spec.force.column, "force amplitude")?;
+            for (j, (a, p, _)) in by_dof.iter().enumerate() {
+                positive(
+                    amplitudes[j][r],
+                    &a.column,
+                    &format!("amplitude of DOF {}", j + 1),
+                )?;
+                let phi = phases[j][r];
+                if !(phi.is_finite() && phi.abs() <= 2.0 * std::f64::consts::PI) {
+                    return Err(data_error(
+                        &file,
+                        line,
+                        &p.column,
+                        format!(
+                            "phase of DOF {} is {phi} rad after its gain, out of range [-2π, 2π] (a phase in degrees needs scale = 0.017453292519943295)",
+                            j + 1
+                        ),
+                    ));
+                }
+            }
+        }
+        // Sweeps: distinct values of the sweep column in order of first appearance.
+        let (sweeps, sweep_names) = match &spec.sweep {
+            None => (vec![0; rows], vec!["all points".to_string()]),
+            Some(name) => {
+                let values = raw(&table, name)?;
+                let mut distinct: Vec<f64> = Vec::new();
+                let mut sweeps = Vec::with_capacity(rows);
+                for (r, v) in values.iter().enumerate() {
+                    if !v.is_finite() {
+                        return Err(data_error(&file, r + 1, name, "not a finite number"));
+                    }
+                    let s = match distinct.iter().position(|d| d == v) {
+                        Some(s) => s,
+                        None => {
+                            distinct.push(*v);
+                            distinct.len() - 1
+                        }
+                    };
+                    sweeps.push(s);
+                }
+                let names = distinct.iter().map(|v| format!("{name} = {v}")).collect();
+                (sweeps, names)
+            }
+        };
+        // Response → displacement: X = R/ω^order, lag + order·π/2.
+        let lag = |phi: f64| match spec.phase_convention {
+            PhaseConvention::Lag => phi,
+            PhaseConvention::Lead => -phi,
+        };
+        let points: Vec<SteppedSinePoint> = (0..rows)
+            .map(|r| {
+                let w = omega[r];
+                SteppedSinePoint {
+                    label: format!("row {}", r + 1),
+                    frequency: w,
+                    force_dof: force_dof - 1,
+                    force_amplitude: force[r],
+                    amplitudes: (0..n).map(|j| amplitudes[j][r] / w.powi(order)).collect(),
+                    phases: (0..n)
+                        .map(|j| {
+                            wrap_phase(
+                                lag(phases[j][r]) + order as f64 * std::f64::consts::FRAC_PI_2,
+                            )
+                        })
+                        .collect(),
+                }
+            })
+            .collect();
+        let table_points = SteppedSineTable::new(points)?;
+        let given = [
+            spec.force_std.is_some(),
+            spec.amplitude_std.is_some(),
+            spec.phase_std.is_some(),
+        ];
+        let swept = if given.iter().all(|g| *g) {
+            let std_column = |name: &str, gain: f64| -> Result<Vec<f64>> {
+                let values = raw(&table, name)?;
+                for (r, v) in values.iter().enumerate() {
+                    if !(v.is_finite() && *v >= 0.0) {
+                        return Err(data_error(
+                            &file,
+                            r + 1,
+                            name,
+                            format!("standard deviation {v} must be finite and nonnegative"),
+                        ));
+                    }
+                }
+                Ok(values.iter().map(|v| v * gain.abs()).collect())
+            };
+            let amplitude_std = spec.amplitude_std.as_deref().unwrap_or_default();
+            let phase_std = spec.phase_std.as_deref().unwrap_or_default();
+            if amplitude_std.len() != n || phase_std.len() != n {
+                return Err(Error::mismatch(
+                    "amplitude_std and phase_std columns vs dofs",
+                    n,
+                    amplitude_std.len().min(phase_std.len()),
+                ));
+            }
+            let sf = std_column(
+                spec.force_std.as_deref().unwrap_or_default(),
+                spec.force.scale.unwrap_or(1.0),
+            )?;
+            let mut sa = Vec::new();
+            let mut sp = Vec::new();
+            for (a, p, k) in &by_dof {
+                sa.push(std_column(&amplitude_std[*k], a.scale.unwrap_or(1.0))?);
+                sp.push(std_column(&phase_std[*k], p.scale.unwrap_or(1.0))?);
+            }
+            let noise = (0..rows)
+                .map(|r| PointNoise {
+                    force: sf[r],
+                    amplitudes: (0..n).map(|j| sa[j][r] / omega[r].powi(order)).collect(),
+                    phases: (0..n).map(|j| sp[j][r]).collect(),
+                })
+                .collect();
+            SweptTable::with_noise(table_points, sweeps, sweep_names, noise)?
+        } else if given.iter().any(|g| *g) {
+            return Err(Error::choice(
+                "stepped_sine noise columns",
+                "some of force_std, amplitude_std, phase_std",
+                "give all three (the noise of every point) or none (estimated from the scatter along each sweep)",
+            ));
+        } else {
+            SweptTable::from_scatter(table_points, sweeps, sweep_names)?
+        };
+        let approximation = harmonic_settings(
+            &HarmonicApproximationSpec {
+                phase: spec.phase_reading,
+                dof: spec.phase_dof,
+                samples_per_period: None,
+            },
+            n,
+        )?;
+        let structural = spec
+            .structural
+            .iter()
+            .map(|s| self.at(s, |s| structural_term(s, n)))
+            .collect::<Result<Vec<_>>>()?;
+        Ok(SteppedSineJob {
+            table: swept,
+            structural,
+            approximation,
+            file,
+        })
+    }
+}
+
+/// A structural damping term from its spec (DOFs 1-based, 0 = ground).
+fn structural_term(spec: &StructuralSpec, n: usize) -> Result<StructuralTerm> {
+    let [a, b] = spec.element.unwrap_or([1, 0]);
+    let dof = |d: usize| -> Result<Option<usize>> {
+        if d > n {
+            return Err(Error::DofOutOfRange {
+                what: format!("structural damping '{}'", spec.coefficient),
+                dof: d,
+                dofs: n,
+            });
+        }
+        Ok(d.checked_sub(1))
+    };
+    let term = StructuralTerm {
+        coefficient: spec.coefficient.clone(),
+        stiffness: spec.stiffness,
+        from: dof(a)?,
+        to: dof(b)?,
+    };
+    term.validate(n)?;
+    Ok(term)
+}
+
+impl super::Job {
+    /// For a one-DOF `[stepped_sine]` job: the equivalent viscous damping ratio and loss
+    /// factor versus amplitude of `report` ([`crate::analysis::equivalent`]), with the
+    /// modal mass and stiffness of `[system]` or, without it, estimated from the
+    /// frequency response of the lowest level. `None` for other jobs and for tables of
+    /// several DOFs.
+    pub fn equivalent_damping(
+        &self,
+        report: &crate::report::FitReport,
+    ) -> Option<Result<crate::analysis::equivalent::EquivalentDamping>> {
+        use crate::analysis::equivalent::{Modal, equivalent_damping};
+        let table = self.stepped_sine.as_ref()?;
+        if table.table.table.dofs() != 1 {
+            return None;
+        }
+        let modal = match &self.stored_energy {
+            Some(system) => Modal::given(system.mass[(0, 0)], system.stiffness[(0, 0)]),
+            None => Modal::from_lowest_level(&table.table),
+        };
+        Some(modal.and_then(|modal| {
+            equivalent_damping(
+                &self.model,
+                &table.structural,
+                &table.approximation,
+                &table.table,
+                report,
+                modal,
+            )
+        }))
+    }
+
+    /// The sweep of each equation of a `[stepped_sine]` job (for resampling whole
+    /// sweeps); `None` for other jobs.
+    pub fn sweeps(&self) -> Option<&[usize]> {
+        self.stepped_sine
+            .as_ref()
+            .map(|t| t.table.sweeps.as_slice())
+    }
+}

@@ -1,0 +1,296 @@
+//! The energy equations of a measured stepped-sine table, with the first-order noise
+//! model of each one.
+//!
+//! Point p (ω, a on DOF f, X_i, φ_i) gives one equation of the harmonic approximation
+//! ([`crate::prep::harmonic::approximation`]): over one period of the synthesized
+//! motion,
+//!
+//! ```text
+//!   Σ_k θ_k A_pk = b_p,   A_pk = ∮ ẋᵀ f_k dt,   b_p = ∮ ẋᵀ r dt = π a X_f sin φ̄,
+//! ```
+//!
+//! plus, for structural damping (a loss factor η on an element of stiffness k, see
+//! [`StructuralTerm`]), the closed form A_pk = π k |Z_e|² with Z_e = Z_a − Z_b the
+//! complex amplitude of the element's deformation, Z_i = X_i e^{−iψ_i}.
+//!
+//! **Noise.** The measured a, X_i, φ_i carry independent noise of standard deviations
+//! σ_a, σ_{X,i}, σ_{φ,i} ([`crate::prep::harmonic::sweeps`]). To first order the
+//! residual e_p = b_p − Σ θ_k A_pk has
+//!
+//! ```text
+//!   Var e_p(θ) = Σ_i ‖ (σ_{X,i} ∂e_p/∂X_i, σ_{φ,i} ∂e_p/∂φ_i) ‖² + (σ_a ∂b_p/∂a)²,
+//! ```
+//!
+//! stored as the [`RowNoise`] of the noise-robust pipeline (one two-entry whitened
+//! vector per DOF), so the fit weights each equation by 1/√Var e_p(θ), iterated, with
+//! the same χ² model check and calibrated standard errors
+//! ([`crate::fit::weighted`], [`crate::analysis::diagnostics`]). The derivatives are
+//! forward differences of the synthesized rows, steps 10⁻⁶ X_i (relative), 10⁻⁶ rad
+//! and 10⁻⁶ a: the columns are smooth in X and φ, so their relative error is about
+//! 10⁻⁶, negligible in a variance; b is exactly linear in a.
+
+use faer::Mat;
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::model::DampingModel;
+use crate::prep::harmonic::sweeps::SweptTable;
+use crate::prep::harmonic::{HarmonicApproximation, SteppedSinePoint};
+use crate::record::Record;
+use crate::regressor::robust::{ChannelSensitivity, NoiseModel, RowNoise, WindowNoise};
+use crate::regressor::{Regressor, RegressorSettings, RowLabel};
+
+/// Relative step of the forward differences (module doc).
+const STEP: f64 = 1e-6;
+
+/// Structural (hysteretic) damping: a loss factor η on one element of given stiffness
+/// k, dissipating π η k |Z_e|² per cycle of harmonic motion (complex stiffness
+/// k(1 + iη); its damping force is (ηk/ω) ẋ at frequency ω).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StructuralTerm {
+    /// The coefficient's name (η).
+    pub coefficient: String,
+    /// The element's stiffness k (> 0).
+    pub stiffness: f64,
+    /// The element: DOFs (0-based), `None` for ground.
+    pub from: Option<usize>,
+    /// The other end (0-based), `None` for ground.
+    pub to: Option<usize>,
+}
+
+impl StructuralTerm {
+    /// Checks the stiffness and the DOFs against `dofs`.
+    pub fn validate(&self, dofs: usize) -> Result<()> {
+        if !(self.stiffness.is_finite() && self.stiffness > 0.0) {
+            return Err(Error::invalid(
+                &format!("stiffness of structural damping '{}'", self.coefficient),
+                self.stiffness,
+                "must be finite and positive",
+            ));
+        }
+        for dof in [self.from, self.to].into_iter().flatten() {
+            if dof >= dofs {
+                return Err(Error::dof_index(
+                    format!("structural damping '{}'", self.coefficient),
+                    dof,
+                    dofs,
+                ));
+            }
+        }
+        if self.from == self.to {
+            return Err(Error::choice(
+                "structural damping element",
+                format!("'{}' between a DOF and itself", self.coefficient),
+                "give two different DOFs, or one DOF and ground (0)",
+            ));
+        }
+        Ok(())
+    }
+
+    /// The closed-form column π k |Z_a − Z_b|² of `point` with synthesized lags `psi`.
+    pub fn column(&self, point: &SteppedSinePoint, psi: &[f64]) -> f64 {
+        let z = |dof: Option<usize>| {
+            dof.map_or((0.0, 0.0), |i| {
+                let x = point.amplitudes[i];
+                (x * psi[i].cos(), -x * psi[i].sin())
+            })
+        };
+        let (a, b) = (z(self.from), z(self.to));
+        let (re, im) = (a.0 - b.0, a.1 - b.1);
+        std::f64::consts::PI * self.stiffness * (re * re + im * im)
+    }
+}
+
+/// One row: the columns and the input work.
+struct Row {
+    columns: Vec<f64>,
+    input: f64,
+}
+
+/// The rows of `points` under the harmonic approximation, one synthesized period each.
+fn rows(
+    model: &DampingModel,
+    structural: &[StructuralTerm],
+    points: &[SteppedSinePoint],
+    approximation: &HarmonicApproximation,
+) -> Result<Vec<Row>> {
+    let records: Vec<Record> = points
+        .iter()
+        .map(|p| approximation.synthesize(p))
+        .collect::<Result<_>>()?;
+    let model_rows = if model.terms().is_empty() {
+        None
+    } else {
+        Some(Regressor::build(
+            model,
+            &records,
+            &RegressorSettings::harmonic_approximation(),
+        )?)
+    };
+    points
+        .iter()
+        .enumerate()
+        .map(|(r, point)| {
+            let psi = approximation.phase.phases(point)?;
+            let mut columns: Vec<f64> = match &model_rows {
+                Some(reg) => (0..reg.columns().len())
+                    .map(|k| reg.matrix()[(r, k)])
+                    .collect(),
+                None => Vec::new(),
+            };
+            columns.extend(structural.iter().map(|s| s.column(point, &psi)));
+            let input = match &model_rows {
+                Some(reg) => reg.rhs()[r],
+                None => input_work(point, &psi),
+            };
+            Ok(Row { columns, input })
+        })
+        .collect()
+}
+
+/// π a X_f sin ψ_f, the input work of a cos ωt on DOF f over one period.
+fn input_work(point: &SteppedSinePoint, psi: &[f64]) -> f64 {
+    let f = point.force_dof;
+    std::f64::consts::PI * point.force_amplitude * point.amplitudes[f] * psi[f].sin()
+}
+
+/// The regressor of `swept` (one equation per point, in table order) with its noise
+/// model: the model's terms by the harmonic approximation `approximation`, then the
+/// `structural` terms in closed form. Row labels: `record` the point's label,
+/// `record_index` the point's index, `window` its sweep.
+pub fn build(
+    model: &DampingModel,
+    structural: &[StructuralTerm],
+    swept: &SweptTable,
+    approximation: &HarmonicApproximation,
+) -> Result<Regressor> {
+    approximation.validate()?;
+    let table = &swept.table;
+    let dofs = table.dofs();
+    model.validate_terms(dofs)?;
+    let mut columns = model.coefficient_names();
+    for s in structural {
+        s.validate(dofs)?;
+        if columns.contains(&s.coefficient) {
+            return Err(Error::DuplicateCoefficient {
+                name: s.coefficient.clone(),
+            });
+        }
+        columns.push(s.coefficient.clone());
+    }
+    let points = table.points();
+    // Per point: the point, a + h, then X_i + h and φ_i + h for each DOF.
+    let per_point = 2 + 2 * dofs;
+    let mut expanded = Vec::with_capacity(points.len() * per_point);
+    let mut steps = Vec::with_capacity(points.len() * per_point);
+    for p in points {
+        expanded.push(p.clone());
+        steps.push(1.0);
+        let mut q = p.clone();
+        let h = STEP * p.force_amplitude.max(f64::MIN_POSITIVE);
+        q.force_amplitude += h;
+        expanded.push(q);
+        steps.push(h);
+        let largest = p.amplitudes.iter().fold(0.0f64, |m, x| m.max(*x));
+        for j in 0..dofs {
+            let mut q = p.clone();
+            let h = STEP * p.amplitudes[j].max(largest).max(f64::MIN_POSITIVE);
+            q.amplitudes[j] += h;
+            expanded.push(q);
+            steps.push(h);
+            let mut q = p.clone();
+            q.phases[j] += STEP;
+            expanded.push(q);
+            steps.push(STEP);
+        }
+    }
+    let all = rows(model, structural, &expanded, approximation)?;
+    let p_count = columns.len();
+    let matrix = Mat::from_fn(points.len(), p_count, |r, k| all[r * per_point].columns[k]);
+    let rhs: Vec<f64> = (0..points.len())
+        .map(|r| all[r * per_point].input)
+        .collect();
+    let mut noise = NoiseModel {
+        rows: Vec::with_capacity(points.len()),
+        windows: Vec::with_capacity(points.len()),
+    };
+    for (r, point) in points.iter().enumerate() {
+        let base = &all[r * per_point];
+        let sigma = &swept.noise[r];
+        let derivative = |offset: usize| {
+            let row = &all[r * per_point + offset];
+            let h = steps[r * per_point + offset];
+            (
+                (row.input - base.input) / h,
+                row.columns
+                    .iter()
+                    .zip(&base.columns)
+                    .map(|(a, b)| (a - b) / h)
+                    .collect::<Vec<f64>>(),
+            )
+        };
+        let (db_da, _) = derivative(1);
+        let channels = (0..dofs)
+            .map(|j| {
+                let (bx, ax) = derivative(2 + 2 * j);
+                let (bp, ap) = derivative(3 + 2 * j);
+                let (sx, sp) = (sigma.amplitudes[j], sigma.phases[j]);
+                ChannelSensitivity {
+                    channel: j,
+                    input: vec![sx * bx, sp * bp],
+                    columns: (0..p_count)
+                        .map(|k| (k, vec![sx * ax[k], sp * ap[k]]))
+                        .collect(),
+                }
+            })
+            .collect();
+        noise.rows.push(RowNoise {
+            channels,
+            force_variance: (sigma.force * db_da).powi(2),
+        });
+        noise.windows.push(WindowNoise {
+            record: point.label.clone(),
+            window: swept.sweeps[r],
+            harmonics: vec![1],
+            displacement_noise: sigma.amplitudes.clone(),
+            sensors: Vec::new(),
+            force_noise: vec![sigma.force],
+        });
+    }
+    let labels = points
+        .iter()
+        .enumerate()
+        .map(|(r, p)| RowLabel {
+            record: p.label.clone(),
+            record_index: r,
+            window: swept.sweeps[r],
+            start_time: 0.0,
+            cycles: 1,
+        })
+        .collect();
+    for (r, b) in rhs.iter().enumerate() {
+        if *b == 0.0 {
+            return Err(Error::NoInputWork {
+                record: points[r].label.clone(),
+                window: None,
+                channels: format!("force on DOF {}", points[r].force_dof + 1),
+                reason: "π a X sin φ is zero at this stepped-sine point (phase lag 0 or π, or a zero amplitude)".into(),
+            });
+        }
+    }
+    Regressor::from_parts(matrix, rhs, columns, labels)?.with_noise(noise)
+}
+
+/// The columns (model terms, then `structural`) of each of `points`, as
+/// [`build`] computes them: the dissipated energy per cycle per unit coefficient.
+pub fn columns_of(
+    model: &DampingModel,
+    structural: &[StructuralTerm],
+    approximation: &HarmonicApproximation,
+    points: &[SteppedSinePoint],
+) -> Result<Vec<Vec<f64>>> {
+    Ok(rows(model, structural, points, approximation)?
+        .into_iter()
+        .map(|r| r.columns)
+        .collect())
+}
