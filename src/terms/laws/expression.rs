@@ -4,8 +4,10 @@
 //! Parsed once by exmex into a flat expression and evaluated per sample. The operators
 //! are exmex's float defaults (`+ - * / ^`, `abs`, `sqrt`, `exp`, `ln`, `sin`, `cos`,
 //! `tanh`, …, constants `PI`, `E`) plus `sign(v)`, which is 0 at 0 (exmex's `signum`
-//! is 1 there). Identifiers other than `x` and `v` are rejected when parsing, so a typo
-//! cannot become a silent free variable.
+//! is 1 there). Identifiers other than `x`, `v` and the law's named constants
+//! (`parameters = { vs = 0.01 }` in model files, fixed or estimated by variable
+//! projection) are rejected when parsing, so a typo cannot become a silent free
+//! variable; a named constant the expression does not use is rejected too.
 
 use std::sync::Arc;
 
@@ -37,15 +39,36 @@ enum Variables {
     V,
     X,
     VX,
+    /// With named constants: each slot in exmex's order.
+    Slots([Option<Slot>; MAX_CONSTANTS + 2]),
 }
 
-/// `law = "expression"` with `expression = "..."` in model files.
+/// `law = "expression"` with `expression = "..."` in model files, and named constants
+/// in `parameters`.
 pub(super) const REGISTRATION: LawRegistration = LawRegistration::new(
     "expression",
-    "f(x, v) written in `expression`, a text of x and v",
-    |parameters| Ok(Arc::new(Expression::parse(parameters.expression()?)?)),
+    "f(x, v) written in `expression`, a text of x, v and named constants",
+    |parameters| {
+        let constants: Vec<(&str, f64)> = parameters.numbers().collect();
+        Ok(Arc::new(Expression::with_constants(
+            parameters.expression()?,
+            &constants,
+        )?))
+    },
 )
-.with_expression();
+.with_expression()
+.with_named_constants();
+
+/// Most named constants an expression takes.
+const MAX_CONSTANTS: usize = 14;
+
+/// What fills each of exmex's variable slots (alphabetical order).
+#[derive(Debug, Clone, Copy)]
+enum Slot {
+    X,
+    V,
+    Constant(f64),
+}
 
 /// A damping law f(x, v) given as text.
 #[derive(Debug, Clone)]
@@ -58,24 +81,64 @@ pub struct Expression {
 impl Expression {
     /// Parses `text`; only the variables `x` and `v` are allowed.
     pub fn parse(text: &str) -> Result<Self> {
-        let parsed = Parsed::parse(text).map_err(|e| Error::Expression {
+        Self::with_constants(text, &[])
+    }
+
+    /// Parses `text` with the named constants `constants` (each used in `text`, none
+    /// called `x` or `v`, at most 14).
+    pub fn with_constants(text: &str, constants: &[(&str, f64)]) -> Result<Self> {
+        let error = |message: String| Error::Expression {
             expression: text.to_string(),
-            message: e.to_string(),
-        })?;
-        let names: Vec<&str> = parsed.var_names().iter().map(String::as_str).collect();
-        if let Some(unknown) = names.iter().find(|n| !matches!(**n, "x" | "v")) {
-            return Err(Error::Expression {
-                expression: text.to_string(),
-                message: format!(
-                    "unknown identifier '{unknown}': a law may use only x (relative displacement) and v (relative velocity)"
-                ),
-            });
+            message,
+        };
+        if constants.len() > MAX_CONSTANTS {
+            return Err(error(format!(
+                "{} named constants: an expression takes at most {MAX_CONSTANTS}",
+                constants.len()
+            )));
         }
-        let variables = match names.as_slice() {
-            [] => Variables::None,
-            ["v"] => Variables::V,
-            ["x"] => Variables::X,
-            _ => Variables::VX,
+        if let Some((name, _)) = constants.iter().find(|(n, _)| matches!(*n, "x" | "v")) {
+            return Err(error(format!(
+                "a named constant may not be called '{name}': x and v are the element's motion"
+            )));
+        }
+        let parsed = Parsed::parse(text).map_err(|e| error(e.to_string()))?;
+        let names: Vec<&str> = parsed.var_names().iter().map(String::as_str).collect();
+        if let Some(unknown) = names
+            .iter()
+            .find(|n| !matches!(**n, "x" | "v") && !constants.iter().any(|(c, _)| c == *n))
+        {
+            return Err(error(format!(
+                "unknown identifier '{unknown}': a law may use only x (relative displacement), v (relative velocity) and its named constants"
+            )));
+        }
+        if let Some((unused, _)) = constants.iter().find(|(c, _)| !names.contains(c)) {
+            return Err(error(format!(
+                "the named constant '{unused}' is not used in the expression"
+            )));
+        }
+        let variables = if constants.is_empty() {
+            match names.as_slice() {
+                [] => Variables::None,
+                ["v"] => Variables::V,
+                ["x"] => Variables::X,
+                _ => Variables::VX,
+            }
+        } else {
+            let mut slots = [None; MAX_CONSTANTS + 2];
+            for (slot, name) in slots.iter_mut().zip(&names) {
+                *slot = Some(match *name {
+                    "x" => Slot::X,
+                    "v" => Slot::V,
+                    c => Slot::Constant(
+                        constants
+                            .iter()
+                            .find(|(n, _)| *n == c)
+                            .map_or(f64::NAN, |(_, value)| *value),
+                    ),
+                });
+            }
+            Variables::Slots(slots)
         };
         let law = Expression {
             text: text.to_string(),
@@ -93,6 +156,19 @@ impl Expression {
             Variables::V => self.parsed.eval(&[v]),
             Variables::X => self.parsed.eval(&[x]),
             Variables::VX => self.parsed.eval(&[v, x]),
+            Variables::Slots(slots) => {
+                let mut values = [0.0; MAX_CONSTANTS + 2];
+                let mut count = 0;
+                for (value, slot) in values.iter_mut().zip(slots.iter().map_while(|s| *s)) {
+                    *value = match slot {
+                        Slot::X => x,
+                        Slot::V => v,
+                        Slot::Constant(c) => c,
+                    };
+                    count += 1;
+                }
+                self.parsed.eval(&values[..count])
+            }
         };
         result.map_err(|e| Error::Expression {
             expression: self.text.clone(),
@@ -111,7 +187,11 @@ impl Law for Expression {
         self.try_force(x, v).unwrap_or(f64::NAN)
     }
     fn uses_displacement(&self) -> bool {
-        matches!(self.variables, Variables::X | Variables::VX)
+        match &self.variables {
+            Variables::X | Variables::VX => true,
+            Variables::Slots(slots) => slots.iter().any(|s| matches!(s, Some(Slot::X))),
+            Variables::None | Variables::V => false,
+        }
     }
     fn weighted_power(&self, x: &[f64], v: &[f64], w: &[f64]) -> f64 {
         if self.uses_displacement() {
@@ -141,6 +221,32 @@ mod tests {
         let law = Expression::parse("x^2*v").unwrap();
         assert!((law.force(3.0, 2.0) - 18.0).abs() < 1e-12);
         assert!(law.uses_displacement());
+    }
+
+    /// tanh(v/vs) at v = vs·atanh(0.5) is 0.5; x·a + v·b at (2, 3) with a = 5, b = 7
+    /// is 31 (exmex orders the slots a, b, v, x).
+    #[test]
+    fn named_constants_fill_their_slots() {
+        let vs = 0.01;
+        let law = Expression::with_constants("tanh(v/vs)", &[("vs", vs)]).unwrap();
+        assert!((law.force(0.0, vs * 0.5f64.atanh()) - 0.5).abs() < 1e-12);
+        assert!(!law.uses_displacement());
+        let law = Expression::with_constants("x*a + v*b", &[("b", 7.0), ("a", 5.0)]).unwrap();
+        assert!((law.force(2.0, 3.0) - 31.0).abs() < 1e-12);
+        assert!(law.uses_displacement());
+        for (text, constants) in [
+            ("tanh(v/vs)", vec![("vs", 1.0), ("unused", 2.0)]),
+            ("v*x", vec![("x", 1.0)]),
+            ("v*q", vec![("vs", 1.0)]),
+        ] {
+            assert!(
+                matches!(
+                    Expression::with_constants(text, &constants),
+                    Err(Error::Expression { .. })
+                ),
+                "{text}"
+            );
+        }
     }
 
     #[test]
