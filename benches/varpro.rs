@@ -97,8 +97,13 @@ fn bench_varpro(c: &mut Criterion) {
     });
     group.bench_function("two_parameters", |b| {
         b.iter(|| {
-            identify_varpro(black_box(&parametric), black_box(&records), &settings, &fit_only)
-                .unwrap()
+            identify_varpro(
+                black_box(&parametric),
+                black_box(&records),
+                &settings,
+                &fit_only,
+            )
+            .unwrap()
         })
     });
     group.bench_function("two_parameters_with_profiles", |b| {

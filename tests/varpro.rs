@@ -9,10 +9,8 @@ use dampid::prelude::*;
 use dampid::reference::{FOUR_MASS_C, four_mass_system, with_displacement_noise};
 use dampid::simulate::{SimSettings, chain_stiffness, simulate};
 use dampid::terms::laws::PowerLaw;
-use dampid::terms::{Coefficients, Element, Term};
-use dampid::varpro::{
-    NonlinearParameter, ParametricModel, VarProSettings, identify_varpro,
-};
+use dampid::terms::{Coefficients, Element, Law, Term};
+use dampid::varpro::{NonlinearParameter, ParametricModel, VarProSettings, identify_varpro};
 
 const D: f64 = 0.10;
 const EXPONENT: f64 = 1.7;
@@ -74,8 +72,13 @@ fn relative(found: f64, truth: f64) -> f64 {
 
 #[test]
 fn exponent_and_coefficients_come_back_noise_free() {
-    let report = identify_varpro(&parametric(), clean(), &settings(), &VarProSettings::default())
-        .unwrap();
+    let report = identify_varpro(
+        &parametric(),
+        clean(),
+        &settings(),
+        &VarProSettings::default(),
+    )
+    .unwrap();
     assert!(report.is_estimate(), "{report}");
     let p = report.parameter("exponent").unwrap();
     let c = report.coefficient("c").unwrap();
@@ -89,8 +92,13 @@ fn exponent_and_coefficients_come_back_noise_free() {
 #[test]
 fn exponent_and_coefficients_come_back_at_one_percent_noise() {
     let noisy = with_displacement_noise(clean(), 0.01, 20).unwrap();
-    let report =
-        identify_varpro(&parametric(), &noisy, &settings(), &VarProSettings::default()).unwrap();
+    let report = identify_varpro(
+        &parametric(),
+        &noisy,
+        &settings(),
+        &VarProSettings::default(),
+    )
+    .unwrap();
     assert!(report.is_estimate(), "{report}");
     let p = report.parameter("exponent").unwrap();
     let c = report.coefficient("c").unwrap();
@@ -102,7 +110,10 @@ fn exponent_and_coefficients_come_back_at_one_percent_noise() {
     // the profile interval and the joint intervals are finite and hold the truth
     let interval = report.parameters[0].interval.as_ref().unwrap();
     let (lo, hi) = (interval.lower.unwrap(), interval.upper.unwrap());
-    assert!(lo < p && p < hi && lo < EXPONENT && EXPONENT < hi, "[{lo}, {hi}]");
+    assert!(
+        lo < p && p < hi && lo < EXPONENT && EXPONENT < hi,
+        "[{lo}, {hi}]"
+    );
     for (estimate, truth) in report.coefficients.iter().zip([FOUR_MASS_C, D]) {
         let (lo, hi) = (estimate.lower.unwrap(), estimate.upper.unwrap());
         assert!(lo < truth && truth < hi, "{}: [{lo}, {hi}]", estimate.name);
@@ -176,16 +187,54 @@ fn an_outer_loop_that_does_not_converge_says_so() {
 /// p = 1.7, and the job's parametric model brings it back within 1% with c and d.
 #[test]
 fn the_model_file_estimates_the_exponent() {
-    let job = dampid::model_file::load(std::path::Path::new("models/four_mass_power.toml"))
-        .unwrap();
+    let job =
+        dampid::model_file::load(std::path::Path::new("models/four_mass_power.toml")).unwrap();
     let parametric = job.parametric.as_ref().expect("an estimated parameter");
     assert_eq!(parametric.parameters()[0].name, "d.exponent");
-    let report =
-        identify_varpro(parametric, &job.records, &job.settings, &VarProSettings::default())
-            .unwrap();
+    let report = identify_varpro(
+        parametric,
+        &job.records,
+        &job.settings,
+        &VarProSettings::default(),
+    )
+    .unwrap();
     assert!(report.is_estimate(), "{report}");
     let p = report.parameter("d.exponent").unwrap();
     assert!(relative(p, EXPONENT) < 0.01, "{report}");
-    assert!(relative(report.coefficient("c").unwrap(), FOUR_MASS_C) < 0.01, "{report}");
-    assert!(relative(report.coefficient("d").unwrap(), D) < 0.01, "{report}");
+    assert!(
+        relative(report.coefficient("c").unwrap(), FOUR_MASS_C) < 0.01,
+        "{report}"
+    );
+    assert!(
+        relative(report.coefficient("d").unwrap(), D) < 0.01,
+        "{report}"
+    );
+}
+
+/// tanh(v/vs) at v = vs·atanh(0.5) is 0.5; x·a + v·b at (2, 3) with a = 5, b = 7
+/// is 31 (exmex orders the slots a, b, v, x).
+#[test]
+fn named_constants_fill_their_slots() {
+    let vs = 0.01;
+    let law = dampid::terms::laws::Expression::with_constants("tanh(v/vs)", &[("vs", vs)]).unwrap();
+    assert!((law.force(0.0, vs * 0.5f64.atanh()) - 0.5).abs() < 1e-12);
+    assert!(!law.uses_displacement());
+    let law =
+        dampid::terms::laws::Expression::with_constants("x*a + v*b", &[("b", 7.0), ("a", 5.0)])
+            .unwrap();
+    assert!((law.force(2.0, 3.0) - 31.0).abs() < 1e-12);
+    assert!(law.uses_displacement());
+    for (text, constants) in [
+        ("tanh(v/vs)", vec![("vs", 1.0), ("unused", 2.0)]),
+        ("v*x", vec![("x", 1.0)]),
+        ("v*q", vec![("vs", 1.0)]),
+    ] {
+        assert!(
+            matches!(
+                dampid::terms::laws::Expression::with_constants(text, &constants),
+                Err(dampid::Error::Expression { .. })
+            ),
+            "{text}"
+        );
+    }
 }

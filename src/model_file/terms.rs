@@ -9,9 +9,7 @@ use std::collections::BTreeMap;
 
 use faer::Mat;
 
-use super::spec::{
-    ElementsSpec, EstimatedSpec, MatrixRef, ModelFileSpec, ParameterSpec, TermSpec,
-};
+use super::spec::{ElementsSpec, EstimatedSpec, MatrixRef, ModelFileSpec, ParameterSpec, TermSpec};
 use crate::error::{Error, Result};
 use crate::simulate::chain_stiffness;
 use crate::terms::laws::{LawParameters, Registry};
@@ -97,7 +95,12 @@ impl TermRecipe {
                     .iter()
                     .fold(fixed.clone(), |p, (name, i)| p.with(name.clone(), eta[*i]));
                 let law = laws.build(law, &parameters)?;
-                Ok(law_term(law, elements.clone(), coefficients.clone(), weights))
+                Ok(law_term(
+                    law,
+                    elements.clone(),
+                    coefficients.clone(),
+                    weights,
+                ))
             }
         }
     }
@@ -168,12 +171,22 @@ pub(super) fn build_term(
                     ));
                 }
             };
-            let owner = coefficient.as_ref().or(per_element.as_ref()).cloned().unwrap_or_default();
-            let (fixed, free) = law_parameters(parameters, exponent.as_ref(), expression.as_deref())?;
+            let owner = coefficient
+                .as_ref()
+                .or(per_element.as_ref())
+                .cloned()
+                .unwrap_or_default();
+            let (fixed, free) =
+                law_parameters(parameters, exponent.as_ref(), expression.as_deref())?;
             let elements = build_elements(elements, n)?;
             if free.is_empty() {
                 let law = laws.build(law, &fixed)?;
-                return Ok(TermRecipe::Fixed(law_term(law, elements, coefficients, weights)));
+                return Ok(TermRecipe::Fixed(law_term(
+                    law,
+                    elements,
+                    coefficients,
+                    weights,
+                )));
             }
             let mut indices = Vec::with_capacity(free.len());
             let mut initial = fixed.clone();
@@ -202,7 +215,11 @@ pub(super) fn build_term(
 /// An estimated parameter's spec as a [`NonlinearParameter`] named `owner.name`:
 /// `estimate = true` and `initial`, `lower`, `upper` all given, the bounds ordered and
 /// the initial value within them.
-fn estimated_parameter(owner: &str, name: &str, spec: &EstimatedSpec) -> Result<NonlinearParameter> {
+fn estimated_parameter(
+    owner: &str,
+    name: &str,
+    spec: &EstimatedSpec,
+) -> Result<NonlinearParameter> {
     let full = format!("{owner}.{name}");
     if !spec.estimate {
         return Err(Error::choice(

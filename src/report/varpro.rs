@@ -140,12 +140,11 @@ impl fmt::Display for VarProReport {
         let percent = (100.0 * self.level * 1e6).round() / 1e6;
         writeln!(
             f,
-            "{:<20} {:>14} {:>12}  {:>34}  {}",
+            "{:<20} {:>14} {:>12}  {:>34}  bounds",
             "estimated parameter",
             "value",
             "std error",
             format!("{percent}% profile interval"),
-            "bounds"
         )?;
         for p in &self.parameters {
             let se = p
@@ -184,7 +183,11 @@ impl fmt::Display for VarProReport {
                 (Some(l), Some(u)) => format!("[{l:.6e}, {u:.6e}]"),
                 _ => "-".into(),
             };
-            writeln!(f, "{:<20} {:>14.6e} {se:>12}  {interval:>34}", c.name, c.value)?;
+            writeln!(
+                f,
+                "{:<20} {:>14.6e} {se:>12}  {interval:>34}",
+                c.name, c.value
+            )?;
         }
         writeln!(
             f,

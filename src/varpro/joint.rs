@@ -56,10 +56,7 @@ pub(super) fn covariance(
             let regressor = problem.regressor(&at)?;
             Ok(weighted_residuals(&regressor, theta, std))
         };
-        let (lo, hi) = (
-            (eta[j] - h).max(spec.lower),
-            (eta[j] + h).min(spec.upper),
-        );
+        let (lo, hi) = ((eta[j] - h).max(spec.lower), (eta[j] + h).min(spec.upper));
         let (r_lo, r_hi) = (shifted(lo)?, shifted(hi)?);
         columns.push(
             r_lo.iter()
@@ -82,7 +79,7 @@ pub(super) fn covariance(
     })?;
     let s = svd.S().column_vector();
     let sigma: Vec<f64> = (0..p + q).map(|i| s[i]).collect();
-    if sigma.iter().any(|&x| !(x > 1e-10 * sigma[0])) {
+    if sigma.iter().any(|&x| x.is_nan() || x <= 1e-10 * sigma[0]) {
         return Ok(None);
     }
     let v = svd.V();
@@ -95,8 +92,9 @@ pub(super) fn covariance(
         .collect();
     let tail = (1.0 + level) / 2.0;
     let quantile = if variance.estimated {
-        StudentsT::new(0.0, 1.0, dof as f64).map(|d| d.inverse_cdf(tail))
-        .map_err(|e| e.to_string())
+        StudentsT::new(0.0, 1.0, dof as f64)
+            .map(|d| d.inverse_cdf(tail))
+            .map_err(|e| e.to_string())
     } else {
         Normal::new(0.0, 1.0)
             .map(|d| d.inverse_cdf(tail))

@@ -246,11 +246,7 @@ pub fn identify_varpro(
     settings.fit.validate()?;
     varpro.validate()?;
     let problem = problem::Problem::new(model, records, settings);
-    let minimum = outer::minimise(
-        &|eta: &[f64]| problem.cost(eta),
-        model.parameters(),
-        varpro,
-    )?;
+    let minimum = outer::minimise(&|eta: &[f64]| problem.cost(eta), model.parameters(), varpro)?;
     let best = problem.trial(&minimum.values)?;
     let fit_report = crate::identify::identify_regressor(&best.regressor, &settings.fit)?;
     let converged = minimum.converged && best.fit.status.is_usable();

@@ -5,9 +5,10 @@
 //!   below 2(ε|η| + t), ε = `tolerance`, t = 10⁻¹²(u − l).
 //! - Several: Nelder–Mead in s ∈ ℝ^q with η_j = l_j + (u_j − l_j)/(1 + e^{−s_j}) (the
 //!   box maps onto all of ℝ, so every vertex is feasible), started at the initial
-//!   values (nudged 10⁻⁶ of the range inside a bound) with steps of 0.5 in s, the cost
+//!   values (nudged 10⁻⁶ of the range inside a bound) with steps of 1 in s, the cost
 //!   divided by φ(η₀) so that the stopping rule, the standard deviation of the
-//!   simplex's costs below `tolerance`, is relative.
+//!   simplex's costs below `tolerance`, is relative; restarted from its best vertex
+//!   with a fresh simplex until a restart gains less than `tolerance` (at most 10).
 //!
 //! An error of a trial (a model the builder refuses, a regressor build that fails) ends
 //! the loop with that error.
@@ -144,26 +145,47 @@ pub(super) fn minimise(
     if initial_cost > 0.0 && initial_cost.is_finite() {
         problem.scale = initial_cost;
     }
-    let mut simplex = vec![start.clone()];
-    for j in 0..start.len() {
-        let mut vertex = start.clone();
-        vertex[j] += 0.5;
-        simplex.push(vertex);
+    // Nelder–Mead can collapse its simplex in a curved valley far from the minimum:
+    // restart from the best vertex with a fresh simplex until a restart improves the
+    // cost by less than `tolerance` (relative), at most RESTARTS times.
+    const RESTARTS: usize = 10;
+    let (mut best, mut best_cost) = (start, initial_cost / problem.scale);
+    let (mut converged, mut reason, mut iterations) = (false, String::new(), 0);
+    for _ in 0..RESTARTS {
+        let mut simplex = vec![best.clone()];
+        for j in 0..best.len() {
+            let mut vertex = best.clone();
+            vertex[j] += 1.0;
+            simplex.push(vertex);
+        }
+        let solver = NelderMead::new(simplex)
+            .with_sd_tolerance(settings.tolerance)
+            .map_err(back)?;
+        let result = Executor::new(problem, solver)
+            .configure(|s| s.max_iters(settings.max_iterations))
+            .run()
+            .map_err(back)?;
+        let state = result.state();
+        (converged, reason) = ended(state.get_termination_status());
+        iterations += state.get_iter();
+        let found = state.get_best_cost();
+        let improved = best_cost - found;
+        if found < best_cost {
+            best = state.get_best_param().cloned().unwrap_or(best);
+            best_cost = found;
+        }
+        problem = result.problem.problem.ok_or_else(|| Error::Numerical {
+            stage: "outer optimisation of the nonlinear parameters".into(),
+            detail: "argmin did not return the problem".into(),
+        })?;
+        if !converged || improved <= settings.tolerance * best_cost.abs().max(f64::MIN_POSITIVE) {
+            break;
+        }
     }
-    let solver = NelderMead::new(simplex)
-        .with_sd_tolerance(settings.tolerance)
-        .map_err(back)?;
-    let result = Executor::new(problem, solver)
-        .configure(|s| s.max_iters(settings.max_iterations))
-        .run()
-        .map_err(back)?;
-    let state = result.state();
-    let (converged, reason) = ended(state.get_termination_status());
-    let best = state.get_best_param().cloned().unwrap_or(start);
     Ok(Minimum {
         values: eta_of(&best, &lower, &upper),
         converged,
-        iterations: state.get_iter(),
+        iterations,
         method: "nelder_mead",
         reason,
     })

@@ -163,7 +163,10 @@ fn estimated_parameters_need_bounds_and_an_initial_value_within_them() {
         "{ estimate = true, initial = 5.0, lower = 0.5, upper = 4.0 }",
     )) {
         Error::InvalidParameter { name, value, .. } => {
-            assert!(name.contains("initial") && name.contains("d.exponent"), "{name}");
+            assert!(
+                name.contains("initial") && name.contains("d.exponent"),
+                "{name}"
+            );
             assert_eq!(value, 5.0);
         }
         other => panic!("{other:?}"),
@@ -178,7 +181,9 @@ fn estimated_parameters_need_bounds_and_an_initial_value_within_them() {
         other => panic!("{other:?}"),
     }
     assert!(matches!(
-        cause(&block("{ estimate = false, initial = 1.0, lower = 0.5, upper = 4.0 }")),
+        cause(&block(
+            "{ estimate = false, initial = 1.0, lower = 0.5, upper = 4.0 }"
+        )),
         Error::InvalidChoice { .. }
     ));
     // a named constant an expression does not use
