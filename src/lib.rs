@@ -74,6 +74,7 @@ pub mod regressor;
 pub mod report;
 pub mod simulate;
 pub mod terms;
+pub mod varpro;
 
 pub use error::{Error, Result};
 pub use identify::{IdentifySettings, identify};

@@ -29,14 +29,18 @@ use crate::progress::Progress;
 use crate::record::Record;
 use crate::regressor::{Regressor, RegressorSettings};
 use crate::terms::laws::Registry;
+use crate::varpro::ParametricModel;
 
 /// Everything a model file asks for, ready to run.
 #[derive(Debug)]
 pub struct Job {
     /// Title for reports.
     pub title: String,
-    /// The damping model.
+    /// The damping model (at the initial values of any estimated law parameters).
     pub model: DampingModel,
+    /// The model with its estimated law parameters, when the file estimates any
+    /// (`{ estimate = true, … }`): identify it with [`crate::varpro::identify_varpro`].
+    pub parametric: Option<ParametricModel>,
     /// The records identification runs on: the source records, reduced by `[pod]` and
     /// synthesized by `[harmonic_approximation]` when asked.
     pub records: Vec<Record>,
@@ -128,6 +132,47 @@ struct Sources {
 }
 
 impl Context<'_> {
+    /// The model `[simulation]` simulates: `model`, or with estimated law parameters the
+    /// parametric model at `[simulation] parameters` (each one not given at its initial
+    /// value; a name that is not an estimated parameter is an error at the section).
+    fn simulated_model(
+        &self,
+        spec: &ModelFileSpec,
+        model: &DampingModel,
+        parametric: Option<&ParametricModel>,
+    ) -> Result<DampingModel> {
+        let Some(simulation) = &spec.simulation else {
+            return Ok(model.clone());
+        };
+        self.at(simulation, |s| {
+            let known: Vec<&str> = parametric
+                .map(|p| p.parameters().iter().map(|q| q.name.as_str()).collect())
+                .unwrap_or_default();
+            if let Some(name) = s.parameters.keys().find(|n| !known.contains(&n.as_str())) {
+                return Err(Error::UnknownName {
+                    what: "estimated law parameter".into(),
+                    name: name.clone(),
+                    known: if known.is_empty() {
+                        "none: no law parameter is estimated".into()
+                    } else {
+                        known.join(", ")
+                    },
+                });
+            }
+            match parametric {
+                None => Ok(model.clone()),
+                Some(p) => {
+                    let values: Vec<f64> = p
+                        .parameters()
+                        .iter()
+                        .map(|q| s.parameters.get(&q.name).copied().unwrap_or(q.initial))
+                        .collect();
+                    p.model(&values)
+                }
+            }
+        })
+    }
+
     pub(super) fn build(
         &self,
         spec: &ModelFileSpec,
@@ -150,19 +195,43 @@ impl Context<'_> {
         // that an earlier block already uses.
         let mut model = DampingModel::new();
         let mut names = std::collections::HashSet::new();
+        let mut recipes = Vec::with_capacity(spec.terms.len());
+        let mut estimated = Vec::new();
         for term in &spec.terms {
             let built = self.at(term, |t| {
-                let built = build_term(t, n, &matrix, laws)?;
+                let first = estimated.len();
+                let recipe = build_term(t, n, &matrix, laws, &mut estimated)?;
+                let initial: Vec<f64> = estimated.iter().map(|p| p.initial).collect();
+                let built = recipe.build(&initial)?;
                 built.validate(n)?;
                 for name in built.coefficient_names() {
                     if !names.insert(name.clone()) {
                         return Err(Error::DuplicateCoefficient { name });
                     }
                 }
+                for p in &estimated[first..] {
+                    if estimated[..first].iter().any(|q| q.name == p.name) {
+                        return Err(Error::choice(
+                            "estimated parameter",
+                            format!("'{}'", p.name),
+                            "given twice: every estimated parameter needs its own name",
+                        ));
+                    }
+                }
+                recipes.push(recipe);
                 Ok(built)
             })?;
             model = model.with(built);
         }
+        let parametric = if estimated.is_empty() {
+            None
+        } else {
+            Some(ParametricModel::new(estimated, move |eta| {
+                recipes
+                    .iter()
+                    .try_fold(DampingModel::new(), |m, r| Ok(m.with(r.build(eta)?)))
+            })?)
+        };
         let mut settings =
             identification_settings(&spec.identification, spec.non_periodic.is_some());
         if spec.non_periodic.is_some()
@@ -179,7 +248,8 @@ impl Context<'_> {
         steady_state
             .validate()
             .map_err(|e| self.whole_file_typed_error("[identification]", e))?;
-        let sources = self.sources(spec, &model, n, base, &matrix, progress)?;
+        let simulated = self.simulated_model(spec, &model, parametric.as_ref())?;
+        let sources = self.sources(spec, &simulated, n, base, &matrix, progress)?;
         if let Some(np) = &spec.non_periodic {
             if spec.pod.is_some() || spec.harmonic_approximation.is_some() {
                 return Err(self.error_at(
@@ -250,6 +320,7 @@ impl Context<'_> {
         Ok(Job {
             title: spec.title.clone().unwrap_or_else(|| self.file.to_string()),
             model,
+            parametric,
             records,
             source_records: sources.records,
             inputs: sources.inputs,

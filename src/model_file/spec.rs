@@ -311,11 +311,12 @@ pub enum TermSpec {
         /// A name from the law registry (`dampid::terms::laws::Registry`): built in,
         /// `linear`, `quadratic`, `coulomb`, `power` or `expression`.
         law: String,
-        /// The law's numeric parameters by name, `parameters = { exponent = 1.5 }`.
+        /// The law's numeric parameters by name, `parameters = { exponent = 1.5 }`, each
+        /// a number or estimated, `{ estimate = true, initial = …, lower = …, upper = … }`.
         #[serde(default)]
-        parameters: BTreeMap<String, f64>,
+        parameters: BTreeMap<String, ParameterSpec>,
         /// `exponent = p`, shorthand for `parameters = { exponent = p }` (a power law's).
-        exponent: Option<f64>,
+        exponent: Option<ParameterSpec>,
         /// f(x, v) of a law that takes an expression.
         expression: Option<String>,
         /// `"each_dof"`, `"chain"` or a list of [a, b] DOF pairs (1-based, 0 = ground).
@@ -327,6 +328,32 @@ pub enum TermSpec {
         /// Element weights (sensor spacing or area).
         weights: Option<Vec<f64>>,
     },
+}
+
+/// A law parameter: a number, or estimated with the coefficients (variable projection,
+/// `dampid::varpro`).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+pub enum ParameterSpec {
+    /// A fixed value.
+    Value(f64),
+    /// `{ estimate = true, initial = 1.5, lower = 0.5, upper = 4.0 }`.
+    Estimated(EstimatedSpec),
+}
+
+/// An estimated law parameter; `initial`, `lower` and `upper` are all required (checked
+/// when the term is built, so the error carries the term's line).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EstimatedSpec {
+    /// Must be true (a fixed parameter is written as a number).
+    pub estimate: bool,
+    /// Initial value, within the bounds.
+    pub initial: Option<f64>,
+    /// Lower bound.
+    pub lower: Option<f64>,
+    /// Upper bound.
+    pub upper: Option<f64>,
 }
 
 /// Where a law acts.
@@ -466,6 +493,10 @@ pub struct SimulationSpec {
     pub stiffness: MatrixRef,
     /// True damping coefficients, by name (every coefficient of the model).
     pub coefficients: BTreeMap<String, f64>,
+    /// True values of estimated law parameters, by their reported name
+    /// (`"d.exponent" = 1.7`); one not given is simulated at its initial value.
+    #[serde(default)]
+    pub parameters: BTreeMap<String, f64>,
     /// Grounded cubic springs k x³.
     #[serde(default)]
     pub cubic_springs: Vec<CubicSpec>,

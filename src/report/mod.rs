@@ -9,6 +9,7 @@
 mod display;
 pub mod html;
 mod truth;
+pub mod varpro;
 mod warning;
 
 pub use truth::AgainstTruth;

@@ -12,9 +12,9 @@
 //! |---|---|---|
 //! | `NonFinite` | `Record::new`; model matrices and element weights; regressor columns and `Regressor::from_parts`; `simulate` (mass matrix) | record, model, regressor, simulate, regressions |
 //! | `DimensionMismatch` | `Record::new`; matrix terms and element weights; `Regressor::from_parts`; `simulate` (matrices, coefficients) | record, model, regressor, simulate, regressions |
-//! | `InvalidParameter` | `Record::new` (step, period, start time); window settings and spectral velocities; elements and power laws; constraint values and fit settings; `simulate` (settings, forces, coefficients) | record, prep, model, fit, simulate, regressions |
+//! | `InvalidParameter` | `Record::new` (step, period, start time); window settings and spectral velocities; elements and power laws; constraint values and fit settings; `simulate` (settings, forces, coefficients); estimated law parameters' bounds and initial values, variable-projection settings | record, prep, model, fit, simulate, regressions, model_file, varpro |
 //! | `InvalidChoice` | a setting that is a choice and does not fit: a spectral rule or velocity on non-periodic windows, noise correction without harmonic projection, propagated weights without a noise model, an expression for a law that takes none, one key or another (`time`/`step`, `coefficient`/`per_element`), element `[0, 0]` | variants, model_file (tests/), noise (tests/), nonperiodic (tests/), registry (tests/) |
-//! | `Missing` | a law parameter the law needs; a `[simulation]` coefficient; `dof` for `phase = "dof"` | model_file, variants, registry (tests/) |
+//! | `Missing` | a law parameter the law needs; an estimated parameter's `initial`, `lower` or `upper`; a `[simulation]` coefficient; `dof` for `phase = "dof"` | model_file, variants, registry (tests/) |
 //! | `RecordTooShort` | `Record::new` (under three samples); windows that do not fit a record | record, prep, regressions |
 //! | `TooFewEquations` | the fit: fewer rows than free coefficients | fit |
 //! | `DofOutOfRange` | `Record::new` (force channels); model elements; `simulate` (springs, forces, elements) | record, model, simulate |
@@ -53,3 +53,4 @@ mod stepped_sine;
 #[path = "../support/mod.rs"]
 mod support;
 mod variants;
+mod varpro;

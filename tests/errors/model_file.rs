@@ -132,3 +132,63 @@ fn model_file_errors_keep_their_typed_cause() {
         Err(Error::ModelFile { cause: None, .. })
     ));
 }
+
+/// An estimated law parameter needs `initial`, `lower` and `upper`, ordered bounds and
+/// the initial value within them; each fault is reported at the second block's line
+/// with its typed cause (`Missing`, `InvalidParameter`), never a fit that wanders off.
+#[test]
+fn estimated_parameters_need_bounds_and_an_initial_value_within_them() {
+    let block = |exponent: &str| {
+        two_blocks(&format!(
+            "kind = \"law\"\nlaw = \"power\"\nexponent = {exponent}\nelements = \"each_dof\"\ncoefficient = \"d\""
+        ))
+    };
+    let cause = |text: &str| {
+        let error = parse_model(text, "estimated.toml").unwrap_err();
+        assert!(
+            matches!(&error, Error::ModelFile { line: 8, .. }),
+            "{error:?}"
+        );
+        error.innermost().clone()
+    };
+    match cause(&block("{ estimate = true, initial = 1.5, lower = 0.5 }")) {
+        Error::Missing { name, .. } => assert!(name.contains("upper"), "{name}"),
+        other => panic!("{other:?}"),
+    }
+    match cause(&block("{ estimate = true, lower = 0.5, upper = 4.0 }")) {
+        Error::Missing { name, .. } => assert!(name.contains("initial"), "{name}"),
+        other => panic!("{other:?}"),
+    }
+    match cause(&block(
+        "{ estimate = true, initial = 5.0, lower = 0.5, upper = 4.0 }",
+    )) {
+        Error::InvalidParameter { name, value, .. } => {
+            assert!(
+                name.contains("initial") && name.contains("d.exponent"),
+                "{name}"
+            );
+            assert_eq!(value, 5.0);
+        }
+        other => panic!("{other:?}"),
+    }
+    match cause(&block(
+        "{ estimate = true, initial = 1.0, lower = 4.0, upper = 0.5 }",
+    )) {
+        Error::InvalidParameter { name, value, .. } => {
+            assert!(name.contains("lower"), "{name}");
+            assert_eq!(value, 4.0);
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(matches!(
+        cause(&block(
+            "{ estimate = false, initial = 1.0, lower = 0.5, upper = 4.0 }"
+        )),
+        Error::InvalidChoice { .. }
+    ));
+    // a named constant an expression does not use
+    let unused = two_blocks(
+        "kind = \"law\"\nlaw = \"expression\"\nexpression = \"tanh(v)\"\nparameters = { vs = { estimate = true, initial = 0.1, lower = 0.01, upper = 1.0 } }\nelements = \"each_dof\"\ncoefficient = \"d\"",
+    );
+    assert!(matches!(cause(&unused), Error::Expression { .. }));
+}

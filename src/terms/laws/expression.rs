@@ -4,8 +4,10 @@
 //! Parsed once by exmex into a flat expression and evaluated per sample. The operators
 //! are exmex's float defaults (`+ - * / ^`, `abs`, `sqrt`, `exp`, `ln`, `sin`, `cos`,
 //! `tanh`, …, constants `PI`, `E`) plus `sign(v)`, which is 0 at 0 (exmex's `signum`
-//! is 1 there). Identifiers other than `x` and `v` are rejected when parsing, so a typo
-//! cannot become a silent free variable.
+//! is 1 there). Identifiers other than `x`, `v` and the law's named constants
+//! (`parameters = { vs = 0.01 }` in model files, fixed or estimated by variable
+//! projection) are rejected when parsing, so a typo cannot become a silent free
+//! variable; a named constant the expression does not use is rejected too.
 //!
 //! Length is capped at [`MAX_EXPRESSION_BYTES`]. exmex evaluates a flat expression by
 //! applying its operators in priority order and finding each operand's nearest
@@ -39,21 +41,42 @@ impl MakeOperators<f64> for LawOperators {
 type Parsed = FlatEx<f64, LawOperators>;
 
 /// Which of (v, x) the expression reads, in exmex's alphabetical variable order.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 enum Variables {
     None,
     V,
     X,
     VX,
+    /// With named constants: each slot in exmex's order.
+    Slots(Box<[Option<Slot>; MAX_CONSTANTS + 2]>),
 }
 
-/// `law = "expression"` with `expression = "..."` in model files.
+/// `law = "expression"` with `expression = "..."` in model files, and named constants
+/// in `parameters`.
 pub(super) const REGISTRATION: LawRegistration = LawRegistration::new(
     "expression",
-    "f(x, v) written in `expression`, a text of x and v",
-    |parameters| Ok(Arc::new(Expression::parse(parameters.expression()?)?)),
+    "f(x, v) written in `expression`, a text of x, v and named constants",
+    |parameters| {
+        let constants: Vec<(&str, f64)> = parameters.numbers().collect();
+        Ok(Arc::new(Expression::with_constants(
+            parameters.expression()?,
+            &constants,
+        )?))
+    },
 )
-.with_expression();
+.with_expression()
+.with_named_constants();
+
+/// Most named constants an expression takes.
+const MAX_CONSTANTS: usize = 14;
+
+/// What fills each of exmex's variable slots (alphabetical order).
+#[derive(Debug, Clone, Copy)]
+enum Slot {
+    X,
+    V,
+    Constant(f64),
+}
 
 /// The longest expression accepted, in bytes (about 700 terms such as `0.5*v*abs(v)+`):
 /// beyond it, evaluation cost grows with the square of the length (module docs).
@@ -78,6 +101,12 @@ pub struct Expression {
 impl Expression {
     /// Parses `text`; only the variables `x` and `v` are allowed.
     pub fn parse(text: &str) -> Result<Self> {
+        Self::with_constants(text, &[])
+    }
+
+    /// Parses `text` with the named constants `constants` (each used in `text`, none
+    /// called `x` or `v`, at most 14).
+    pub fn with_constants(text: &str, constants: &[(&str, f64)]) -> Result<Self> {
         if text.len() > MAX_EXPRESSION_BYTES {
             return Err(Error::Expression {
                 expression: excerpt(text),
@@ -87,24 +116,58 @@ impl Expression {
                 ),
             });
         }
-        let parsed = Parsed::parse(text).map_err(|e| Error::Expression {
+        let error = |message: String| Error::Expression {
             expression: text.to_string(),
-            message: e.to_string(),
-        })?;
-        let names: Vec<&str> = parsed.var_names().iter().map(String::as_str).collect();
-        if let Some(unknown) = names.iter().find(|n| !matches!(**n, "x" | "v")) {
-            return Err(Error::Expression {
-                expression: text.to_string(),
-                message: format!(
-                    "unknown identifier '{unknown}': a law may use only x (relative displacement) and v (relative velocity)"
-                ),
-            });
+            message,
+        };
+        if constants.len() > MAX_CONSTANTS {
+            return Err(error(format!(
+                "{} named constants: an expression takes at most {MAX_CONSTANTS}",
+                constants.len()
+            )));
         }
-        let variables = match names.as_slice() {
-            [] => Variables::None,
-            ["v"] => Variables::V,
-            ["x"] => Variables::X,
-            _ => Variables::VX,
+        if let Some((name, _)) = constants.iter().find(|(n, _)| matches!(*n, "x" | "v")) {
+            return Err(error(format!(
+                "a named constant may not be called '{name}': x and v are the element's motion"
+            )));
+        }
+        let parsed = Parsed::parse(text).map_err(|e| error(e.to_string()))?;
+        let names: Vec<&str> = parsed.var_names().iter().map(String::as_str).collect();
+        if let Some(unknown) = names
+            .iter()
+            .find(|n| !matches!(**n, "x" | "v") && !constants.iter().any(|(c, _)| c == *n))
+        {
+            return Err(error(format!(
+                "unknown identifier '{unknown}': a law may use only x (relative displacement), v (relative velocity) and its named constants"
+            )));
+        }
+        if let Some((unused, _)) = constants.iter().find(|(c, _)| !names.contains(c)) {
+            return Err(error(format!(
+                "the named constant '{unused}' is not used in the expression"
+            )));
+        }
+        let variables = if constants.is_empty() {
+            match names.as_slice() {
+                [] => Variables::None,
+                ["v"] => Variables::V,
+                ["x"] => Variables::X,
+                _ => Variables::VX,
+            }
+        } else {
+            let mut slots = [None; MAX_CONSTANTS + 2];
+            for (slot, name) in slots.iter_mut().zip(&names) {
+                *slot = Some(match *name {
+                    "x" => Slot::X,
+                    "v" => Slot::V,
+                    c => Slot::Constant(
+                        constants
+                            .iter()
+                            .find(|(n, _)| *n == c)
+                            .map_or(f64::NAN, |(_, value)| *value),
+                    ),
+                });
+            }
+            Variables::Slots(Box::new(slots))
         };
         let law = Expression {
             text: text.to_string(),
@@ -117,11 +180,24 @@ impl Expression {
     }
 
     fn try_force(&self, x: f64, v: f64) -> Result<f64> {
-        let result = match self.variables {
+        let result = match &self.variables {
             Variables::None => self.parsed.eval(&[]),
             Variables::V => self.parsed.eval(&[v]),
             Variables::X => self.parsed.eval(&[x]),
             Variables::VX => self.parsed.eval(&[v, x]),
+            Variables::Slots(slots) => {
+                let mut values = [0.0; MAX_CONSTANTS + 2];
+                let mut count = 0;
+                for (value, slot) in values.iter_mut().zip(slots.iter().map_while(|s| *s)) {
+                    *value = match slot {
+                        Slot::X => x,
+                        Slot::V => v,
+                        Slot::Constant(c) => c,
+                    };
+                    count += 1;
+                }
+                self.parsed.eval(&values[..count])
+            }
         };
         result.map_err(|e| Error::Expression {
             expression: self.text.clone(),
@@ -140,7 +216,11 @@ impl Law for Expression {
         self.try_force(x, v).unwrap_or(f64::NAN)
     }
     fn uses_displacement(&self) -> bool {
-        matches!(self.variables, Variables::X | Variables::VX)
+        match &self.variables {
+            Variables::X | Variables::VX => true,
+            Variables::Slots(slots) => slots.iter().any(|s| matches!(s, Some(Slot::X))),
+            Variables::None | Variables::V => false,
+        }
     }
     fn weighted_power(&self, x: &[f64], v: &[f64], w: &[f64]) -> f64 {
         if self.uses_displacement() {

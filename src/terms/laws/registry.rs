@@ -98,6 +98,7 @@ pub struct LawRegistration {
     name: &'static str,
     parameters: &'static [&'static str],
     expression: bool,
+    named_constants: bool,
     description: &'static str,
     constructor: LawConstructor,
 }
@@ -115,6 +116,7 @@ impl LawRegistration {
             name,
             parameters: &[],
             expression: false,
+            named_constants: false,
             description,
             constructor,
         }
@@ -130,6 +132,19 @@ impl LawRegistration {
     pub const fn with_expression(mut self) -> Self {
         self.expression = true;
         self
+    }
+
+    /// This law taking numeric parameters of any name besides the declared ones: the
+    /// named constants of an expression law (`parameters = { vs = 0.01 }`, read as `vs`
+    /// in the expression).
+    pub const fn with_named_constants(mut self) -> Self {
+        self.named_constants = true;
+        self
+    }
+
+    /// Whether the law takes numeric parameters of any name (named constants).
+    pub const fn takes_named_constants(&self) -> bool {
+        self.named_constants
     }
 
     /// The name model files use, `law = "<name>"`.
@@ -158,7 +173,7 @@ impl LawRegistration {
         let name = self.name;
         if let Some((unknown, value)) = parameters
             .numbers()
-            .find(|(given, _)| !self.parameters.contains(given))
+            .find(|(given, _)| !self.named_constants && !self.parameters.contains(given))
         {
             return Err(Error::invalid(
                 unknown,
@@ -210,6 +225,7 @@ impl std::fmt::Debug for LawRegistration {
             .field("name", &self.name)
             .field("parameters", &self.parameters)
             .field("expression", &self.expression)
+            .field("named_constants", &self.named_constants)
             .field("description", &self.description)
             .finish_non_exhaustive()
     }

@@ -1,0 +1,203 @@
+//! The report of a variable-projection fit ([`crate::varpro`]): the nonlinear
+//! parameters with their profile-likelihood intervals, the linear coefficients with
+//! intervals from the joint covariance (which include the uncertainty of the nonlinear
+//! parameters), the outer loop's status, and the ordinary [`FitReport`] of the linear
+//! fit at the estimated parameters (its errors conditional on them).
+
+use std::fmt;
+
+use serde::{Deserialize, Serialize};
+
+use super::FitReport;
+
+/// How the outer loop ended.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct OuterLoop {
+    /// True when the outer optimiser met its tolerance.
+    pub converged: bool,
+    /// `brent` (one parameter) or `nelder_mead` (several).
+    pub method: String,
+    /// Outer iterations.
+    pub iterations: u64,
+    /// Regressors built (trials, Jacobian differences and profile searches).
+    pub evaluations: u64,
+    /// Why it stopped.
+    pub reason: String,
+}
+
+/// A profile-likelihood interval; an end is `None` when the profiled cost has not
+/// risen by `rise` at the parameter's bound (the data do not bound it there).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ProfileInterval {
+    /// Lower end.
+    pub lower: Option<f64>,
+    /// Upper end.
+    pub upper: Option<f64>,
+    /// Confidence level.
+    pub level: f64,
+    /// The rise of the cost that bounds the interval, F₁,ν(level)·s² or χ²₁(level)·σ².
+    pub rise: f64,
+}
+
+/// One estimated nonlinear parameter.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct NonlinearEstimate {
+    /// Name.
+    pub name: String,
+    /// Estimate (the last trial when the outer loop did not converge).
+    pub value: f64,
+    /// Initial value given.
+    pub initial: f64,
+    /// Lower bound given.
+    pub lower_bound: f64,
+    /// Upper bound given.
+    pub upper_bound: f64,
+    /// True when the estimate sits on a bound (within 10⁻⁶ of the interval).
+    pub at_bound: bool,
+    /// Wald standard error from the joint covariance.
+    pub std_error: Option<f64>,
+    /// Profile-likelihood interval.
+    pub interval: Option<ProfileInterval>,
+}
+
+/// A linear coefficient with its joint (nonlinear-aware) interval.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct JointEstimate {
+    /// Name.
+    pub name: String,
+    /// Estimate.
+    pub value: f64,
+    /// Standard error from the joint covariance.
+    pub std_error: Option<f64>,
+    /// Lower end of the interval.
+    pub lower: Option<f64>,
+    /// Upper end of the interval.
+    pub upper: Option<f64>,
+}
+
+/// What a variable-projection fit found.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct VarProReport {
+    /// The outer loop's status.
+    pub status: OuterLoop,
+    /// Confidence level of the intervals.
+    pub level: f64,
+    /// The projected cost at the estimate: Σ e² (unweighted) or χ² (weighted).
+    pub cost: f64,
+    /// Whether the inner fit was weighted by the propagated noise model.
+    pub weighted: bool,
+    /// m − p − q (0 when there are none).
+    pub degrees_of_freedom: usize,
+    /// The nonlinear parameters.
+    pub parameters: Vec<NonlinearEstimate>,
+    /// The linear coefficients (and nuisance unknowns), in column order.
+    pub coefficients: Vec<JointEstimate>,
+    /// The linear fit at the estimated parameters.
+    pub fit: FitReport,
+}
+
+impl VarProReport {
+    /// True when the outer loop converged and the linear fit at its end is an estimate.
+    pub fn is_estimate(&self) -> bool {
+        self.status.converged && self.fit.is_estimate()
+    }
+
+    /// The value of nonlinear parameter `name`.
+    pub fn parameter(&self, name: &str) -> Option<f64> {
+        self.parameters
+            .iter()
+            .find(|p| p.name == name)
+            .map(|p| p.value)
+    }
+
+    /// The value of linear coefficient `name`.
+    pub fn coefficient(&self, name: &str) -> Option<f64> {
+        self.fit.coefficient(name)
+    }
+}
+
+fn end(value: Option<f64>, bound: f64) -> String {
+    match value {
+        Some(v) => format!("{v:.6e}"),
+        None => format!("beyond {bound}"),
+    }
+}
+
+impl fmt::Display for VarProReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let s = &self.status;
+        writeln!(
+            f,
+            "variable projection: {} ({}, {} iterations, {} regressors built)",
+            s.reason, s.method, s.iterations, s.evaluations
+        )?;
+        if !self.is_estimate() {
+            writeln!(
+                f,
+                "NOT AN ESTIMATE: the outer optimisation did not converge or the linear fit failed; the values below are the last trial"
+            )?;
+        }
+        let percent = (100.0 * self.level * 1e6).round() / 1e6;
+        writeln!(
+            f,
+            "{:<20} {:>14} {:>12}  {:>34}  bounds",
+            "estimated parameter",
+            "value",
+            "std error",
+            format!("{percent}% profile interval"),
+        )?;
+        for p in &self.parameters {
+            let se = p
+                .std_error
+                .map_or_else(|| "-".into(), |s| format!("{s:.3e}"));
+            let interval = p.interval.as_ref().map_or_else(
+                || "-".into(),
+                |i| {
+                    format!(
+                        "[{}, {}]",
+                        end(i.lower, p.lower_bound),
+                        end(i.upper, p.upper_bound)
+                    )
+                },
+            );
+            let flag = if p.at_bound { " (on a bound)" } else { "" };
+            writeln!(
+                f,
+                "{:<20} {:>14.6e} {se:>12}  {interval:>34}  [{}, {}]{flag}",
+                p.name, p.value, p.lower_bound, p.upper_bound
+            )?;
+        }
+        writeln!(
+            f,
+            "{:<20} {:>14} {:>12}  {:>34}",
+            "coefficient",
+            "value",
+            "joint se",
+            format!("{percent}% joint interval")
+        )?;
+        for c in &self.coefficients {
+            let se = c
+                .std_error
+                .map_or_else(|| "-".into(), |s| format!("{s:.3e}"));
+            let interval = match (c.lower, c.upper) {
+                (Some(l), Some(u)) => format!("[{l:.6e}, {u:.6e}]"),
+                _ => "-".into(),
+            };
+            writeln!(
+                f,
+                "{:<20} {:>14.6e} {se:>12}  {interval:>34}",
+                c.name, c.value
+            )?;
+        }
+        writeln!(
+            f,
+            "joint errors: covariance of the full Jacobian [∂r/∂θ, ∂r/∂η] at the optimum, {} degrees of freedom",
+            self.degrees_of_freedom
+        )?;
+        writeln!(
+            f,
+            "linear fit at the estimated parameters (its errors hold them fixed):"
+        )?;
+        write!(f, "{}", self.fit)
+    }
+}

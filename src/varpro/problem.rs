@@ -1,0 +1,136 @@
+//! One trial of variable projection: the model at η, its regressor, the inner fit
+//! θ̂(η) and the projected cost φ(η) = Σ_r (e_r / s_r)², e = A(η) θ̂ − b, with s_r the
+//! propagated residual standard deviation of a weighted fit (s_r = 1 otherwise).
+
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use crate::analysis::diagnostics::REJECTION_P_VALUE;
+use crate::error::Result;
+use crate::fit::Fit;
+use crate::identify::IdentifySettings;
+use crate::record::Record;
+use crate::regressor::Regressor;
+use crate::report::FitReport;
+
+use super::ParametricModel;
+
+/// The data and settings every trial shares, and a count of the trials.
+pub(super) struct Problem<'a> {
+    model: &'a ParametricModel,
+    records: &'a [Record],
+    settings: &'a IdentifySettings,
+    evaluations: AtomicU64,
+}
+
+/// The regressor and the fit at one η, and its cost.
+pub(super) struct Trial {
+    pub regressor: Regressor,
+    pub fit: Fit,
+    pub cost: f64,
+}
+
+impl<'a> Problem<'a> {
+    pub fn new(
+        model: &'a ParametricModel,
+        records: &'a [Record],
+        settings: &'a IdentifySettings,
+    ) -> Self {
+        Problem {
+            model,
+            records,
+            settings,
+            evaluations: AtomicU64::new(0),
+        }
+    }
+
+    /// The nonlinear parameters.
+    pub fn parameters(&self) -> &[super::NonlinearParameter] {
+        self.model.parameters()
+    }
+
+    /// Regressors built so far.
+    pub fn evaluations(&self) -> u64 {
+        self.evaluations.load(Ordering::Relaxed)
+    }
+
+    /// The regressor of the model at `eta`.
+    pub fn regressor(&self, eta: &[f64]) -> Result<Regressor> {
+        self.evaluations.fetch_add(1, Ordering::Relaxed);
+        let model = self.model.model(eta)?;
+        Regressor::build(&model, self.records, &self.settings.regressor)
+    }
+
+    /// The trial at `eta`.
+    pub fn trial(&self, eta: &[f64]) -> Result<Trial> {
+        let regressor = self.regressor(eta)?;
+        let fit = crate::fit::solve(&regressor, &self.settings.fit)?;
+        let cost = weighted_residuals(&regressor, &fit.coefficients, fit.residual_std.as_deref())
+            .iter()
+            .map(|e| e * e)
+            .sum();
+        Ok(Trial {
+            regressor,
+            fit,
+            cost,
+        })
+    }
+
+    /// φ(η).
+    pub fn cost(&self, eta: &[f64]) -> Result<f64> {
+        self.trial(eta).map(|t| t.cost)
+    }
+}
+
+/// (A θ − b)_r / s_r (s_r = 1 without `std`).
+pub(super) fn weighted_residuals(
+    regressor: &Regressor,
+    theta: &[f64],
+    std: Option<&[f64]>,
+) -> Vec<f64> {
+    let a = regressor.matrix();
+    let b = regressor.rhs();
+    (0..a.nrows())
+        .map(|r| {
+            let e: f64 = (0..a.ncols()).map(|k| a[(r, k)] * theta[k]).sum::<f64>() - b[r];
+            e / std.map_or(1.0, |s| s[r])
+        })
+        .collect()
+}
+
+/// The variance scale of the cost at the optimum: s² = φ̂/ν for an unweighted fit
+/// (estimated), 1 for a weighted fit whose χ² check passes (plug-in), χ²/ν when it
+/// rejects the fit (scaled plug-in), as [`crate::analysis::diagnostics`] rules.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Variance {
+    /// σ² multiplying (JᵀJ)⁻¹ and the interval's quantile.
+    pub scale: f64,
+    /// True when σ² was estimated from the residuals of an unweighted fit (Student t
+    /// and F quantiles), false for the plug-in of a weighted one (normal and χ²).
+    pub estimated: bool,
+}
+
+impl Variance {
+    pub fn of(report: &FitReport, cost: f64, dof: Option<usize>) -> Self {
+        let Some(dof) = dof else {
+            return Variance {
+                scale: f64::NAN,
+                estimated: true,
+            };
+        };
+        let per_dof = cost / dof as f64;
+        match &report.noise {
+            None => Variance {
+                scale: per_dof,
+                estimated: true,
+            },
+            Some(noise) => Variance {
+                scale: if noise.p_value.is_some_and(|p| p < REJECTION_P_VALUE) {
+                    per_dof
+                } else {
+                    1.0
+                },
+                estimated: false,
+            },
+        }
+    }
+}

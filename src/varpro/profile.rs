@@ -1,0 +1,133 @@
+//! Profile-likelihood interval of one nonlinear parameter η_j: the set of η_j whose
+//! profiled cost P(η_j) = min_{θ, η_{k≠j}} φ stays within Δ of the minimum φ̂,
+//!
+//! ```text
+//!   Δ = F_{1,ν}⁻¹(level) · s²,  s² = φ̂/ν          (unweighted fit)
+//!   Δ = χ²₁⁻¹(level) · σ²,      σ² = 1 or χ²/ν    (weighted fit: plug-in, or scaled when
+//!                                                   its χ² check rejects it)
+//! ```
+//!
+//! Each end is the root of P(η_j) − φ̂ − Δ between η̂_j and the bound, found by Brent's
+//! root finder (argmin) to 10⁻⁶ of the bound interval; with several parameters every
+//! P evaluation is a nested outer optimisation of the others, started at their optimum.
+//! An end where P is still below φ̂ + Δ at the bound is open (`None`): the data do not
+//! bound the parameter on that side within the bounds given. An optimum on a bound
+//! closes that side at the bound.
+
+use argmin::core::{CostFunction, Error as ArgminError, Executor, State};
+use argmin::solver::brent::BrentRoot;
+use statrs::distribution::{ChiSquared, ContinuousCDF, FisherSnedecor};
+
+use super::outer::{Cost, minimise};
+use super::problem::{Problem, Variance};
+use super::{NonlinearParameter, ProfileInterval, VarProSettings};
+use crate::error::{Error, Result};
+
+struct Excess<'a> {
+    profile: Cost<'a>,
+    threshold: f64,
+}
+
+impl CostFunction for Excess<'_> {
+    type Param = f64;
+    type Output = f64;
+    fn cost(&self, t: &f64) -> std::result::Result<f64, ArgminError> {
+        (self.profile)(&[*t])
+            .map(|p| p - self.threshold)
+            .map_err(ArgminError::new)
+    }
+}
+
+/// The rise Δ of the cost that bounds the interval at `level`.
+pub(super) fn rise(variance: Variance, dof: usize, level: f64) -> Result<f64> {
+    let quantile = if variance.estimated {
+        FisherSnedecor::new(1.0, dof as f64)
+            .map(|d| d.inverse_cdf(level))
+            .map_err(|e| e.to_string())
+    } else {
+        ChiSquared::new(1.0)
+            .map(|d| d.inverse_cdf(level))
+            .map_err(|e| e.to_string())
+    }
+    .map_err(|e| Error::Numerical {
+        stage: "profile interval".into(),
+        detail: e,
+    })?;
+    Ok(quantile * variance.scale)
+}
+
+/// The profile interval of parameter `j` around `optimum` (cost `minimum`).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn interval(
+    problem: &Problem<'_>,
+    parameters: &[NonlinearParameter],
+    optimum: &[f64],
+    j: usize,
+    minimum: f64,
+    variance: Variance,
+    dof: usize,
+    settings: &VarProSettings,
+) -> Result<ProfileInterval> {
+    let delta = rise(variance, dof, settings.level)?;
+    let others: Vec<NonlinearParameter> = parameters
+        .iter()
+        .enumerate()
+        .filter(|&(k, _)| k != j)
+        .map(|(k, p)| NonlinearParameter {
+            initial: optimum[k],
+            ..p.clone()
+        })
+        .collect();
+    let full = |t: f64, rest: &[f64]| -> Vec<f64> {
+        let mut eta = rest.to_vec();
+        eta.insert(j, t);
+        eta
+    };
+    let profile = |t: &[f64]| -> Result<f64> {
+        if others.is_empty() {
+            return problem.cost(t);
+        }
+        let inner = |rest: &[f64]| problem.cost(&full(t[0], rest));
+        let best = minimise(&inner, &others, settings)?;
+        problem.cost(&full(t[0], &best.values))
+    };
+    let spec = &parameters[j];
+    let span = spec.upper - spec.lower;
+    let threshold = minimum + delta;
+    let end = |bound: f64| -> Result<Option<f64>> {
+        if (bound - optimum[j]).abs() <= 1e-9 * span {
+            return Ok(Some(bound));
+        }
+        if profile(&[bound])? < threshold {
+            return Ok(None);
+        }
+        let (a, b) = if bound < optimum[j] {
+            (bound, optimum[j])
+        } else {
+            (optimum[j], bound)
+        };
+        let result = Executor::new(
+            Excess {
+                profile: &profile,
+                threshold,
+            },
+            BrentRoot::new(a, b, 1e-6 * span),
+        )
+        .configure(|s| s.max_iters(100))
+        .run()
+        .map_err(|e| match e.downcast::<Error>() {
+            Ok(e) => e,
+            Err(other) => Error::Numerical {
+                stage: "profile interval".into(),
+                detail: other.to_string(),
+            },
+        })?;
+        Ok(result.state().get_best_param().copied())
+    };
+    Ok(ProfileInterval {
+        lower: end(spec.lower)?,
+        upper: end(spec.upper)?,
+        level: settings.level,
+        rise: delta,
+    })
+}

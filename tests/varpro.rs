@@ -1,0 +1,248 @@
+//! Variable projection (src/varpro/): nonlinear law parameters estimated with the
+//! linear coefficients, on the paper's four-mass chain simulated with power-law damping
+//! d|v|^1.7 sign(v) on every mass instead of the quadratic law; compared only with the
+//! truth the simulation used.
+
+use std::sync::OnceLock;
+
+use dampid::prelude::*;
+use dampid::reference::{FOUR_MASS_C, four_mass_system, with_displacement_noise};
+use dampid::simulate::{SimSettings, chain_stiffness, simulate};
+use dampid::terms::laws::PowerLaw;
+use dampid::terms::{Coefficients, Element, Law, Term};
+use dampid::varpro::{NonlinearParameter, ParametricModel, VarProSettings, identify_varpro};
+
+const D: f64 = 0.10;
+const EXPONENT: f64 = 1.7;
+const AMPLITUDES: [f64; 6] = [0.25, 0.5, 0.75, 1.0, 1.5, 2.0];
+const CYCLES: usize = 8;
+
+/// C = c K and d|v|^p sign(v) on every mass.
+fn model(exponent: f64) -> dampid::Result<DampingModel> {
+    Ok(DampingModel::new()
+        .with(Term::stiffness_proportional("c", chain_stiffness(4)))
+        .with(Term::per_dof(
+            PowerLaw::new(exponent)?,
+            4,
+            Coefficients::Shared("d".into()),
+        )))
+}
+
+fn parametric() -> ParametricModel {
+    ParametricModel::new(
+        vec![NonlinearParameter::new("exponent", 1.0, 0.5, 4.0)],
+        |eta| model(eta[0]),
+    )
+    .unwrap()
+}
+
+/// The chain driven at its first resonance at six force levels, 5000 steps into the
+/// steady state, `CYCLES` whole periods recorded.
+fn clean() -> &'static [Record] {
+    static RECORDS: OnceLock<Vec<Record>> = OnceLock::new();
+    RECORDS.get_or_init(|| {
+        let period = 2.0 * std::f64::consts::PI / 0.618;
+        let settings = SimSettings {
+            transient_steps: 5000,
+            recorded_steps: (CYCLES as f64 * period / 0.1).ceil() as usize + 4,
+            ..SimSettings::default()
+        };
+        AMPLITUDES
+            .iter()
+            .map(|&a| {
+                let mut system = four_mass_system(a, false);
+                system.damping = model(EXPONENT).unwrap();
+                system.damping_coefficients = vec![FOUR_MASS_C, D];
+                simulate(&system, &settings).unwrap()
+            })
+            .collect()
+    })
+}
+
+/// The noise-robust default pipeline, one equation per whole period.
+fn settings() -> IdentifySettings {
+    let mut settings = IdentifySettings::default();
+    settings.regressor.windows = dampid::prep::window::WindowSpec::cycles(1).into();
+    settings
+}
+
+fn relative(found: f64, truth: f64) -> f64 {
+    (found - truth).abs() / truth.abs()
+}
+
+#[test]
+fn exponent_and_coefficients_come_back_noise_free() {
+    let report = identify_varpro(
+        &parametric(),
+        clean(),
+        &settings(),
+        &VarProSettings::default(),
+    )
+    .unwrap();
+    assert!(report.is_estimate(), "{report}");
+    let p = report.parameter("exponent").unwrap();
+    let c = report.coefficient("c").unwrap();
+    let d = report.coefficient("d").unwrap();
+    eprintln!("noise-free: p {p} c {c} d {d}\n{report}");
+    assert!(relative(p, EXPONENT) < 0.01, "exponent {p}");
+    assert!(relative(c, FOUR_MASS_C) < 0.01, "c {c}");
+    assert!(relative(d, D) < 0.01, "d {d}");
+}
+
+#[test]
+fn exponent_and_coefficients_come_back_at_one_percent_noise() {
+    let noisy = with_displacement_noise(clean(), 0.01, 20).unwrap();
+    let report = identify_varpro(
+        &parametric(),
+        &noisy,
+        &settings(),
+        &VarProSettings::default(),
+    )
+    .unwrap();
+    assert!(report.is_estimate(), "{report}");
+    let p = report.parameter("exponent").unwrap();
+    let c = report.coefficient("c").unwrap();
+    let d = report.coefficient("d").unwrap();
+    eprintln!("1% noise: p {p} c {c} d {d}\n{report}");
+    assert!(relative(p, EXPONENT) < 0.01, "exponent {p}");
+    assert!(relative(c, FOUR_MASS_C) < 0.01, "c {c}");
+    assert!(relative(d, D) < 0.01, "d {d}");
+    // the profile interval and the joint intervals are finite and hold the truth
+    let interval = report.parameters[0].interval.as_ref().unwrap();
+    let (lo, hi) = (interval.lower.unwrap(), interval.upper.unwrap());
+    assert!(
+        lo < p && p < hi && lo < EXPONENT && EXPONENT < hi,
+        "[{lo}, {hi}]"
+    );
+    for (estimate, truth) in report.coefficients.iter().zip([FOUR_MASS_C, D]) {
+        let (lo, hi) = (estimate.lower.unwrap(), estimate.upper.unwrap());
+        assert!(lo < truth && truth < hi, "{}: [{lo}, {hi}]", estimate.name);
+    }
+}
+
+/// Two estimated parameters (Nelder–Mead): masses 1–2 carry an expression law with a
+/// named constant, sign(v)·|v|^q, masses 3–4 a power law, each with a coefficient of its
+/// own; both exponents and all three coefficients come back within 1% noise-free.
+#[test]
+fn two_parameters_one_an_expression_constant_come_back() {
+    use dampid::terms::laws::Expression;
+    let parametric = ParametricModel::new(
+        vec![
+            NonlinearParameter::new("q", 1.0, 0.5, 4.0),
+            NonlinearParameter::new("p", 1.0, 0.5, 4.0),
+        ],
+        |eta| {
+            Ok(DampingModel::new()
+                .with(Term::stiffness_proportional("c", chain_stiffness(4)))
+                .with(Term::on_elements(
+                    Expression::with_constants("sign(v)*abs(v)^q", &[("q", eta[0])])?,
+                    vec![Element::to_ground(0), Element::to_ground(1)],
+                    Coefficients::Shared("d1".into()),
+                ))
+                .with(Term::on_elements(
+                    PowerLaw::new(eta[1])?,
+                    vec![Element::to_ground(2), Element::to_ground(3)],
+                    Coefficients::Shared("d2".into()),
+                )))
+        },
+    )
+    .unwrap();
+    let fit_only = VarProSettings {
+        profile: false,
+        ..VarProSettings::default()
+    };
+    // Ordinary weighting: with the propagated weights of the noise-robust fit the
+    // weights depend on the fitted coefficients, and the projected χ² has a spurious
+    // minimum at q ≈ 1.07, p ≈ 1.03 with large negative coefficients (their propagated
+    // noise inflates every equation's standard deviation), where Nelder–Mead stops;
+    // a known limitation (docs/laws.md). The one-parameter Brent search of the whole
+    // interval finds the true minimum of the same cost (the tests above).
+    let mut ordinary = settings();
+    ordinary.fit.weighting = dampid::fit::Weighting::Ordinary;
+    let report = identify_varpro(&parametric, clean(), &ordinary, &fit_only).unwrap();
+    assert!(report.is_estimate(), "{report}");
+    assert_eq!(report.status.method, "nelder_mead");
+    for (name, truth) in [("q", EXPONENT), ("p", EXPONENT)] {
+        let found = report.parameter(name).unwrap();
+        assert!(relative(found, truth) < 0.01, "{name} = {found}\n{report}");
+    }
+    for (name, truth) in [("c", FOUR_MASS_C), ("d1", D), ("d2", D)] {
+        let found = report.coefficient(name).unwrap();
+        assert!(relative(found, truth) < 0.01, "{name} = {found}\n{report}");
+    }
+}
+
+/// An outer loop stopped by its iteration limit is not an estimate: the status says
+/// why, no interval is given, and the text says so.
+#[test]
+fn an_outer_loop_that_does_not_converge_says_so() {
+    let limited = VarProSettings {
+        max_iterations: 2,
+        ..VarProSettings::default()
+    };
+    let report = identify_varpro(&parametric(), clean(), &settings(), &limited).unwrap();
+    assert!(!report.status.converged && !report.is_estimate());
+    assert!(report.parameters[0].interval.is_none());
+    assert!(report.coefficients.iter().all(|c| c.std_error.is_none()));
+    let text = report.to_string();
+    assert!(text.contains("NOT AN ESTIMATE"), "{text}");
+    assert!(text.contains("iterations"), "{text}");
+    let json = serde_json::to_value(&report).unwrap();
+    assert_eq!(json["status"]["converged"], false);
+}
+
+/// The shipped model file estimates the exponent: `[simulation] parameters` simulates
+/// p = 1.7, and the job's parametric model brings it back within 1% with c and d.
+#[test]
+fn the_model_file_estimates_the_exponent() {
+    let job =
+        dampid::model_file::load(std::path::Path::new("models/four_mass_power.toml")).unwrap();
+    let parametric = job.parametric.as_ref().expect("an estimated parameter");
+    assert_eq!(parametric.parameters()[0].name, "d.exponent");
+    let report = identify_varpro(
+        parametric,
+        &job.records,
+        &job.settings,
+        &VarProSettings::default(),
+    )
+    .unwrap();
+    assert!(report.is_estimate(), "{report}");
+    let p = report.parameter("d.exponent").unwrap();
+    assert!(relative(p, EXPONENT) < 0.01, "{report}");
+    assert!(
+        relative(report.coefficient("c").unwrap(), FOUR_MASS_C) < 0.01,
+        "{report}"
+    );
+    assert!(
+        relative(report.coefficient("d").unwrap(), D) < 0.01,
+        "{report}"
+    );
+}
+
+/// tanh(v/vs) at v = vs·atanh(0.5) is 0.5; x·a + v·b at (2, 3) with a = 5, b = 7
+/// is 31 (exmex orders the slots a, b, v, x).
+#[test]
+fn named_constants_fill_their_slots() {
+    let vs = 0.01;
+    let law = dampid::terms::laws::Expression::with_constants("tanh(v/vs)", &[("vs", vs)]).unwrap();
+    assert!((law.force(0.0, vs * 0.5f64.atanh()) - 0.5).abs() < 1e-12);
+    assert!(!law.uses_displacement());
+    let law =
+        dampid::terms::laws::Expression::with_constants("x*a + v*b", &[("b", 7.0), ("a", 5.0)])
+            .unwrap();
+    assert!((law.force(2.0, 3.0) - 31.0).abs() < 1e-12);
+    assert!(law.uses_displacement());
+    for (text, constants) in [
+        ("tanh(v/vs)", vec![("vs", 1.0), ("unused", 2.0)]),
+        ("v*x", vec![("x", 1.0)]),
+        ("v*q", vec![("vs", 1.0)]),
+    ] {
+        assert!(
+            matches!(
+                dampid::terms::laws::Expression::with_constants(text, &constants),
+                Err(dampid::Error::Expression { .. })
+            ),
+            "{text}"
+        );
+    }
+}
