@@ -67,6 +67,9 @@ pub struct Job {
     pub pod: Option<Reduction>,
     /// The stepped-sine table of a harmonic approximation.
     pub harmonic: Option<SteppedSineTable>,
+    /// The `[[simulation.experiments]]`, one per simulated record (DOFs 0-based); empty
+    /// without a `[simulation]`.
+    pub experiments: Vec<crate::simulate::HarmonicForce>,
 }
 
 impl Job {
@@ -118,33 +121,8 @@ impl Context<'_> {
         progress: Progress<'_>,
     ) -> Result<Job> {
         let n = spec.dofs;
-        if n == 0 {
-            return Err(self.whole_file_error("dofs must be at least 1"));
-        }
+        let model = self.damping_model(spec, laws)?;
         let matrix = |r: &MatrixRef| resolve_matrix(r, spec, n);
-        if spec.terms.is_empty() {
-            let empty = Error::Empty {
-                what: "the damping model".into(),
-            };
-            return Err(self.whole_file_typed_error("[[terms]]", empty));
-        }
-        // Each term is checked at its own [[terms]] block, including a coefficient name
-        // that an earlier block already uses.
-        let mut model = DampingModel::new();
-        let mut names = std::collections::HashSet::new();
-        for term in &spec.terms {
-            let built = self.at(term, |t| {
-                let built = build_term(t, n, &matrix, laws)?;
-                built.validate(n)?;
-                for name in built.coefficient_names() {
-                    if !names.insert(name.clone()) {
-                        return Err(Error::DuplicateCoefficient { name });
-                    }
-                }
-                Ok(built)
-            })?;
-            model = model.with(built);
-        }
         let mut settings =
             identification_settings(&spec.identification, spec.non_periodic.is_some());
         if spec.non_periodic.is_some()
@@ -232,7 +210,61 @@ impl Context<'_> {
             steady_state,
             pod,
             harmonic,
+            experiments: spec
+                .simulation
+                .iter()
+                .flat_map(|s| &s.get_ref().experiments)
+                .map(|e| {
+                    let e = e.get_ref();
+                    crate::simulate::HarmonicForce {
+                        // Checked ≥ 1 when the records were simulated.
+                        dof: e.force_dof.saturating_sub(1),
+                        amplitude: e.amplitude,
+                        frequency: e.frequency,
+                        phase: e.phase,
+                    }
+                })
+                .collect(),
         })
+    }
+
+    /// The damping model of `spec` alone: `dofs`, `[matrices]` and `[[terms]]`, each
+    /// term checked at its own block (including a coefficient name an earlier block
+    /// already uses).
+    pub(super) fn damping_model(
+        &self,
+        spec: &ModelFileSpec,
+        laws: &Registry,
+    ) -> Result<DampingModel> {
+        let n = spec.dofs;
+        if n == 0 {
+            return Err(self.whole_file_error("dofs must be at least 1"));
+        }
+        let matrix = |r: &MatrixRef| resolve_matrix(r, spec, n);
+        if spec.terms.is_empty() {
+            let empty = Error::Empty {
+                what: "the damping model".into(),
+            };
+            return Err(self.whole_file_typed_error("[[terms]]", empty));
+        }
+        // Each term is checked at its own [[terms]] block, including a coefficient name
+        // that an earlier block already uses.
+        let mut model = DampingModel::new();
+        let mut names = std::collections::HashSet::new();
+        for term in &spec.terms {
+            let built = self.at(term, |t| {
+                let built = build_term(t, n, &matrix, laws)?;
+                built.validate(n)?;
+                for name in built.coefficient_names() {
+                    if !names.insert(name.clone()) {
+                        return Err(Error::DuplicateCoefficient { name });
+                    }
+                }
+                Ok(built)
+            })?;
+            model = model.with(built);
+        }
+        Ok(model)
     }
 
     /// The records from `[simulation]`, `[string_simulation]` or `[data]` (exactly one),
