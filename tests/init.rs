@@ -146,10 +146,16 @@ fn from_npz_and_mat_files_the_arrays_are_columns() {
             "forces = [{ column = \"f\", dof = 1 }]",
             "dofs = 3",
         ] {
-            assert!(written.contains(needle), "{fixture}: '{needle}' not in\n{written}");
+            assert!(
+                written.contains(needle),
+                "{fixture}: '{needle}' not in\n{written}"
+            );
         }
         // 300 rows of a 8.2-period record: fewer than two periods, so none detected.
-        assert!(written.contains("# period = 1.0   # not detected"), "{written}");
+        assert!(
+            written.contains("# period = 1.0   # not detected"),
+            "{written}"
+        );
         // The guesses are TOML the parser accepts up to the missing period.
         let error = dampid::model_file::load(&out).unwrap_err().to_string();
         assert!(error.contains("period"), "{error}");

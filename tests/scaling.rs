@@ -23,14 +23,13 @@ fn the_201_coefficient_chain_reads_in_under_200_lines_and_the_json_keeps_everyth
     let identify = lines(&dampid_ok(&["identify", MODEL]).stdout);
     for (command, text) in [("check", &check), ("identify", &identify)] {
         let all = text.join("\n");
-        assert!(
-            text.len() < 200,
-            "{command}: {} lines\n{all}",
-            text.len()
-        );
+        assert!(text.len() < 200, "{command}: {} lines\n{all}", text.len());
         // No line runs over every coefficient: the longest stays readable.
         let longest = text.iter().map(|l| l.chars().count()).max().unwrap();
-        assert!(longest < 600, "{command}: a line of {longest} characters\n{all}");
+        assert!(
+            longest < 600,
+            "{command}: a line of {longest} characters\n{all}"
+        );
         assert!(all.contains("more"), "{command}: nothing summarised\n{all}");
         assert!(
             all.contains("by term: dashpot"),

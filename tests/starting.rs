@@ -61,19 +61,31 @@ fn compare_takes_a_terms_only_second_model() {
 fn simulate_names_forces_by_dof_and_writes_a_data_stub_that_reads_the_run_back() {
     let folder = scratch("stub");
     let run = folder.join("run");
-    let printed = dampid_ok(&["simulate", "models/four_mass.toml", "--out", run.to_str().unwrap()]);
+    let printed = dampid_ok(&[
+        "simulate",
+        "models/four_mass.toml",
+        "--out",
+        run.to_str().unwrap(),
+    ]);
     assert!(String::from_utf8_lossy(&printed.stdout).contains("data.toml"));
     let csv = std::fs::read_to_string(run.join("record_1.csv")).unwrap();
     let header = csv.lines().next().unwrap();
     assert_eq!(header, "t,x1,x2,x3,x4,v1,v2,v3,v4,f4");
     let stub = std::fs::read_to_string(run.join("data.toml")).unwrap();
     assert_eq!(stub.matches("[[data.records]]").count(), 4);
-    assert!(stub.contains("forces = [{ column = \"f4\", dof = 4 }]"), "{stub}");
+    assert!(
+        stub.contains("forces = [{ column = \"f4\", dof = 4 }]"),
+        "{stub}"
+    );
 
     let generator = std::fs::read_to_string("models/four_mass.toml").unwrap();
     let head = &generator[..generator.find("[simulation]").unwrap()];
     std::fs::write(run.join("model.toml"), format!("{head}\n{stub}")).unwrap();
-    let from_files = dampid_json(&["identify", run.join("model.toml").to_str().unwrap(), "--json"]);
+    let from_files = dampid_json(&[
+        "identify",
+        run.join("model.toml").to_str().unwrap(),
+        "--json",
+    ]);
     let simulated = dampid_json(&["identify", "models/four_mass.toml", "--json"]);
     let values = |v: &serde_json::Value| -> Vec<f64> {
         v["report"]["coefficients"]
@@ -84,7 +96,10 @@ fn simulate_names_forces_by_dof_and_writes_a_data_stub_that_reads_the_run_back()
             .collect()
     };
     for (a, b) in values(&from_files).iter().zip(values(&simulated)) {
-        assert!(((a - b) / b).abs() < 1e-6, "{a} from the files, {b} simulated");
+        assert!(
+            ((a - b) / b).abs() < 1e-6,
+            "{a} from the files, {b} simulated"
+        );
     }
     std::fs::remove_dir_all(&folder).ok();
 }
@@ -142,9 +157,18 @@ fn simulation_noise_is_gaussian_relative_to_each_channel_and_seeded() {
             .map(|j| m.col(j).iter().copied().collect())
             .collect()
     };
-    for (k, (c, n)) in clean.source_records.iter().zip(&noisy.source_records).enumerate() {
+    for (k, (c, n)) in clean
+        .source_records
+        .iter()
+        .zip(&noisy.source_records)
+        .enumerate()
+    {
         let kinds = [
-            ("displacements", columns(c.displacements()), columns(n.displacements())),
+            (
+                "displacements",
+                columns(c.displacements()),
+                columns(n.displacements()),
+            ),
             (
                 "velocities",
                 columns(c.velocities().unwrap()),

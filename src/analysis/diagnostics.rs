@@ -133,17 +133,15 @@ impl Correlation {
         let pairs: Vec<(usize, usize)> = (0..p)
             .flat_map(|i| (i + 1..p).map(move |j| (i, j)))
             .collect();
-        let values: Vec<f64> = pairs
-            .iter()
-            .map(|&(i, j)| self.matrix[i][j])
-            .collect();
-        let top: Vec<String> = crate::analysis::digest::largest(&values, crate::analysis::digest::LISTED)
-            .into_iter()
-            .map(|k| {
-                let (i, j) = pairs[k];
-                format!("{} ~ {} {:.3}", self.names[i], self.names[j], values[k])
-            })
-            .collect();
+        let values: Vec<f64> = pairs.iter().map(|&(i, j)| self.matrix[i][j]).collect();
+        let top: Vec<String> =
+            crate::analysis::digest::largest(&values, crate::analysis::digest::LISTED)
+                .into_iter()
+                .map(|k| {
+                    let (i, j) = pairs[k];
+                    format!("{} ~ {} {:.3}", self.names[i], self.names[j], values[k])
+                })
+                .collect();
         writeln!(
             f,
             "correlation of the estimates ({p} coefficients, the matrix in the JSON); largest |r|: {}",

@@ -54,7 +54,12 @@ pub fn by_term_text<'a>(names: impl IntoIterator<Item = &'a str>) -> String {
 /// Indices of the `k` entries of largest magnitude, largest first (ties in index order).
 pub fn largest(weights: &[f64], k: usize) -> Vec<usize> {
     let mut order: Vec<usize> = (0..weights.len()).collect();
-    order.sort_by(|&a, &b| weights[b].abs().total_cmp(&weights[a].abs()).then(a.cmp(&b)));
+    order.sort_by(|&a, &b| {
+        weights[b]
+            .abs()
+            .total_cmp(&weights[a].abs())
+            .then(a.cmp(&b))
+    });
     order.truncate(k);
     order
 }
@@ -67,7 +72,9 @@ pub fn decade_histogram(values: &[Option<f64>]) -> (Vec<(i32, usize)>, usize) {
     for v in values {
         match v {
             Some(x) if x.is_finite() => {
-                *decades.entry(x.max(1.0).log10().floor() as i32).or_default() += 1;
+                *decades
+                    .entry(x.max(1.0).log10().floor() as i32)
+                    .or_default() += 1;
             }
             _ => infinite += 1,
         }
@@ -129,7 +136,14 @@ mod tests {
 
     #[test]
     fn histogram_counts_every_value_once() {
-        let values = [Some(1.0), Some(9.99), Some(10.0), Some(2e5), None, Some(0.5)];
+        let values = [
+            Some(1.0),
+            Some(9.99),
+            Some(10.0),
+            Some(2e5),
+            None,
+            Some(0.5),
+        ];
         let (decades, infinite) = decade_histogram(&values);
         assert_eq!(decades, vec![(0, 3), (1, 1), (5, 1)]);
         assert_eq!(infinite, 1);

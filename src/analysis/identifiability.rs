@@ -617,11 +617,7 @@ impl Identifiability {
                 }
             )?;
             for d in self.null_directions.iter().take(LISTED) {
-                writeln!(
-                    f,
-                    "  σ = {:.3e}: {}",
-                    d.singular_value, d.direction.text
-                )?;
+                writeln!(f, "  σ = {:.3e}: {}", d.singular_value, d.direction.text)?;
             }
             if nulls > LISTED {
                 writeln!(

@@ -56,7 +56,9 @@ pub fn force_columns(record: &Record) -> Vec<(String, Option<usize>)> {
                 .collect();
         }
     }
-    (1..=channels).map(|c| (format!("force{c}"), None)).collect()
+    (1..=channels)
+        .map(|c| (format!("force{c}"), None))
+        .collect()
 }
 
 /// Writes `record` as a CSV file at `path` (atomically; an existing file is an error

@@ -171,12 +171,18 @@ fn data_stub(records: &[Record], source: &str) -> String {
         }
         let columns = records::force_columns(record);
         if columns.iter().any(|(_, dof)| dof.is_none()) {
-            text.push_str("# these channels share a DOF or a load distribution: set each one's dof\n");
+            text.push_str(
+                "# these channels share a DOF or a load distribution: set each one's dof\n",
+            );
         }
         let forces: Vec<String> = columns
             .into_iter()
             .map(|(column, dof)| {
-                format!("{{ column = {}, dof = {} }}", quote(&column), dof.unwrap_or(1))
+                format!(
+                    "{{ column = {}, dof = {} }}",
+                    quote(&column),
+                    dof.unwrap_or(1)
+                )
             })
             .collect();
         text.push_str(&format!(

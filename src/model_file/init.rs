@@ -314,7 +314,9 @@ fn data_record(r: &InitRecord, dofs: usize) -> String {
             quoted(t),
             crate::format::number(*step)
         )),
-        None => s.push_str("step = 1.0                 # no time column found: give the sampling step\n"),
+        None => s.push_str(
+            "step = 1.0                 # no time column found: give the sampling step\n",
+        ),
     }
     // One motion kind per DOF: displacements when there are any, else velocities,
     // else accelerations. Velocities beside displacements for every DOF are read as

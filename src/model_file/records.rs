@@ -130,8 +130,8 @@ fn with_noise(records: Vec<Record>, level: f64, seed: u64) -> Result<Vec<Record>
     let mut rng = StdRng::seed_from_u64(seed);
     let mut add = |m: &mut Mat<f64>| {
         for j in 0..m.ncols() {
-            let rms = (m.col(j).iter().map(|x| x * x).sum::<f64>() / m.nrows().max(1) as f64)
-                .sqrt();
+            let rms =
+                (m.col(j).iter().map(|x| x * x).sum::<f64>() / m.nrows().max(1) as f64).sqrt();
             // σ ≥ 0 and finite: simulated records are finite (Record::new checks them).
             let Ok(normal) = Normal::new(0.0, level * rms) else {
                 continue;

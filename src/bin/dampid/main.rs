@@ -294,10 +294,7 @@ fn init(files: &[PathBuf], out: &Path, overwrite: Overwrite) -> anyhow::Result<O
             })
     })?;
     Ok(Outcome {
-        text: format!(
-            "wrote {}: {model}next: dampid check {0}\n",
-            out.display()
-        ),
+        text: format!("wrote {}: {model}next: dampid check {0}\n", out.display()),
         trusted: true,
     })
 }
@@ -377,10 +374,7 @@ fn compare(first: &Path, second: &Path, as_json: bool) -> anyhow::Result<Outcome
     // mode both regressors carry the same nuisance columns).
     let comparison = dampid::analysis::compare::compare_regressors(
         (&first.display().to_string(), &job.regressor()?),
-        (
-            &second.display().to_string(),
-            &job.regressor_of(&other)?,
-        ),
+        (&second.display().to_string(), &job.regressor_of(&other)?),
         &dampid::analysis::compare::CompareSettings {
             rank_tolerance: job.settings.fit.rank_tolerance,
             ..Default::default()

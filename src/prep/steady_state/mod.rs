@@ -423,9 +423,7 @@ impl SteadyStateReport {
             .take(LISTED_WINDOWS)
             .collect();
         let mut order: Vec<usize> = (0..n).filter(|&k| self.windows[k].steady).collect();
-        order.sort_by(|&a, &b| {
-            mismatch(&self.windows[b]).total_cmp(&mismatch(&self.windows[a]))
-        });
+        order.sort_by(|&a, &b| mismatch(&self.windows[b]).total_cmp(&mismatch(&self.windows[a])));
         shown.extend(order.into_iter().take(CLOSEST_WINDOWS));
         shown.sort_unstable();
         shown
