@@ -96,13 +96,15 @@ fn kind_of(name: &str) -> Option<Kind> {
 /// The number a column name ends with (`f4` → 4, `x[12]` → 12).
 fn trailing_number(name: &str) -> Option<usize> {
     let trimmed = name.trim_end_matches(']');
-    // ASCII digits are one byte each, so the count is also the byte length.
-    let digits = trimmed
+    let digits: String = trimmed
         .chars()
         .rev()
         .take_while(char::is_ascii_digit)
-        .count();
-    trimmed[trimmed.len() - digits..].parse().ok()
+        .collect::<Vec<_>>()
+        .into_iter()
+        .rev()
+        .collect();
+    digits.parse().ok()
 }
 
 /// The time column: by name, else the first column that increases at a uniform step.
