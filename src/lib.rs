@@ -19,17 +19,38 @@
 //! solved by least squares, min ‖Aθ − b‖₂, or under physical constraints
 //! (θ ≥ 0, l ≤ θ ≤ u, fixed θ_i) with clarabel.
 //!
-//! Data flow one way, one folder per stage: [`record`], [`terms`] and [`model`] say
-//! what is fitted; [`prep`] cuts records into windows with quadrature weights and
-//! velocities (and checks steady state, detects periods, reduces by POD); [`regressor`]
-//! builds `A θ = b` (whole periods, the noise-robust rows, or fixed spans of
-//! non-periodic records with stored-energy unknowns); [`fit`] solves it;
+//! ## Start here
+//!
+//! - [`identify()`] runs the whole chain: records and a damping model in, a
+//!   [`report::FitReport`] out (its `Display` is the text report, serde gives the JSON);
+//!   [`prelude`] has the names most programs need.
+//! - [`record`]: a [`record::Record`] is one experiment, built from your own arrays
+//!   (example below) or read from files.
+//! - [`terms`] and [`model`]: the damping laws (linear, quadratic, Coulomb, power,
+//!   expressions, your own) on DOFs, dashpots or matrices, composed into a
+//!   [`model::DampingModel`].
+//! - [`report`]: the report, its warnings and the HTML page.
+//!
+//! ## Model files
+//!
+//! - [`model_file`]: a TOML file (docs/model-file.md lists every key) turned into a job;
+//!   [`model_file::init`] writes a first one (`dampid init`).
+//! - [`io`]: CSV, NPY/NPZ, MAT and UFF files become tables of named columns; every output
+//!   file is written whole or not at all, never replacing one unless asked.
+//! - [`simulate`]: records of a system simulated by RK4, with optional noise.
+//! - [`mod@reference`]: the paper's systems and studies.
+//!
+//! ## Internals
+//!
+//! Data flow one way, one folder per stage: [`prep`] cuts records into windows with
+//! quadrature weights and velocities (and checks steady state, detects periods, reduces
+//! by POD); [`regressor`] builds `A θ = b` (whole periods, the noise-robust rows, or fixed
+//! spans of non-periodic records with stored-energy unknowns); [`fit`] solves it;
 //! [`analysis`] diagnoses it (conditioning, identifiability, bootstrap, comparison,
-//! experiment design); [`report`] assembles the [`report::FitReport`]. [`identify()`]
-//! runs the whole chain, and [`identify::identify_regressor`] the part after the
-//! regressor. At the edges: [`io`] reads files, [`simulate`] produces records,
-//! [`model_file`] turns a TOML file into a job, [`mod@reference`] holds the paper's
-//! systems, and the `dampid` binary (feature `cli`) prints what the library returns.
+//! experiment design); [`identify::identify_regressor`] runs the part after the
+//! regressor. Cross-cutting: [`error`] (the typed [`Error`]), [`format`] (numbers in
+//! messages), [`progress`] (callbacks), [`budget`] (memory and time limits), [`interop`].
+//! The `dampid` binary (feature `cli`) prints what the library returns.
 //!
 //! Threads: dampid parallelises over windows, kernel blocks, POD row chunks, bootstrap
 //! replicates and design candidates, and combines them in index order, so its own work
@@ -40,6 +61,50 @@
 //!
 //! Where to add what (a damping law, a law with memory, a window kind, a file format, a
 //! report section, a CLI command): ARCHITECTURE.md.
+//!
+//! ## A record from your own arrays
+//!
+//! One DOF, m ẍ + c ẋ + k x = r(t), in steady state x = X cos ωt, so that the force is
+//! r = (k − mω²) X cos ωt − cXω sin ωt. Over a whole period the spring and mass forces
+//! do no work and ∮ ẋ r dt = c ∮ ẋ² dt = c π X² ω: the energy balance gives c back, whatever
+//! m and k (here m = 1, k = 4, c = 0.2, X = 0.5, ω = 1.5, 64 samples per period, the
+//! measured velocities used as they are; the trapezoid rule over whole periods of a
+//! trigonometric polynomial is exact, so c is recovered to round-off).
+//!
+//! ```
+//! use dampid::prelude::*;
+//! use faer::Mat;
+//!
+//! let (m, k, c, amplitude, omega) = (1.0, 4.0, 0.2, 0.5, 1.5);
+//! let period = 2.0 * std::f64::consts::PI / omega;
+//! let (per_period, periods) = (64, 4);
+//! let step = period / per_period as f64;
+//! let t: Vec<f64> = (0..per_period * periods).map(|i| i as f64 * step).collect();
+//! // Your arrays: one column per DOF (displacements, velocities) or force channel.
+//! let x = Mat::from_fn(t.len(), 1, |i, _| amplitude * (omega * t[i]).cos());
+//! let v = Mat::from_fn(t.len(), 1, |i, _| -amplitude * omega * (omega * t[i]).sin());
+//! let force = Mat::from_fn(t.len(), 1, |i, _| {
+//!     (k - m * omega * omega) * x[(i, 0)] + c * v[(i, 0)]
+//! });
+//! let record = Record::new(RecordParts {
+//!     label: "my test".into(),
+//!     step,
+//!     start_time: 0.0,
+//!     displacements: x,
+//!     velocities: Some(v),
+//!     forcing: Forcing::on_dofs(force, vec![0]), // channel 1 acts on DOF 1 (0-based here)
+//!     period,
+//! })?;
+//! let model = DampingModel::new().with(Term::per_dof(Linear, 1, Coefficients::Shared("c".into())));
+//! let mut settings = IdentifySettings::default();
+//! settings.regressor.velocity = VelocitySource::Measured;
+//! let report = identify(&model, &[record], &settings)?;
+//! let estimate = report.coefficient("c").unwrap();
+//! assert!((estimate - c).abs() < 1e-9 * c, "{estimate}");
+//! # Ok::<(), dampid::Error>(())
+//! ```
+//!
+//! The paper's four-mass chain, simulated:
 //!
 //! ```
 //! use dampid::prelude::*;

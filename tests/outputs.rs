@@ -44,7 +44,9 @@ fn simulate_refuses_another_runs_folder_unless_forced() {
     let manifest: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
     let listed = manifest["records"].as_array().unwrap();
-    assert_eq!(listed.len() + 1, first.len(), "every record is listed");
+    // The folder holds the records, the manifest and the [data] stub data.toml.
+    assert_eq!(listed.len() + 2, first.len(), "every record is listed");
+    assert!(first.contains(&"data.toml".to_string()), "{first:?}");
     assert_eq!(manifest["source"], MODEL);
     let before = std::fs::read(out.join("record_1.csv")).unwrap();
     std::fs::write(out.join("record_1.csv"), b"edited by hand").unwrap();

@@ -75,13 +75,12 @@ impl RegressorCheck {
 impl fmt::Display for RegressorCheck {
     /// From the singular values on: the caller says how many records gave the equations.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let sv: Vec<String> = self
-            .singular_values
-            .iter()
-            .map(|s| format!("{s:.3e}"))
-            .collect();
         let basis = conditioning_basis(self.weighted);
-        writeln!(f, "singular values of the {basis}: [{}]", sv.join(", "))?;
+        writeln!(
+            f,
+            "singular values of the {basis}: {}",
+            crate::analysis::digest::sequence(&self.singular_values)
+        )?;
         writeln!(
             f,
             "numerical rank: {} of {}",

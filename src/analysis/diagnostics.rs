@@ -104,6 +104,9 @@ pub struct Correlation {
 
 impl fmt::Display for Correlation {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.names.len() > crate::analysis::digest::FULL_LISTING {
+            return self.digest(f);
+        }
         let width = self.names.iter().map(|n| n.len()).max().unwrap_or(0).max(7);
         writeln!(f, "correlation of the estimates:")?;
         write!(f, "  {:width$}", "")?;
@@ -119,6 +122,31 @@ impl fmt::Display for Correlation {
             writeln!(f)?;
         }
         Ok(())
+    }
+}
+
+impl Correlation {
+    /// The text form for many coefficients: the [`crate::analysis::digest::LISTED`] pairs
+    /// of largest |correlation| (the whole matrix is in the JSON).
+    fn digest(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let p = self.names.len();
+        let pairs: Vec<(usize, usize)> = (0..p)
+            .flat_map(|i| (i + 1..p).map(move |j| (i, j)))
+            .collect();
+        let values: Vec<f64> = pairs.iter().map(|&(i, j)| self.matrix[i][j]).collect();
+        let top: Vec<String> =
+            crate::analysis::digest::largest(&values, crate::analysis::digest::LISTED)
+                .into_iter()
+                .map(|k| {
+                    let (i, j) = pairs[k];
+                    format!("{} ~ {} {:.3}", self.names[i], self.names[j], values[k])
+                })
+                .collect();
+        writeln!(
+            f,
+            "correlation of the estimates ({p} coefficients, the matrix in the JSON); largest |r|: {}",
+            top.join(", ")
+        )
     }
 }
 

@@ -44,17 +44,28 @@
 //!   R² of column j on the others; infinite (`None`) when the regressor is rank
 //!   deficient. VIF 1 means an orthogonal column; VIF 100 inflates the variance a
 //!   hundredfold.
+//! - **Many coefficients.** Each combination keeps its whole weight vector in model
+//!   order (`weights`, nothing dropped) beside the kept terms. Its written form lists
+//!   every kept term up to [`FULL_TEXT`] of them, else the [`digest::CONTRIBUTORS`]
+//!   largest, "+ N more" and the count per term; above [`digest::FULL_LISTING`]
+//!   coefficients the text report lists the [`digest::LISTED`] smallest null directions
+//!   and best-determined combinations, the largest VIFs and a histogram of them by
+//!   decade ([`crate::analysis::digest`]).
 
 use std::fmt;
 
 use serde::{Deserialize, Serialize};
 
+use crate::analysis::digest::{self, CONTRIBUTORS, FULL_LISTING, LISTED};
 use crate::error::{Error, Result};
 use crate::fit::ScaledSvd;
 use crate::regressor::Regressor;
 
 /// Weights below this fraction of the largest are dropped from a determined combination.
 const DETERMINED_DROP: f64 = 1e-3;
+
+/// A combination of more kept terms than this is written by its largest contributors.
+pub const FULL_TEXT: usize = 8;
 
 /// Settings of the identifiability analysis.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -117,7 +128,12 @@ pub struct CombinationTerm {
 pub struct Combination {
     /// The weights kept, in model order.
     pub terms: Vec<CombinationTerm>,
-    /// Written out, e.g. `c0 + 0.198 c1`.
+    /// Every weight, in model order (the names are [`Identifiability::names`]), the
+    /// largest 1, none dropped.
+    #[serde(default)]
+    pub weights: Vec<f64>,
+    /// Written out, e.g. `c0 + 0.198 c1`; with more than [`FULL_TEXT`] terms, the
+    /// [`digest::CONTRIBUTORS`] largest and "+ N more".
     pub text: String,
 }
 
@@ -235,7 +251,8 @@ fn unidentifiable(names: Vec<String>, settings: &IdentifiabilitySettings) -> Ide
     let null_directions = names
         .iter()
         .map(|name| {
-            let (direction, _) = combination(std::slice::from_ref(name), &[1.0], 0.0);
+            let (mut direction, _) = combination(std::slice::from_ref(name), &[1.0], 0.0);
+            direction.weights = names.iter().map(|n| f64::from(n == name)).collect();
             let text = trade_off_text(&direction);
             NullDirection {
                 singular_value: 0.0,
@@ -304,9 +321,10 @@ pub(crate) fn analyse_factored(
     for i in (0..p).filter(|&i| !practical[i]).rev() {
         let weights: Vec<f64> = (0..p).map(|j| v[(j, i)] / scaling.columns[j]).collect();
         let (direction, _) = combination(&names, &weights, settings.drop);
-        for t in &direction.terms {
-            let j = names.iter().position(|n| *n == t.name).unwrap_or(0);
-            unidentifiable[j] = true;
+        for (j, w) in direction.weights.iter().enumerate() {
+            if w.abs() >= settings.drop && *w != 0.0 {
+                unidentifiable[j] = true;
+            }
         }
         let text = trade_off_text(&direction);
         null_directions.push(NullDirection {
@@ -362,15 +380,44 @@ fn combination(names: &[String], weights: &[f64], drop: f64) -> (Combination, f6
         .max_by(|x, y| x.abs().total_cmp(&y.abs()))
         .filter(|w| *w != 0.0)
         .unwrap_or(1.0);
+    let normalised: Vec<f64> = weights.iter().map(|w| w / largest).collect();
     let terms: Vec<CombinationTerm> = names
         .iter()
-        .zip(weights)
+        .zip(&normalised)
         .map(|(name, w)| CombinationTerm {
             name: name.clone(),
-            weight: w / largest,
+            weight: *w,
         })
         .filter(|t| t.weight.abs() >= drop && t.weight != 0.0)
         .collect();
+    let text = if terms.len() <= FULL_TEXT {
+        written(&terms)
+    } else {
+        let weights: Vec<f64> = terms.iter().map(|t| t.weight).collect();
+        let shown: Vec<CombinationTerm> = digest::largest(&weights, CONTRIBUTORS)
+            .into_iter()
+            .map(|k| terms[k].clone())
+            .collect();
+        format!(
+            "{} + {} more ({} terms: {})",
+            written(&shown),
+            terms.len() - shown.len(),
+            terms.len(),
+            digest::by_term_text(terms.iter().map(|t| t.name.as_str()))
+        )
+    };
+    (
+        Combination {
+            terms,
+            weights: normalised,
+            text,
+        },
+        largest,
+    )
+}
+
+/// `c0 + 0.198 c1 − d`: the terms with their signed weights, 1 left out.
+fn written(terms: &[CombinationTerm]) -> String {
     let mut text = String::new();
     for (k, t) in terms.iter().enumerate() {
         let sign = if t.weight < 0.0 { "−" } else { "+" };
@@ -386,7 +433,7 @@ fn combination(names: &[String], weights: &[f64], drop: f64) -> (Combination, f6
             _ => text.push_str(&format!(" {sign} {number}{}", t.name)),
         }
     }
-    (Combination { terms, text }, largest)
+    text
 }
 
 /// Three significant digits for numbers below 1, three decimals otherwise.
@@ -401,6 +448,13 @@ fn significant(x: f64) -> String {
 
 fn trade_off_text(direction: &Combination) -> String {
     let names: Vec<&str> = direction.terms.iter().map(|t| t.name.as_str()).collect();
+    if names.len() > FULL_TEXT {
+        return format!(
+            "{} coefficients trade off against each other: changing them along {} leaves the fit unchanged",
+            names.len(),
+            direction.text
+        );
+    }
     let ratio = direction
         .terms
         .iter()
@@ -458,6 +512,9 @@ impl fmt::Display for Identifiability {
             self.practical_rank,
             self.names.len()
         )?;
+        if self.names.len() > FULL_LISTING {
+            return self.digest(f);
+        }
         let vif: Vec<String> = self
             .names
             .iter()
@@ -495,6 +552,112 @@ impl fmt::Display for Identifiability {
                         d.combination.text, d.value, d.singular_value
                     )?,
                 }
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Identifiability {
+    /// The text form for more than [`FULL_LISTING`] coefficients, after the noise level
+    /// and the practical rank: VIFs as a top list and a histogram, the undetermined
+    /// coefficients counted by term, the [`LISTED`] smallest null directions and the
+    /// [`LISTED`] best-determined combinations, each by its largest contributors.
+    fn digest(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let p = self.names.len();
+        let finite: Vec<f64> = self.variance_inflation.iter().flatten().copied().collect();
+        if finite.is_empty() {
+            writeln!(
+                f,
+                "variance inflation factors: infinite for all {p} (the regressor is rank deficient)"
+            )?;
+        } else {
+            let top: Vec<String> = digest::largest(&finite, LISTED)
+                .into_iter()
+                .map(|k| {
+                    let j = (0..p)
+                        .filter(|&j| self.variance_inflation[j].is_some())
+                        .nth(k)
+                        .unwrap_or(0);
+                    format!("{} {:.3e}", self.names[j], finite[k])
+                })
+                .collect();
+            writeln!(
+                f,
+                "variance inflation factors, largest {} of {p}: {}",
+                top.len(),
+                top.join(", ")
+            )?;
+            writeln!(
+                f,
+                "  by decade: {}",
+                digest::decade_histogram_text(&self.variance_inflation)
+            )?;
+        }
+        if self.separable() {
+            return writeln!(f, "every coefficient is determined by these data");
+        }
+        let names: Vec<&str> = self.unidentifiable.iter().map(String::as_str).collect();
+        writeln!(
+            f,
+            "these data cannot separate {} of {p} coefficients (practically unidentifiable; by term: {}; names in the JSON)",
+            names.len(),
+            digest::by_term_text(names.iter().copied())
+        )?;
+        let nulls = self.null_directions.len();
+        if nulls > 0 {
+            writeln!(
+                f,
+                "{nulls} direction(s) not determined (σ below {:.3e}); {}each by its {CONTRIBUTORS} largest components:",
+                self.threshold,
+                if nulls > LISTED {
+                    format!("the {LISTED} smallest, ")
+                } else {
+                    String::new()
+                }
+            )?;
+            for d in self.null_directions.iter().take(LISTED) {
+                writeln!(f, "  σ = {:.3e}: {}", d.singular_value, d.direction.text)?;
+            }
+            if nulls > LISTED {
+                writeln!(
+                    f,
+                    "  + {} more (identifiability.null_directions in the JSON)",
+                    nulls - LISTED
+                )?;
+            }
+        }
+        let determined = self.determined.len();
+        if determined > 0 {
+            writeln!(
+                f,
+                "{determined} combination(s) determined by these data; {}each by its {CONTRIBUTORS} largest weights:",
+                if determined > LISTED {
+                    format!("the {LISTED} best determined, ")
+                } else {
+                    String::new()
+                }
+            )?;
+            for d in self.determined.iter().take(LISTED) {
+                match d.std_error {
+                    Some(se) => writeln!(
+                        f,
+                        "  {} = {:.6e} ± {se:.2e} (σ = {:.3e})",
+                        d.combination.text, d.value, d.singular_value
+                    )?,
+                    None => writeln!(
+                        f,
+                        "  {} = {:.6e} (σ = {:.3e})",
+                        d.combination.text, d.value, d.singular_value
+                    )?,
+                }
+            }
+            if determined > LISTED {
+                writeln!(
+                    f,
+                    "  + {} more (identifiability.determined in the JSON)",
+                    determined - LISTED
+                )?;
             }
         }
         Ok(())

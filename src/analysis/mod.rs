@@ -1,7 +1,8 @@
 //! Analyses of a regressor and its fit: diagnostics (residuals, conditioning, standard
 //! errors), identifiability (near-null directions and determined combinations by
 //! name), the window bootstrap, model comparison, experiment design, and the noise
-//! bias of the velocity estimator (velocity_noise); [`solved`] is the one
+//! bias of the velocity estimator (velocity_noise); [`digest`] is how their long lists
+//! read in text; [`solved`] is the one
 //! solve-and-diagnose path `identify` and `dampid check` share. They read a
 //! [`crate::regressor::Regressor`] and a [`crate::fit::Fit`]; nothing in the chain
 //! before them imports them.
@@ -12,6 +13,7 @@ pub mod compare;
 pub mod design;
 pub mod diagnostics;
 pub mod equivalent;
+pub mod digest;
 pub mod identifiability;
 pub mod solved;
 pub(crate) mod stats;

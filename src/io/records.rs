@@ -1,6 +1,7 @@
 //! Records as CSV files, the inverse of reading a record from a table's columns: one
 //! row per sample with the columns `t`, `x1`…`xn`, `v1`…`vn` (when the record has
-//! velocities) and `f1`…`fk` (one per force channel). `dampid simulate` writes them,
+//! velocities) and one per force channel, named by the DOF it acts on (`f4` for DOF 4;
+//! [`force_columns`]). `dampid simulate` writes them,
 //! and a model file's `[[data.records]]` reads them back by these names.
 
 use std::path::Path;
@@ -31,11 +32,33 @@ pub fn record_columns(record: &Record) -> (Vec<String>, Vec<Vec<f64>>) {
         }
     }
     let signals = &record.forcing().signals;
+    let names = force_columns(record);
     for c in 0..signals.ncols() {
-        headers.push(format!("f{}", c + 1));
+        headers.push(names[c].0.clone());
         columns.push(signals.col(c).iter().copied().collect());
     }
     (headers, columns)
+}
+
+/// The name of each force channel's column and the DOF (1-based) it acts on: `f4` for
+/// the force on DOF 4 when every channel acts on a DOF of its own; `force1`, `force2`, …
+/// (by channel, no DOF) when channels share a DOF or act through a distribution matrix.
+pub fn force_columns(record: &Record) -> Vec<(String, Option<usize>)> {
+    let channels = record.forcing().signals.ncols();
+    if let crate::record::LoadDistribution::Dofs(dofs) = &record.forcing().distribution {
+        let mut sorted = dofs.clone();
+        sorted.sort_unstable();
+        sorted.dedup();
+        if sorted.len() == dofs.len() {
+            return dofs
+                .iter()
+                .map(|d| (format!("f{}", d + 1), Some(d + 1)))
+                .collect();
+        }
+    }
+    (1..=channels)
+        .map(|c| (format!("force{c}"), None))
+        .collect()
 }
 
 /// Writes `record` as a CSV file at `path` (atomically; an existing file is an error

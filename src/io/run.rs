@@ -1,5 +1,7 @@
 //! A simulation run written to a folder: `record_1.csv` … `record_K.csv` (the layout of
-//! [`crate::io::records`]) and `manifest.json`, which lists this run's records:
+//! [`crate::io::records`]), `data.toml`, the records as a ready `[[data.records]]`
+//! section for a model file ([`DATA_STUB`]), and `manifest.json`, which lists this run's
+//! records:
 //!
 //! ```json
 //! { "dampid": "0.1.0", "source": "models/four_mass.toml",
@@ -25,11 +27,14 @@ use crate::record::Record;
 
 /// The manifest's file name.
 pub const MANIFEST: &str = "manifest.json";
+/// The `[data]` stub's file name: every record with its time, displacement and force
+/// columns (each force's DOF) and its period, paths relative to the folder.
+pub const DATA_STUB: &str = "data.toml";
 
 /// What a run wrote and removed.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RunFiles {
-    /// The record files, then the manifest.
+    /// The record files, the `[data]` stub, then the manifest.
     pub written: Vec<PathBuf>,
     /// An earlier run's record files that this run does not replace (only under
     /// [`Overwrite::Replace`]).
@@ -101,6 +106,14 @@ pub fn write_run(
             period: record.period(),
         });
     }
+    let stub_path = folder.join(DATA_STUB);
+    let stub = data_stub(records, source);
+    staged.add(&stub_path, |sink| {
+        sink.write_all(stub.as_bytes()).map_err(|e| Error::Output {
+            path: stub_path.display().to_string(),
+            message: e.to_string(),
+        })
+    })?;
     let manifest = Manifest {
         dampid: env!("CARGO_PKG_VERSION"),
         source,
@@ -127,6 +140,60 @@ pub fn write_run(
     Ok(RunFiles { written, removed })
 }
 
+/// The `[[data.records]]` entries that read `records` back from this folder.
+fn data_stub(records: &[Record], source: &str) -> String {
+    // A JSON string is a TOML basic string (the same escapes, UTF-8 as is).
+    let quote = |s: &str| serde_json::Value::from(s).to_string();
+    let list = |names: Vec<String>| {
+        let quoted: Vec<String> = names.iter().map(|n| quote(n)).collect();
+        format!("[{}]", quoted.join(", "))
+    };
+    let mut text = format!(
+        "# The records of this run (dampid simulate {}) as a [data] section: paste it into a\n\
+         # model file in this folder, or put this folder's path, relative to the model file,\n\
+         # before each file name. The model file's [simulation] section then goes.\n",
+        source.replace('\n', " ")
+    );
+    for (k, record) in records.iter().enumerate() {
+        let n = record.dofs();
+        let named = |prefix: &str| (1..=n).map(|j| format!("{prefix}{j}")).collect::<Vec<_>>();
+        text.push_str(&format!(
+            "\n[[data.records]]\nfile = {}\nlabel = {}\ntime = \"t\"\ndisplacements = {}\n",
+            quote(&record_file(k + 1)),
+            quote(record.label()),
+            list(named("x"))
+        ));
+        if record.velocities().is_some() {
+            text.push_str(&format!(
+                "# velocities = {}   # the simulated velocities, read with velocity = \"measured\"\n",
+                list(named("v"))
+            ));
+        }
+        let columns = records::force_columns(record);
+        if columns.iter().any(|(_, dof)| dof.is_none()) {
+            text.push_str(
+                "# these channels share a DOF or a load distribution: set each one's dof\n",
+            );
+        }
+        let forces: Vec<String> = columns
+            .into_iter()
+            .map(|(column, dof)| {
+                format!(
+                    "{{ column = {}, dof = {} }}",
+                    quote(&column),
+                    dof.unwrap_or(1)
+                )
+            })
+            .collect();
+        text.push_str(&format!(
+            "forces = [{}]\nperiod = {}\n",
+            forces.join(", "),
+            record.period()
+        ));
+    }
+    text
+}
+
 /// The record files and manifest already in `folder`, sorted by record number.
 fn earlier_run(folder: &Path) -> std::io::Result<Vec<PathBuf>> {
     let mut found: Vec<(usize, PathBuf)> = Vec::new();
@@ -139,6 +206,7 @@ fn earlier_run(folder: &Path) -> std::io::Result<Vec<PathBuf>> {
             .and_then(|k| k.parse::<usize>().ok());
         match number {
             Some(k) => found.push((k, entry.path())),
+            None if name == DATA_STUB => found.push((usize::MAX - 1, entry.path())),
             None if name == MANIFEST => found.push((usize::MAX, entry.path())),
             None => {}
         }

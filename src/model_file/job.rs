@@ -76,6 +76,9 @@ pub struct Job {
     /// The measured stepped-sine table of `[stepped_sine]`: the regressor is built from
     /// it (`records` are its points' synthesized periods).
     pub stepped_sine: Option<SteppedSineJob>,
+    /// The `[[simulation.experiments]]`, one per simulated record (DOFs 0-based); empty
+    /// without a `[simulation]`.
+    pub experiments: Vec<crate::simulate::HarmonicForce>,
 }
 
 impl Job {
@@ -181,57 +184,8 @@ impl Context<'_> {
         progress: Progress<'_>,
     ) -> Result<Job> {
         let n = spec.dofs;
-        if n == 0 {
-            return Err(self.whole_file_error("dofs must be at least 1"));
-        }
+        let (model, parametric) = self.damping_model(spec, laws)?;
         let matrix = |r: &MatrixRef| resolve_matrix(r, spec, n);
-        if spec.terms.is_empty() {
-            let empty = Error::Empty {
-                what: "the damping model".into(),
-            };
-            return Err(self.whole_file_typed_error("[[terms]]", empty));
-        }
-        // Each term is checked at its own [[terms]] block, including a coefficient name
-        // that an earlier block already uses.
-        let mut model = DampingModel::new();
-        let mut names = std::collections::HashSet::new();
-        let mut recipes = Vec::with_capacity(spec.terms.len());
-        let mut estimated = Vec::new();
-        for term in &spec.terms {
-            let built = self.at(term, |t| {
-                let first = estimated.len();
-                let recipe = build_term(t, n, &matrix, laws, &mut estimated)?;
-                let initial: Vec<f64> = estimated.iter().map(|p| p.initial).collect();
-                let built = recipe.build(&initial)?;
-                built.validate(n)?;
-                for name in built.coefficient_names() {
-                    if !names.insert(name.clone()) {
-                        return Err(Error::DuplicateCoefficient { name });
-                    }
-                }
-                for p in &estimated[first..] {
-                    if estimated[..first].iter().any(|q| q.name == p.name) {
-                        return Err(Error::choice(
-                            "estimated parameter",
-                            format!("'{}'", p.name),
-                            "given twice: every estimated parameter needs its own name",
-                        ));
-                    }
-                }
-                recipes.push(recipe);
-                Ok(built)
-            })?;
-            model = model.with(built);
-        }
-        let parametric = if estimated.is_empty() {
-            None
-        } else {
-            Some(ParametricModel::new(estimated, move |eta| {
-                recipes
-                    .iter()
-                    .try_fold(DampingModel::new(), |m, r| Ok(m.with(r.build(eta)?)))
-            })?)
-        };
         let mut settings =
             identification_settings(&spec.identification, spec.non_periodic.is_some());
         if spec.non_periodic.is_some()
@@ -335,7 +289,85 @@ impl Context<'_> {
             pod,
             harmonic,
             stepped_sine: sources.stepped_sine,
+            experiments: spec
+                .simulation
+                .iter()
+                .flat_map(|s| &s.get_ref().experiments)
+                .map(|e| {
+                    let e = e.get_ref();
+                    crate::simulate::HarmonicForce {
+                        // Checked ≥ 1 when the records were simulated.
+                        dof: e.force_dof.saturating_sub(1),
+                        amplitude: e.amplitude,
+                        frequency: e.frequency,
+                        phase: e.phase,
+                    }
+                })
+                .collect(),
         })
+    }
+
+    /// The damping model of `spec` alone: `dofs`, `[matrices]` and `[[terms]]`, each
+    /// term checked at its own block (including a coefficient name an earlier block
+    /// already uses).
+    pub(super) fn damping_model(
+        &self,
+        spec: &ModelFileSpec,
+        laws: &Registry,
+    ) -> Result<(DampingModel, Option<ParametricModel>)> {
+        let n = spec.dofs;
+        if n == 0 {
+            return Err(self.whole_file_error("dofs must be at least 1"));
+        }
+        let matrix = |r: &MatrixRef| resolve_matrix(r, spec, n);
+        if spec.terms.is_empty() {
+            let empty = Error::Empty {
+                what: "the damping model".into(),
+            };
+            return Err(self.whole_file_typed_error("[[terms]]", empty));
+        }
+        // Each term is checked at its own [[terms]] block, including a coefficient name
+        // that an earlier block already uses.
+        let mut model = DampingModel::new();
+        let mut names = std::collections::HashSet::new();
+        let mut recipes = Vec::with_capacity(spec.terms.len());
+        let mut estimated = Vec::new();
+        for term in &spec.terms {
+            let built = self.at(term, |t| {
+                let first = estimated.len();
+                let recipe = build_term(t, n, &matrix, laws, &mut estimated)?;
+                let initial: Vec<f64> = estimated.iter().map(|p| p.initial).collect();
+                let built = recipe.build(&initial)?;
+                built.validate(n)?;
+                for name in built.coefficient_names() {
+                    if !names.insert(name.clone()) {
+                        return Err(Error::DuplicateCoefficient { name });
+                    }
+                }
+                for p in &estimated[first..] {
+                    if estimated[..first].iter().any(|q| q.name == p.name) {
+                        return Err(Error::choice(
+                            "estimated parameter",
+                            format!("'{}'", p.name),
+                            "given twice: every estimated parameter needs its own name",
+                        ));
+                    }
+                }
+                recipes.push(recipe);
+                Ok(built)
+            })?;
+            model = model.with(built);
+        }
+        let parametric = if estimated.is_empty() {
+            None
+        } else {
+            Some(ParametricModel::new(estimated, move |eta| {
+                recipes
+                    .iter()
+                    .try_fold(DampingModel::new(), |m, r| Ok(m.with(r.build(eta)?)))
+            })?)
+        };
+        Ok((model, parametric))
     }
 
     /// The records from `[simulation]`, `[string_simulation]` or `[data]` (exactly one),

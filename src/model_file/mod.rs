@@ -11,9 +11,13 @@
 //! Errors carry the file and the line and column of the offending table or key.
 //!
 //! [`candidate_model`] builds the candidate models of `dampid compare --laws`.
+//!
+//! [`init`] writes a first, annotated model file from data files or from nothing
+//! (`dampid init`); docs/model-file.md is the reference of every key.
 
 mod candidates;
 mod context;
+pub mod init;
 mod job;
 mod measured;
 mod records;
@@ -35,6 +39,7 @@ pub use measured::{ChannelGain, RecordInputs};
 pub use spec::*;
 pub use summary::{
     CheckReport, DetectedPeriod, JitteredTime, NOTED_JITTER, Periods, Preamble, SteppedSineSummary,
+    selected_experiments_toml,
 };
 
 use crate::error::{Error, Result};
@@ -49,13 +54,7 @@ pub fn load(path: &Path) -> Result<Job> {
 
 /// [`load`], reporting the progress of simulating or reading the records.
 pub fn load_with_progress(path: &Path, progress: Progress<'_>) -> Result<Job> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::ModelFile {
-        file: path.display().to_string(),
-        line: 0,
-        column: 0,
-        message: e.to_string(),
-        cause: None,
-    })?;
+    let text = read(path)?;
     let base = path.parent().unwrap_or(Path::new("."));
     parse_with_progress(&text, &path.display().to_string(), base, progress)
 }
@@ -82,6 +81,34 @@ pub fn parse_with_progress(
     parse_with(text, file, base, &Registry::builtin(), progress)
 }
 
+/// The damping model of the model file at `path` alone (`dofs`, `[matrices]` and
+/// `[[terms]]`): its records, if it has any, are neither simulated nor read, so a file
+/// of terms only is enough (`dampid compare`'s second model).
+pub fn load_model(path: &Path) -> Result<crate::model::DampingModel> {
+    let text = read(path)?;
+    parse_model(&text, &path.display().to_string())
+}
+
+/// [`load_model`] of model-file `text` (named `file` in errors).
+pub fn parse_model(text: &str, file: &str) -> Result<crate::model::DampingModel> {
+    let context = Context { file, text };
+    let spec = parse_spec(text, file)?;
+    // Estimated parameters stand at their initial values in a terms-only model.
+    context
+        .damping_model(&spec, &Registry::builtin())
+        .map(|(model, _)| model)
+}
+
+fn read(path: &Path) -> Result<String> {
+    std::fs::read_to_string(path).map_err(|e| Error::ModelFile {
+        file: path.display().to_string(),
+        line: 0,
+        column: 0,
+        message: e.to_string(),
+        cause: None,
+    })
+}
+
 fn parse_with(
     text: &str,
     file: &str,
@@ -90,7 +117,14 @@ fn parse_with(
     progress: Progress<'_>,
 ) -> Result<Job> {
     let context = Context { file, text };
-    let spec: ModelFileSpec = toml::from_str(text).map_err(|e| {
+    let spec = parse_spec(text, file)?;
+    context.build(&spec, base, laws, progress)
+}
+
+/// The serde form of `text`; a TOML or schema error carries its line and column.
+fn parse_spec(text: &str, file: &str) -> Result<ModelFileSpec> {
+    let context = Context { file, text };
+    toml::from_str(text).map_err(|e| {
         let (line, column) = e.span().map_or((0, 0), |s| context.position(s.start));
         Error::ModelFile {
             file: file.to_string(),
@@ -99,6 +133,5 @@ fn parse_with(
             message: e.message().to_string(),
             cause: None,
         }
-    })?;
-    context.build(&spec, base, laws, progress)
+    })
 }

@@ -1,9 +1,15 @@
 //! Simulated records: `[simulation]`, with the true coefficients (measured ones are
-//! read by `measured.rs`).
+//! read by `measured.rs`), and optional sensor noise: with `noise = ε`, every recorded
+//! channel c (each displacement, velocity and force column) gets independent Gaussian
+//! samples of standard deviation σ_c = ε·RMS(c), RMS(c) = √(Σ_i c_i²/N), drawn from one
+//! generator seeded by `noise_seed`, channel after channel in record order.
 
 use std::collections::BTreeMap;
 
 use faer::Mat;
+use rand::SeedableRng;
+use rand::rngs::StdRng;
+use rand_distr::{Distribution, Normal};
 
 use super::settings::one_based;
 use super::spec::{MatrixRef, SimulationSpec};
@@ -105,5 +111,46 @@ pub(super) fn simulate_records(
             Record::new(parts)
         })
         .collect::<Result<Vec<_>>>()?;
+    let records = match spec.noise {
+        None => records,
+        Some(level) => with_noise(records, level, spec.noise_seed)?,
+    };
     Ok((records, truth))
+}
+
+/// `records` with Gaussian noise of `level` times each channel's RMS (module doc).
+fn with_noise(records: Vec<Record>, level: f64, seed: u64) -> Result<Vec<Record>> {
+    if !(level.is_finite() && level >= 0.0) {
+        return Err(Error::invalid(
+            "noise",
+            level,
+            "must be a finite fraction ≥ 0 of each channel's RMS (0.01 is 1%)",
+        ));
+    }
+    let mut rng = StdRng::seed_from_u64(seed);
+    let mut add = |m: &mut Mat<f64>| {
+        for j in 0..m.ncols() {
+            let rms =
+                (m.col(j).iter().map(|x| x * x).sum::<f64>() / m.nrows().max(1) as f64).sqrt();
+            // σ ≥ 0 and finite: simulated records are finite (Record::new checks them).
+            let Ok(normal) = Normal::new(0.0, level * rms) else {
+                continue;
+            };
+            for i in 0..m.nrows() {
+                m[(i, j)] += normal.sample(&mut rng);
+            }
+        }
+    };
+    records
+        .into_iter()
+        .map(|record| {
+            let mut parts = record.into_parts();
+            add(&mut parts.displacements);
+            if let Some(v) = parts.velocities.as_mut() {
+                add(v);
+            }
+            add(&mut parts.forcing.signals);
+            Record::new(parts)
+        })
+        .collect()
 }

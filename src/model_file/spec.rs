@@ -511,6 +511,12 @@ pub struct SimulationSpec {
     pub recorded_steps: usize,
     /// One simulated record per experiment.
     pub experiments: Vec<Spanned<ExperimentSpec>>,
+    /// Gaussian noise added to every recorded channel (displacements, velocities,
+    /// forces), its standard deviation this fraction of the channel's RMS (default: none).
+    pub noise: Option<f64>,
+    /// Seed of the noise (default 0): the same seed gives the same records.
+    #[serde(default)]
+    pub noise_seed: u64,
 }
 
 fn one() -> usize {

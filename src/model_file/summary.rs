@@ -343,7 +343,16 @@ impl fmt::Display for CheckReport {
             count(self.records, "record"),
             count(check.equations, "equation"),
             count(check.coefficients.len(), "coefficient"),
-            check.coefficients.join(", ")
+            if check.coefficients.len() > crate::analysis::digest::FULL_LISTING {
+                format!(
+                    "by term {}",
+                    crate::analysis::digest::by_term_text(
+                        check.coefficients.iter().map(String::as_str)
+                    )
+                )
+            } else {
+                check.coefficients.join(", ")
+            }
         )?;
         write!(f, "{check}")
     }
@@ -401,4 +410,38 @@ impl fmt::Display for WindowLengths {
             self.requested
         )
     }
+}
+
+/// The experiments `report` selected (its start set, then the ones it added), as
+/// `[[simulation.experiments]]` blocks to paste into a model file; `experiments` are
+/// the job's ([`Job::experiments`]), in candidate order.
+pub fn selected_experiments_toml(
+    report: &crate::analysis::design::DesignReport,
+    experiments: &[crate::simulate::HarmonicForce],
+) -> String {
+    let mut text = String::from(
+        "# The selected experiments as [[simulation.experiments]], to paste into a model file:\n",
+    );
+    for k in report.selected() {
+        let Some(e) = experiments.get(k) else {
+            continue;
+        };
+        let why = if report.start.contains(&k) {
+            "start"
+        } else {
+            "added"
+        };
+        text.push_str(&format!(
+            "\n[[simulation.experiments]]   # candidate {} ({why}): {}\nforce_dof = {}\namplitude = {:?}\nfrequency = {:?}\n",
+            k + 1,
+            report.candidates.get(k).map_or("", String::as_str),
+            e.dof + 1,
+            e.amplitude,
+            e.frequency
+        ));
+        if e.phase != 0.0 {
+            text.push_str(&format!("phase = {:?}\n", e.phase));
+        }
+    }
+    text
 }

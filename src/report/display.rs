@@ -3,11 +3,13 @@
 //! percentile interval) and the basis of its standard errors in words
 //! ([`StandardErrorBasis`]: residual variance, plug-in, or plug-in scaled by √(χ²/dof)),
 //! conditioning, identifiability, correlation, the noise check, the residual and its
-//! bias, and the warnings.
+//! bias, and the warnings. Long lists (more than [`digest::FULL_LISTING`] coefficients)
+//! are summarised ([`crate::analysis::digest`]).
 
 use std::fmt;
 
 use crate::analysis::diagnostics::StandardErrorBasis;
+use crate::analysis::digest;
 use crate::report::{CoefficientEstimate, FitReport, NoiseSummary};
 
 /// `x` with three significant digits, in plain notation between 0.01 and 10⁵
@@ -93,6 +95,39 @@ impl FitReport {
     }
 }
 
+impl FitReport {
+    /// The coefficient rows; with more than [`digest::FULL_LISTING`] coefficients, the
+    /// undetermined ones (whose values are not estimates) are counted by term in one
+    /// line instead of a row each (all of them are in the JSON).
+    fn write_coefficients(
+        &self,
+        f: &mut fmt::Formatter<'_>,
+        weighted: bool,
+        level: Option<f64>,
+    ) -> fmt::Result {
+        let many = self.coefficients.len() > digest::FULL_LISTING;
+        for c in self.coefficients.iter().filter(|c| !many || c.determined) {
+            self.write_estimate(f, c, weighted, level)?;
+        }
+        let undetermined: Vec<&str> = self
+            .coefficients
+            .iter()
+            .filter(|c| !c.determined)
+            .map(|c| c.name.as_str())
+            .collect();
+        if many && !undetermined.is_empty() {
+            writeln!(
+                f,
+                "not determined: {} of {} coefficients (by term: {}); their values are not estimates (all in the JSON)",
+                undetermined.len(),
+                self.coefficients.len(),
+                digest::by_term_text(undetermined.iter().copied())
+            )?;
+        }
+        Ok(())
+    }
+}
+
 impl fmt::Display for FitReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(f, "status: {:?} ({:?})", self.status, self.method)?;
@@ -119,9 +154,7 @@ impl fmt::Display for FitReport {
             "{:<20} {:>14} {:>12} {:>9}{wald_header}{interval_header}",
             "coefficient", "value", se_header, "rel. se"
         )?;
-        for c in &self.coefficients {
-            self.write_estimate(f, c, weighted, level)?;
-        }
+        self.write_coefficients(f, weighted, level)?;
         if !self.nuisance.is_empty() {
             writeln!(
                 f,
@@ -153,12 +186,11 @@ impl fmt::Display for FitReport {
             Some(k) => writeln!(f, "condition number σ₁/σₚ of the {basis}: {k:.3e}")?,
             None => writeln!(f, "condition number σ₁/σₚ of the {basis}: infinite")?,
         }
-        let sv: Vec<String> = self
-            .singular_values
-            .iter()
-            .map(|s| format!("{s:.3e}"))
-            .collect();
-        writeln!(f, "singular values: [{}]", sv.join(", "))?;
+        writeln!(
+            f,
+            "singular values: {}",
+            crate::analysis::digest::sequence(&self.singular_values)
+        )?;
         write!(f, "{}", self.identifiability)?;
         if let Some(c) = &self.correlation
             && c.names.len() > 1

@@ -1,6 +1,7 @@
 //! A fit against known true coefficients (a simulation's): per coefficient the true
 //! value, the estimate, and the error, relative (e − θ)/|θ| in percent, or absolute
-//! e − θ for a true value of 0.
+//! e − θ for a true value of 0. Past [`crate::analysis::digest::FULL_LISTING`]
+//! coefficients, only the determined ones are compared.
 
 use std::fmt;
 
@@ -25,7 +26,24 @@ impl FitReport {
 impl fmt::Display for AgainstTruth<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(f, "against the simulation's true coefficients:")?;
+        // Past digest::FULL_LISTING coefficients, the undetermined ones (whose values are
+        // not estimates) are counted, not listed, as in the coefficient table.
+        let many = self.truth.len() > crate::analysis::digest::FULL_LISTING;
+        let determined = |name: &str| {
+            self.report
+                .coefficients
+                .iter()
+                .any(|c| c.name == name && c.determined)
+        };
+        let skipped = self
+            .truth
+            .iter()
+            .filter(|(name, _)| many && !determined(name))
+            .count();
         for (name, value) in self.truth {
+            if many && !determined(name) {
+                continue;
+            }
             if let Some(estimate) = self.report.coefficient(name) {
                 let error = if *value != 0.0 {
                     format!("{:+.3}%", 100.0 * (estimate - value) / value.abs())
@@ -37,6 +55,12 @@ impl fmt::Display for AgainstTruth<'_> {
                     "  {name:<18} true {value:<12} estimate {estimate:<14.6e} error {error}"
                 )?;
             }
+        }
+        if skipped > 0 {
+            writeln!(
+                f,
+                "  and {skipped} coefficients not determined by these data (not compared)"
+            )?;
         }
         Ok(())
     }

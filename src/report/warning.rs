@@ -173,6 +173,28 @@ impl fmt::Display for Warning {
                 constrained,
             } => {
                 let names: Vec<&str> = coefficients.iter().map(String::as_str).collect();
+                if names.len() > crate::analysis::digest::FULL_LISTING {
+                    // Hundreds of names and directions: counts, the lists are in the
+                    // identifiability diagnostics.
+                    write!(
+                        f,
+                        "these data cannot separate {} coefficients (by term: {}) along {} direction(s), and determine only {} combination(s) (listed with the identifiability diagnostics)",
+                        names.len(),
+                        crate::analysis::digest::by_term_text(names.iter().copied()),
+                        trade_offs.len(),
+                        determined.len()
+                    )?;
+                    if *constrained {
+                        write!(
+                            f,
+                            "; the constraints, not the data, decide where the solution lies along these directions"
+                        )?;
+                    }
+                    return write!(
+                        f,
+                        "; their values are not estimates; add experiments at other frequencies, amplitudes or forcing points (`dampid design`)"
+                    );
+                }
                 write!(
                     f,
                     "these data cannot separate {}: {}",

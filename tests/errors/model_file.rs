@@ -192,3 +192,27 @@ fn estimated_parameters_need_bounds_and_an_initial_value_within_them() {
     );
     assert!(matches!(cause(&unused), Error::Expression { .. }));
 }
+
+/// `[simulation] noise` must be a finite fraction ≥ 0 of each channel's RMS: a negative
+/// one is `InvalidParameter`, naming the key and its value, at the `[simulation]` table's line.
+#[test]
+fn negative_simulation_noise_is_refused_at_its_table() {
+    let text = two_blocks(
+        "kind = \"law\"\nlaw = \"quadratic\"\nelements = \"each_dof\"\ncoefficient = \"d\"",
+    )
+    .replace("[simulation]\n", "[simulation]\nnoise = -0.01\n");
+    let error = parse_model(&text, "noisy.toml").unwrap_err();
+    match &error {
+        Error::ModelFile { file, line, .. } => {
+            assert_eq!((file.as_str(), *line), ("noisy.toml", 14), "{error}");
+        }
+        other => panic!("{other:?}"),
+    }
+    match error.innermost() {
+        Error::InvalidParameter { name, value, .. } => {
+            assert_eq!(name, "noise");
+            assert_eq!(*value, -0.01);
+        }
+        other => panic!("{other:?}"),
+    }
+}

@@ -6,6 +6,8 @@ use clap::{Parser, Subcommand, ValueEnum};
 use dampid::prep::quadrature::Quadrature;
 
 const EXAMPLES: &str = "Examples:
+  dampid init                                    # model.toml: an annotated template that runs as is
+  dampid init runs/*.csv --out mine.toml         # a model file for your files: columns, time, periods
   dampid identify models/four_mass.toml          # simulate the paper's chain and identify c, d
   dampid identify models/four_mass.toml --json   # the report as one JSON object
   dampid identify models/measured_chain.toml --report out/   # also out/report.html, with plots
@@ -74,6 +76,19 @@ fn parse_bytes(text: &str) -> Result<u64, String> {
 
 #[derive(Subcommand)]
 pub(crate) enum Command {
+    /// Write a first, annotated model file: from data files (CSV, NPY, NPZ, MAT, UFF),
+    /// with their columns, a guessed time column and the periods detected from the
+    /// force; or, from no file, a template that simulates a 2-DOF chain and runs as is.
+    Init {
+        /// Data files, one record each (none: the runnable template).
+        files: Vec<PathBuf>,
+        /// The model file to write.
+        #[arg(long, default_value = "model.toml")]
+        out: PathBuf,
+        /// Replace an existing model file (it is never replaced otherwise).
+        #[arg(long)]
+        force: bool,
+    },
     /// Identify the coefficients of a model file's damping model from its records.
     Identify {
         /// The model file (TOML).
@@ -140,7 +155,8 @@ pub(crate) enum Command {
     Compare {
         /// The first model file; its records and identification settings are used.
         model_a: PathBuf,
-        /// The second model file (its damping terms).
+        /// The second model file: only its dofs, [matrices] and [[terms]] are read, so a
+        /// file of terms only will do.
         #[arg(required_unless_present = "laws", conflicts_with = "laws")]
         model_b: Option<PathBuf>,
         /// Instead of a second model file: candidate laws fitted on the first file's data
@@ -165,7 +181,8 @@ pub(crate) enum Command {
     Simulate {
         /// The model file (TOML) with a [simulation] section.
         model: PathBuf,
-        /// Output folder (created if missing): record_1.csv … and manifest.json.
+        /// Output folder (created if missing): record_1.csv …, data.toml (the records as
+        /// a [data] section, force columns named by DOF: f4 acts on DOF 4) and manifest.json.
         #[arg(long)]
         out: PathBuf,
         /// Replace another run's files in the folder (refused otherwise); its extra

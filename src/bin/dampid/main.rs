@@ -76,6 +76,7 @@ fn run(cli: Cli) -> anyhow::Result<Outcome> {
         dampid::budget::set_time_limit(None);
     }
     match cli.command {
+        Command::Init { files, out, force } => init(&files, &out, Overwrite::from_force(force)),
         Command::Identify {
             model,
             json,
@@ -355,6 +356,33 @@ fn identify(
     })
 }
 
+fn init(files: &[PathBuf], out: &Path, overwrite: Overwrite) -> anyhow::Result<Outcome> {
+    use dampid::model_file::init::{InitRecord, init as annotated, path_in_model};
+    // Refuse an existing model file before reading any data, and again at the rename.
+    if overwrite == Overwrite::Refuse {
+        dampid::io::output::refuse_existing(out)?;
+    }
+    let records = files
+        .iter()
+        .map(|file| {
+            let table = dampid::io::read_table(file)?;
+            Ok(InitRecord::guess(&path_in_model(file, out), &table))
+        })
+        .collect::<dampid::Result<Vec<_>>>()?;
+    let model = annotated(records);
+    dampid::io::output::write_file(out, overwrite, |sink| {
+        sink.write_all(model.text.as_bytes())
+            .map_err(|e| dampid::Error::Output {
+                path: out.display().to_string(),
+                message: e.to_string(),
+            })
+    })?;
+    Ok(Outcome {
+        text: format!("wrote {}: {model}next: dampid check {0}\n", out.display()),
+        trusted: true,
+    })
+}
+
 fn check(path: &Path, accept_transient: bool, as_json: bool) -> anyhow::Result<Outcome> {
     let mut job = load_job(path)?;
     job.steady_state.accept_transient |= accept_transient;
@@ -424,15 +452,13 @@ fn pod(
 
 fn compare(first: &Path, second: &Path, as_json: bool) -> anyhow::Result<Outcome> {
     let job = load_job(first)?;
-    let other = load_job(second)?;
+    // Only model B's terms are used: its records, if it has any, are not simulated or read.
+    let other = dampid::model_file::load_model(second)?;
     // Both models on the first file's records, windows and mode (in the non-periodic
     // mode both regressors carry the same nuisance columns).
     let comparison = dampid::analysis::compare::compare_regressors(
         (&first.display().to_string(), &job.regressor()?),
-        (
-            &second.display().to_string(),
-            &job.regressor_of(&other.model)?,
-        ),
+        (&second.display().to_string(), &job.regressor_of(&other)?),
         &dampid::analysis::compare::CompareSettings {
             rank_tolerance: job.settings.fit.rank_tolerance,
             ..Default::default()
@@ -511,8 +537,9 @@ fn design(path: &Path, as_json: bool) -> anyhow::Result<Outcome> {
         format!("{}\n", serde_json::to_string_pretty(&report)?)
     } else {
         format!(
-            "{}: the [simulation] coefficients are the nominal damping\n{report}",
-            job.title
+            "{}: the [simulation] coefficients are the nominal damping\n{report}\n{}",
+            job.title,
+            dampid::model_file::selected_experiments_toml(&report, &job.experiments)
         )
     };
     Ok(Outcome {
@@ -543,7 +570,12 @@ fn write_records(path: &Path, folder: &Path, overwrite: Overwrite) -> anyhow::Re
             record.period()
         )?;
     }
-    if let Some(manifest) = run.written.last() {
+    if let [.., stub, manifest] = run.written.as_slice() {
+        writeln!(
+            out,
+            "{} (the records as a [data] section for a model file)",
+            stub.display()
+        )?;
         writeln!(out, "{} (this run's records)", manifest.display())?;
     }
     for stale in &run.removed {

@@ -331,7 +331,8 @@ impl fmt::Display for SteadyStateReport {
             "mismatch",
             "input work"
         )?;
-        for w in &self.windows {
+        let shown = self.shown_windows();
+        for w in shown.iter().map(|&k| &self.windows[k]) {
             let energy = w
                 .energy_mismatch
                 .map_or_else(|| "-".to_string(), |e| format!("{:.3}%", 100.0 * e));
@@ -360,11 +361,27 @@ impl fmt::Display for SteadyStateReport {
                 w.input_work,
             )?;
         }
-        for w in self.windows.iter().filter(|w| !w.steady) {
+        if shown.len() < self.windows.len() {
+            writeln!(
+                f,
+                "  … {} more steady windows (of {}; the not-steady ones and the {CLOSEST_WINDOWS} closest to the limit are shown, every window is in the JSON)",
+                self.windows.len() - shown.len(),
+                self.windows.len()
+            )?;
+        }
+        let unsteady: Vec<&WindowCheck> = self.windows.iter().filter(|w| !w.steady).collect();
+        for w in unsteady.iter().take(LISTED_WINDOWS) {
             writeln!(
                 f,
                 "  record '{}', window {}: {}",
                 w.record, w.window, w.reason
+            )?;
+        }
+        if unsteady.len() > LISTED_WINDOWS {
+            writeln!(
+                f,
+                "  + {} more windows not in steady state (in the JSON)",
+                unsteady.len() - LISTED_WINDOWS
             )?;
         }
         let unjudged: Vec<&WindowCheck> = self.not_judged().collect();
@@ -379,6 +396,37 @@ impl fmt::Display for SteadyStateReport {
             )?;
         }
         Ok(())
+    }
+}
+
+/// Windows beyond this many are summarised in the text table.
+const LISTED_WINDOWS: usize = 40;
+/// Of a summarised table, the steady windows closest to the limit that are shown.
+const CLOSEST_WINDOWS: usize = 10;
+
+impl SteadyStateReport {
+    /// The windows the text table shows: all of them up to [`LISTED_WINDOWS`]; beyond,
+    /// the first [`LISTED_WINDOWS`] not in steady state and the [`CLOSEST_WINDOWS`] of
+    /// largest mismatch (|ΔE|/|W| when judged by energy, else the larger of δx and δv),
+    /// in record order.
+    fn shown_windows(&self) -> Vec<usize> {
+        let n = self.windows.len();
+        if n <= LISTED_WINDOWS {
+            return (0..n).collect();
+        }
+        let mismatch = |w: &WindowCheck| {
+            w.energy_mismatch
+                .unwrap_or_else(|| w.displacement_mismatch.max(w.velocity_mismatch))
+        };
+        let mut shown: Vec<usize> = (0..n)
+            .filter(|&k| !self.windows[k].steady)
+            .take(LISTED_WINDOWS)
+            .collect();
+        let mut order: Vec<usize> = (0..n).filter(|&k| self.windows[k].steady).collect();
+        order.sort_by(|&a, &b| mismatch(&self.windows[b]).total_cmp(&mismatch(&self.windows[a])));
+        shown.extend(order.into_iter().take(CLOSEST_WINDOWS));
+        shown.sort_unstable();
+        shown
     }
 }
 
