@@ -10,7 +10,8 @@ use super::context::Context;
 use super::measured::{Mode, RecordInputs, read_record};
 use super::records::{Truth, simulate_records};
 use super::settings::{
-    design_settings, identification_settings, periodic_only_key, span_settings, stored_energy,
+    design_settings, identification_settings, periodic_only_key, span_settings,
+    steady_state_settings, stored_energy,
 };
 use super::spec::{MatrixRef, ModelFileSpec};
 use super::terms::{build_term, resolve_matrix};
@@ -110,13 +111,8 @@ struct Sources {
 }
 
 impl Context<'_> {
-    pub(super) fn build(
-        &self,
-        spec: &ModelFileSpec,
-        base: &Path,
-        laws: &Registry,
-        progress: Progress<'_>,
-    ) -> Result<Job> {
+    /// The damping model of the `[[terms]]` (each checked at its own block).
+    pub(super) fn model(&self, spec: &ModelFileSpec, laws: &Registry) -> Result<DampingModel> {
         let n = spec.dofs;
         if n == 0 {
             return Err(self.whole_file_error("dofs must be at least 1"));
@@ -145,6 +141,19 @@ impl Context<'_> {
             })?;
             model = model.with(built);
         }
+        Ok(model)
+    }
+
+    pub(super) fn build(
+        &self,
+        spec: &ModelFileSpec,
+        base: &Path,
+        laws: &Registry,
+        progress: Progress<'_>,
+    ) -> Result<Job> {
+        let n = spec.dofs;
+        let model = self.model(spec, laws)?;
+        let matrix = |r: &MatrixRef| resolve_matrix(r, spec, n);
         let mut settings =
             identification_settings(&spec.identification, spec.non_periodic.is_some());
         if spec.non_periodic.is_some()
@@ -152,12 +161,7 @@ impl Context<'_> {
         {
             return Err(self.typed_error_at(&value, error));
         }
-        let steady_state = SteadyStateSettings {
-            max_energy_mismatch: spec.identification.max_energy_mismatch,
-            max_state_mismatch: spec.identification.max_state_mismatch,
-            accept_transient: spec.identification.accept_transient,
-            ..SteadyStateSettings::default()
-        };
+        let steady_state = steady_state_settings(&spec.identification);
         steady_state
             .validate()
             .map_err(|e| self.whole_file_typed_error("[identification]", e))?;

@@ -16,7 +16,7 @@ mod measured;
 mod records;
 mod reduction;
 mod settings;
-pub use settings::PERIODIC_ONLY;
+pub use settings::{IDENTIFICATION_KEYS, Identification, PERIODIC_ONLY, identification};
 mod spec;
 mod string;
 mod summary;
@@ -30,6 +30,7 @@ pub use spec::*;
 pub use summary::{CheckReport, DetectedPeriod, JitteredTime, NOTED_JITTER, Periods, Preamble};
 
 use crate::error::{Error, Result};
+use crate::model::DampingModel;
 use crate::progress::Progress;
 use crate::terms::laws::Registry;
 use context::Context;
@@ -74,6 +75,29 @@ pub fn parse_with_progress(
     parse_with(text, file, base, &Registry::builtin(), progress)
 }
 
+/// The damping model of model-file `text` (named `file` in errors) alone: its `dofs`,
+/// `[matrices]` and `[[terms]]`, with the errors [`parse`] gives for them. The other
+/// sections must be well-formed but are neither required nor built (no records are
+/// simulated or read), so a file of terms alone is a model.
+pub fn parse_model(text: &str, file: &str) -> Result<DampingModel> {
+    let context = Context { file, text };
+    context.model(&spec_of(&context)?, &Registry::builtin())
+}
+
+/// The parsed sections of a model file, a TOML or schema error with its position.
+fn spec_of(context: &Context<'_>) -> Result<ModelFileSpec> {
+    toml::from_str(context.text).map_err(|e| {
+        let (line, column) = e.span().map_or((0, 0), |s| context.position(s.start));
+        Error::ModelFile {
+            file: context.file.to_string(),
+            line,
+            column,
+            message: e.message().to_string(),
+            cause: None,
+        }
+    })
+}
+
 fn parse_with(
     text: &str,
     file: &str,
@@ -82,15 +106,5 @@ fn parse_with(
     progress: Progress<'_>,
 ) -> Result<Job> {
     let context = Context { file, text };
-    let spec: ModelFileSpec = toml::from_str(text).map_err(|e| {
-        let (line, column) = e.span().map_or((0, 0), |s| context.position(s.start));
-        Error::ModelFile {
-            file: file.to_string(),
-            line,
-            column,
-            message: e.message().to_string(),
-            cause: None,
-        }
-    })?;
-    context.build(&spec, base, laws, progress)
+    context.build(&spec_of(&context)?, base, laws, progress)
 }
