@@ -9,7 +9,9 @@
 //! the docs); complex, object or string arrays are refused with their dtype named.
 
 use faer::Mat;
-use numpy::{PyArrayDescrMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArray, PyUntypedArrayMethods};
+use numpy::{
+    PyArrayDescrMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArray, PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
 
 use crate::error::argument;
@@ -23,16 +25,20 @@ fn float64<'py>(obj: &Bound<'py, PyAny>, what: &str, ndim: usize) -> PyResult<Bo
         obj.clone()
     } else {
         // Lists and other sequences: NumPy reads them (a copy of Python objects anyway).
-        numpy.call_method1("asarray", (obj,)).map_err(|e| {
-            argument(format!("{what}: not an array of numbers ({e})"))
-        })?
+        numpy
+            .call_method1("asarray", (obj,))
+            .map_err(|e| argument(format!("{what}: not an array of numbers ({e})")))?
     };
-    let untyped = array.cast::<PyUntypedArray>().map_err(|_| {
-        argument(format!("{what}: not an array of numbers"))
-    })?;
+    let untyped = array
+        .cast::<PyUntypedArray>()
+        .map_err(|_| argument(format!("{what}: not an array of numbers")))?;
     if untyped.ndim() != ndim {
         let shape: Vec<String> = untyped.shape().iter().map(|s| s.to_string()).collect();
-        let expected = if ndim == 2 { "2-D (samples × DOFs)" } else { "1-D (samples)" };
+        let expected = if ndim == 2 {
+            "2-D (samples × DOFs)"
+        } else {
+            "1-D (samples)"
+        };
         return Err(argument(format!(
             "{what} must be {expected}, got shape ({})",
             shape.join(", ")
@@ -57,7 +63,9 @@ pub fn matrix(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Mat<f64>> {
     let array = float64(obj, what, 2)?;
     let readonly: PyReadonlyArray2<'_, f64> = array.extract()?;
     let view = readonly.as_array();
-    Ok(Mat::from_fn(view.nrows(), view.ncols(), |i, j| view[[i, j]]))
+    Ok(Mat::from_fn(view.nrows(), view.ncols(), |i, j| {
+        view[[i, j]]
+    }))
 }
 
 /// An N-vector as a `Vec` (one copy).

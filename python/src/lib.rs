@@ -78,20 +78,31 @@ impl PyModel {
 
 /// The steady-state check of `identify` and of the CLI: windows of whole periods that
 /// are not steady are refused unless `accept_transient`.
-fn enforce_steady_state(records: &[Record], settings: &Identification, hint: &str) -> dampid::Result<()> {
+fn enforce_steady_state(records: &[Record], settings: &Identification) -> dampid::Result<()> {
     let Some(windows) = settings.settings.regressor.windows.cycles() else {
         return Ok(());
     };
-    check(records, windows, settings.settings.regressor.quadrature, None, &settings.steady_state)?
-        .enforce()
-        .map_err(|e| dampid::Error::InvalidChoice {
-            name: "accept_transient".into(),
-            given: "false".into(),
-            reason: format!("{hint}: {e}"),
-        })
+    check(
+        records,
+        windows,
+        settings.settings.regressor.quadrature,
+        None,
+        &settings.steady_state,
+    )?
+    .enforce()
 }
 
-const TRANSIENT_HINT: &str = "pass accept_transient=True to use these windows anyway";
+/// A library error; a record that is not steady with the CLI's advice before it.
+fn with_transient_hint(e: dampid::Error) -> PyErr {
+    if e.kind() == "not_steady" {
+        error::raise(
+            e.kind(),
+            format!("pass accept_transient=True to use these windows anyway: {e}"),
+        )
+    } else {
+        to_py(e)
+    }
+}
 
 /// The records of `records` (a sequence of `Record`), at least one.
 fn record_list<'py>(records: &Bound<'py, PyAny>) -> PyResult<Vec<Bound<'py, PyRecord>>> {
@@ -110,7 +121,10 @@ fn record_list<'py>(records: &Bound<'py, PyAny>) -> PyResult<Vec<Bound<'py, PyRe
             r.cast_into::<PyRecord>().map_err(|e| {
                 argument(format!(
                     "records[{k}] is a {}, not a dampid.Record",
-                    e.into_inner().get_type().name().map_or("?".into(), |n| n.to_string())
+                    e.into_inner()
+                        .get_type()
+                        .name()
+                        .map_or("?".into(), |n| n.to_string())
                 ))
             })
         })
@@ -151,7 +165,8 @@ fn run_identify(
     records: &[Record],
     settings: &Identification,
 ) -> PyResult<(Regressor, dampid::report::FitReport)> {
-    py.detach(|| enforce_steady_state(records, settings, TRANSIENT_HINT)).py_err()?;
+    py.detach(|| enforce_steady_state(records, settings))
+        .map_err(with_transient_hint)?;
     py.check_signals()?;
     let regressor = py
         .detach(|| {
@@ -163,7 +178,8 @@ fn run_identify(
     let report = py
         .detach(|| {
             let noise = assess_or_none(model, records, &settings.settings.regressor, &regressor);
-            identify_regressor(&regressor, &settings.settings.fit).map(|r| r.with_velocity_noise(noise))
+            identify_regressor(&regressor, &settings.settings.fit)
+                .map(|r| r.with_velocity_noise(noise))
         })
         .py_err()?;
     Ok((regressor, report))
@@ -199,7 +215,12 @@ fn identify_file(py: Python<'_>, path: PathBuf, accept_transient: bool) -> PyRes
     py.check_signals()?;
     let report = py
         .detach(|| {
-            let noise = assess_or_none(&job.model, &job.records, &job.settings.regressor, &regressor);
+            let noise = assess_or_none(
+                &job.model,
+                &job.records,
+                &job.settings.regressor,
+                &regressor,
+            );
             identify_regressor(&regressor, &job.settings.fit).map(|r| r.with_velocity_noise(noise))
         })
         .py_err()?;
@@ -249,16 +270,20 @@ fn regressor_rows<'py>(
     record: &Bound<'py, PyRecord>,
     record_index: usize,
     settings: Option<&Bound<'py, PyDict>>,
-) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyAny>)> {
+) -> PyResult<(
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyAny>,
+)> {
     let settings = settings::settings(settings)?;
     let model = &model.get().model;
     let lent = Lent::take(std::slice::from_ref(record))?;
     let built = py.detach(|| {
-        enforce_steady_state(&lent.records, &settings, TRANSIENT_HINT)?;
+        enforce_steady_state(&lent.records, &settings)?;
         Regressor::build(model, &lent.records, &settings.settings.regressor)
     });
     lent.restore();
-    let regressor = built.py_err()?;
+    let regressor = built.map_err(with_transient_hint)?;
     if regressor.noise().is_some() {
         return Err(to_py(dampid::Error::InvalidChoice {
             name: "noise".into(),
@@ -271,13 +296,25 @@ fn regressor_rows<'py>(
     let labels: Vec<_> = regressor
         .rows()
         .iter()
-        .map(|r| (r.record.clone(), record_index as i64, r.window as i64, r.start_time, r.cycles as i64))
+        .map(|r| {
+            (
+                r.record.clone(),
+                record_index as i64,
+                r.window as i64,
+                r.start_time,
+                r.cycles as i64,
+            )
+        })
         .collect();
     let numpy = py.import("numpy")?;
     let kwargs = PyDict::new(py);
     kwargs.set_item("dtype", label_dtype(py)?)?;
     let labels = numpy.call_method("array", (labels,), Some(&kwargs))?;
-    Ok((matrix.into_pyarray(py), regressor.rhs().to_vec().into_pyarray(py), labels))
+    Ok((
+        matrix.into_pyarray(py),
+        regressor.rhs().to_vec().into_pyarray(py),
+        labels,
+    ))
 }
 
 /// `fit_rows(model, A, b, labels=None, **settings) -> Report`: the fit of stacked rows
@@ -328,15 +365,24 @@ fn fit_rows(
 
 /// Row labels from the structured array `regressor_rows` returns.
 fn read_labels(labels: &Bound<'_, PyAny>) -> PyResult<Vec<RowLabel>> {
-    let field = |name: &str| labels.get_item(name).map_err(|_| {
-        argument(format!("labels must be the structured array regressor_rows returns (no field '{name}')"))
-    });
+    let field = |name: &str| {
+        labels.get_item(name).map_err(|_| {
+            argument(format!(
+                "labels must be the structured array regressor_rows returns (no field '{name}')"
+            ))
+        })
+    };
     let records: Vec<String> = field("record")?.call_method0("tolist")?.extract()?;
     let index: PyReadonlyArray1<'_, i64> = field("record_index")?.extract()?;
     let window: PyReadonlyArray1<'_, i64> = field("window")?.extract()?;
     let start: PyReadonlyArray1<'_, f64> = field("start_time")?.extract()?;
     let cycles: PyReadonlyArray1<'_, i64> = field("cycles")?.extract()?;
-    let (index, window, start, cycles) = (index.as_array(), window.as_array(), start.as_array(), cycles.as_array());
+    let (index, window, start, cycles) = (
+        index.as_array(),
+        window.as_array(),
+        start.as_array(),
+        cycles.as_array(),
+    );
     Ok(records
         .into_iter()
         .enumerate()
@@ -366,4 +412,3 @@ fn dampid_python(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }
-

@@ -7,8 +7,8 @@
 
 use std::sync::Mutex;
 
-use dampid::io::table::Table;
 use dampid::Error;
+use dampid::io::table::Table;
 use dampid::prelude::{Forcing, Record, RecordParts, Sensor, SensorParts, record_from_sensors};
 use dampid::prep::motion::Integration;
 use dampid::prep::period::detect_period;
@@ -67,14 +67,16 @@ impl PyRecord {
             (None, None, None) => {
                 return Err(to_py(Error::Missing {
                     name: "motion".into(),
-                    reason: "give x (displacements), or v (velocities) or a (accelerations) alone".into(),
+                    reason: "give x (displacements), or v (velocities) or a (accelerations) alone"
+                        .into(),
                 }));
             }
             _ => {
                 return Err(to_py(Error::InvalidChoice {
                     name: "motion".into(),
                     given: "a beside x or v".into(),
-                    reason: "give x (with measured v if you have them), or v alone, or a alone".into(),
+                    reason: "give x (with measured v if you have them), or v alone, or a alone"
+                        .into(),
                 }));
             }
         };
@@ -100,7 +102,11 @@ impl PyRecord {
             }
             (None, Some(step)) => (step, 0.0),
             (given_t, _) => {
-                let given = if given_t.is_some() { "both t and step" } else { "neither t nor step" };
+                let given = if given_t.is_some() {
+                    "both t and step"
+                } else {
+                    "neither t nor step"
+                };
                 return Err(to_py(Error::InvalidChoice {
                     name: "time base".into(),
                     given: given.into(),
@@ -137,7 +143,11 @@ impl PyRecord {
         let period = match (period, frequency) {
             (Some(p), None) => p,
             (None, Some(omega)) => 2.0 * std::f64::consts::PI / omega,
-            (None, None) => detect_period(signals.as_ref(), step, &label).py_err()?.period,
+            (None, None) => {
+                detect_period(signals.as_ref(), step, &label)
+                    .py_err()?
+                    .period
+            }
             (Some(p), Some(_)) => {
                 return Err(to_py(Error::InvalidParameter {
                     name: "period".into(),

@@ -33,7 +33,10 @@ pub struct PyReport {
     pub text: String,
 }
 
-fn names_to<T>(report: &FitReport, value: impl Fn(&dampid::report::CoefficientEstimate) -> T) -> Vec<(String, T)> {
+fn names_to<T>(
+    report: &FitReport,
+    value: impl Fn(&dampid::report::CoefficientEstimate) -> T,
+) -> Vec<(String, T)> {
     report
         .coefficients
         .iter()
@@ -135,7 +138,11 @@ impl PyReport {
             .into_iter()
             .map(|(n, v)| format!("{n}={v:.6e}"))
             .collect();
-        format!("Report(status={}, {})", self.status(), coefficients.join(", "))
+        format!(
+            "Report(status={}, {})",
+            self.status(),
+            coefficients.join(", ")
+        )
     }
 
     /// A compact HTML table for notebooks.
@@ -144,7 +151,9 @@ impl PyReport {
             "<table><caption>dampid: {} (rank {}, condition {}, relative residual {:.3e})</caption><tr><th>coefficient</th><th>value</th><th>std. error</th></tr>",
             self.status(),
             self.report.rank,
-            self.report.condition_number.map_or("-".to_string(), |c| format!("{c:.3e}")),
+            self.report
+                .condition_number
+                .map_or("-".to_string(), |c| format!("{c:.3e}")),
             self.report.relative_residual
         );
         for c in self.report.coefficients.iter().chain(&self.report.nuisance) {
@@ -165,7 +174,12 @@ impl PyReport {
     /// Writes the full HTML report (the CLI's `--html`) to `path`; an existing file is
     /// refused unless `overwrite=True`.
     #[pyo3(signature = (path, overwrite=false))]
-    fn write_html(&self, py: Python<'_>, path: std::path::PathBuf, overwrite: bool) -> PyResult<()> {
+    fn write_html(
+        &self,
+        py: Python<'_>,
+        path: std::path::PathBuf,
+        overwrite: bool,
+    ) -> PyResult<()> {
         use dampid::io::output::{Overwrite, write_file};
         let page = |records: &[dampid::record::Record], title: &str, job: Option<&Job>| {
             HtmlReport {
@@ -183,7 +197,8 @@ impl PyReport {
             Source::Job(job) => page(&job.records, &job.title, Some(job)),
             Source::Rows => page(&[], "dampid", None),
             Source::Records(list) => {
-                let bound: Vec<Bound<'_, PyRecord>> = list.iter().map(|r| r.bind(py).clone()).collect();
+                let bound: Vec<Bound<'_, PyRecord>> =
+                    list.iter().map(|r| r.bind(py).clone()).collect();
                 let lent = Lent::take(&bound)?;
                 let page = page(&lent.records, "dampid", None);
                 lent.restore();
@@ -191,7 +206,11 @@ impl PyReport {
             }
         }
         .py_err()?;
-        let overwrite = if overwrite { Overwrite::Replace } else { Overwrite::Refuse };
+        let overwrite = if overwrite {
+            Overwrite::Replace
+        } else {
+            Overwrite::Refuse
+        };
         write_file(&path, overwrite, |sink| {
             std::io::Write::write_all(sink, page.as_bytes()).map_err(|e| dampid::Error::Output {
                 path: path.display().to_string(),
@@ -203,5 +222,7 @@ impl PyReport {
 }
 
 fn escape(text: &str) -> String {
-    text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
 }

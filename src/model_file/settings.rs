@@ -133,12 +133,15 @@ pub fn identification(table: &toml::Table) -> Result<Identification> {
         // One key at a time, so that a wrong type or value is reported at its key.
         let single = toml::Table::from_iter([(key.clone(), value.clone())]);
         IdentificationSpec::deserialize(single).map_err(|e| {
-            Error::choice(key, value, &format!("[identification] {key}: {}", e.message()))
+            Error::choice(
+                key,
+                value,
+                &format!("[identification] {key}: {}", e.message()),
+            )
         })?;
     }
-    let spec = IdentificationSpec::deserialize(table.clone()).map_err(|e| {
-        Error::choice("[identification]", table, e.message())
-    })?;
+    let spec = IdentificationSpec::deserialize(table.clone())
+        .map_err(|e| Error::choice("[identification]", table, e.message()))?;
     let steady_state = steady_state_settings(&spec);
     steady_state.validate()?;
     Ok(Identification {
@@ -421,7 +424,10 @@ mod tests {
         let e = identification(&table("cycle = 2")).unwrap_err();
         assert_eq!(e.kind(), "unknown_name");
         let text = e.to_string();
-        assert!(text.contains("'cycle'") && text.contains("cycles, windows"), "{text}");
+        assert!(
+            text.contains("'cycle'") && text.contains("cycles, windows"),
+            "{text}"
+        );
     }
 
     #[test]
