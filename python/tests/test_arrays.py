@@ -84,5 +84,5 @@ def test_the_caller_array_is_untouched_and_records_are_reusable(four_mass, model
     # The same Record objects again, and one listed twice.
     assert dampid.identify(model, records).to_dict() == first
     twice = dampid.identify(model, records + records[:1])
-    assert len(twice.to_dict()["rows"]) == 5
+    assert len(twice.to_dict()["rows"]) == 5 * len(first["rows"]) // 4
     assert np.array_equal(x, before)
