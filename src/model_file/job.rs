@@ -10,7 +10,8 @@ use super::context::Context;
 use super::measured::{Mode, RecordInputs, read_record};
 use super::records::{Truth, simulate_records};
 use super::settings::{
-    design_settings, identification_settings, periodic_only_key, span_settings, stored_energy,
+    design_settings, identification_settings, periodic_only_key, span_settings,
+    steady_state_settings, stored_energy,
 };
 use super::spec::{MatrixRef, ModelFileSpec};
 use super::stepped_sine::SteppedSineJob;
@@ -193,12 +194,7 @@ impl Context<'_> {
         {
             return Err(self.typed_error_at(&value, error));
         }
-        let steady_state = SteadyStateSettings {
-            max_energy_mismatch: spec.identification.max_energy_mismatch,
-            max_state_mismatch: spec.identification.max_state_mismatch,
-            accept_transient: spec.identification.accept_transient,
-            ..SteadyStateSettings::default()
-        };
+        let steady_state = steady_state_settings(&spec.identification);
         steady_state
             .validate()
             .map_err(|e| self.whole_file_typed_error("[identification]", e))?;

@@ -23,7 +23,7 @@ mod measured;
 mod records;
 mod reduction;
 mod settings;
-pub use settings::PERIODIC_ONLY;
+pub use settings::{IDENTIFICATION_KEYS, Identification, PERIODIC_ONLY, identification};
 mod spec;
 mod stepped_sine;
 pub use stepped_sine::SteppedSineJob;
@@ -43,6 +43,7 @@ pub use summary::{
 };
 
 use crate::error::{Error, Result};
+use crate::model::DampingModel;
 use crate::progress::Progress;
 use crate::terms::laws::Registry;
 use context::Context;
@@ -84,13 +85,13 @@ pub fn parse_with_progress(
 /// The damping model of the model file at `path` alone (`dofs`, `[matrices]` and
 /// `[[terms]]`): its records, if it has any, are neither simulated nor read, so a file
 /// of terms only is enough (`dampid compare`'s second model).
-pub fn load_model(path: &Path) -> Result<crate::model::DampingModel> {
+pub fn load_model(path: &Path) -> Result<DampingModel> {
     let text = read(path)?;
     parse_model(&text, &path.display().to_string())
 }
 
 /// [`load_model`] of model-file `text` (named `file` in errors).
-pub fn parse_model(text: &str, file: &str) -> Result<crate::model::DampingModel> {
+pub fn parse_model(text: &str, file: &str) -> Result<DampingModel> {
     let context = Context { file, text };
     let spec = parse_spec(text, file)?;
     // Estimated parameters stand at their initial values in a terms-only model.

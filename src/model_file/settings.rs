@@ -19,7 +19,7 @@ use crate::analysis::design::DesignSettings;
 use crate::error::{Error, Result};
 use crate::fit::{Bound, Constraints, Fixed, LinearConstraint, LinearTerm};
 use crate::identify::IdentifySettings;
-use crate::prep::steady_state::StoredEnergy;
+use crate::prep::steady_state::{SteadyStateSettings, StoredEnergy};
 use crate::prep::velocity::VelocitySource;
 use crate::prep::window::WindowSpec;
 use crate::regressor::nonperiodic::{Kinetic, Potential, StorageModel};
@@ -83,6 +83,81 @@ pub(super) fn periodic_only_key(text: &str) -> Option<(Spanned<toml::Value>, Err
             (value.clone(), error)
         })
     })
+}
+
+/// The keys `[identification]` accepts, in the order of [`IdentificationSpec`]'s fields
+/// (a unit test checks the list against the deserializer's own).
+pub const IDENTIFICATION_KEYS: &[&str] = &[
+    "quadrature",
+    "velocity",
+    "harmonics",
+    "noise",
+    "weighting",
+    "work_form",
+    "cycles",
+    "windows",
+    "skip",
+    "nonnegative",
+    "bounds",
+    "fixed",
+    "constraints",
+    "max_energy_mismatch",
+    "max_state_mismatch",
+    "accept_transient",
+];
+
+/// What `[identification]` sets: the identification and the steady-state check of its
+/// windows of whole periods.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Identification {
+    /// Windows, quadrature, velocity source, noise treatment, constraints.
+    pub settings: IdentifySettings,
+    /// Thresholds of the steady-state check and whether transients are accepted.
+    pub steady_state: SteadyStateSettings,
+}
+
+/// `[identification]` given as keys and values rather than in a model file (the Python
+/// package's `identify(model, records, cycles=2, ...)`), read by the same translation
+/// as model files (windows of whole periods: `[non_periodic]` is a model-file section).
+/// An unknown key is [`Error::UnknownName`] listing [`IDENTIFICATION_KEYS`]; a bad
+/// value is [`Error::InvalidChoice`] naming its key.
+pub fn identification(table: &toml::Table) -> Result<Identification> {
+    for (key, value) in table {
+        if !IDENTIFICATION_KEYS.contains(&key.as_str()) {
+            return Err(Error::UnknownName {
+                what: "[identification] key".into(),
+                name: key.clone(),
+                known: IDENTIFICATION_KEYS.join(", "),
+            });
+        }
+        // One key at a time, so that a wrong type or value is reported at its key.
+        let single = toml::Table::from_iter([(key.clone(), value.clone())]);
+        IdentificationSpec::deserialize(single).map_err(|e| {
+            Error::choice(
+                key,
+                value,
+                &format!("[identification] {key}: {}", e.message()),
+            )
+        })?;
+    }
+    let spec = IdentificationSpec::deserialize(table.clone())
+        .map_err(|e| Error::choice("[identification]", table, e.message()))?;
+    let steady_state = steady_state_settings(&spec);
+    steady_state.validate()?;
+    Ok(Identification {
+        settings: identification_settings(&spec, false),
+        steady_state,
+    })
+}
+
+/// The steady-state check `[identification]` asks for.
+pub(super) fn steady_state_settings(spec: &IdentificationSpec) -> SteadyStateSettings {
+    SteadyStateSettings {
+        max_energy_mismatch: spec.max_energy_mismatch,
+        max_state_mismatch: spec.max_state_mismatch,
+        accept_transient: spec.accept_transient,
+        ..SteadyStateSettings::default()
+    }
 }
 
 pub(super) fn identification_settings(
@@ -293,4 +368,74 @@ pub(super) fn one_based(dof: usize, n: usize, what: &str) -> Result<usize> {
             dof,
             dofs: n,
         })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn table(text: &str) -> toml::Table {
+        toml::from_str(text).unwrap()
+    }
+
+    #[test]
+    fn the_key_list_is_the_deserializers() {
+        // serde lists the fields it expects when it meets an unknown one.
+        let message = IdentificationSpec::deserialize(table("not_a_key = 0"))
+            .unwrap_err()
+            .message()
+            .to_string();
+        let expected: Vec<&str> = message
+            .split("expected one of ")
+            .nth(1)
+            .unwrap()
+            .split(", ")
+            .map(|k| k.trim_matches('`'))
+            .collect();
+        assert_eq!(expected, IDENTIFICATION_KEYS);
+    }
+
+    #[test]
+    fn keys_translate_as_in_model_files() {
+        let given = identification(&table(
+            "cycles = 2\nnonnegative = true\nvelocity = \"central_difference\"\naccept_transient = true",
+        ))
+        .unwrap();
+        let spec = IdentificationSpec {
+            cycles: 2,
+            nonnegative: true,
+            velocity: Some(VelocityName::CentralDifference),
+            accept_transient: true,
+            ..IdentificationSpec::default()
+        };
+        assert_eq!(given.settings, identification_settings(&spec, false));
+        assert!(given.steady_state.accept_transient);
+        assert_eq!(given.settings.regressor.windows.cycles().unwrap().cycles, 2);
+        let none = identification(&toml::Table::new()).unwrap();
+        assert_eq!(
+            none.settings,
+            identification_settings(&IdentificationSpec::default(), false)
+        );
+        assert_eq!(none.steady_state, SteadyStateSettings::default());
+    }
+
+    #[test]
+    fn an_unknown_key_lists_the_known_ones() {
+        let e = identification(&table("cycle = 2")).unwrap_err();
+        assert_eq!(e.kind(), "unknown_name");
+        let text = e.to_string();
+        assert!(
+            text.contains("'cycle'") && text.contains("cycles, windows"),
+            "{text}"
+        );
+    }
+
+    #[test]
+    fn a_bad_value_names_its_key() {
+        let e = identification(&table("quadrature = \"simpson\"")).unwrap_err();
+        assert_eq!(e.kind(), "invalid_choice");
+        assert!(e.to_string().contains("quadrature"), "{e}");
+        let e = identification(&table("max_state_mismatch = -1.0")).unwrap_err();
+        assert!(e.to_string().contains("max_state_mismatch"), "{e}");
+    }
 }

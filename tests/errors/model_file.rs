@@ -216,3 +216,26 @@ fn negative_simulation_noise_is_refused_at_its_table() {
         other => panic!("{other:?}"),
     }
 }
+
+/// `model_file::parse_model` (the Python package's `Model.from_toml`) builds the terms
+/// alone: a file without records is a model, and a bad term is the error `parse` gives,
+/// at its line.
+#[test]
+fn model_alone_needs_no_records_and_keeps_the_term_errors() {
+    use dampid::model_file::parse_model as model_only;
+    let terms = "dofs = 2\n[[terms]]\nkind = \"law\"\nlaw = \"linear\"\nelements = \"each_dof\"\ncoefficient = \"c\"\n";
+    let model = model_only(terms, "terms.toml").unwrap();
+    assert_eq!(model.coefficient_names(), ["c"]);
+    let bad = terms.replace("\"linear\"", "\"lineer\"");
+    let error = model_only(&bad, "terms.toml").unwrap_err();
+    assert!(
+        matches!(&error, Error::ModelFile { file, line: 2, .. } if file == "terms.toml"),
+        "{error:?}"
+    );
+    assert!(error.to_string().contains("lineer"), "{error}");
+    let empty = model_only("dofs = 2\nterms = []\n", "empty.toml").unwrap_err();
+    assert!(
+        matches!(empty.innermost(), Error::Empty { .. }),
+        "{empty:?}"
+    );
+}

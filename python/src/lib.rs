@@ -1,0 +1,414 @@
+//! dampid from Python: `Model`, `Record`, `identify`, `identify_file`, `Report`, and the
+//! campaign pair `regressor_rows` / `fit_rows` (docs/python.md).
+//!
+//! Numerical work runs with the GIL released (`Python::detach`), stage by stage
+//! (steady-state check, regressor, fit), with `check_signals` between stages so that a
+//! KeyboardInterrupt is honoured there. faer runs sequentially (`Par::Seq`, set once at
+//! import) as in the `dampid` binary, so results are the CLI's bit for bit and do not
+//! depend on the thread count.
+
+mod arrays;
+mod error;
+mod record;
+mod report;
+mod settings;
+
+use std::path::PathBuf;
+
+use dampid::analysis::velocity_noise::assess_or_none;
+use dampid::identify::identify_regressor;
+use dampid::model::DampingModel;
+use dampid::model_file::{Identification, parse_model};
+use dampid::prep::steady_state::check;
+use dampid::record::Record;
+use dampid::regressor::{Regressor, RowLabel};
+use dampid::report::count;
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+use error::{DampidError, IntoPy, argument, to_py};
+use record::{Lent, PyRecord};
+use report::{PyReport, Source};
+
+/// A damping model: the `[[terms]]` of a model file.
+#[pyclass(name = "Model", module = "dampid", frozen)]
+struct PyModel {
+    model: DampingModel,
+}
+
+#[pymethods]
+impl PyModel {
+    /// The model of model-file text (its `dofs`, `[matrices]` and `[[terms]]`; other
+    /// sections are checked for form but not built).
+    #[staticmethod]
+    fn from_toml(text: &str) -> PyResult<Self> {
+        parse_model(text, "<model text>")
+            .map(|model| PyModel { model })
+            .py_err()
+    }
+
+    /// The model of the model file at `path`.
+    #[staticmethod]
+    fn from_file(path: PathBuf) -> PyResult<Self> {
+        let text = std::fs::read_to_string(&path).map_err(|e| {
+            to_py(dampid::Error::ModelFile {
+                file: path.display().to_string(),
+                line: 0,
+                column: 0,
+                message: e.to_string(),
+                cause: None,
+            })
+        })?;
+        parse_model(&text, &path.display().to_string())
+            .map(|model| PyModel { model })
+            .py_err()
+    }
+
+    /// The coefficient names, in the order of the regressor's columns.
+    #[getter]
+    fn coefficient_names(&self) -> Vec<String> {
+        self.model.coefficient_names()
+    }
+
+    fn __repr__(&self) -> String {
+        format!("Model({})", self.model.coefficient_names().join(", "))
+    }
+}
+
+/// The steady-state check of `identify` and of the CLI: windows of whole periods that
+/// are not steady are refused unless `accept_transient`.
+fn enforce_steady_state(records: &[Record], settings: &Identification) -> dampid::Result<()> {
+    let Some(windows) = settings.settings.regressor.windows.cycles() else {
+        return Ok(());
+    };
+    check(
+        records,
+        windows,
+        settings.settings.regressor.quadrature,
+        None,
+        &settings.steady_state,
+    )?
+    .enforce()
+}
+
+/// A library error; a record that is not steady with the CLI's advice before it.
+fn with_transient_hint(e: dampid::Error) -> PyErr {
+    if e.kind() == "not_steady" {
+        error::raise(
+            e.kind(),
+            format!("pass accept_transient=True to use these windows anyway: {e}"),
+        )
+    } else {
+        to_py(e)
+    }
+}
+
+/// The records of `records` (a sequence of `Record`), at least one.
+fn record_list<'py>(records: &Bound<'py, PyAny>) -> PyResult<Vec<Bound<'py, PyRecord>>> {
+    let list: Vec<Bound<'py, PyAny>> = records
+        .try_iter()
+        .map_err(|_| argument("records must be a list of dampid.Record".into()))?
+        .collect::<PyResult<_>>()?;
+    if list.is_empty() {
+        return Err(to_py(dampid::Error::Empty {
+            what: "the list of records".into(),
+        }));
+    }
+    list.into_iter()
+        .enumerate()
+        .map(|(k, r)| {
+            r.cast_into::<PyRecord>().map_err(|e| {
+                argument(format!(
+                    "records[{k}] is a {}, not a dampid.Record",
+                    e.into_inner()
+                        .get_type()
+                        .name()
+                        .map_or("?".into(), |n| n.to_string())
+                ))
+            })
+        })
+        .collect()
+}
+
+/// `identify(model, records, **settings)`: settings are the `[identification]` keys.
+#[pyfunction]
+#[pyo3(signature = (model, records, **settings))]
+fn identify(
+    py: Python<'_>,
+    model: &Bound<'_, PyModel>,
+    records: &Bound<'_, PyAny>,
+    settings: Option<&Bound<'_, PyDict>>,
+) -> PyResult<PyReport> {
+    let settings = settings::settings(settings)?;
+    let list = record_list(records)?;
+    let model = &model.get().model;
+    let lent = Lent::take(&list)?;
+    let result = run_identify(py, model, &lent.records, &settings);
+    lent.restore();
+    let (regressor, report) = result?;
+    let text = report.to_string();
+    Ok(PyReport {
+        report,
+        model: model.clone(),
+        regressor,
+        source: Source::Records(list.into_iter().map(|r| r.unbind()).collect()),
+        text,
+    })
+}
+
+/// The stages of `identify` (the library's `identify_with_regressor`, with the CLI's
+/// steady-state check), each without the GIL, signals checked between them.
+fn run_identify(
+    py: Python<'_>,
+    model: &DampingModel,
+    records: &[Record],
+    settings: &Identification,
+) -> PyResult<(Regressor, dampid::report::FitReport)> {
+    py.detach(|| enforce_steady_state(records, settings))
+        .map_err(with_transient_hint)?;
+    py.check_signals()?;
+    let regressor = py
+        .detach(|| {
+            settings.settings.fit.validate()?;
+            Regressor::build(model, records, &settings.settings.regressor)
+        })
+        .py_err()?;
+    py.check_signals()?;
+    let report = py
+        .detach(|| {
+            let noise = assess_or_none(model, records, &settings.settings.regressor, &regressor);
+            identify_regressor(&regressor, &settings.settings.fit)
+                .map(|r| r.with_velocity_noise(noise))
+        })
+        .py_err()?;
+    Ok((regressor, report))
+}
+
+/// `identify_file(path)`: `dampid identify PATH` (data paths relative to the file's
+/// folder, `path` relative to the working directory), returning its report; `str()`
+/// of it is the CLI's text.
+#[pyfunction]
+#[pyo3(signature = (path, accept_transient=false))]
+fn identify_file(py: Python<'_>, path: PathBuf, accept_transient: bool) -> PyResult<PyReport> {
+    let mut job = py.detach(|| dampid::model_file::load(&path)).py_err()?;
+    py.check_signals()?;
+    job.steady_state.accept_transient |= accept_transient;
+    let steady = py.detach(|| job.steady_state()).py_err()?;
+    if let Some(Err(e)) = steady.as_ref().map(|s| s.enforce()) {
+        // The CLI's message: its context, then the error.
+        return Err(error::raise(
+            e.kind(),
+            format!(
+                "{}: set accept_transient = true in [identification] or pass --accept-transient to use these windows anyway: {e}",
+                path.display()
+            ),
+        ));
+    }
+    py.check_signals()?;
+    let regressor = py
+        .detach(|| {
+            job.settings.fit.validate()?;
+            job.regressor()
+        })
+        .py_err()?;
+    py.check_signals()?;
+    let report = py
+        .detach(|| {
+            let noise = assess_or_none(
+                &job.model,
+                &job.records,
+                &job.settings.regressor,
+                &regressor,
+            );
+            identify_regressor(&regressor, &job.settings.fit).map(|r| r.with_velocity_noise(noise))
+        })
+        .py_err()?;
+    let mut text = format!(
+        "{}\n{}, {}\n{}{report}",
+        job.title,
+        count(job.records.len(), "record"),
+        count(report.residuals.len(), "equation"),
+        job.preamble(steady.as_ref())
+    );
+    if let Some(truth) = &job.truth {
+        text.push_str(&report.against(truth).to_string());
+    }
+    Ok(PyReport {
+        report,
+        model: job.model.clone(),
+        regressor,
+        source: Source::Job(Box::new(job)),
+        text,
+    })
+}
+
+/// The NumPy dtype of row labels: the library's `RowLabel` fields.
+fn label_dtype<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+    PyList::new(
+        py,
+        [
+            ("record", "O"),
+            ("record_index", "i8"),
+            ("window", "i8"),
+            ("start_time", "f8"),
+            ("cycles", "i8"),
+        ],
+    )
+}
+
+/// `regressor_rows(model, record, record_index=0, **settings) -> (A, b, labels)`: the
+/// rows one record contributes (one per window), for campaigns that map records to rows
+/// on many machines and fit once (`fit_rows`). `labels` is a structured array with the
+/// fields of the library's row label; `record_index` numbers the record in the campaign.
+#[pyfunction]
+#[pyo3(signature = (model, record, record_index=0, **settings))]
+#[allow(clippy::type_complexity)]
+fn regressor_rows<'py>(
+    py: Python<'py>,
+    model: &Bound<'py, PyModel>,
+    record: &Bound<'py, PyRecord>,
+    record_index: usize,
+    settings: Option<&Bound<'py, PyDict>>,
+) -> PyResult<(
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyAny>,
+)> {
+    let settings = settings::settings(settings)?;
+    let model = &model.get().model;
+    let lent = Lent::take(std::slice::from_ref(record))?;
+    let built = py.detach(|| {
+        enforce_steady_state(&lent.records, &settings)?;
+        Regressor::build(model, &lent.records, &settings.settings.regressor)
+    });
+    lent.restore();
+    let regressor = built.map_err(with_transient_hint)?;
+    if regressor.noise().is_some() {
+        return Err(to_py(dampid::Error::InvalidChoice {
+            name: "noise".into(),
+            given: "auto (noise-robust rows)".into(),
+            reason: "these rows carry a noise model that (A, b) cannot hold, so fit_rows would weight them differently from identify; pass noise=\"ignore\", or a velocity other than harmonic_projection".into(),
+        }));
+    }
+    let a = regressor.matrix();
+    let matrix = numpy::ndarray::Array2::from_shape_fn((a.nrows(), a.ncols()), |(i, j)| a[(i, j)]);
+    let labels: Vec<_> = regressor
+        .rows()
+        .iter()
+        .map(|r| {
+            (
+                r.record.clone(),
+                record_index as i64,
+                r.window as i64,
+                r.start_time,
+                r.cycles as i64,
+            )
+        })
+        .collect();
+    let numpy = py.import("numpy")?;
+    let kwargs = PyDict::new(py);
+    kwargs.set_item("dtype", label_dtype(py)?)?;
+    let labels = numpy.call_method("array", (labels,), Some(&kwargs))?;
+    Ok((
+        matrix.into_pyarray(py),
+        regressor.rhs().to_vec().into_pyarray(py),
+        labels,
+    ))
+}
+
+/// `fit_rows(model, A, b, labels=None, **settings) -> Report`: the fit of stacked rows
+/// (`regressor_rows` of every record), equal bit for bit to `identify` of the records
+/// when the rows are stacked in record order.
+#[pyfunction]
+#[pyo3(signature = (model, a, b, labels=None, **settings))]
+fn fit_rows(
+    py: Python<'_>,
+    model: &Bound<'_, PyModel>,
+    a: &Bound<'_, PyAny>,
+    b: &Bound<'_, PyAny>,
+    labels: Option<&Bound<'_, PyAny>>,
+    settings: Option<&Bound<'_, PyDict>>,
+) -> PyResult<PyReport> {
+    let settings = settings::settings(settings)?;
+    let model = &model.get().model;
+    let matrix = arrays::matrix(a, "A")?;
+    let rhs = arrays::vector(b, "b")?;
+    let rows = match labels {
+        None => (0..rhs.len())
+            .map(|r| RowLabel {
+                record: "rows".into(),
+                record_index: 0,
+                window: r,
+                start_time: 0.0,
+                cycles: 1,
+            })
+            .collect(),
+        Some(labels) => read_labels(labels)?,
+    };
+    let regressor = Regressor::from_parts(matrix, rhs, model.coefficient_names(), rows).py_err()?;
+    let report = py
+        .detach(|| {
+            settings.settings.fit.validate()?;
+            identify_regressor(&regressor, &settings.settings.fit)
+        })
+        .py_err()?;
+    let text = report.to_string();
+    Ok(PyReport {
+        report,
+        model: model.clone(),
+        regressor,
+        source: Source::Rows,
+        text,
+    })
+}
+
+/// Row labels from the structured array `regressor_rows` returns.
+fn read_labels(labels: &Bound<'_, PyAny>) -> PyResult<Vec<RowLabel>> {
+    let field = |name: &str| {
+        labels.get_item(name).map_err(|_| {
+            argument(format!(
+                "labels must be the structured array regressor_rows returns (no field '{name}')"
+            ))
+        })
+    };
+    let records: Vec<String> = field("record")?.call_method0("tolist")?.extract()?;
+    let index: PyReadonlyArray1<'_, i64> = field("record_index")?.extract()?;
+    let window: PyReadonlyArray1<'_, i64> = field("window")?.extract()?;
+    let start: PyReadonlyArray1<'_, f64> = field("start_time")?.extract()?;
+    let cycles: PyReadonlyArray1<'_, i64> = field("cycles")?.extract()?;
+    let (index, window, start, cycles) = (
+        index.as_array(),
+        window.as_array(),
+        start.as_array(),
+        cycles.as_array(),
+    );
+    Ok(records
+        .into_iter()
+        .enumerate()
+        .map(|(r, record)| RowLabel {
+            record,
+            record_index: index[r] as usize,
+            window: window[r] as usize,
+            start_time: start[r],
+            cycles: cycles[r] as usize,
+        })
+        .collect())
+}
+
+#[pymodule]
+#[pyo3(name = "dampid")]
+fn dampid_python(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    // As the dampid binary: faer sequential, so results are bitwise the CLI's.
+    faer::set_global_parallelism(faer::Par::Seq);
+    m.add("DampidError", m.py().get_type::<DampidError>())?;
+    m.add_class::<PyModel>()?;
+    m.add_class::<PyRecord>()?;
+    m.add_class::<PyReport>()?;
+    m.add_function(wrap_pyfunction!(identify, m)?)?;
+    m.add_function(wrap_pyfunction!(identify_file, m)?)?;
+    m.add_function(wrap_pyfunction!(regressor_rows, m)?)?;
+    m.add_function(wrap_pyfunction!(fit_rows, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

@@ -1,0 +1,228 @@
+//! `dampid.Report`: the library's [`FitReport`] with the context its text and HTML
+//! forms need (title, model, regressor, and the records for the HTML plots).
+
+use dampid::model::DampingModel;
+use dampid::model_file::Job;
+use dampid::regressor::Regressor;
+use dampid::report::FitReport;
+use dampid::report::html::HtmlReport;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::error::{IntoPy, to_py};
+use crate::record::{Lent, PyRecord};
+
+/// Where the records of a report are, for its HTML plots.
+pub enum Source {
+    /// A model file's job (`identify_file`): records, title, truth and POD.
+    Job(Box<Job>),
+    /// The `Record` objects of `identify`.
+    Records(Vec<Py<PyRecord>>),
+    /// Rows alone (`fit_rows`): no records.
+    Rows,
+}
+
+/// The result of an identification.
+#[pyclass(name = "Report", module = "dampid", frozen)]
+pub struct PyReport {
+    pub report: FitReport,
+    pub model: DampingModel,
+    pub regressor: Regressor,
+    pub source: Source,
+    /// `str(report)`: the CLI's text for a model file, the report table otherwise.
+    pub text: String,
+}
+
+fn names_to<T>(
+    report: &FitReport,
+    value: impl Fn(&dampid::report::CoefficientEstimate) -> T,
+) -> Vec<(String, T)> {
+    report
+        .coefficients
+        .iter()
+        .chain(&report.nuisance)
+        .map(|c| (c.name.clone(), value(c)))
+        .collect()
+}
+
+#[pymethods]
+impl PyReport {
+    /// How the fit ended ("Solved", ...).
+    #[getter]
+    fn status(&self) -> String {
+        format!("{:?}", self.report.status)
+    }
+
+    /// Coefficient name → value (nuisance unknowns of a non-periodic fit included).
+    #[getter]
+    fn coefficients<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let dict = PyDict::new(py);
+        for (name, value) in names_to(&self.report, |c| c.value) {
+            dict.set_item(name, value)?;
+        }
+        Ok(dict)
+    }
+
+    /// Coefficient name → standard error (None where the data give none).
+    #[getter]
+    fn std_errors<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let dict = PyDict::new(py);
+        for (name, value) in names_to(&self.report, |c| c.std_error) {
+            dict.set_item(name, value)?;
+        }
+        Ok(dict)
+    }
+
+    /// Coefficient name → (low, high): the bootstrap interval when one was run, else
+    /// θ ± 1.96 se (the HTML report's 95% interval); None without a standard error.
+    #[getter]
+    fn intervals<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let dict = PyDict::new(py);
+        for (name, interval) in names_to(&self.report, |c| match (&c.interval, c.std_error) {
+            (Some(i), _) => Some((i.lower, i.upper)),
+            (None, Some(se)) => Some((c.value - 1.96 * se, c.value + 1.96 * se)),
+            (None, None) => None,
+        }) {
+            dict.set_item(name, interval)?;
+        }
+        Ok(dict)
+    }
+
+    /// Condition number of the column-scaled regressor (None when rank deficient).
+    #[getter]
+    fn condition_number(&self) -> Option<f64> {
+        self.report.condition_number
+    }
+
+    /// Numerical rank.
+    #[getter]
+    fn rank(&self) -> usize {
+        self.report.rank
+    }
+
+    /// ‖b − Aθ‖ / ‖b‖.
+    #[getter]
+    fn relative_residual(&self) -> f64 {
+        self.report.relative_residual
+    }
+
+    /// Mean residual relative to the mean |input work|.
+    #[getter]
+    fn residual_bias(&self) -> f64 {
+        self.report.residual_bias.relative_mean
+    }
+
+    /// The warnings in words.
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.report.warnings.iter().map(|w| w.to_string()).collect()
+    }
+
+    /// The JSON report (the CLI's `--json` "report" object) as a string.
+    fn to_json(&self) -> PyResult<String> {
+        serde_json::to_string_pretty(&self.report)
+            .map_err(|e| crate::error::argument(format!("the report does not serialize: {e}")))
+    }
+
+    /// The JSON report as a dict (`json.loads(report.to_json())`).
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        py.import("json")?.call_method1("loads", (self.to_json()?,))
+    }
+
+    fn __str__(&self) -> String {
+        self.text.clone()
+    }
+
+    fn __repr__(&self) -> String {
+        let coefficients: Vec<String> = names_to(&self.report, |c| c.value)
+            .into_iter()
+            .map(|(n, v)| format!("{n}={v:.6e}"))
+            .collect();
+        format!(
+            "Report(status={}, {})",
+            self.status(),
+            coefficients.join(", ")
+        )
+    }
+
+    /// A compact HTML table for notebooks.
+    fn _repr_html_(&self) -> String {
+        let mut html = format!(
+            "<table><caption>dampid: {} (rank {}, condition {}, relative residual {:.3e})</caption><tr><th>coefficient</th><th>value</th><th>std. error</th></tr>",
+            self.status(),
+            self.report.rank,
+            self.report
+                .condition_number
+                .map_or("-".to_string(), |c| format!("{c:.3e}")),
+            self.report.relative_residual
+        );
+        for c in self.report.coefficients.iter().chain(&self.report.nuisance) {
+            html.push_str(&format!(
+                "<tr><td>{}</td><td>{:.6e}</td><td>{}</td></tr>",
+                escape(&c.name),
+                c.value,
+                c.std_error.map_or("-".to_string(), |s| format!("{s:.3e}"))
+            ));
+        }
+        html.push_str("</table>");
+        for w in &self.report.warnings {
+            html.push_str(&format!("<p>⚠ {}</p>", escape(&w.to_string())));
+        }
+        html
+    }
+
+    /// Writes the full HTML report (the CLI's `--html`) to `path`; an existing file is
+    /// refused unless `overwrite=True`.
+    #[pyo3(signature = (path, overwrite=false))]
+    fn write_html(
+        &self,
+        py: Python<'_>,
+        path: std::path::PathBuf,
+        overwrite: bool,
+    ) -> PyResult<()> {
+        use dampid::io::output::{Overwrite, write_file};
+        let page = |records: &[dampid::record::Record], title: &str, job: Option<&Job>| {
+            HtmlReport {
+                title,
+                model: &self.model,
+                records,
+                regressor: &self.regressor,
+                report: &self.report,
+                truth: job.and_then(|j| j.truth.as_deref()),
+                pod: job.and_then(|j| j.pod.as_ref()),
+            }
+            .render()
+        };
+        let page = match &self.source {
+            Source::Job(job) => page(&job.records, &job.title, Some(job)),
+            Source::Rows => page(&[], "dampid", None),
+            Source::Records(list) => {
+                let bound: Vec<Bound<'_, PyRecord>> =
+                    list.iter().map(|r| r.bind(py).clone()).collect();
+                let lent = Lent::take(&bound)?;
+                let page = page(&lent.records, "dampid", None);
+                lent.restore();
+                page
+            }
+        }
+        .py_err()?;
+        let overwrite = if overwrite {
+            Overwrite::Replace
+        } else {
+            Overwrite::Refuse
+        };
+        write_file(&path, overwrite, |sink| {
+            std::io::Write::write_all(sink, page.as_bytes()).map_err(|e| dampid::Error::Output {
+                path: path.display().to_string(),
+                message: e.to_string(),
+            })
+        })
+        .map_err(to_py)
+    }
+}
+
+fn escape(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+}
