@@ -25,6 +25,7 @@ use crate::prep::pod::Reduction;
 use crate::prep::steady_state::{SteadyStateReport, SteadyStateSettings, StoredEnergy};
 use crate::progress::Progress;
 use crate::record::Record;
+use crate::report::units::Units;
 use crate::regressor::{Regressor, RegressorSettings};
 use crate::terms::laws::Registry;
 
@@ -67,6 +68,10 @@ pub struct Job {
     pub pod: Option<Reduction>,
     /// The stepped-sine table of a harmonic approximation.
     pub harmonic: Option<SteppedSineTable>,
+    /// The units of `[units]` (empty when not given).
+    pub units: Units,
+    /// The data files of `[data]`, as resolved against the model file's folder.
+    pub data_files: Vec<std::path::PathBuf>,
 }
 
 impl Job {
@@ -145,6 +150,10 @@ impl Context<'_> {
             })?;
             model = model.with(built);
         }
+        let mut units = Units::default();
+        for (dimension, unit) in &spec.units {
+            self.at(unit, |u| units.set(dimension, u))?;
+        }
         let mut settings =
             identification_settings(&spec.identification, spec.non_periodic.is_some());
         if spec.non_periodic.is_some()
@@ -216,6 +225,12 @@ impl Context<'_> {
                 self.at(d, |d| design_settings(d, experiments))
             })
             .transpose()?;
+        let data_files = spec
+            .data
+            .iter()
+            .flat_map(|d| d.get_ref().records.iter())
+            .map(|r| base.join(&r.get_ref().file))
+            .collect();
         Ok(Job {
             title: spec.title.clone().unwrap_or_else(|| self.file.to_string()),
             model,
@@ -232,6 +247,8 @@ impl Context<'_> {
             steady_state,
             pod,
             harmonic,
+            units,
+            data_files,
         })
     }
 

@@ -13,6 +13,7 @@
 mod context;
 mod job;
 mod measured;
+mod provenance;
 mod records;
 mod reduction;
 mod settings;

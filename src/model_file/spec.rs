@@ -44,6 +44,10 @@ pub struct ModelFileSpec {
     /// Identify from records that are not periodic, with stored energy and constant
     /// forces as extra unknowns (`dampid::regressor::nonperiodic`).
     pub non_periodic: Option<Spanned<NonPeriodicSpec>>,
+    /// The units the numbers are in, for reports (`length = "m"`, `force = "N"`,
+    /// `time = "s"`, `angle`, `mass`; [`crate::report::units`]).
+    #[serde(default)]
+    pub units: BTreeMap<String, Spanned<String>>,
 }
 
 /// `[non_periodic]`: windows of a fixed length, and what stores energy.

@@ -132,3 +132,26 @@ fn model_file_errors_keep_their_typed_cause() {
         Err(Error::ModelFile { cause: None, .. })
     ));
 }
+
+/// A `[units]` entry that is not a known dimension is `UnknownName` listing the known
+/// ones, at the line of the entry.
+#[test]
+fn unknown_unit_dimension_names_the_line() {
+    let text = "dofs = 1\n[[terms]]\nkind = \"law\"\nlaw = \"linear\"\nelements = [[1, 0]]\ncoefficient = \"c\"\n[units]\nlength = \"m\"\nlenght = \"mm\"\n";
+    match parse_model(text, "u.toml") {
+        Err(Error::ModelFile {
+            file, line, cause, ..
+        }) => {
+            assert_eq!((file.as_str(), line), ("u.toml", 9));
+            match cause.as_deref() {
+                Some(Error::UnknownName { what, name, known }) => {
+                    assert_eq!(name, "lenght");
+                    assert!(what.contains("[units]"), "{what}");
+                    assert!(known.contains("length") && known.contains("force"), "{known}");
+                }
+                other => panic!("{other:?}"),
+            }
+        }
+        other => panic!("{other:?}"),
+    }
+}
