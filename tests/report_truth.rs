@@ -65,10 +65,7 @@ fn a_force_on_the_wrong_dof_is_named_in_every_report() {
         .sum();
     assert!((shares - 1.0).abs() < 1e-9, "shares sum to {shares}");
     let wrong = records.iter().find(|r| r["record"] == label).unwrap();
-    assert!(
-        wrong["residual_share"].as_f64().unwrap() > 0.5,
-        "{wrong}"
-    );
+    assert!(wrong["residual_share"].as_f64().unwrap() > 0.5, "{wrong}");
     let dominating: Vec<&serde_json::Value> = json["report"]["warnings"]
         .as_array()
         .unwrap()
@@ -86,10 +83,13 @@ fn a_force_on_the_wrong_dof_is_named_in_every_report() {
         "steady state",
         "misses a mechanism",
     ] {
-        assert!(printed.contains(needle.as_str()), "text lacks {needle}: {printed}");
+        assert!(printed.contains(needle), "text lacks {needle}: {printed}");
     }
     let page = std::fs::read_to_string(html.join("report.html")).unwrap();
-    assert!(page.contains(&format!("record &#39;{label}&#39; holds")) || page.contains(&format!("record '{label}' holds")));
+    assert!(
+        page.contains(&format!("record &#39;{label}&#39; holds"))
+            || page.contains(&format!("record '{label}' holds"))
+    );
     assert!(page.contains("<tr class=\"flag\"><td>a=1.0 ω=1.4142 on mass 1</td>"));
 
     let right = dampid_json(&["identify", "models/measured_chain.toml", "--json"]);
@@ -118,7 +118,13 @@ fn a_force_on_the_wrong_dof_is_named_in_every_report() {
 fn undetermined_coefficients_are_not_given_intervals_and_strict_fails() {
     let folder = scratch("first-try");
     let model = "models/walkthrough_first_try.toml";
-    let json = dampid_json(&["identify", model, "--json", "--report", folder.to_str().unwrap()]);
+    let json = dampid_json(&[
+        "identify",
+        model,
+        "--json",
+        "--report",
+        folder.to_str().unwrap(),
+    ]);
     let coefficients = json["report"]["coefficients"].as_array().unwrap();
     let undetermined: Vec<&serde_json::Value> = coefficients
         .iter()
@@ -139,14 +145,20 @@ fn undetermined_coefficients_are_not_given_intervals_and_strict_fails() {
         .nth(1)
         .and_then(|rest| rest.split("</tr>").next())
         .unwrap();
-    assert!(row.contains("not determined") && !row.contains('['), "{row}");
+    assert!(
+        row.contains("not determined") && !row.contains('['),
+        "{row}"
+    );
 
     let plain = dampid(&["identify", model]);
     assert_eq!(plain.status.code(), Some(0));
     let strict = dampid(&["identify", model, "--strict"]);
     assert_eq!(strict.status.code(), Some(1));
     let why = text(&strict.stderr);
-    assert!(why.contains("strict: not determined: dashpot[0-1]"), "{why}");
+    assert!(
+        why.contains("strict: not determined: dashpot[0-1]"),
+        "{why}"
+    );
     // The report is still printed.
     assert_eq!(text(&strict.stdout), text(&plain.stdout));
     // A determined fit passes --strict.
@@ -191,7 +203,11 @@ fn accepted_transients_are_warned_everywhere_and_fail_strict() {
     assert!(page.contains("not in steady state, accepted"));
     assert!(page.contains("NOT steady (accepted)"));
     let printed = text(&dampid_ok(&["identify", path, "--accept-transient"]).stdout);
-    assert_eq!(printed.matches("not in steady state, accepted").count(), 1, "{printed}");
+    assert_eq!(
+        printed.matches("not in steady state, accepted").count(),
+        1,
+        "{printed}"
+    );
     let strict = dampid(&["identify", path, "--accept-transient", "--strict"]);
     assert_eq!(strict.status.code(), Some(1));
     assert!(text(&strict.stderr).contains("accepted although not in steady state"));
@@ -206,7 +222,10 @@ fn units_and_provenance_in_the_html_report() {
     let models = std::fs::canonicalize("models").unwrap();
     let text = std::fs::read_to_string("models/measured_chain.toml")
         .unwrap()
-        .replace("file = \"data/", &format!("file = \"{}/data/", models.display()))
+        .replace(
+            "file = \"data/",
+            &format!("file = \"{}/data/", models.display()),
+        )
         + "\n[units]\nlength = \"m\"\nforce = \"N\"\ntime = \"s\"\n";
     let model = folder.join("units.toml");
     std::fs::write(&model, &text).unwrap();
@@ -236,6 +255,9 @@ fn units_and_provenance_in_the_html_report() {
     let bytes = std::fs::metadata(&first).unwrap().len();
     let digest = dampid::report::provenance::DataFile::read(&first).unwrap();
     assert_eq!(digest.bytes, bytes);
-    assert!(page.contains(&format!("<td>{bytes}</td><td><code class=\"hash\">{}</code>", digest.sha256)));
+    assert!(page.contains(&format!(
+        "<td>{bytes}</td><td><code class=\"hash\">{}</code>",
+        digest.sha256
+    )));
     std::fs::remove_dir_all(&folder).ok();
 }

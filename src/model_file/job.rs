@@ -25,8 +25,8 @@ use crate::prep::pod::Reduction;
 use crate::prep::steady_state::{SteadyStateReport, SteadyStateSettings, StoredEnergy};
 use crate::progress::Progress;
 use crate::record::Record;
-use crate::report::units::Units;
 use crate::regressor::{Regressor, RegressorSettings};
+use crate::report::units::Units;
 use crate::terms::laws::Registry;
 
 /// Everything a model file asks for, ready to run.

@@ -34,8 +34,8 @@ use crate::analysis::bootstrap::{Bootstrap, BootstrapSummary, ConfidenceInterval
 use crate::analysis::diagnostics::{Correlation, Diagnostics, ResidualBias, StandardErrorBasis};
 use crate::analysis::identifiability::Identifiability;
 use crate::analysis::velocity_noise::VelocityNoise;
-use crate::prep::steady_state::SteadyStateReport;
 use crate::fit::{ActiveConstraint, Fit, FitMethod, FitStatus, SolverInfo};
+use crate::prep::steady_state::SteadyStateReport;
 use crate::regressor::robust::WindowNoise;
 use crate::regressor::{Regressor, RowLabel};
 

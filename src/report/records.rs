@@ -50,7 +50,9 @@ impl RecordResidual {
     /// `total_equations` equations (module doc).
     pub fn dominates(&self, records: usize, total_equations: usize) -> bool {
         let fair = self.equations as f64 / total_equations.max(1) as f64;
-        records >= 2 && self.residual_share >= DOMINANT_SHARE && self.residual_share >= DOMINANCE_RATIO * fair
+        records >= 2
+            && self.residual_share >= DOMINANT_SHARE
+            && self.residual_share >= DOMINANCE_RATIO * fair
     }
 }
 
@@ -124,7 +126,14 @@ mod tests {
     /// with one free coefficient ν = 5, s = √(8.08/5), and z_3 = √(8/2)/s = 2/1.271… = 1.5734.
     #[test]
     fn shares_and_standardised_residuals_by_hand() {
-        let rows = [row(0, 0), row(0, 1), row(1, 0), row(1, 1), row(2, 0), row(2, 1)];
+        let rows = [
+            row(0, 0),
+            row(0, 1),
+            row(1, 0),
+            row(1, 1),
+            row(2, 0),
+            row(2, 1),
+        ];
         let e = [0.1, -0.1, 0.1, -0.1, 2.0, 2.0];
         let records = per_record(&rows, &e, None, 1);
         assert_eq!(records.len(), 3);
@@ -155,6 +164,10 @@ mod tests {
         let scaled = per_record(&rows, &[1.0, 10.0, 10.0], Some(&[1.0, 10.0, 10.0]), 0);
         assert!((scaled[1].residual_share - 2.0 / 3.0).abs() < 1e-12);
         // No redundancy: no standardised residual.
-        assert!(per_record(&rows, &[1.0, 1.0, 1.0], None, 3)[0].standardised_residual.is_none());
+        assert!(
+            per_record(&rows, &[1.0, 1.0, 1.0], None, 3)[0]
+                .standardised_residual
+                .is_none()
+        );
     }
 }

@@ -152,7 +152,11 @@ mod tests {
     }
 
     fn law(l: impl crate::terms::Law + 'static) -> Term {
-        Term::on_elements(l, vec![Element::to_ground(0)], Coefficients::Shared("c".into()))
+        Term::on_elements(
+            l,
+            vec![Element::to_ground(0)],
+            Coefficients::Shared("c".into()),
+        )
     }
 
     #[test]
@@ -166,7 +170,11 @@ mod tests {
         assert_eq!(u.coefficient(&law(power)).unwrap(), "N·(s/m)^1.5");
         let stiff = Term::stiffness_proportional("beta", k.clone());
         assert_eq!(u.coefficient(&stiff).unwrap(), "s");
-        assert_eq!(u.coefficient(&Term::mass_proportional("alpha", k.clone())).unwrap(), "1/s");
+        assert_eq!(
+            u.coefficient(&Term::mass_proportional("alpha", k.clone()))
+                .unwrap(),
+            "1/s"
+        );
         assert_eq!(u.coefficient(&Term::viscous("c", k)).unwrap(), "N·s/m");
         assert_eq!(u.velocity().unwrap(), "m/s");
         assert_eq!(u.work().unwrap(), "N·m");
@@ -177,7 +185,10 @@ mod tests {
     #[test]
     fn unknown_dimension_is_a_typed_error() {
         let mut u = Units::default();
-        assert!(matches!(u.set("lenght", "m"), Err(Error::UnknownName { .. })));
+        assert!(matches!(
+            u.set("lenght", "m"),
+            Err(Error::UnknownName { .. })
+        ));
         assert!(u.set("force", " ").is_err());
         assert!(u.is_empty());
     }

@@ -147,7 +147,10 @@ fn unknown_unit_dimension_names_the_line() {
                 Some(Error::UnknownName { what, name, known }) => {
                     assert_eq!(name, "lenght");
                     assert!(what.contains("[units]"), "{what}");
-                    assert!(known.contains("length") && known.contains("force"), "{known}");
+                    assert!(
+                        known.contains("length") && known.contains("force"),
+                        "{known}"
+                    );
                 }
                 other => panic!("{other:?}"),
             }

@@ -37,7 +37,7 @@
       });
       // plotters draws a legend as a translucent white box with the series names in it.
       var legend = Array.prototype.some.call(svg.querySelectorAll('rect'), function (rect) {
-        if (rect.getAttribute('fill-opacity') !== '0.85') return false;
+        if (rect.getAttribute('opacity') !== '0.85' || rect.getAttribute('fill') !== '#FFFFFF') return false;
         var r = rect.getBoundingClientRect();
         return Array.prototype.some.call(texts, function (t) {
           var q = t.getBoundingClientRect();

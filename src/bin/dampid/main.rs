@@ -209,7 +209,10 @@ fn identify(
         .with_steady_state(steady.as_ref());
     // The command line's own settings, for the provenance.
     let flags = vec![
-        ("command line".to_string(), std::env::args().collect::<Vec<_>>().join(" ")),
+        (
+            "command line".to_string(),
+            std::env::args().collect::<Vec<_>>().join(" "),
+        ),
         (
             "accept transient windows".to_string(),
             job.steady_state.accept_transient.to_string(),

@@ -248,7 +248,11 @@ impl HtmlReport<'_> {
                     ),
                     None => ("–".into(), "–".into()),
                 };
-                let _ = write!(table, "<td>{:.6e}</td><td>{se}</td><td>{interval}</td>", c.value);
+                let _ = write!(
+                    table,
+                    "<td>{:.6e}</td><td>{se}</td><td>{interval}</td>",
+                    c.value
+                );
             } else {
                 let _ = write!(
                     table,
@@ -373,7 +377,9 @@ impl HtmlReport<'_> {
             singular.join(", ")
         );
         if id.null_directions.is_empty() {
-            out.push_str("<p>No near-null direction: every coefficient is separated by the data.</p>\n");
+            out.push_str(
+                "<p>No near-null direction: every coefficient is separated by the data.</p>\n",
+            );
         } else {
             out.push_str("<p>Directions the data do not determine:</p>\n<ul>\n");
             for d in &id.null_directions {
@@ -388,7 +394,11 @@ impl HtmlReport<'_> {
                 "<tr><td>{}</td><td>{}</td><td>{}</td></tr>",
                 escape(name),
                 vif.map_or("infinite".to_string(), |v| format!("{v:.3e}")),
-                if id.is_identifiable(name) { "yes" } else { "no" }
+                if id.is_identifiable(name) {
+                    "yes"
+                } else {
+                    "no"
+                }
             );
         }
         out.push_str("</table>\n");
@@ -542,7 +552,11 @@ impl HtmlReport<'_> {
                 .collect();
             let more = range.len().saturating_sub(MAX_CURVES);
             let title = if more > 0 {
-                format!("{} law (first {MAX_CURVES} of {} coefficients)", law.name(), range.len())
+                format!(
+                    "{} law (first {MAX_CURVES} of {} coefficients)",
+                    law.name(),
+                    range.len()
+                )
             } else {
                 format!("{} law", law.name())
             };

@@ -130,7 +130,11 @@ pub(crate) fn tick_label(value: f64, span: f64) -> String {
     }
     let decimals = (-step.log10().floor()).max(0.0) as usize;
     let text = format!("{value:.decimals$}");
-    if text.trim_start_matches('-').chars().all(|c| c == '0' || c == '.') {
+    if text
+        .trim_start_matches('-')
+        .chars()
+        .all(|c| c == '0' || c == '.')
+    {
         "0".into()
     } else {
         text
@@ -213,7 +217,11 @@ fn legend_line(x: i32, y: i32, style: ShapeStyle) -> PathElement<(i32, i32)> {
 /// A range that contains every value, padded by 5%, never empty.
 fn padded(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
     let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
-        if v.is_finite() { (lo.min(v), hi.max(v)) } else { (lo, hi) }
+        if v.is_finite() {
+            (lo.min(v), hi.max(v))
+        } else {
+            (lo, hi)
+        }
     });
     if !lo.is_finite() || !hi.is_finite() {
         return -1.0..1.0;
@@ -246,11 +254,7 @@ fn draw_group<'a, 'b: 'a>(chart: &mut Chart<'a, 'b>, k: usize, group: &Group) ->
     };
     // One element type for every shape: the two shapes not used are transparent.
     let pick = move |active: bool, style: ShapeStyle| {
-        if active {
-            style
-        } else {
-            TRANSPARENT.filled()
-        }
+        if active { style } else { TRANSPARENT.filled() }
     };
     let cross = colour(k).stroke_width(px(2));
     annotation.label(group.name.clone()).legend(move |(x, y)| {
@@ -268,11 +272,21 @@ fn draw_group<'a, 'b: 'a>(chart: &mut Chart<'a, 'b>, k: usize, group: &Group) ->
 /// the work's unit, when known.
 pub(crate) fn work_balance(groups: &[Group], stored: bool, unit: Option<&str>) -> Result<String> {
     chart_svg(|root| {
-        let range = padded(groups.iter().flat_map(|g| g.points.iter().flat_map(|p| [p.0, p.1])));
+        let range = padded(
+            groups
+                .iter()
+                .flat_map(|g| g.points.iter().flat_map(|p| [p.0, p.1])),
+        );
         let (x, y) = if stored {
-            ("input work ∫ vᵀr dt", "identified dissipated + stored work Σ θ_k A_k")
+            (
+                "input work ∫ vᵀr dt",
+                "identified dissipated + stored work Σ θ_k A_k",
+            )
         } else {
-            ("input work ∮ vᵀr dt", "identified dissipated work Σ θ_k A_k")
+            (
+                "input work ∮ vᵀr dt",
+                "identified dissipated work Σ θ_k A_k",
+            )
         };
         let axes = (
             super::super::units::with_unit(x, unit),
@@ -312,7 +326,10 @@ pub(crate) fn residuals(
     unit: Option<&str>,
 ) -> Result<String> {
     chart_svg(|root| {
-        let all: Vec<f64> = groups.iter().flat_map(|g| g.points.iter().map(|p| p.1)).collect();
+        let all: Vec<f64> = groups
+            .iter()
+            .flat_map(|g| g.points.iter().map(|p| p.1))
+            .collect();
         let n = equations.max(1) as f64;
         let mean = all.iter().sum::<f64>() / all.len().max(1) as f64;
         let y = padded(all.iter().copied().chain([0.0, mean]));
@@ -326,15 +343,17 @@ pub(crate) fn residuals(
             (Ticks::Integers(equations.clamp(1, 12)), Ticks::Plain),
         )?;
         chart
-            .draw_series(LineSeries::new([(0.5, 0.0), (n + 0.5, 0.0)], BLACK.mix(0.5).stroke_width(px(1))))
+            .draw_series(LineSeries::new(
+                [(0.5, 0.0), (n + 0.5, 0.0)],
+                BLACK.mix(0.5).stroke_width(px(1)),
+            ))
             .map_err(plot_error)?;
         let mean_style = BLACK.stroke_width(px(2));
         chart
             .draw_series(LineSeries::new([(0.5, mean), (n + 0.5, mean)], mean_style))
             .map_err(plot_error)?
             .label(format!(
-                "mean residual {} = residual bias {bias:+.3e} × mean |input work|",
-                tick_label(mean, mean.abs().max(f64::MIN_POSITIVE) * 1e3)
+                "mean residual {mean:+.3e} = residual bias {bias:+.3e} × mean |input work|"
             ))
             .legend(move |(x, y)| legend_line(x, y, mean_style));
         for (k, group) in groups.iter().enumerate() {
@@ -346,16 +365,33 @@ pub(crate) fn residuals(
 
 /// Identified force laws against relative velocity, each over the velocity range its
 /// elements were measured at, with its uncertainty band.
-pub(crate) fn force_laws(title: &str, curves: &[Curve], units: (Option<&str>, Option<&str>)) -> Result<String> {
+pub(crate) fn force_laws(
+    title: &str,
+    curves: &[Curve],
+    units: (Option<&str>, Option<&str>),
+) -> Result<String> {
     chart_svg(|root| {
-        let x = padded(curves.iter().flat_map(|c| c.points.iter().map(|p| p.0)).chain([0.0]));
+        let x = padded(
+            curves
+                .iter()
+                .flat_map(|c| c.points.iter().map(|p| p.0))
+                .chain([0.0]),
+        );
         let y = padded(curves.iter().flat_map(|c| {
             let band = c.band.iter().flatten().flat_map(|b| [b.1, b.2]);
             c.points.iter().map(|p| p.1).chain(band)
         }));
-        let x_desc = super::super::units::with_unit("relative velocity v (measured range)", units.0);
+        let x_desc =
+            super::super::units::with_unit("relative velocity v (measured range)", units.0);
         let y_desc = super::super::units::with_unit("damping force θ f(v)", units.1);
-        let mut chart = frame(root, title, x, y, (&x_desc, &y_desc), (Ticks::Plain, Ticks::Plain))?;
+        let mut chart = frame(
+            root,
+            title,
+            x,
+            y,
+            (&x_desc, &y_desc),
+            (Ticks::Plain, Ticks::Plain),
+        )?;
         for (k, curve) in curves.iter().enumerate() {
             let color = colour(k);
             if let Some(band) = &curve.band {
@@ -496,7 +532,10 @@ pub(crate) fn energy_shares(title: &str, shares: &[f64], retained: usize) -> Res
                 100.0 * retained_share
             ))
             .legend(move |(x, y)| {
-                Rectangle::new([(x, y - px(6) as i32), (x + px(14) as i32, y + px(6) as i32)], kept)
+                Rectangle::new(
+                    [(x, y - px(6) as i32), (x + px(14) as i32, y + px(6) as i32)],
+                    kept,
+                )
             });
         if retained < shares.len() {
             let dropped = BLACK.mix(0.3).filled();
@@ -574,8 +613,14 @@ mod tests {
         )
         .unwrap();
         let head = &svg[..svg.find('>').unwrap()];
-        assert!(head.contains(&format!("width=\"{}\" height=\"{}\"", SIZE.0, SIZE.1)), "{head}");
-        assert!(head.contains(&format!("viewBox=\"0 0 {} {}\"", px(SIZE.0), px(SIZE.1))), "{head}");
+        assert!(
+            head.contains(&format!("width=\"{}\" height=\"{}\"", SIZE.0, SIZE.1)),
+            "{head}"
+        );
+        assert!(
+            head.contains(&format!("viewBox=\"0 0 {} {}\"", px(SIZE.0), px(SIZE.1))),
+            "{head}"
+        );
         assert!(svg.contains("record 1") && svg.contains("[N·m]"));
         assert!(svg.contains("residual bias +1.000e-2 × mean |input work|"));
         // No font under 13 px as shown.
