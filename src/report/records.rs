@@ -140,9 +140,10 @@ mod tests {
         }
     }
 
-    /// Three records of two equations; residuals (by hand) 0.1, −0.1 | 0.1, −0.1 | 2, 2:
-    /// Σe² = 0.04 + 0.04 + 8 = 8.08, so record 3 holds 8/8.08 = 0.990099 of it;
-    /// with one free coefficient ν = 5, s = √(8.08/5), and z_3 = √(8/2)/s = 2/1.271… = 1.5734.
+    /// Four records of two equations; residuals (by hand) 0.1, −0.1 | 0.1, −0.1 | 2, 2 |
+    /// 0.1, −0.1: Σe² = 6 · 0.01 + 8 = 8.06, so record 3 holds 8/8.06 = 0.9926 of it
+    /// (fair share 0.25); with one free coefficient ν = 7, s = √(8.06/7), z_3 = √(8/2)/s;
+    /// the others' RMS is √(0.06/6) = 0.1, so q_3 = 2/0.1 = 20.
     #[test]
     fn shares_and_standardised_residuals_by_hand() {
         let rows = [
@@ -152,19 +153,20 @@ mod tests {
             row(1, 1),
             row(2, 0),
             row(2, 1),
+            row(3, 0),
+            row(3, 1),
         ];
-        let e = [0.1, -0.1, 0.1, -0.1, 2.0, 2.0];
+        let e = [0.1, -0.1, 0.1, -0.1, 2.0, 2.0, 0.1, -0.1];
         let records = per_record(&rows, &e, None, 1);
-        assert_eq!(records.len(), 3);
-        assert!((records[2].residual_share - 8.0 / 8.08).abs() < 1e-12);
-        assert!((records[0].residual_share - 0.04 / 8.08).abs() < 1e-12);
-        let s = (8.08f64 / 5.0).sqrt();
+        assert_eq!(records.len(), 4);
+        assert!((records[2].residual_share - 8.0 / 8.06).abs() < 1e-12);
+        assert!((records[0].residual_share - 0.02 / 8.06).abs() < 1e-12);
+        let s = (8.06f64 / 7.0).sqrt();
         assert!((records[2].standardised_residual.unwrap() - 2.0 / s).abs() < 1e-12);
         assert_eq!(records[2].mean_residual, 2.0);
-        // q_3 = √(8/2) / √(0.08/4) = 2 / 0.1414… = 14.14.
-        assert!((records[2].ratio_to_others.unwrap() - 2.0 / 0.02f64.sqrt()).abs() < 1e-9);
-        assert!(records[2].dominates(3, 6));
-        assert!(!records[0].dominates(3, 6));
+        assert!((records[2].ratio_to_others.unwrap() - 20.0).abs() < 1e-9);
+        assert!(records[2].dominates(4, 8));
+        assert!(!records[0].dominates(4, 8));
         let shares: f64 = records.iter().map(|r| r.residual_share).sum();
         assert!((shares - 1.0).abs() < 1e-12);
     }
