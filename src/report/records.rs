@@ -16,9 +16,8 @@
 //! and at least [`DOMINANCE_RATIO`] times its share of the equations m_r / m, with two or
 //! more records (q_r is reported, not yet used: [`OUTLIER_RATIO`] = 5 silenced the
 //! wrong-DOF case too; see the lead's report): with residuals of one size everywhere share_r = m_r / m and q_r = 1. The last
-//! condition keeps small fits quiet: on clean simulated data with one equation per
-//! record the discretisation error alone gives one record 75% of the residual at
-//! q_r ≈ 3, while a force on the wrong DOF gives q_r of 30 and more. The report then
+//! shares are m_r / m everywhere when the residuals are of one size. Known false positive:
+//! the clean four-mass POD fit (one equation per record) flags a record at q_r ≈ 3. The report then
 //! warns ([`crate::report::Warning::RecordDominates`]) with the likely causes.
 
 use serde::{Deserialize, Serialize};
