@@ -12,12 +12,12 @@
 //! - its ratio to the others is  q_r = √(Σ_{i∈R_r} ẽ_i² / m_r) / √(Σ_{i∉R_r} ẽ_i² / (m − m_r)),
 //!   its RMS residual over the RMS residual of every other record's equations.
 //!
-//! A record *dominates* when it holds at least [`DOMINANT_SHARE`] of the squared residual,
+//! A record *dominates* when it holds at least [`DOMINANT_SHARE`] of the squared residual
 //! and at least [`DOMINANCE_RATIO`] times its share of the equations m_r / m, with two or
-//! more records (q_r is reported, not yet used: [`OUTLIER_RATIO`] = 5 silenced the
-//! wrong-DOF case too; see the lead's report): with residuals of one size everywhere share_r = m_r / m and q_r = 1. The last
-//! shares are m_r / m everywhere when the residuals are of one size. Known false positive:
-//! the clean four-mass POD fit (one equation per record) flags a record at q_r ≈ 3. The report then
+//! more records (with residuals of one size everywhere share_r = m_r / m and q_r = 1).
+//! q_r is reported but not used: requiring q_r ≥ [`OUTLIER_RATIO`] silenced the wrong-DOF
+//! case too. Known false positive: the clean four-mass POD fit (one equation per record)
+//! flags a record at q_r ≈ 3. The report then
 //! warns ([`crate::report::Warning::RecordDominates`]) with the likely causes.
 
 use serde::{Deserialize, Serialize};
