@@ -186,6 +186,9 @@ fn the_report_says_the_errors_are_scaled_and_why() {
         report: &report,
         truth: Some(&truth),
         pod: None,
+        steady: None,
+        provenance: None,
+        units: None,
     }
     .render()
     .unwrap();

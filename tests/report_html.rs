@@ -128,6 +128,9 @@ fn noise_robust_report_shows_the_noise_and_the_model_check() {
         report: &report,
         truth: None,
         pod: None,
+        steady: None,
+        provenance: None,
+        units: None,
     }
     .render()
     .unwrap();

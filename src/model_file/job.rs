@@ -29,6 +29,7 @@ use crate::prep::steady_state::{SteadyStateReport, SteadyStateSettings, StoredEn
 use crate::progress::Progress;
 use crate::record::Record;
 use crate::regressor::{Regressor, RegressorSettings};
+use crate::report::units::Units;
 use crate::terms::laws::Registry;
 use crate::varpro::ParametricModel;
 
@@ -80,6 +81,10 @@ pub struct Job {
     /// The `[[simulation.experiments]]`, one per simulated record (DOFs 0-based); empty
     /// without a `[simulation]`.
     pub experiments: Vec<crate::simulate::HarmonicForce>,
+    /// The units of `[units]` (empty when not given).
+    pub units: Units,
+    /// The data files of `[data]`, as resolved against the model file's folder.
+    pub data_files: Vec<std::path::PathBuf>,
 }
 
 impl Job {
@@ -187,6 +192,10 @@ impl Context<'_> {
         let n = spec.dofs;
         let (model, parametric) = self.damping_model(spec, laws)?;
         let matrix = |r: &MatrixRef| resolve_matrix(r, spec, n);
+        let mut units = Units::default();
+        for (dimension, unit) in &spec.units {
+            self.at(unit, |u| units.set(dimension, u))?;
+        }
         let mut settings =
             identification_settings(&spec.identification, spec.non_periodic.is_some());
         if spec.non_periodic.is_some()
@@ -267,6 +276,12 @@ impl Context<'_> {
                 self.at(d, |d| design_settings(d, experiments))
             })
             .transpose()?;
+        let data_files = spec
+            .data
+            .iter()
+            .flat_map(|d| d.get_ref().records.iter())
+            .map(|r| base.join(&r.get_ref().file))
+            .collect();
         Ok(Job {
             title: spec.title.clone().unwrap_or_else(|| self.file.to_string()),
             model,
@@ -300,6 +315,8 @@ impl Context<'_> {
                     }
                 })
                 .collect(),
+            units,
+            data_files,
         })
     }
 

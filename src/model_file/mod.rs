@@ -20,6 +20,7 @@ mod context;
 pub mod init;
 mod job;
 mod measured;
+mod provenance;
 mod records;
 mod reduction;
 mod settings;

@@ -47,6 +47,10 @@ pub struct ModelFileSpec {
     /// Read a measured stepped-sine table (`dampid::prep::harmonic::sweeps`) instead of
     /// records.
     pub stepped_sine: Option<Spanned<SteppedSineSpec>>,
+    /// The units the numbers are in, for reports (`length = "m"`, `force = "N"`,
+    /// `time = "s"`, `angle`, `mass`; [`crate::report::units`]).
+    #[serde(default)]
+    pub units: BTreeMap<String, Spanned<String>>,
 }
 
 /// `[stepped_sine]`: a measured stepped-sine table, one point per row: frequency, force

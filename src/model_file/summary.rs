@@ -1,6 +1,6 @@
 //! What is printed about a job around its fit: the periods detected from the force, the
 //! time columns read with jitter (above [`NOTED_JITTER`]), the
-//! preamble of `dampid identify` (the mode, windows accepted although not steady, the
+//! preamble of `dampid identify` (the mode, the
 //! POD reduction, the harmonic approximation), and the report of `dampid check`
 //! (periods, steady state, and the regressor's conditioning and identifiability before
 //! any fit). Each is a `Display`; the check report is also `Serialize`.
@@ -30,6 +30,10 @@ pub struct Periods<'a> {
 /// What `dampid identify` prints before the fit ([`Job::preamble`]).
 pub struct Preamble<'a> {
     job: &'a Job,
+    /// Kept for the signature: windows accepted although not steady are now a warning
+    /// of the fit report itself ([`crate::report::FitReport::with_steady_state`]), so
+    /// the text, the JSON and the HTML all carry it.
+    #[allow(dead_code)]
     steady: Option<&'a SteadyStateReport>,
 }
 
@@ -70,8 +74,8 @@ impl Job {
             .collect()
     }
 
-    /// Detected periods, the non-periodic mode, windows accepted although not in steady
-    /// state (from `steady`), the POD reduction and the harmonic approximation, when
+    /// Detected periods, the non-periodic mode, the POD reduction and the harmonic
+    /// approximation, when
     /// there are any.
     pub fn preamble<'a>(&'a self, steady: Option<&'a SteadyStateReport>) -> Preamble<'a> {
         Preamble { job: self, steady }
@@ -105,13 +109,6 @@ impl fmt::Display for Preamble<'_> {
                 f,
                 "non-periodic energy balance: windows of {}, stored energy and constant forces as unknowns",
                 WindowLengths::of(job, spans.length)
-            )?;
-        }
-        let rejected = self.steady.iter().flat_map(|s| s.rejected()).count();
-        if rejected > 0 {
-            writeln!(
-                f,
-                "warning: {rejected} window(s) not in steady state, accepted (dampid check shows them)"
             )?;
         }
         if let Some(reduction) = &job.pod {

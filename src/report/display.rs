@@ -208,6 +208,24 @@ impl fmt::Display for FitReport {
             self.residual_bias.positive,
             self.residual_bias.negative
         )?;
+        if self.records.len() > 1
+            && let Some(worst) = self
+                .records
+                .iter()
+                .max_by(|a, b| a.residual_share.total_cmp(&b.residual_share))
+        {
+            let z = worst
+                .standardised_residual
+                .map(|z| format!(", standardised residual {z:.2}"))
+                .unwrap_or_default();
+            writeln!(
+                f,
+                "largest residual share: '{}', {:.1}% of the squared residual from {:.1}% of the equations{z}",
+                worst.record,
+                100.0 * worst.residual_share,
+                100.0 * worst.equations as f64 / self.residuals.len().max(1) as f64
+            )?;
+        }
         for w in &self.warnings {
             writeln!(f, "warning: {w}")?;
         }

@@ -4,12 +4,17 @@
 //! asked for, and warnings in words. `Display` prints a table; serde gives the JSON
 //! (schema in README.md and docs/identifiability.md). A coefficient the data cannot
 //! separate from others is marked `determined: false` and printed as "not determined":
-//! its number is a least-squares artefact, not an estimate.
+//! its number is a least-squares artefact, not an estimate, so it gets no standard
+//! error and no interval (`null` in the JSON). Each record's share of the residual
+//! ([`records`]) is reported, with a warning naming a record that dominates.
 
 mod display;
 pub mod html;
+pub mod provenance;
+pub mod records;
 mod truth;
 pub mod varpro;
+pub mod units;
 mod warning;
 
 pub use truth::AgainstTruth;
@@ -31,6 +36,7 @@ use crate::analysis::diagnostics::{Correlation, Diagnostics, ResidualBias, Stand
 use crate::analysis::identifiability::Identifiability;
 use crate::analysis::velocity_noise::VelocityNoise;
 use crate::fit::{ActiveConstraint, Fit, FitMethod, FitStatus, SolverInfo};
+use crate::prep::steady_state::SteadyStateReport;
 use crate::regressor::robust::WindowNoise;
 use crate::regressor::{Regressor, RowLabel};
 
@@ -59,7 +65,8 @@ pub struct CoefficientEstimate {
     /// False when the data cannot separate this coefficient from others: `value` is
     /// then not an estimate.
     pub determined: bool,
-    /// Bootstrap confidence interval, when a bootstrap was run.
+    /// Bootstrap confidence interval, when a bootstrap was run and the coefficient is
+    /// determined.
     pub interval: Option<ConfidenceInterval>,
 }
 
@@ -127,6 +134,10 @@ pub struct FitReport {
     /// ([`crate::analysis::velocity_noise`], [`FitReport::with_velocity_noise`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub velocity_noise: Option<VelocityNoise>,
+    /// Per record: its share of the residual and its standardised residual
+    /// ([`records`]).
+    #[serde(default)]
+    pub records: Vec<records::RecordResidual>,
     /// What to be careful about.
     pub warnings: Vec<Warning>,
 }
@@ -191,14 +202,20 @@ impl FitReport {
             .zip(&fit.coefficients)
             .zip(&diagnostics.std_errors)
             .enumerate()
-            .map(|(k, ((name, value), se))| CoefficientEstimate {
-                name: name.clone(),
-                value: *value,
-                std_error: *se,
-                plug_in_std_error: weighted.and_then(|w| w.plug_in_std_errors[k]),
-                residual_std_error: weighted.and_then(|w| w.scaled_std_errors[k]),
-                determined: identifiability.is_identifiable(name),
-                interval: None,
+            .map(|(k, ((name, value), se))| {
+                // A coefficient the data do not determine has no standard error: its
+                // value is one point on a line of equally good fits.
+                let determined = identifiability.is_identifiable(name);
+                let keep = |se: Option<f64>| se.filter(|_| determined);
+                CoefficientEstimate {
+                    name: name.clone(),
+                    value: *value,
+                    std_error: keep(*se),
+                    plug_in_std_error: keep(weighted.and_then(|w| w.plug_in_std_errors[k])),
+                    residual_std_error: keep(weighted.and_then(|w| w.scaled_std_errors[k])),
+                    determined,
+                    interval: None,
+                }
             })
             .collect();
         let nuisance = coefficients.split_off(p - regressor.nuisance_count());
@@ -222,6 +239,23 @@ impl FitReport {
             }),
             _ => None,
         };
+        let records = records::per_record(
+            regressor.rows(),
+            &diagnostics.residuals,
+            noise.as_ref().map(|n| n.residual_std.as_slice()),
+            free,
+        );
+        let equations = regressor.equations();
+        for r in &records {
+            if r.dominates(records.len(), equations) {
+                warnings.push(Warning::RecordDominates {
+                    record: r.record.clone(),
+                    residual_share: r.residual_share,
+                    equation_share: r.equations as f64 / equations as f64,
+                    standardised_residual: r.standardised_residual,
+                });
+            }
+        }
         FitReport {
             status: fit.status,
             method: fit.method,
@@ -245,6 +279,7 @@ impl FitReport {
             bootstrap: None,
             noise,
             velocity_noise: None,
+            records,
             warnings,
         }
     }
@@ -256,7 +291,7 @@ impl FitReport {
             c.interval = bootstrap
                 .intervals
                 .iter()
-                .find(|i| i.name == c.name)
+                .find(|i| i.name == c.name && c.determined)
                 .cloned();
         }
         self.bootstrap = Some(bootstrap.summary);
@@ -291,6 +326,61 @@ impl FitReport {
         }
         self.velocity_noise = assessment;
         self
+    }
+
+    /// Adds a warning when `steady` accepted windows that are not in steady state
+    /// ([`Warning::TransientAccepted`]); `None` (the non-periodic mode) adds nothing.
+    pub fn with_steady_state(mut self, steady: Option<&SteadyStateReport>) -> Self {
+        if let Some(steady) = steady {
+            let rejected: Vec<_> = steady.rejected().collect();
+            if !rejected.is_empty() {
+                let mut records: Vec<String> = Vec::new();
+                for w in &rejected {
+                    if !records.contains(&w.record) {
+                        records.push(w.record.clone());
+                    }
+                }
+                self.warnings.push(Warning::TransientAccepted {
+                    windows: rejected.len(),
+                    records,
+                });
+            }
+        }
+        self
+    }
+
+    /// Why `identify --strict` fails, one line each (empty: it passes): a coefficient
+    /// that is not determined, windows accepted as transient, the model check (χ²)
+    /// failing, or a fit that did not converge.
+    pub fn strict_failures(&self) -> Vec<String> {
+        let mut failures = Vec::new();
+        let undetermined: Vec<&str> = self
+            .coefficients
+            .iter()
+            .filter(|c| !c.determined)
+            .map(|c| c.name.as_str())
+            .collect();
+        if !undetermined.is_empty() {
+            failures.push(format!(
+                "not determined: {}",
+                crate::analysis::identifiability::list(&undetermined)
+            ));
+        }
+        for w in &self.warnings {
+            match w {
+                Warning::TransientAccepted { windows, .. } => failures.push(format!(
+                    "{windows} window(s) accepted although not in steady state"
+                )),
+                Warning::ModelInadequate { p_value, .. } => failures.push(format!(
+                    "the model check fails: χ² P = {p_value:.1e} < {INADEQUATE_P_VALUE}"
+                )),
+                Warning::NotConverged { status } => {
+                    failures.push(format!("the fit ended with status {status:?}"))
+                }
+                _ => {}
+            }
+        }
+        failures
     }
 
     /// True when the data determine every coefficient and the fit converged: the

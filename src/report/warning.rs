@@ -95,6 +95,39 @@ pub enum Warning {
         /// Each negative coefficient, its value and its standard error (when known).
         coefficients: Vec<(String, f64, Option<f64>)>,
     },
+    /// Windows that are not in steady state were accepted (`accept_transient`): their
+    /// energy balance misses the change of stored energy.
+    TransientAccepted {
+        /// How many windows.
+        windows: usize,
+        /// The records they belong to.
+        records: Vec<String>,
+    },
+    /// One record holds most of the residual ([`crate::report::records`]).
+    RecordDominates {
+        /// The record's label.
+        record: String,
+        /// Its share of the squared residual.
+        residual_share: f64,
+        /// Its share of the equations.
+        equation_share: f64,
+        /// Its standardised residual.
+        standardised_residual: Option<f64>,
+    },
+}
+
+impl Warning {
+    /// Whether `identify --strict` fails on this warning: a coefficient not determined,
+    /// a window accepted as transient, or the model check (χ²) failing.
+    pub fn fails_strict(&self) -> bool {
+        matches!(
+            self,
+            Warning::Unidentifiable { .. }
+                | Warning::RankDeficient { .. }
+                | Warning::TransientAccepted { .. }
+                | Warning::ModelInadequate { .. }
+        )
+    }
 }
 
 impl fmt::Display for Warning {
@@ -223,6 +256,30 @@ impl fmt::Display for Warning {
                     f,
                     "; the values shown for {} are not estimates; add experiments at other frequencies, amplitudes or forcing points (`dampid design`)",
                     list(&names)
+                )
+            }
+            Warning::TransientAccepted { windows, records } => {
+                let names: Vec<&str> = records.iter().map(String::as_str).collect();
+                write!(
+                    f,
+                    "{windows} window(s) not in steady state, accepted (dampid check shows them), in {}: over them the stored energy does not return to its start, so the estimates carry a bias the standard errors do not include; skip the transient (`skip` in [identification]) or record longer",
+                    list(&names)
+                )
+            }
+            Warning::RecordDominates {
+                record,
+                residual_share,
+                equation_share,
+                standardised_residual,
+            } => {
+                let z = standardised_residual
+                    .map(|z| format!(", standardised residual {z:.2}"))
+                    .unwrap_or_default();
+                write!(
+                    f,
+                    "record '{record}' holds {:.1}% of the squared residual from {:.1}% of the equations{z}: check its force columns' DOF and sign, its period, whether it is in steady state, and whether the model misses a mechanism this record excites; identify without it to compare",
+                    100.0 * residual_share,
+                    100.0 * equation_share
                 )
             }
         }

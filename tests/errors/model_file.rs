@@ -217,6 +217,32 @@ fn negative_simulation_noise_is_refused_at_its_table() {
     }
 }
 
+/// A `[units]` entry that is not a known dimension is `UnknownName` listing the known
+/// ones, at the line of the entry.
+#[test]
+fn unknown_unit_dimension_names_the_line() {
+    let text = "dofs = 1\n[[terms]]\nkind = \"law\"\nlaw = \"linear\"\nelements = [[1, 0]]\ncoefficient = \"c\"\n[units]\nlength = \"m\"\nlenght = \"mm\"\n";
+    match parse_model(text, "u.toml") {
+        Err(Error::ModelFile {
+            file, line, cause, ..
+        }) => {
+            assert_eq!((file.as_str(), line), ("u.toml", 9));
+            match cause.as_deref() {
+                Some(Error::UnknownName { what, name, known }) => {
+                    assert_eq!(name, "lenght");
+                    assert!(what.contains("[units]"), "{what}");
+                    assert!(
+                        known.contains("length") && known.contains("force"),
+                        "{known}"
+                    );
+                }
+                other => panic!("{other:?}"),
+            }
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
 /// `model_file::parse_model` (the Python package's `Model.from_toml`) builds the terms
 /// alone: a file without records is a model, and a bad term is the error `parse` gives,
 /// at its line.

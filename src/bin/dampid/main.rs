@@ -85,6 +85,7 @@ fn run(cli: Cli) -> anyhow::Result<Outcome> {
             accept_transient,
             bootstrap,
             seed,
+            strict,
         } => {
             let bootstrap = bootstrap.map(|replicates| BootstrapSettings {
                 replicates,
@@ -93,7 +94,7 @@ fn run(cli: Cli) -> anyhow::Result<Outcome> {
             });
             let report =
                 report.map(|folder| (folder.join("report.html"), Overwrite::from_force(force)));
-            identify(&model, json, report, accept_transient, bootstrap)
+            identify(&model, json, report, accept_transient, bootstrap, strict)
         }
         Command::Check {
             model,
@@ -211,6 +212,7 @@ fn identify(
     html: Option<(PathBuf, Overwrite)>,
     accept_transient: bool,
     bootstrap: Option<BootstrapSettings>,
+    strict: bool,
 ) -> anyhow::Result<Outcome> {
     // Refuse an existing report before any work, and again when it is renamed into place.
     if let Some((file, Overwrite::Refuse)) = &html {
@@ -264,7 +266,26 @@ fn identify(
             &job.records,
             &job.settings.regressor,
             &regressor,
-        ));
+        ))
+        .with_steady_state(steady.as_ref());
+    // The command line's own settings, for the provenance.
+    let flags = vec![
+        (
+            "command line".to_string(),
+            std::env::args().collect::<Vec<_>>().join(" "),
+        ),
+        (
+            "accept transient windows".to_string(),
+            job.steady_state.accept_transient.to_string(),
+        ),
+        (
+            "bootstrap".to_string(),
+            bootstrap
+                .as_ref()
+                .map_or("none".to_string(), |b| format!("{b:?}")),
+        ),
+        ("strict".to_string(), strict.to_string()),
+    ];
     if let Some(settings) = bootstrap {
         // Stepped-sine tables: errors are correlated within a sweep, so whole sweeps
         // are resampled.
@@ -294,6 +315,9 @@ fn identify(
             report: &report,
             truth: job.truth.as_deref(),
             pod: job.pod.as_ref(),
+            steady: steady.as_ref(),
+            provenance: Some(&job.provenance(path, &flags)?),
+            units: Some(&job.units),
         }
         .render_with(equivalent.as_ref().and_then(|e| e.as_ref().ok()))?;
         if let Some(folder) = file.parent() {
@@ -350,9 +374,17 @@ fn identify(
             None => {}
         }
     }
+    let failures = if strict {
+        report.strict_failures()
+    } else {
+        Vec::new()
+    };
+    for failure in &failures {
+        eprintln!("strict: {failure}");
+    }
     Ok(Outcome {
         text: out,
-        trusted: report.status.is_usable(),
+        trusted: report.status.is_usable() && failures.is_empty(),
     })
 }
 

@@ -1,10 +1,15 @@
-//! A self-contained HTML report of one identification: the coefficients with standard
-//! errors and 95% intervals (θ ± 1.96 se), the warnings in words, the conditioning, and
-//! inline SVG plots: measured input work against identified dissipated work per window,
-//! the residuals with their bias, and each identified damping law θ f(v) against the
-//! relative velocity with its uncertainty band. When identification ran on proper
-//! orthogonal mode coordinates, a section shows the modes, their energy shares and the
-//! retained shapes (`pom.rs`). Nothing is loaded from outside the file.
+//! A self-contained HTML report of one identification, truthful about what the data
+//! determine: the warnings (every one the text report gives), the coefficients with
+//! their units, standard errors and 95% intervals (θ ± 1.96 se), where a coefficient the
+//! data do not determine reads "not determined" and the determined combinations are
+//! given instead; each record's share of the residual; the identifiability (VIFs,
+//! correlations, near-null directions, determined combinations) and the steady-state
+//! verdict of every window; inline SVG plots (plots.rs): measured input work against
+//! identified dissipated work per window and the residuals, both coloured by record, and
+//! each identified damping law θ f(v) with its band over the relative velocity its
+//! elements were measured at; when identification ran on proper orthogonal mode
+//! coordinates, the modes (pom.rs); and the provenance (model file, data files with
+//! SHA-256, settings, version, commit, date). Nothing is loaded from outside the file.
 
 mod plots;
 mod pom;
@@ -15,14 +20,20 @@ use crate::analysis::equivalent::EquivalentDamping;
 use crate::error::Result;
 use crate::model::DampingModel;
 use crate::prep::pod::Reduction;
+use crate::prep::steady_state::{ComparedPeriods, SteadyStateReport};
 use crate::record::{Record, col};
 use crate::regressor::Regressor;
 use crate::report::FitReport;
 use crate::report::count;
-use crate::terms::Term;
+use crate::report::provenance::Provenance;
+use crate::report::units::Units;
+use crate::terms::{Coefficients, Term};
 
 /// Curves drawn per term at most (per-element terms may have thousands).
 const MAX_CURVES: usize = 8;
+
+/// Steady-state rows shown open; beyond, the table is folded.
+const OPEN_WINDOWS: usize = 40;
 
 /// What the report shows.
 pub struct HtmlReport<'a> {
@@ -40,6 +51,12 @@ pub struct HtmlReport<'a> {
     pub truth: Option<&'a [(String, f64)]>,
     /// The POD reduction the records came from, when the model file asked for one.
     pub pod: Option<&'a Reduction>,
+    /// The steady-state check of every window (`None`: not run, or non-periodic).
+    pub steady: Option<&'a SteadyStateReport>,
+    /// Where the report came from (`None`: no provenance block).
+    pub provenance: Option<&'a Provenance>,
+    /// The units of the numbers (`None` or empty: none shown).
+    pub units: Option<&'a Units>,
 }
 
 impl HtmlReport<'_> {
@@ -55,30 +72,32 @@ impl HtmlReport<'_> {
     /// against the amplitude of the force DOF of `records` (the synthesized periods).
     pub fn render_with(&self, stepped_sine: Option<&EquivalentDamping>) -> Result<String> {
         let report = self.report;
-        let input = self.regressor.rhs();
-        let dissipated: Vec<f64> = input
-            .iter()
-            .zip(&report.residuals)
-            .map(|(b, e)| b - e)
-            .collect();
         let mut page = String::new();
         let title = escape(self.title);
         let _ = write!(
             page,
-            "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>{title}</title>\n<style>{STYLE}</style></head><body>\n<h1>{title}</h1>\n"
+            "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><meta name=\"viewport\" content=\"width=device-width, initial-scale=1\"><title>{title}</title>\n<style>{STYLE}</style></head><body>\n<h1>{title}</h1>\n"
         );
+        let estimate = if report.is_estimate() {
+            "every coefficient is determined"
+        } else {
+            "<b>not every coefficient is determined</b>"
+        };
         let _ = writeln!(
             page,
-            "<p>Status <b>{:?}</b> ({:?}); {} from {}; relative residual {:.3e}; residual bias {:+.3e} of mean |input work| ({} positive, {} negative).</p>",
+            "<p>Status <b>{:?}</b> ({:?}); {estimate}; {} from {}; relative residual {:.3e}; residual bias {:+.3e} of mean |input work| (mean residual / mean |b|; {} positive, {} negative).</p>",
             report.status,
             report.method,
             count(report.residuals.len(), "equation"),
-            count(self.records.len(), "record"),
+            count(self.record_count(), "record"),
             report.relative_residual,
             report.residual_bias.relative_mean,
             report.residual_bias.positive,
             report.residual_bias.negative
         );
+        if report.warnings.is_empty() {
+            page.push_str("<p>No warnings.</p>\n");
+        }
         for warning in &report.warnings {
             let _ = writeln!(
                 page,
@@ -86,42 +105,46 @@ impl HtmlReport<'_> {
                 escape(&warning.to_string())
             );
         }
+        page.push_str("<h2>Coefficients</h2>\n");
         page.push_str(&self.coefficient_table());
-        let condition = report
-            .condition_number
-            .map_or("infinite".to_string(), |k| format!("{k:.3e}"));
-        let singular: Vec<String> = report
-            .singular_values
-            .iter()
-            .map(|s| format!("{s:.3e}"))
-            .collect();
-        let _ = writeln!(
-            page,
-            "<p>Column-scaled regressor: rank {}, condition number {condition}, singular values [{}].</p>",
-            report.rank,
-            singular.join(", ")
-        );
+        page.push_str(&self.determined_combinations());
+        page.push_str(&self.records_section());
         page.push_str("<h2>Energy balance</h2>\n");
+        let work = self.units().work();
         page.push_str(&plots::work_balance(
-            input,
-            &dissipated,
+            &self.balance_groups(),
             !report.nuisance.is_empty(),
+            work.as_deref(),
         )?);
         page.push_str("\n<h2>Residuals</h2>\n");
-        page.push_str(&plots::residuals(&report.residuals)?);
+        page.push_str(&plots::residuals(
+            &self.residual_groups(),
+            report.residuals.len(),
+            report.residual_bias.relative_mean,
+            work.as_deref(),
+        )?);
         if let Some(noise) = &report.noise {
             page.push_str(&noise_section(noise));
         }
         page.push_str("\n<h2>Identified damping laws</h2>\n");
-        for svg in self.force_law_plots()? {
+        let plotted = self.force_law_plots()?;
+        if plotted.is_empty() {
+            page.push_str("<p>No law on elements: nothing to draw against velocity.</p>\n");
+        }
+        for svg in plotted {
             page.push_str(&svg);
             page.push('\n');
         }
+        page.push_str(&self.identifiability_section());
+        page.push_str(&self.steady_state_section());
         if let Some(reduction) = self.pod {
             page.push_str(&pom::section(reduction)?);
         }
         if let Some(equivalent) = stepped_sine {
             page.push_str(&self.energy_section(equivalent)?);
+        }
+        if let Some(provenance) = self.provenance {
+            page.push_str(&provenance_section(provenance, self.units()));
         }
         let json = serde_json::to_string_pretty(report).unwrap_or_default();
         let _ = write!(
@@ -171,16 +194,86 @@ impl HtmlReport<'_> {
         ))
     }
 
+    fn units(&self) -> Units {
+        self.units.cloned().unwrap_or_default()
+    }
+
+    /// The records that gave equations (all records when the report has no rows).
+    fn record_count(&self) -> usize {
+        if self.report.records.is_empty() {
+            self.records.len()
+        } else {
+            self.report.records.len()
+        }
+    }
+
+    /// Points grouped by the record of each equation, in record order: (record label,
+    /// values `of` each of its rows).
+    fn by_record(&self, of: impl Fn(usize) -> (f64, f64)) -> Vec<plots::Group> {
+        let mut groups: Vec<(usize, plots::Group)> = Vec::new();
+        for (i, row) in self.report.rows.iter().enumerate() {
+            let k = match groups.iter().position(|(r, _)| *r == row.record_index) {
+                Some(k) => k,
+                None => {
+                    groups.push((
+                        row.record_index,
+                        plots::Group {
+                            name: row.record.clone(),
+                            points: Vec::new(),
+                        },
+                    ));
+                    groups.len() - 1
+                }
+            };
+            groups[k].1.points.push(of(i));
+        }
+        groups.into_iter().map(|(_, g)| g).collect()
+    }
+
+    fn balance_groups(&self) -> Vec<plots::Group> {
+        let input = self.regressor.rhs();
+        let residuals = &self.report.residuals;
+        self.by_record(|i| (input[i], input[i] - residuals[i]))
+    }
+
+    fn residual_groups(&self) -> Vec<plots::Group> {
+        let residuals = &self.report.residuals;
+        self.by_record(|i| ((i + 1) as f64, residuals[i]))
+    }
+
+    /// The unit of each coefficient, in model order.
+    fn coefficient_units(&self) -> Vec<Option<String>> {
+        let units = self.units();
+        self.model
+            .term_columns()
+            .flat_map(|(term, range)| {
+                let unit = units.coefficient(term);
+                range.map(move |_| unit.clone())
+            })
+            .collect()
+    }
+
     fn coefficient_table(&self) -> String {
-        let mut table = String::from(
-            "<table><tr><th>coefficient</th><th>estimate</th><th>std error</th><th>95% interval</th>",
-        );
+        let units = self.coefficient_units();
+        let with_units = units.iter().any(Option::is_some);
+        let bootstrap = self.report.bootstrap.as_ref().map(|b| b.level);
+        let mut table = String::from("<table><tr><th>coefficient</th>");
+        if with_units {
+            table.push_str("<th>unit</th>");
+        }
+        table.push_str("<th>estimate</th><th>std error</th><th>95% interval</th>");
+        if let Some(level) = bootstrap {
+            let _ = write!(table, "<th>bootstrap {}% interval</th>", 100.0 * level);
+        }
         if self.truth.is_some() {
             table.push_str("<th>true</th><th>error</th>");
         }
         table.push_str("</tr>\n");
         let damping = self.report.coefficients.len();
-        let columns = if self.truth.is_some() { 6 } else { 4 };
+        let columns = 4
+            + usize::from(with_units)
+            + usize::from(bootstrap.is_some())
+            + if self.truth.is_some() { 2 } else { 0 };
         for (k, c) in self
             .report
             .coefficients
@@ -194,19 +287,39 @@ impl HtmlReport<'_> {
                     "<tr><th colspan=\"{columns}\">stored energy and constant forces (nuisance unknowns of the non-periodic balance)</th></tr>"
                 );
             }
-            let (se, interval) = match c.std_error {
-                Some(se) => (
-                    format!("{se:.3e}"),
-                    format!("[{:.6e}, {:.6e}]", c.value - 1.96 * se, c.value + 1.96 * se),
-                ),
-                None => ("–".into(), "–".into()),
-            };
-            let _ = write!(
-                table,
-                "<tr><td>{}</td><td>{:.6e}</td><td>{se}</td><td>{interval}</td>",
-                escape(&c.name),
-                c.value
-            );
+            let _ = write!(table, "<tr><td>{}</td>", escape(&c.name));
+            if with_units {
+                let unit = units.get(k).cloned().flatten().unwrap_or_default();
+                let _ = write!(table, "<td>{}</td>", escape(&unit));
+            }
+            if c.determined {
+                let (se, interval) = match c.std_error {
+                    Some(se) => (
+                        format!("{se:.3e}"),
+                        format!("[{:.6e}, {:.6e}]", c.value - 1.96 * se, c.value + 1.96 * se),
+                    ),
+                    None => ("–".into(), "–".into()),
+                };
+                let _ = write!(
+                    table,
+                    "<td>{:.6e}</td><td>{se}</td><td>{interval}</td>",
+                    c.value
+                );
+            } else {
+                let _ = write!(
+                    table,
+                    "<td class=\"undetermined\" colspan=\"3\"><b>not determined</b> (the least-squares value {:.4e} is one point on a line of equally good fits; see the determined combinations)</td>",
+                    c.value
+                );
+            }
+            if bootstrap.is_some() {
+                match &c.interval {
+                    Some(i) => {
+                        let _ = write!(table, "<td>[{:.6e}, {:.6e}]</td>", i.lower, i.upper);
+                    }
+                    None => table.push_str("<td>–</td>"),
+                }
+            }
             if let Some(truth) = self.truth {
                 match truth.iter().find(|(n, _)| *n == c.name) {
                     Some((_, t)) if *t != 0.0 => {
@@ -240,24 +353,243 @@ impl HtmlReport<'_> {
         table
     }
 
-    /// One plot per element term: θ f(0, v) for v in ±max|v| of the records, with the
-    /// band (θ ± 1.96 se) f(0, v). Laws of x are drawn at x = 0.
+    /// The combinations the data determine, when some coefficient is not determined.
+    fn determined_combinations(&self) -> String {
+        let id = &self.report.identifiability;
+        if id.determined.is_empty() {
+            return String::new();
+        }
+        let mut out = String::from(
+            "<h3>Determined combinations</h3>\n<p>These combinations of the coefficients are what the data determine (value ± standard error):</p>\n<ul>\n",
+        );
+        for d in &id.determined {
+            let se = d
+                .std_error
+                .map(|s| format!(" ± {s:.3e}"))
+                .unwrap_or_default();
+            let _ = writeln!(
+                out,
+                "<li><code>{}</code> = {:.6e}{se}</li>",
+                escape(&d.combination.text),
+                d.value
+            );
+        }
+        out.push_str("</ul>\n");
+        out
+    }
+
+    /// Each record's share of the residual and its standardised residual.
+    fn records_section(&self) -> String {
+        let records = &self.report.records;
+        if records.is_empty() {
+            return String::new();
+        }
+        let total = self.report.residuals.len();
+        let mut out = String::from(
+            "<h2>Records</h2>\n<p>Each record's share of the squared residual (weighted as fitted) against its share of the equations, and its RMS residual in units of the fit's residual standard deviation (about 1 when it fits like the rest).</p>\n<table><tr><th>record</th><th>equations</th><th>share of equations</th><th>share of squared residual</th><th>standardised residual</th><th>mean residual</th></tr>\n",
+        );
+        for r in records {
+            let flag = r.dominates(records.len(), total);
+            let z = r
+                .standardised_residual
+                .map_or("–".into(), |z| format!("{z:.2}"));
+            let _ = writeln!(
+                out,
+                "<tr{}><td>{}</td><td>{}</td><td>{:.1}%</td><td>{:.1}%</td><td>{z}</td><td>{:+.3e}</td></tr>",
+                if flag { " class=\"flag\"" } else { "" },
+                escape(&r.record),
+                r.equations,
+                100.0 * r.equations as f64 / total.max(1) as f64,
+                100.0 * r.residual_share,
+                r.mean_residual
+            );
+        }
+        out.push_str("</table>\n");
+        out
+    }
+
+    fn identifiability_section(&self) -> String {
+        let report = self.report;
+        let id = &report.identifiability;
+        let mut out = String::from("\n<h2>Identifiability</h2>\n");
+        let condition = report
+            .condition_number
+            .map_or("infinite".to_string(), |k| format!("{k:.3e}"));
+        let singular: Vec<String> = report
+            .singular_values
+            .iter()
+            .map(|s| format!("{s:.3e}"))
+            .collect();
+        let _ = writeln!(
+            out,
+            "<p>Column-scaled regressor: rank {}, practical rank {} of {}, condition number {condition}, singular values [{}].</p>",
+            report.rank,
+            id.practical_rank,
+            id.names.len(),
+            singular.join(", ")
+        );
+        if id.null_directions.is_empty() {
+            out.push_str(
+                "<p>No near-null direction: every coefficient is separated by the data.</p>\n",
+            );
+        } else {
+            out.push_str("<p>Directions the data do not determine:</p>\n<ul>\n");
+            for d in &id.null_directions {
+                let _ = writeln!(out, "<li>{}</li>", escape(&d.text));
+            }
+            out.push_str("</ul>\n");
+        }
+        out.push_str("<h3>Variance inflation factors</h3>\n<p>VIF = 1/(1 − R²) of each column against the others: 1 for an orthogonal column, infinite for one the others reproduce.</p>\n<table><tr><th>coefficient</th><th>VIF</th><th>determined</th></tr>\n");
+        for (name, vif) in id.names.iter().zip(&id.variance_inflation) {
+            let _ = writeln!(
+                out,
+                "<tr><td>{}</td><td>{}</td><td>{}</td></tr>",
+                escape(name),
+                vif.map_or("infinite".to_string(), |v| format!("{v:.3e}")),
+                if id.is_identifiable(name) {
+                    "yes"
+                } else {
+                    "no"
+                }
+            );
+        }
+        out.push_str("</table>\n");
+        if let Some(c) = &report.correlation
+            && c.names.len() > 1
+        {
+            out.push_str("<h3>Correlation of the estimates</h3>\n<table><tr><th></th>");
+            for n in &c.names {
+                let _ = write!(out, "<th>{}</th>", escape(n));
+            }
+            out.push_str("</tr>\n");
+            for (n, row) in c.names.iter().zip(&c.matrix) {
+                let _ = write!(out, "<tr><th>{}</th>", escape(n));
+                for r in row {
+                    let _ = write!(out, "<td>{r:.3}</td>");
+                }
+                out.push_str("</tr>\n");
+            }
+            out.push_str("</table>\n");
+        }
+        out
+    }
+
+    fn steady_state_section(&self) -> String {
+        let Some(steady) = self.steady else {
+            return if self.report.nuisance.is_empty() {
+                "\n<h2>Steady state</h2>\n<p>Not checked for this report.</p>\n".into()
+            } else {
+                "\n<h2>Steady state</h2>\n<p>Non-periodic balance: the stored energy is an unknown, so no window needs to be in steady state.</p>\n".into()
+            };
+        };
+        let rejected = steady.rejected().count();
+        let mut out = String::from("\n<h2>Steady state</h2>\n");
+        let criterion = if steady.energy_known {
+            "the stored-energy mismatch |ΔE| as a share of the window's input work"
+        } else {
+            "the change of the motion over the window relative to its amplitude (δx, δv)"
+        };
+        let _ = writeln!(
+            out,
+            "<p>{} of {} windows steady, judged by {criterion}{}.</p>",
+            steady.windows.len() - rejected,
+            steady.windows.len(),
+            if rejected > 0 {
+                if steady.settings.accept_transient {
+                    "; the others were accepted although not in steady state"
+                } else {
+                    ""
+                }
+            } else {
+                ""
+            }
+        );
+        let fold = steady.windows.len() > OPEN_WINDOWS;
+        if fold {
+            let _ = writeln!(
+                out,
+                "<details><summary>Every window ({})</summary>",
+                steady.windows.len()
+            );
+        }
+        out.push_str("<table><tr><th>record</th><th>window</th><th>start time</th><th>compared</th><th>δx</th><th>δv</th><th>|ΔE|/|W|</th><th>verdict</th></tr>\n");
+        for w in &steady.windows {
+            let compared = match w.compared {
+                ComparedPeriods::FirstAndLastPeriod => "first/last",
+                ComparedPeriods::NextPeriod => "next",
+                ComparedPeriods::PreviousPeriod => "previous",
+                ComparedPeriods::NotJudged => "–",
+            };
+            let energy = w
+                .energy_mismatch
+                .map_or("–".to_string(), |e| format!("{:.3}%", 100.0 * e));
+            let verdict = if w.compared == ComparedPeriods::NotJudged {
+                "not judged (accepted)"
+            } else if w.steady {
+                "steady"
+            } else {
+                "NOT steady (accepted)"
+            };
+            let _ = writeln!(
+                out,
+                "<tr{}><td>{}</td><td>{}</td><td>{:.6}</td><td>{compared}</td><td>{:.3}%</td><td>{:.3}%</td><td>{energy}</td><td title=\"{}\">{verdict}</td></tr>",
+                if w.steady { "" } else { " class=\"flag\"" },
+                escape(&w.record),
+                w.window,
+                w.start_time,
+                100.0 * w.displacement_mismatch,
+                100.0 * w.velocity_mismatch,
+                escape(&w.reason)
+            );
+        }
+        out.push_str("</table>\n");
+        if fold {
+            out.push_str("</details>\n");
+        }
+        out
+    }
+
+    /// One plot per element term: θ f(0, v) over the relative velocity its elements were
+    /// measured at (nothing drawn beyond), with the band (θ ± 1.96 se) f(0, v) when the
+    /// coefficient is determined. Laws of x are drawn at x = 0.
     fn force_law_plots(&self) -> Result<Vec<String>> {
-        let v_max = self.velocity_range();
-        let speeds: Vec<f64> = (0..=100).map(|i| v_max * (i as f64 / 50.0 - 1.0)).collect();
+        let units = self.units();
+        let velocity = units.velocity();
+        let force = units.force.clone();
         let mut svgs = Vec::new();
         for (term, range) in self.model.term_columns() {
             let Term::Elements(term) = term else { continue };
             let law = term.law();
+            let elements = term.elements();
+            let shared = matches!(term.coefficients(), Coefficients::Shared(_));
             let curves: Vec<plots::Curve> = range
+                .clone()
                 .take(MAX_CURVES)
-                .map(|k| {
+                .enumerate()
+                .map(|(j, k)| {
                     let c = &self.report.coefficients[k];
+                    let (lo, hi) = if shared {
+                        elements
+                            .iter()
+                            .map(|e| self.velocity_range(e.a, e.b))
+                            .fold((0.0f64, 0.0f64), |(l, h), (a, b)| (l.min(a), h.max(b)))
+                    } else {
+                        self.velocity_range(elements[j].a, elements[j].b)
+                    };
+                    let (lo, hi) = if hi > lo { (lo, hi) } else { (-1.0, 1.0) };
+                    let speeds: Vec<f64> = (0..=200)
+                        .map(|i| lo + (hi - lo) * i as f64 / 200.0)
+                        .collect();
                     let f = |theta: f64, v: f64| theta * law.force(0.0, v);
+                    let name = if c.determined {
+                        c.name.clone()
+                    } else {
+                        format!("{} (not determined)", c.name)
+                    };
                     plots::Curve {
-                        name: c.name.clone(),
+                        name,
                         points: speeds.iter().map(|&v| (v, f(c.value, v))).collect(),
-                        band: c.std_error.map(|se| {
+                        band: c.std_error.filter(|_| c.determined).map(|se| {
                             speeds
                                 .iter()
                                 .map(|&v| {
@@ -270,35 +602,117 @@ impl HtmlReport<'_> {
                     }
                 })
                 .collect();
-            svgs.push(plots::force_laws(&format!("{} law", law.name()), &curves)?);
+            let more = range.len().saturating_sub(MAX_CURVES);
+            let title = if more > 0 {
+                format!(
+                    "{} law (first {MAX_CURVES} of {} coefficients)",
+                    law.name(),
+                    range.len()
+                )
+            } else {
+                format!("{} law", law.name())
+            };
+            svgs.push(plots::force_laws(
+                &title,
+                &curves,
+                (velocity.as_deref(), force.as_deref()),
+            )?);
         }
         Ok(svgs)
     }
 
-    /// The largest |velocity| in the records (measured, else central differences).
-    fn velocity_range(&self) -> f64 {
-        let mut v_max: f64 = 0.0;
+    /// The smallest and largest relative velocity v_a − v_b (v_a to ground) in the
+    /// records (measured velocities, else central differences of the displacements).
+    fn velocity_range(&self, a: usize, b: Option<usize>) -> (f64, f64) {
+        let mut range = (f64::INFINITY, f64::NEG_INFINITY);
         for record in self.records {
+            if a >= record.dofs() || b.is_some_and(|b| b >= record.dofs()) {
+                continue;
+            }
             let h2 = 2.0 * record.step();
-            for j in 0..record.dofs() {
+            let velocity = |j: usize| -> Vec<f64> {
                 match record.velocities() {
-                    Some(v) => v_max = col(v, j).iter().fold(v_max, |m, v| m.max(v.abs())),
-                    None => {
-                        let x = col(record.displacements(), j);
-                        v_max = x
-                            .windows(3)
-                            .fold(v_max, |m, w| m.max(((w[2] - w[0]) / h2).abs()));
-                    }
+                    Some(v) => col(v, j).to_vec(),
+                    None => col(record.displacements(), j)
+                        .windows(3)
+                        .map(|w| (w[2] - w[0]) / h2)
+                        .collect(),
+                }
+            };
+            let va = velocity(a);
+            let vb = b.map(velocity);
+            for (i, v) in va.iter().enumerate() {
+                let relative = v - vb.as_ref().map_or(0.0, |vb| vb[i]);
+                if relative.is_finite() {
+                    range = (range.0.min(relative), range.1.max(relative));
                 }
             }
         }
-        if v_max > 0.0 { v_max } else { 1.0 }
+        range
     }
 }
 
-const STYLE: &str = "body{font-family:sans-serif;max-width:60em;margin:2em auto;color:#222}\
-table{border-collapse:collapse}td,th{border:1px solid #bbb;padding:.25em .6em;text-align:right}\
-th{background:#eee}.warning{background:#fff3cd;border:1px solid #e0c060;padding:.5em}svg{display:block;margin:1em 0}";
+/// Where the report came from: the model file (folded), the data files with their size
+/// and SHA-256, the units, every setting (folded), dampid's version and commit, the date.
+fn provenance_section(p: &Provenance, units: Units) -> String {
+    let mut out = String::from("\n<h2>Provenance</h2>\n");
+    let _ = writeln!(
+        out,
+        "<p>Made {} by dampid {} (git commit <code>{}</code>) from the model file <code>{}</code>.</p>",
+        escape(&p.date),
+        escape(&p.version),
+        escape(&p.commit),
+        escape(&p.model_file)
+    );
+    let _ = writeln!(
+        out,
+        "<details><summary>Model file <code>{}</code></summary><pre>{}</pre></details>",
+        escape(&p.model_file),
+        escape(&p.model_text)
+    );
+    if p.data_files.is_empty() {
+        out.push_str("<p>No data files: the records were simulated from the model file.</p>\n");
+    } else {
+        out.push_str("<table><tr><th>data file</th><th>bytes</th><th>SHA-256</th></tr>\n");
+        for f in &p.data_files {
+            let _ = writeln!(
+                out,
+                "<tr><td>{}</td><td>{}</td><td><code class=\"hash\">{}</code></td></tr>",
+                escape(&f.path),
+                f.bytes,
+                f.sha256
+            );
+        }
+        out.push_str("</table>\n");
+    }
+    if units.is_empty() {
+        out.push_str("<p>Units: none given (a <code>[units]</code> section names them).</p>\n");
+    } else {
+        let given: Vec<String> = [
+            ("length", &units.length),
+            ("force", &units.force),
+            ("time", &units.time),
+            ("angle", &units.angle),
+            ("mass", &units.mass),
+        ]
+        .iter()
+        .filter_map(|(d, u)| u.as_ref().map(|u| format!("{d} {}", escape(u))))
+        .collect();
+        let _ = writeln!(out, "<p>Units: {}.</p>", given.join(", "));
+    }
+    out.push_str("<details><summary>Every setting in effect, defaults included</summary>\n");
+    for (name, value) in &p.settings {
+        let _ = writeln!(out, "<h4>{}</h4><pre>{}</pre>", escape(name), escape(value));
+    }
+    out.push_str("</details>\n");
+    out
+}
+
+const STYLE: &str = "body{font-family:sans-serif;max-width:72em;margin:2em auto;padding:0 1em;color:#222;line-height:1.4}\
+table{border-collapse:collapse;display:block;max-width:100%;overflow-x:auto}td,th{border:1px solid #bbb;padding:.25em .6em;text-align:right}\
+th{background:#eee}.warning{background:#fff3cd;border:1px solid #e0c060;padding:.5em}.flag td{background:#fde2d8}\
+td.undetermined{text-align:left;color:#7a2e00}pre{white-space:pre-wrap;word-break:break-all;background:#f6f6f6;padding:.5em}\
+code.hash{word-break:break-all}svg{display:block;margin:1em 0;width:100%;height:auto}";
 
 /// The noise-robust pipeline's model check and, per window, the harmonics kept and the
 /// estimated noise.

@@ -1,18 +1,62 @@
 //! SVG charts for the HTML report, drawn with plotters' SVG backend. Text is written as
 //! SVG `<text>` elements with estimated metrics, so no font library is needed.
+//!
+//! plotters writes whole-pixel coordinates; every chart is drawn at [`OVERSAMPLE`] times
+//! its size and shown at its size (the root's `viewBox` keeps the drawn size, `width` and
+//! `height` the shown one), so lines land on quarter pixels instead of stair-stepping.
+//! Every length below (fonts, margins, markers, strokes) is in shown pixels and
+//! multiplied by [`OVERSAMPLE`] where it is drawn. Text is at least 13 px as shown at
+//! [`SIZE`] (plotters writes `font-size` = size / 1.24). Colours are the Okabe–Ito
+//! palette, safe for the common colour-vision deficiencies.
 
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use crate::error::{Error, Result};
 
-const SIZE: (u32, u32) = (640, 400);
+/// The shown size of a chart, in CSS pixels (the page stretches it to its width).
+pub(crate) const SIZE: (u32, u32) = (960, 480);
+
+/// Drawn pixels per shown pixel.
+pub(crate) const OVERSAMPLE: u32 = 4;
+
+/// `px` shown pixels in drawn pixels.
+const fn px(px: u32) -> u32 {
+    px * OVERSAMPLE
+}
+
+/// Font sizes (plotters' size, shown pixels ×1.24 = the written font-size ≥ 13 px).
+const CAPTION_FONT: f64 = 22.0 * 1.24;
+const LABEL_FONT: f64 = 14.0 * 1.24;
+const DESC_FONT: f64 = 15.0 * 1.24;
+
+/// The Okabe–Ito palette without yellow (hard to see on white) and black (the reference
+/// lines): blue, vermillion, bluish green, orange, sky blue, reddish purple.
+pub(crate) const PALETTE: [RGBColor; 6] = [
+    RGBColor(0x00, 0x72, 0xB2),
+    RGBColor(0xD5, 0x5E, 0x00),
+    RGBColor(0x00, 0x9E, 0x73),
+    RGBColor(0xE6, 0x9F, 0x00),
+    RGBColor(0x56, 0xB4, 0xE9),
+    RGBColor(0xCC, 0x79, 0xA7),
+];
+
+/// The colour of series `k`.
+pub(crate) fn colour(k: usize) -> RGBColor {
+    PALETTE[k % PALETTE.len()]
+}
 
 /// A named curve with an optional band (lower, upper) at each point.
 pub(crate) struct Curve {
     pub name: String,
     pub points: Vec<(f64, f64)>,
     pub band: Option<Vec<(f64, f64, f64)>>,
+}
+
+/// Points of one group (a record) in a scatter: its legend name and (x, y) points.
+pub(crate) struct Group {
+    pub name: String,
+    pub points: Vec<(f64, f64)>,
 }
 
 fn plot_error(e: impl std::fmt::Display) -> Error {
@@ -24,10 +68,26 @@ fn plot_error(e: impl std::fmt::Display) -> Error {
 
 type Chart<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
+/// Draws one chart with `draw` on an oversampled canvas and returns the SVG shown at
+/// [`SIZE`].
+fn chart_svg(
+    draw: impl FnOnce(&DrawingArea<SVGBackend<'_>, plotters::coord::Shift>) -> Result<()>,
+) -> Result<String> {
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (px(SIZE.0), px(SIZE.1))).into_drawing_area();
+        draw(&root)?;
+        root.present().map_err(plot_error)?;
+    }
+    let drawn = format!("width=\"{}\" height=\"{}\"", px(SIZE.0), px(SIZE.1));
+    let shown = format!("width=\"{}\" height=\"{}\"", SIZE.0, SIZE.1);
+    Ok(svg.replacen(&drawn, &shown, 1))
+}
+
 /// How an axis's tick labels read.
 #[derive(Debug, Clone, Copy)]
 enum Ticks {
-    /// plotters' own numbers.
+    /// Numbers at a round step, never "-0".
     Plain,
     /// An index axis: labels at whole numbers only, at most this many.
     Integers(usize),
@@ -55,26 +115,35 @@ fn whole(value: f64) -> Option<i64> {
     ((value - rounded).abs() < 1e-9 && rounded.abs() < 1e15).then_some(rounded as i64)
 }
 
-/// The common frame: caption, margins, axes with their descriptions.
-fn frame<'a, 'b>(
-    root: &'a DrawingArea<SVGBackend<'b>, plotters::coord::Shift>,
-    caption: &str,
-    x: std::ops::Range<f64>,
-    y: std::ops::Range<f64>,
-    descriptions: (&str, &str),
-) -> Result<Chart<'a, 'b>> {
-    frame_with_ticks(
-        root,
-        caption,
-        x,
-        y,
-        descriptions,
-        (Ticks::Plain, Ticks::Plain),
-    )
+/// The label of tick `value` on an axis spanning `span`: as many decimals as a tenth of
+/// the span needs, exponent form for very large or small numbers, and "0" for a tick at
+/// zero up to round-off (never "-0.0").
+pub(crate) fn tick_label(value: f64, span: f64) -> String {
+    let step = (span.abs() / 10.0).max(f64::MIN_POSITIVE);
+    if value.abs() < 1e-6 * step {
+        return "0".into();
+    }
+    let magnitude = value.abs().max(step);
+    if !(1e-3..1e5).contains(&magnitude) || step < 1e-4 {
+        let digits = ((magnitude / step).log10().ceil().max(0.0) as usize).min(6);
+        return format!("{value:.digits$e}");
+    }
+    let decimals = (-step.log10().floor()).max(0.0) as usize;
+    let text = format!("{value:.decimals$}");
+    if text
+        .trim_start_matches('-')
+        .chars()
+        .all(|c| c == '0' || c == '.')
+    {
+        "0".into()
+    } else {
+        text
+    }
 }
 
-/// The common frame with the tick labels `ticks` (x, y).
-fn frame_with_ticks<'a, 'b>(
+/// The common frame: caption, margins, axes with their descriptions, tick labels
+/// `ticks` (x, y).
+fn frame<'a, 'b>(
     root: &'a DrawingArea<SVGBackend<'b>, plotters::coord::Shift>,
     caption: &str,
     x: std::ops::Range<f64>,
@@ -83,15 +152,27 @@ fn frame_with_ticks<'a, 'b>(
     (x_ticks, y_ticks): (Ticks, Ticks),
 ) -> Result<Chart<'a, 'b>> {
     root.fill(&WHITE).map_err(plot_error)?;
+    let (x_span, y_span) = (x.end - x.start, y.end - y.start);
     let mut chart = ChartBuilder::on(root)
-        .caption(caption, ("sans-serif", 18))
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(70)
+        .caption(caption, ("sans-serif", CAPTION_FONT * OVERSAMPLE as f64))
+        .margin(px(14))
+        .x_label_area_size(px(52))
+        .y_label_area_size(px(96))
         .build_cartesian_2d(x, y)
         .map_err(plot_error)?;
+    let x_plain = move |v: &f64| tick_label(*v, x_span);
+    let y_plain = move |v: &f64| tick_label(*v, y_span);
     let mut mesh = chart.configure_mesh();
-    mesh.x_desc(x_desc).y_desc(y_desc);
+    mesh.x_desc(x_desc)
+        .y_desc(y_desc)
+        .label_style(("sans-serif", LABEL_FONT * OVERSAMPLE as f64))
+        .axis_desc_style(("sans-serif", DESC_FONT * OVERSAMPLE as f64))
+        .bold_line_style(BLACK.mix(0.12).stroke_width(OVERSAMPLE))
+        .light_line_style(BLACK.mix(0.04).stroke_width(OVERSAMPLE))
+        .axis_style(BLACK.stroke_width(OVERSAMPLE))
+        .set_all_tick_mark_size(px(5))
+        .x_label_formatter(&x_plain)
+        .y_label_formatter(&y_plain);
     match x_ticks {
         Ticks::Plain => {}
         Ticks::Integers(most) => {
@@ -119,16 +200,28 @@ fn legend<'a, 'b: 'a>(chart: &mut Chart<'a, 'b>, position: SeriesLabelPosition) 
     chart
         .configure_series_labels()
         .position(position)
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK.mix(0.3))
+        .label_font(("sans-serif", LABEL_FONT * OVERSAMPLE as f64))
+        .margin(px(10))
+        .legend_area_size(px(28))
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK.mix(0.3).stroke_width(OVERSAMPLE))
         .draw()
         .map_err(plot_error)
+}
+
+/// A legend sample line of `style` at (x, y).
+fn legend_line(x: i32, y: i32, style: ShapeStyle) -> PathElement<(i32, i32)> {
+    PathElement::new([(x, y), (x + px(20) as i32, y)], style)
 }
 
 /// A range that contains every value, padded by 5%, never empty.
 fn padded(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
     let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
-        (lo.min(v), hi.max(v))
+        if v.is_finite() {
+            (lo.min(v), hi.max(v))
+        } else {
+            (lo, hi)
+        }
     });
     if !lo.is_finite() || !hi.is_finite() {
         return -1.0..1.0;
@@ -141,15 +234,50 @@ fn padded(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
     (lo - pad)..(hi + pad)
 }
 
-/// Measured input work against identified dissipated work per window, with y = x; with
-/// `stored`, the identified work also holds the change of stored energy and the work of
-/// constant forces (the non-periodic balance).
-pub(crate) fn work_balance(input: &[f64], dissipated: &[f64], stored: bool) -> Result<String> {
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-        let range = padded(input.iter().chain(dissipated).copied());
-        let axes = if stored {
+/// Markers of group `k`: the colour cycles through the palette, the shape (circle,
+/// triangle, cross) changes at each cycle, so up to 18 groups look different.
+fn draw_group<'a, 'b: 'a>(chart: &mut Chart<'a, 'b>, k: usize, group: &Group) -> Result<()> {
+    let style = colour(k).filled();
+    let size = px(5) as i32;
+    let shape = (k / PALETTE.len()) % 3;
+    let points = group.points.iter().copied();
+    let annotation = match shape {
+        0 => chart
+            .draw_series(points.map(|p| Circle::new(p, size, style)))
+            .map_err(plot_error)?,
+        1 => chart
+            .draw_series(points.map(|p| TriangleMarker::new(p, size + px(1) as i32, style)))
+            .map_err(plot_error)?,
+        _ => chart
+            .draw_series(points.map(|p| Cross::new(p, size, colour(k).stroke_width(px(2)))))
+            .map_err(plot_error)?,
+    };
+    // One element type for every shape: the two shapes not used are transparent.
+    let pick = move |active: bool, style: ShapeStyle| {
+        if active { style } else { TRANSPARENT.filled() }
+    };
+    let cross = colour(k).stroke_width(px(2));
+    annotation.label(group.name.clone()).legend(move |(x, y)| {
+        EmptyElement::at((x + px(10) as i32, y))
+            + Circle::new((0, 0), size, pick(shape == 0, style))
+            + TriangleMarker::new((0, 0), size + px(1) as i32, pick(shape == 1, style))
+            + Cross::new((0, 0), size, pick(shape == 2, cross))
+    });
+    Ok(())
+}
+
+/// Measured input work against identified dissipated work per window, one colour per
+/// record, with y = x; with `stored`, the identified work also holds the change of
+/// stored energy and the work of constant forces (the non-periodic balance). `unit` is
+/// the work's unit, when known.
+pub(crate) fn work_balance(groups: &[Group], stored: bool, unit: Option<&str>) -> Result<String> {
+    chart_svg(|root| {
+        let range = padded(
+            groups
+                .iter()
+                .flat_map(|g| g.points.iter().flat_map(|p| [p.0, p.1])),
+        );
+        let (x, y) = if stored {
             (
                 "input work ∫ vᵀr dt",
                 "identified dissipated + stored work Σ θ_k A_k",
@@ -160,97 +288,112 @@ pub(crate) fn work_balance(input: &[f64], dissipated: &[f64], stored: bool) -> R
                 "identified dissipated work Σ θ_k A_k",
             )
         };
+        let axes = (
+            super::super::units::with_unit(x, unit),
+            super::super::units::with_unit(y, unit),
+        );
         let mut chart = frame(
-            &root,
+            root,
             "Energy balance per window",
             range.clone(),
             range.clone(),
-            axes,
+            (&axes.0, &axes.1),
+            (Ticks::Plain, Ticks::Plain),
         )?;
+        let reference = BLACK.mix(0.5).stroke_width(px(1));
         chart
             .draw_series(LineSeries::new(
                 [(range.start, range.start), (range.end, range.end)],
-                BLACK.mix(0.4),
+                reference,
             ))
             .map_err(plot_error)?
-            .label("equality")
-            .legend(|(x, y)| PathElement::new([(x, y), (x + 16, y)], BLACK.mix(0.4)));
-        chart
-            .draw_series(
-                input
-                    .iter()
-                    .zip(dissipated)
-                    .map(|(&x, &y)| Circle::new((x, y), 4, BLUE.filled())),
-            )
-            .map_err(plot_error)?
-            .label("windows")
-            .legend(|(x, y)| Circle::new((x + 8, y), 4, BLUE.filled()));
-        legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
-        root.present().map_err(plot_error)?;
-    }
-    Ok(svg)
+            .label("equality (input = identified)")
+            .legend(move |(x, y)| legend_line(x, y, reference));
+        for (k, group) in groups.iter().enumerate() {
+            draw_group(&mut chart, k, group)?;
+        }
+        legend(&mut chart, SeriesLabelPosition::UpperLeft)
+    })
 }
 
-/// Residual per equation with the zero line and the mean (the bias).
-pub(crate) fn residuals(residuals: &[f64]) -> Result<String> {
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-        let n = residuals.len().max(1) as f64;
-        let mean = residuals.iter().sum::<f64>() / n;
-        let y = padded(residuals.iter().copied().chain([0.0, mean]));
-        let axes = ("equation (window)", "residual work");
+/// Residual per equation (1-based), one colour per record, with the zero line and the
+/// mean residual, labelled as the residual bias (mean residual / mean |input work|) the
+/// report's header gives.
+pub(crate) fn residuals(
+    groups: &[Group],
+    equations: usize,
+    bias: f64,
+    unit: Option<&str>,
+) -> Result<String> {
+    chart_svg(|root| {
+        let all: Vec<f64> = groups
+            .iter()
+            .flat_map(|g| g.points.iter().map(|p| p.1))
+            .collect();
+        let n = equations.max(1) as f64;
+        let mean = all.iter().sum::<f64>() / all.len().max(1) as f64;
+        let y = padded(all.iter().copied().chain([0.0, mean]));
+        let y_desc = super::super::units::with_unit("residual work b − Aθ", unit);
         let mut chart = frame(
-            &root,
+            root,
             "Residuals b − Aθ per equation",
-            -0.5..(n - 0.5),
+            0.5..(n + 0.5),
             y,
-            axes,
+            ("equation (window)", &y_desc),
+            (Ticks::Integers(equations.clamp(1, 12)), Ticks::Plain),
         )?;
         chart
             .draw_series(LineSeries::new(
-                [(-0.5, 0.0), (n - 0.5, 0.0)],
-                BLACK.mix(0.4),
+                [(0.5, 0.0), (n + 0.5, 0.0)],
+                BLACK.mix(0.5).stroke_width(px(1)),
             ))
             .map_err(plot_error)?;
+        let mean_style = BLACK.stroke_width(px(2));
         chart
-            .draw_series(LineSeries::new(
-                [(-0.5, mean), (n - 0.5, mean)],
-                RED.stroke_width(2),
+            .draw_series(LineSeries::new([(0.5, mean), (n + 0.5, mean)], mean_style))
+            .map_err(plot_error)?
+            .label(format!(
+                "mean residual {mean:+.3e} = residual bias {bias:+.3e} × mean |input work|"
             ))
-            .map_err(plot_error)?
-            .label(format!("mean (bias) {mean:.3e}"))
-            .legend(|(x, y)| PathElement::new([(x, y), (x + 16, y)], RED.stroke_width(2)));
-        chart
-            .draw_series(
-                residuals
-                    .iter()
-                    .enumerate()
-                    .map(|(i, &r)| Circle::new((i as f64, r), 4, BLUE.filled())),
-            )
-            .map_err(plot_error)?
-            .label("residuals")
-            .legend(|(x, y)| Circle::new((x + 8, y), 4, BLUE.filled()));
-        legend(&mut chart, SeriesLabelPosition::UpperRight)?;
-        root.present().map_err(plot_error)?;
-    }
-    Ok(svg)
+            .legend(move |(x, y)| legend_line(x, y, mean_style));
+        for (k, group) in groups.iter().enumerate() {
+            draw_group(&mut chart, k, group)?;
+        }
+        legend(&mut chart, SeriesLabelPosition::UpperRight)
+    })
 }
 
-/// Identified force laws against relative velocity, each with its uncertainty band.
-pub(crate) fn force_laws(title: &str, curves: &[Curve]) -> Result<String> {
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-        let x = padded(curves.iter().flat_map(|c| c.points.iter().map(|p| p.0)));
+/// Identified force laws against relative velocity, each over the velocity range its
+/// elements were measured at, with its uncertainty band.
+pub(crate) fn force_laws(
+    title: &str,
+    curves: &[Curve],
+    units: (Option<&str>, Option<&str>),
+) -> Result<String> {
+    chart_svg(|root| {
+        let x = padded(
+            curves
+                .iter()
+                .flat_map(|c| c.points.iter().map(|p| p.0))
+                .chain([0.0]),
+        );
         let y = padded(curves.iter().flat_map(|c| {
             let band = c.band.iter().flatten().flat_map(|b| [b.1, b.2]);
             c.points.iter().map(|p| p.1).chain(band)
         }));
-        let axes = ("relative velocity v", "damping force θ f(v)");
-        let mut chart = frame(&root, title, x, y, axes)?;
+        let x_desc =
+            super::super::units::with_unit("relative velocity v (measured range)", units.0);
+        let y_desc = super::super::units::with_unit("damping force θ f(v)", units.1);
+        let mut chart = frame(
+            root,
+            title,
+            x,
+            y,
+            (&x_desc, &y_desc),
+            (Ticks::Plain, Ticks::Plain),
+        )?;
         for (k, curve) in curves.iter().enumerate() {
-            let color = Palette99::pick(k).to_rgba();
+            let color = colour(k);
             if let Some(band) = &curve.band {
                 let upper = band.iter().map(|b| (b.0, b.2));
                 let lower = band.iter().rev().map(|b| (b.0, b.1));
@@ -261,21 +404,15 @@ pub(crate) fn force_laws(title: &str, curves: &[Curve]) -> Result<String> {
                     )))
                     .map_err(plot_error)?;
             }
+            let style = color.stroke_width(px(2));
             chart
-                .draw_series(LineSeries::new(
-                    curve.points.iter().copied(),
-                    color.stroke_width(2),
-                ))
+                .draw_series(LineSeries::new(curve.points.iter().copied(), style))
                 .map_err(plot_error)?
                 .label(curve.name.clone())
-                .legend(move |(x, y)| {
-                    PathElement::new([(x, y), (x + 16, y)], color.stroke_width(2))
-                });
+                .legend(move |(x, y)| legend_line(x, y, style));
         }
-        legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
-        root.present().map_err(plot_error)?;
-    }
-    Ok(svg)
+        legend(&mut chart, SeriesLabelPosition::UpperLeft)
+    })
 }
 
 /// Index axes label at most this many whole numbers.
@@ -302,9 +439,7 @@ pub(crate) fn mode_shapes(title: &str, modes: &[Curve]) -> Result<String> {
         .map(|m| (m.name.as_str(), finite(&m.points)))
         .collect();
     let dofs = modes.iter().map(|m| m.1.len()).max().unwrap_or(0);
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+    chart_svg(|root| {
         let x = padded(modes.iter().flat_map(|m| m.1.iter().map(|p| p.0)));
         let y = padded(
             modes
@@ -314,37 +449,36 @@ pub(crate) fn mode_shapes(title: &str, modes: &[Curve]) -> Result<String> {
         );
         let axes = ("DOF (sensor)", "unit mode amplitude");
         let ticks = (Ticks::Integers(dofs.min(MOST_INDEX_LABELS)), Ticks::Plain);
-        let mut chart = frame_with_ticks(&root, title, x.clone(), y, axes, ticks)?;
+        let mut chart = frame(root, title, x.clone(), y, axes, ticks)?;
         chart
             .draw_series(LineSeries::new(
                 [(x.start, 0.0), (x.end, 0.0)],
-                BLACK.mix(0.4),
+                BLACK.mix(0.5).stroke_width(px(1)),
             ))
             .map_err(plot_error)?;
         for (k, (name, points)) in modes.iter().enumerate() {
-            let color = Palette99::pick(k).to_rgba();
+            let color = colour(k);
+            let style = color.stroke_width(px(2));
             chart
-                .draw_series(LineSeries::new(
-                    points.iter().copied(),
-                    color.stroke_width(2),
-                ))
+                .draw_series(LineSeries::new(points.iter().copied(), style))
                 .map_err(plot_error)?
                 .label(*name)
-                .legend(move |(x, y)| {
-                    PathElement::new([(x, y), (x + 16, y)], color.stroke_width(2))
-                });
+                .legend(move |(x, y)| legend_line(x, y, style));
             if dofs <= MOST_MARKED_DOFS {
                 chart
-                    .draw_series(points.iter().map(|&p| Circle::new(p, 4, color.filled())))
+                    .draw_series(
+                        points
+                            .iter()
+                            .map(|&p| Circle::new(p, px(4) as i32, color.filled())),
+                    )
                     .map_err(plot_error)?;
             }
         }
         if !modes.is_empty() {
             legend(&mut chart, SeriesLabelPosition::LowerRight)?;
         }
-        root.present().map_err(plot_error)?;
-    }
-    Ok(svg)
+        Ok(())
+    })
 }
 
 /// The energy share of every mode (1-based, in order) as bars on a log scale, the
@@ -370,16 +504,14 @@ pub(crate) fn energy_shares(title: &str, shares: &[f64], retained: usize) -> Res
     let bottom = low - 0.2;
     let count = shares.len().max(1) as f64;
     let retained_share: f64 = shares[..retained].iter().filter(|s| s.is_finite()).sum();
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+    chart_svg(|root| {
         let axes = ("mode", "energy share λ_k / Σλ (log scale)");
         let ticks = (
             Ticks::Integers(shares.len().min(MOST_INDEX_LABELS)),
             Ticks::Decades,
         );
         let x = 0.5..(count + 0.5);
-        let mut chart = frame_with_ticks(&root, title, x, bottom..(high + 0.2), axes, ticks)?;
+        let mut chart = frame(root, title, x, bottom..(high + 0.2), axes, ticks)?;
         let bar = |k: usize, top: f64, style: ShapeStyle| {
             let centre = (k + 1) as f64;
             Rectangle::new([(centre - 0.35, bottom), (centre + 0.35, top)], style)
@@ -391,7 +523,7 @@ pub(crate) fn energy_shares(title: &str, shares: &[f64], retained: usize) -> Res
                 .filter_map(move |(d, k)| d.map(|top| bar(k, top, style)))
                 .collect::<Vec<_>>()
         };
-        let kept = BLUE.filled();
+        let kept = colour(0).filled();
         chart
             .draw_series(bars(0..retained, kept))
             .map_err(plot_error)?
@@ -399,28 +531,36 @@ pub(crate) fn energy_shares(title: &str, shares: &[f64], retained: usize) -> Res
                 "retained: {retained} mode(s), {:.4}% of the energy",
                 100.0 * retained_share
             ))
-            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 12, y + 5)], kept));
+            .legend(move |(x, y)| {
+                Rectangle::new(
+                    [(x, y - px(6) as i32), (x + px(14) as i32, y + px(6) as i32)],
+                    kept,
+                )
+            });
         if retained < shares.len() {
             let dropped = BLACK.mix(0.3).filled();
             chart
                 .draw_series(bars(retained..shares.len(), dropped))
                 .map_err(plot_error)?
                 .label(format!("discarded: {} mode(s)", shares.len() - retained))
-                .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 12, y + 5)], dropped));
+                .legend(move |(x, y)| {
+                    Rectangle::new(
+                        [(x, y - px(6) as i32), (x + px(14) as i32, y + px(6) as i32)],
+                        dropped,
+                    )
+                });
             if retained > 0 {
                 let cut = retained as f64 + 0.5;
                 chart
                     .draw_series(LineSeries::new(
                         [(cut, bottom), (cut, high + 0.2)],
-                        RED.stroke_width(2),
+                        colour(1).stroke_width(px(2)),
                     ))
                     .map_err(plot_error)?;
             }
         }
-        legend(&mut chart, SeriesLabelPosition::UpperRight)?;
-        root.present().map_err(plot_error)?;
-    }
-    Ok(svg)
+        legend(&mut chart, SeriesLabelPosition::UpperRight)
+    })
 }
 
 /// Dissipated energy per cycle against amplitude on log-log axes: the measured input
@@ -495,6 +635,52 @@ mod tests {
     /// Whether the SVG has a text element reading exactly `text`.
     fn has_text(svg: &str, text: &str) -> bool {
         svg.contains(&format!(">\n{text}\n</text>"))
+    }
+
+    /// Tick labels never read "-0" or "-0.0", carry the decimals a tenth of the span
+    /// needs, and switch to exponent form outside [1e-3, 1e5).
+    #[test]
+    fn tick_labels_are_tidy() {
+        assert_eq!(tick_label(-1e-17, 2.0), "0");
+        assert_eq!(tick_label(-0.04, 1.0), "0");
+        assert_eq!(tick_label(0.5, 2.0), "0.5");
+        assert_eq!(tick_label(-0.5, 2.0), "-0.5");
+        assert_eq!(tick_label(2.0, 10.0), "2");
+        assert_eq!(tick_label(250.0, 1000.0), "250");
+        assert_eq!(tick_label(1.5e6, 3e6), "1.5e6");
+        assert_eq!(tick_label(2e-5, 1e-4), "2.0e-5");
+    }
+
+    /// Charts are drawn at OVERSAMPLE times their size and shown at SIZE: the root
+    /// says so, and coordinates inside are at drawn scale.
+    #[test]
+    fn charts_are_oversampled() {
+        let svg = residuals(
+            &[Group {
+                name: "record 1".into(),
+                points: vec![(1.0, 0.5), (2.0, -0.25)],
+            }],
+            2,
+            0.01,
+            Some("N·m"),
+        )
+        .unwrap();
+        let head = &svg[..svg.find('>').unwrap()];
+        assert!(
+            head.contains(&format!("width=\"{}\" height=\"{}\"", SIZE.0, SIZE.1)),
+            "{head}"
+        );
+        assert!(
+            head.contains(&format!("viewBox=\"0 0 {} {}\"", px(SIZE.0), px(SIZE.1))),
+            "{head}"
+        );
+        assert!(svg.contains("record 1") && svg.contains("[N·m]"));
+        assert!(svg.contains("residual bias +1.000e-2 × mean |input work|"));
+        // No font under 13 px as shown.
+        for size in svg.split("font-size=\"").skip(1) {
+            let value: f64 = size[..size.find('"').unwrap()].parse().unwrap();
+            assert!(value / OVERSAMPLE as f64 >= 13.0, "{value}");
+        }
     }
 
     #[test]

@@ -1,0 +1,136 @@
+//! Where a report came from: the model file (its path and text), each data file with its
+//! size and SHA-256, every setting in effect (defaults included), dampid's version and the
+//! git commit it was built from (build.rs; "unknown" outside a git checkout), and the
+//! date and time (UTC) the report was made. The HTML report shows it in one block.
+
+use std::io::Read;
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+use sha2::{Digest, Sha256};
+
+use crate::error::{Error, Result};
+
+/// dampid's version (Cargo.toml).
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+
+/// The git commit dampid was built from, or "unknown" (build.rs).
+pub const COMMIT: &str = env!("DAMPID_GIT_COMMIT");
+
+/// One data file read.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct DataFile {
+    /// Its path as the model file resolved it.
+    pub path: String,
+    /// Its size in bytes.
+    pub bytes: u64,
+    /// SHA-256 of its contents, lowercase hex.
+    pub sha256: String,
+}
+
+impl DataFile {
+    /// Reads `path` once, streaming, for its size and SHA-256; [`Error::Data`] naming the
+    /// file when it cannot be read.
+    pub fn read(path: &Path) -> Result<DataFile> {
+        let fail = |e: std::io::Error| Error::Data {
+            file: path.display().to_string(),
+            row: 0,
+            column: String::new(),
+            message: format!("cannot read it for its checksum: {e}"),
+        };
+        let mut file = std::fs::File::open(path).map_err(fail)?;
+        let mut hasher = Sha256::new();
+        let mut buffer = vec![0u8; 1 << 16];
+        let mut bytes = 0u64;
+        loop {
+            let n = file.read(&mut buffer).map_err(fail)?;
+            if n == 0 {
+                break;
+            }
+            bytes += n as u64;
+            hasher.update(&buffer[..n]);
+        }
+        let sha256 = hasher
+            .finalize()
+            .iter()
+            .map(|b| format!("{b:02x}"))
+            .collect();
+        Ok(DataFile {
+            path: path.display().to_string(),
+            bytes,
+            sha256,
+        })
+    }
+}
+
+/// Everything needed to reproduce a report.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Provenance {
+    /// The model file's path.
+    pub model_file: String,
+    /// Its text.
+    pub model_text: String,
+    /// The data files it read, in order (none for simulated records).
+    pub data_files: Vec<DataFile>,
+    /// Every setting in effect, defaults included: (name, value).
+    pub settings: Vec<(String, String)>,
+    /// dampid's version.
+    pub version: String,
+    /// The git commit dampid was built from, or "unknown".
+    pub commit: String,
+    /// When the report was made, "YYYY-MM-DD HH:MM:SS UTC".
+    pub date: String,
+}
+
+/// The current date and time, "YYYY-MM-DD HH:MM:SS UTC".
+pub fn now_utc() -> String {
+    let t = time::OffsetDateTime::now_utc();
+    format!(
+        "{:04}-{:02}-{:02} {:02}:{:02}:{:02} UTC",
+        t.year(),
+        u8::from(t.month()),
+        t.day(),
+        t.hour(),
+        t.minute(),
+        t.second()
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// SHA-256 of "abc" (FIPS 180-2, appendix B.1) and of the empty file.
+    #[test]
+    fn checksums_of_known_contents() {
+        let dir = std::env::temp_dir().join(format!("dampid-sha-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let abc = dir.join("abc.txt");
+        std::fs::write(&abc, "abc").unwrap();
+        let file = DataFile::read(&abc).unwrap();
+        assert_eq!(file.bytes, 3);
+        assert_eq!(
+            file.sha256,
+            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad"
+        );
+        let empty = dir.join("empty.txt");
+        std::fs::write(&empty, "").unwrap();
+        assert_eq!(
+            DataFile::read(&empty).unwrap().sha256,
+            "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855"
+        );
+        assert!(matches!(
+            DataFile::read(&dir.join("missing.csv")),
+            Err(Error::Data { .. })
+        ));
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
+    fn date_reads_as_utc() {
+        let date = now_utc();
+        assert_eq!(date.len(), "2026-11-26 09:35:04 UTC".len());
+        assert!(date.ends_with(" UTC") && date.starts_with("20"));
+        assert!(!COMMIT.is_empty() && !VERSION.is_empty());
+    }
+}
