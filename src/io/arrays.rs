@@ -57,7 +57,7 @@ impl Layout {
     }
 
     /// The number of stored elements, N·k.
-    pub fn len(&self) -> usize {
+    pub fn elements(&self) -> usize {
         self.samples * self.columns
     }
 
@@ -134,7 +134,7 @@ pub(crate) fn column_major(
     cols: usize,
     data: &[f64],
 ) -> Result<NamedArray> {
-    let layout = Layout::new(rows, cols, false).filter(|l| l.len() == data.len());
+    let layout = Layout::new(rows, cols, false).filter(|l| l.elements() == data.len());
     let Some(layout) = layout else {
         return Err(Error::Data {
             file: file.to_string(),
