@@ -1,12 +1,14 @@
 """Data and NumPy/pandas baselines for benches/io_read.sh.
 
     python io_read.py generate DIR   # DIR/record.npz (323 MB) and DIR/table.csv (210 MB)
-    python io_read.py time DIR R     # numpy.load, numpy.loadtxt, pandas.read_csv, R times each
+    python io_read.py time DIR R [READER...]   # R reads by each reader (default: all)
 
 `generate` writes one record of 100 DOFs x 2e5 samples as np.savez does (stored, not
 compressed): t, x and v (2e5 x 100, C order) and a force f; and a CSV of 1e6 rows x 12
 columns (t and 11 channels) with 11 significant digits, as dampid writes CSV. `time`
-prints one line per reader: `<reader> <file> <best s> <median s> <MB> <rows> <columns>`.
+prints one line per reader: `<reader> <file> <best s> <median s> <MB> <rows> <columns>
+<CPU s> <sum>`, the CPU time (time.process_time: user and system, all threads) the
+median, and the sum of every value read (which dampid's must match).
 """
 
 import os
@@ -36,34 +38,37 @@ def generate(folder):
 
 
 def timed(label, path, read, repeat):
-    seconds = []
-    shape = (0, 0)
+    seconds, cpu = [], []
+    shape, total = (0, 0), 0.0
     for _ in range(repeat):
-        start = time.perf_counter()
-        shape = read(path)
+        start, start_cpu = time.perf_counter(), time.process_time()
+        shape, total = read(path)
         seconds.append(time.perf_counter() - start)
+        cpu.append(time.process_time() - start_cpu)
     seconds.sort()
+    cpu.sort()
     mb = os.path.getsize(path) / 1e6
     print(f"{label} {path} {seconds[0]:.4f} {seconds[len(seconds) // 2]:.4f} {mb:.1f} "
-          f"{shape[0]} {shape[1]}", flush=True)
+          f"{shape[0]} {shape[1]} {cpu[len(cpu) // 2]:.4f} {total:.12e}", flush=True)
 
 
 def numpy_load(path):
     with np.load(path) as archive:
         arrays = {name: archive[name] for name in archive.files}
-    return arrays["x"].shape[0], sum(a.shape[1] if a.ndim == 2 else 1 for a in arrays.values())
+    columns = sum(a.shape[1] if a.ndim == 2 else 1 for a in arrays.values())
+    return (arrays["x"].shape[0], columns), sum(float(a.sum()) for a in arrays.values())
 
 
 def numpy_loadtxt(path):
     table = np.loadtxt(path, delimiter=",", skiprows=1)
-    return table.shape
+    return table.shape, float(table.sum())
 
 
 def pandas_read_csv(path):
     import pandas
 
     table = pandas.read_csv(path, engine="c")
-    return table.shape
+    return table.shape, float(table.to_numpy().sum())
 
 
 def main():
@@ -72,9 +77,14 @@ def main():
         generate(folder)
         return
     repeat = int(sys.argv[3])
-    timed("numpy.load", os.path.join(folder, "record.npz"), numpy_load, repeat)
-    timed("pandas.read_csv", os.path.join(folder, "table.csv"), pandas_read_csv, repeat)
-    timed("numpy.loadtxt", os.path.join(folder, "table.csv"), numpy_loadtxt, max(1, repeat // 2))
+    readers = sys.argv[4:] or ["numpy.load", "pandas.read_csv", "numpy.loadtxt"]
+    for label, file, read in [
+        ("numpy.load", "record.npz", numpy_load),
+        ("pandas.read_csv", "table.csv", pandas_read_csv),
+        ("numpy.loadtxt", "table.csv", numpy_loadtxt),
+    ]:
+        if label in readers:
+            timed(label, os.path.join(folder, file), read, repeat)
 
 
 if __name__ == "__main__":

@@ -13,9 +13,11 @@
 # once and kept. The script makes its own Python environment ($VENV, default
 # /tmp/dampid-io-venv) with numpy and pandas. Every file is read once before timing so
 # that all readers read from the page cache. Each reader reads each file $REPEAT times
-# (numpy.loadtxt half as often, it is slow); the table shows the best and the median,
-# ratio = other reader's median / dampid's median (above 1: dampid is faster), and
-# MB/s = file size / median time.
+# in alternating rounds (numpy.loadtxt in two rounds only, it is slow); the table shows
+# the best and the median, ratio = other reader's median / dampid's median (above 1:
+# dampid is faster), MB/s = file size / median time, and the median CPU time (user and
+# system, all threads) of a read, which says what the read costs when other work
+# shares the machine. Raw lines: $target/io_read/raw.txt.
 set -euo pipefail
 
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -41,22 +43,41 @@ fi
 cargo build --release --example io_read >&2
 
 cat "$data/record.npz" "$data/table.csv" > /dev/null
-results="$out/results.txt"
-{
-    "$target/release/examples/io_read" --repeat "$repeat" "$data/record.npz" "$data/table.csv"
-    "$python" benches/io_read.py time "$data" "$repeat"
-} | tee "$results" >&2
+# Rounds alternate the readers, so that what else runs on the machine weighs on all of
+# them alike: each round reads each file once with dampid, numpy.load and pandas, and
+# numpy.loadtxt (slow) in the first two rounds only.
+raw="$out/raw.txt"
+: > "$raw"
+for round in $(seq 1 "$repeat"); do
+    echo "round $round of $repeat" >&2
+    "$target/release/examples/io_read" --repeat 1 "$data/record.npz" "$data/table.csv" >> "$raw"
+    readers=(numpy.load pandas.read_csv)
+    if (( round <= 2 )); then readers+=(numpy.loadtxt); fi
+    "$python" benches/io_read.py time "$data" 1 "${readers[@]}" >> "$raw"
+done
+echo "load average: $(cut -d' ' -f1-3 /proc/loadavg)" >&2
 
-"$python" - "$results" <<'PY'
+"$python" - "$raw" <<'PY'
+import statistics
 import sys
+from collections import defaultdict
 
-rows = [line.split() for line in open(sys.argv[1]) if line.strip()]
-dampid = {r[1]: float(r[3]) for r in rows if r[0] == "dampid"}
-print("| file | reader | best s | median s | MB/s (median) | median / dampid's |")
-print("|---|---|---|---|---|---|")
-for reader, path, best, median, mb, n, k in rows:
+runs = defaultdict(list)
+for line in open(sys.argv[1]):
+    reader, path, seconds, _, mb, n, k, cpu, total = line.split()
+    runs[(reader, path)].append((float(seconds), float(cpu), float(mb), n, k, float(total)))
+median = {key: statistics.median(s for s, *_ in r) for key, r in runs.items()}
+dampid = {path: median[(reader, path)] for reader, path in runs if reader == "dampid"}
+sums = {path: r[0][5] for (reader, path), r in runs.items() if reader == "dampid"}
+print("| file | reader | reads | best s | median s | MB/s (median) | median / dampid's | CPU s (median) | sum of values − dampid's, relative |")
+print("|---|---|---|---|---|---|---|---|---|")
+for (reader, path), r in sorted(runs.items(), key=lambda item: (item[0][1], item[0][0] != "dampid")):
+    seconds = sorted(s for s, *_ in r)
+    cpu = statistics.median(c for _, c, *_ in r)
+    _, _, mb, n, k, total = r[0]
     name = path.rsplit("/", 1)[-1]
-    ratio = float(median) / dampid[path]
-    print(f"| {name} ({float(mb):.0f} MB, {n} x {k}) | {reader} | {float(best):.3f} | "
-          f"{float(median):.3f} | {float(mb) / float(median):.0f} | {ratio:.2f} |")
+    m = median[(reader, path)]
+    agree = abs(total - sums[path]) / max(abs(sums[path]), 1e-300)
+    print(f"| {name} ({mb:.0f} MB, {n} x {k}) | {reader} | {len(r)} | {seconds[0]:.3f} | {m:.3f} | "
+          f"{mb / m:.0f} | {m / dampid[path]:.2f} | {cpu:.2f} | {agree:.1e} |")
 PY

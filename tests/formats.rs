@@ -311,3 +311,82 @@ fn a_damaged_npz_member_is_a_crc_error() {
     }
     std::fs::remove_file(path).ok();
 }
+
+/// CSV text as people write it (spaces, tabs, CRLF, comments, blank lines, signs,
+/// short and long mantissas, exponents) reads the same by the fast path and by the csv
+/// crate: a comment line holding a quote sends the same text to the csv crate (the
+/// fast path leaves any quote to it), which skips the comment.
+#[test]
+fn csv_fast_and_general_paths_agree() {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand::rngs::StdRng::seed_from_u64(17);
+    let cell = |rng: &mut rand::rngs::StdRng| -> String {
+        let v: f64 = rng.random_range(-1e3..1e3) * 10f64.powi(rng.random_range(-12..12));
+        let text = match rng.random_range(0..6) {
+            0 => format!("{v:e}"),
+            1 => format!("{v:.10e}"),
+            2 => format!("{v}"),
+            3 => format!("{v:+.3}"),
+            4 => format!("{}", v.round() as i64),
+            _ => format!("{v:.17E}"),
+        };
+        match rng.random_range(0..4) {
+            0 => format!(" {text}\t"),
+            _ => text,
+        }
+    };
+    for case in 0..200 {
+        let k = rng.random_range(1..6);
+        let header = (0..k)
+            .map(|j| format!(" c{j} "))
+            .collect::<Vec<_>>()
+            .join(",");
+        let mut body = String::new();
+        for _ in 0..rng.random_range(1..40) {
+            let row: Vec<String> = (0..k).map(|_| cell(&mut rng)).collect();
+            body.push_str(&row.join(","));
+            body.push_str(["\n", "\r\n", "\n\n", "\n# note\n"][rng.random_range(0..4)]);
+        }
+        let fast = dampid::io::csv::parse(&format!("# a test\n{header}\n{body}"), "f.csv");
+        let general = dampid::io::csv::parse(
+            &format!("# a test\n{header}\n# \"quoted\"\n{body}"),
+            "f.csv",
+        );
+        assert_eq!(fast.unwrap(), general.unwrap(), "case {case}");
+    }
+    let quoted = dampid::io::csv::parse("\"t\",\"x\"\n\"0\",\" 1.5\"\n", "q.csv").unwrap();
+    assert_eq!(quoted.columns, [vec![0.0], vec![1.5]]);
+    // A bad cell is worded by the csv crate's path, row and column as before.
+    match dampid::io::csv::parse("t,x\n0,1\n# c\n0.1,abc\n", "b.csv") {
+        Err(Error::Data {
+            row,
+            column,
+            message,
+            ..
+        }) => {
+            assert_eq!((row, column.as_str()), (2, "x"));
+            assert!(message.contains("'abc'"), "{message}");
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+/// A CSV file larger than the 16 MiB buffer the fast path streams it through (lines
+/// cut at the buffer's end are carried over) reads the same as its text.
+#[test]
+fn csv_file_larger_than_the_read_buffer() {
+    let mut text = String::from("# written by a test\nt,x,y\n");
+    let mut i = 0u64;
+    while text.len() < 40 << 20 {
+        text.push_str(&format!("{i},{:.10e},{}\r\n", (i as f64).sin(), i % 97));
+        i += 1;
+    }
+    let path = std::env::temp_dir().join(format!("dampid-large-{}.csv", std::process::id()));
+    std::fs::write(&path, &text).unwrap();
+    let read = dampid::io::csv::read(&path).unwrap();
+    std::fs::remove_file(&path).ok();
+    let parsed = dampid::io::csv::parse(&text, &path.display().to_string()).unwrap();
+    assert_eq!(read.rows() as u64, i);
+    assert_eq!(read, parsed);
+    assert_eq!(read.column("t").unwrap()[(i - 1) as usize], (i - 1) as f64);
+}

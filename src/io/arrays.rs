@@ -57,7 +57,7 @@ impl Layout {
     }
 
     /// The number of stored elements, N·k.
-    pub fn len(&self) -> usize {
+    pub fn elements(&self) -> usize {
         self.samples * self.columns
     }
 
@@ -102,7 +102,7 @@ impl Layout {
     pub fn place(&self, start: usize, values: &[f64], columns: &mut [Vec<f64>]) {
         let k = self.columns;
         if self.interleaved {
-            if start % k == 0 && values.len() % k == 0 {
+            if start.is_multiple_of(k) && values.len().is_multiple_of(k) {
                 for (p, column) in columns.iter_mut().enumerate() {
                     column.extend(values[p..].iter().step_by(k));
                 }
@@ -134,7 +134,7 @@ pub(crate) fn column_major(
     cols: usize,
     data: &[f64],
 ) -> Result<NamedArray> {
-    let layout = Layout::new(rows, cols, false).filter(|l| l.len() == data.len());
+    let layout = Layout::new(rows, cols, false).filter(|l| l.elements() == data.len());
     let Some(layout) = layout else {
         return Err(Error::Data {
             file: file.to_string(),
@@ -212,6 +212,7 @@ mod tests {
     /// p at sample s, whatever the block boundaries: checked against the flat-index
     /// formulas of the module doc, written out per case.
     #[test]
+    #[allow(clippy::needless_range_loop)] // (s, p) index the formulas, not the loop
     fn layouts_place_every_element_where_the_formulas_say() {
         for (r, c) in [(5, 3), (3, 5), (4, 1), (1, 4), (4, 4)] {
             for row_major in [true, false] {

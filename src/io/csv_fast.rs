@@ -1,7 +1,9 @@
 //! The fast path of the CSV reader: plain numeric CSV parsed straight from its bytes,
 //! with no allocation per field (memchr finds the line and field ends, fast-float2
 //! parses each cell's bytes to f64), and in parallel by blocks of whole lines when the
-//! file is large (rayon; the blocks' columns are joined in order).
+//! file is large (rayon; the blocks' columns are joined in order). A file is streamed
+//! through one buffer ([`read_file`]): its text is never held whole, and the memory it
+//! takes is the columns'.
 //!
 //! It never decides an error. [`read`] gives `None` whenever anything is unusual: a
 //! quote character, a byte outside printable ASCII in the header, a header that names
@@ -18,40 +20,118 @@
 //! - the same values: fast-float2 reads the syntax of `str::parse::<f64>` and rounds
 //!   correctly, as it does.
 
-use memchr::{memchr, memchr_iter};
+use std::fs::File;
+use std::io::Read;
+use std::path::Path;
+
+use memchr::{memchr, memchr_iter, memrchr};
 use rayon::prelude::*;
 
+/// A header's names and their columns.
+pub(crate) type Parsed = (Vec<String>, Vec<Vec<f64>>);
+
 /// The header and the columns of a plain numeric CSV text, or `None` (module doc).
-/// Files of at least two blocks of `block` bytes are parsed in parallel.
-pub(crate) fn read(bytes: &[u8], block: usize) -> Option<(Vec<String>, Vec<Vec<f64>>)> {
+/// Texts of at least two blocks of `block` bytes are parsed in parallel.
+pub(crate) fn read(bytes: &[u8], block: usize) -> Option<Parsed> {
     let (headers, body) = header(bytes)?;
-    if memchr(b'"', body).is_some() {
-        return None;
-    }
-    let k = headers.len();
-    let blocks = split(body, block);
-    let parsed: Vec<Vec<Vec<f64>>> = if blocks.len() == 1 {
-        vec![parse_block(body, k)?]
+    let mut columns = vec![Vec::new(); headers.len()];
+    append(body, block, &mut columns)?;
+    finish(headers, columns)
+}
+
+/// [`read`] of the file at `path`, streamed through a buffer of `buffer` bytes (a line
+/// longer than it is left to the general path), so that the file's text is never held
+/// whole: `Ok(None)` when the general path must read it.
+pub(crate) fn read_file(
+    path: &Path,
+    buffer: usize,
+    block: usize,
+) -> std::io::Result<Option<Parsed>> {
+    let mut file = File::open(path)?;
+    let mut text = vec![0u8; buffer.max(1)];
+    let (mut filled, mut end_of_file) = fill(&mut file, &mut text, 0)?;
+    // The header's line must end inside the first buffer.
+    let whole = if end_of_file {
+        filled
     } else {
-        blocks
-            .par_iter()
-            .map(|b| parse_block(b, k))
-            .collect::<Option<Vec<_>>>()?
+        match memrchr(b'\n', &text[..filled]) {
+            Some(i) => i + 1,
+            None => return Ok(None),
+        }
     };
-    let columns: Vec<Vec<f64>> = (0..k)
-        .into_par_iter()
-        .map(|j| {
-            let mut column = Vec::with_capacity(parsed.iter().map(|p| p[j].len()).sum());
-            for p in &parsed {
-                column.extend_from_slice(&p[j]);
+    let Some((headers, body)) = header(&text[..whole]) else {
+        return Ok(None);
+    };
+    let mut start = whole - body.len();
+    let mut columns = vec![Vec::new(); headers.len()];
+    loop {
+        let end = if end_of_file {
+            filled
+        } else {
+            match memrchr(b'\n', &text[start..filled]) {
+                Some(i) => start + i + 1,
+                None => return Ok(None),
             }
-            column
-        })
-        .collect();
+        };
+        if append(&text[start..end], block, &mut columns).is_none() {
+            return Ok(None);
+        }
+        if end_of_file {
+            break;
+        }
+        text.copy_within(end..filled, 0);
+        (filled, end_of_file) = fill(&mut file, &mut text, filled - end)?;
+        start = 0;
+    }
+    Ok(finish(headers, columns))
+}
+
+/// Reads from `file` into `text` after its first `from` bytes until it is full or the
+/// file ends: the bytes now in `text`, and whether the file ended.
+fn fill(file: &mut File, text: &mut [u8], from: usize) -> std::io::Result<(usize, bool)> {
+    let mut filled = from;
+    while filled < text.len() {
+        match file.read(&mut text[filled..]) {
+            Ok(0) => return Ok((filled, true)),
+            Ok(n) => filled += n,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+            Err(e) => return Err(e),
+        }
+    }
+    Ok((filled, false))
+}
+
+/// The table, when it has data rows.
+fn finish(headers: Vec<String>, columns: Vec<Vec<f64>>) -> Option<Parsed> {
     if columns.first().is_none_or(Vec::is_empty) {
         return None;
     }
     Some((headers, columns))
+}
+
+/// Parses the whole lines of `text` (in parallel when it is two blocks or more) and
+/// appends their cells to `columns`.
+fn append(text: &[u8], block: usize, columns: &mut [Vec<f64>]) -> Option<()> {
+    if memchr(b'"', text).is_some() {
+        return None;
+    }
+    let k = columns.len();
+    let pieces = split(text, block);
+    let parsed: Vec<Vec<Vec<f64>>> = if pieces.len() == 1 {
+        vec![parse_block(text, k)?]
+    } else {
+        pieces
+            .par_iter()
+            .map(|piece| parse_block(piece, k))
+            .collect::<Option<Vec<_>>>()?
+    };
+    columns.par_iter_mut().enumerate().for_each(|(j, column)| {
+        column.reserve(parsed.iter().map(|p| p[j].len()).sum());
+        for p in &parsed {
+            column.extend_from_slice(&p[j]);
+        }
+    });
+    Some(())
 }
 
 /// The header's names and the text after the header line; `None` for a header the
@@ -157,6 +237,10 @@ fn parse_block(text: &[u8], k: usize) -> Option<Vec<Vec<f64>>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    // Streaming through the read buffer, and the agreement of this path with the csv
+    // crate's: tests/formats.rs (csv_file_larger_than_the_read_buffer,
+    // csv_fast_and_general_paths_agree).
 
     #[test]
     fn plain_text_is_read_and_anything_unusual_is_left_to_the_csv_crate() {

@@ -93,7 +93,7 @@ impl DataFile {
                     .map(|v| {
                         let columns = v.values.and_then(|(r, c, values)| {
                             let layout = arrays::Layout::new(r, c, false)
-                                .filter(|l| l.len() == values.len())
+                                .filter(|l| l.elements() == values.len())
                                 .ok_or_else(|| format!("{r} × {c} with {} values", values.len()))?;
                             Ok((layout.headers(&v.name), Source::Mat(r, c, values)))
                         });

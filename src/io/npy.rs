@@ -58,7 +58,7 @@ impl Header {
 
     /// The bytes of data the header's shape needs (`None`: more than a `u64` holds).
     pub fn data_bytes(&self) -> Option<u64> {
-        (self.layout.len() as u64).checked_mul(self.element_size() as u64)
+        (self.layout.elements() as u64).checked_mul(self.element_size() as u64)
     }
 }
 
@@ -155,13 +155,13 @@ pub(crate) fn read_data<R: Read>(
         ));
     }
     let size = header.element_size();
-    let block = layout.block(BLOCK).min(layout.len().max(1));
+    let block = layout.block(BLOCK).min(layout.elements().max(1));
     let mut bytes = vec![0u8; block * size];
     let mut values = vec![0.0; block];
     let mut columns = layout.allocate();
     let mut done = 0;
-    while done < layout.len() {
-        let m = block.min(layout.len() - done);
+    while done < layout.elements() {
+        let m = block.min(layout.elements() - done);
         reader
             .read_exact(&mut bytes[..m * size])
             .map_err(|e| data_error(file, name, format!("reading its data: {e}")))?;
