@@ -149,7 +149,7 @@ fn ctrl_c_during_simulate_leaves_no_file() {
     assert!(long.contains("1000000000"));
     std::fs::write(&model, long).unwrap();
     let out = folder.join("run");
-    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_dampid"))
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_dampid"))
         .args(["--no-time-limit", "simulate"])
         .arg(&model)
         .arg("--out")
