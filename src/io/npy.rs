@@ -113,10 +113,12 @@ fn convert(header: &Header, bytes: &[u8], values: &mut [f64]) {
             let chunks = bytes.chunks_exact($n);
             if header.big_endian {
                 for (v, b) in values.iter_mut().zip(chunks) {
+                    // cannot fail: chunks_exact($n) yields slices of exactly $n bytes
                     *v = <$t>::from_be_bytes(b.try_into().expect("chunk of the size")) as f64;
                 }
             } else {
                 for (v, b) in values.iter_mut().zip(chunks) {
+                    // cannot fail: chunks_exact($n) yields slices of exactly $n bytes
                     *v = <$t>::from_le_bytes(b.try_into().expect("chunk of the size")) as f64;
                 }
             }

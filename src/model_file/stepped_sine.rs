@@ -129,6 +129,8 @@ impl Context<'_> {
         }
         let by_dof: Vec<(&ColumnSpec, &ColumnSpec, usize)> = by_dof
             .into_iter()
+            // cannot fail: n column pairs, each on a distinct DOF in 1..=n (checked above),
+            // fill all n slots
             .map(|c| c.expect("n entries for n DOFs, each DOF once"))
             .collect();
         let omega = column(&table, &spec.frequency)?;

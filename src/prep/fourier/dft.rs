@@ -135,6 +135,7 @@ impl WholeSampleDft {
             for (slot, value) in input.iter_mut().zip(xc) {
                 *slot = value - x0;
             }
+            // cannot fail: realfft errs only on buffer lengths, and these come from the plan
             fft.process_with_scratch(&mut input, &mut output, &mut scratch)
                 .expect("buffers made by the plan have its lengths");
             first.push(x0);
