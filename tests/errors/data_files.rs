@@ -194,7 +194,7 @@ fn time_jitter_is_accepted_up_to_its_tolerance() {
 /// multiple of 64 bytes (ending in a newline), then `data`.
 fn npy_bytes(dict: &str, data: &[u8]) -> Vec<u8> {
     let mut header = dict.to_string();
-    while (10 + header.len() + 1) % 64 != 0 {
+    while !(10 + header.len() + 1).is_multiple_of(64) {
         header.push(' ');
     }
     header.push('\n');
