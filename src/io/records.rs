@@ -33,8 +33,8 @@ pub fn record_columns(record: &Record) -> (Vec<String>, Vec<Vec<f64>>) {
     }
     let signals = &record.forcing().signals;
     let names = force_columns(record);
-    for c in 0..signals.ncols() {
-        headers.push(names[c].0.clone());
+    for (c, (name, _)) in names.iter().enumerate().take(signals.ncols()) {
+        headers.push(name.clone());
         columns.push(signals.col(c).iter().copied().collect());
     }
     (headers, columns)

@@ -13,8 +13,8 @@ pub mod html;
 pub mod provenance;
 pub mod records;
 mod truth;
-pub mod varpro;
 pub mod units;
+pub mod varpro;
 mod warning;
 
 pub use truth::AgainstTruth;

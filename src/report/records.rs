@@ -12,13 +12,20 @@
 //! - its ratio to the others is  q_r = √(Σ_{i∈R_r} ẽ_i² / m_r) / √(Σ_{i∉R_r} ẽ_i² / (m − m_r)),
 //!   its RMS residual over the RMS residual of every other record's equations.
 //!
-//! A record *dominates* when it holds at least [`DOMINANT_SHARE`] of the squared residual
-//! and at least [`DOMINANCE_RATIO`] times its share of the equations m_r / m, with two or
-//! more records (with residuals of one size everywhere share_r = m_r / m and q_r = 1).
-//! q_r is reported but not used: requiring q_r ≥ [`OUTLIER_RATIO`] silenced the wrong-DOF
-//! case too. Known false positive: the clean four-mass POD fit (one equation per record)
-//! flags a record at q_r ≈ 3. The report then
-//! warns ([`crate::report::Warning::RecordDominates`]) with the likely causes.
+//! - its outlier test is the F test of "this record's equations have the same residual
+//!   variance as the others'":  F_r = (Σ_{i∈R_r} ẽ_i² / m_r) / (Σ_{i∉R_r} ẽ_i² / d_r),
+//!   d_r = m − m_r − (free coefficients), with p_r = P(F(m_r, d_r) > F_r) (`None` when
+//!   d_r < 1: the other records leave no residual degrees of freedom to compare with).
+//!
+//! A record *dominates* when it holds at least [`DOMINANT_SHARE`] of the squared residual,
+//! at least [`DOMINANCE_RATIO`] times its share of the equations m_r / m, and its outlier
+//! test rejects at [`OUTLIER_LEVEL`] / (number of records) (Bonferroni over the records),
+//! with two or more records (with residuals of one size everywhere share_r = m_r / m and
+//! q_r = 1). The test is what keeps few equations from raising a false alarm: the clean
+//! four-mass POD fit (4 records of one equation, 2 coefficients) has a record holding 75 %
+//! of the residual by chance (q_r ≈ 3, F_r ≈ 3 on (1, 1) degrees of freedom, p ≈ 0.33),
+//! while a force on the wrong DOF gives p below 1e-10. The report then warns
+//! ([`crate::report::Warning::RecordDominates`]) with the likely causes.
 
 use serde::{Deserialize, Serialize};
 
@@ -30,8 +37,8 @@ pub const DOMINANT_SHARE: f64 = 0.5;
 /// How many times its share of the equations a dominating record's residual share is.
 pub const DOMINANCE_RATIO: f64 = 3.0;
 
-/// How many times the other records' RMS residual a dominating record's RMS residual is.
-pub const OUTLIER_RATIO: f64 = 5.0;
+/// Family-wise level of the records' outlier tests (divided by the number of records).
+pub const OUTLIER_LEVEL: f64 = 1e-3;
 
 /// The residual of one record's equations.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -55,6 +62,10 @@ pub struct RecordResidual {
     /// when it is the only record, or the others fit exactly).
     #[serde(default)]
     pub ratio_to_others: Option<f64>,
+    /// P(F(m_r, d_r) > F_r) of its outlier test (module doc; `None` without residual
+    /// degrees of freedom outside the record).
+    #[serde(default)]
+    pub outlier_p_value: Option<f64>,
 }
 
 impl RecordResidual {
@@ -65,6 +76,9 @@ impl RecordResidual {
         records >= 2
             && self.residual_share >= DOMINANT_SHARE
             && self.residual_share >= DOMINANCE_RATIO * fair
+            && self
+                .outlier_p_value
+                .is_some_and(|p| p < OUTLIER_LEVEL / records as f64)
     }
 }
 
@@ -102,6 +116,7 @@ pub fn per_record(
                     standardised_residual: None,
                     mean_residual: 0.0,
                     ratio_to_others: None,
+                    outlier_p_value: None,
                 });
                 sums.push((0.0, 0.0));
                 out.len() - 1
@@ -120,6 +135,15 @@ pub fn per_record(
         let rest = total - squares;
         r.ratio_to_others = (others > 0 && rest > 0.0)
             .then(|| (squares / m).sqrt() / (rest / others as f64).sqrt());
+        let rest_dof = others.saturating_sub(free);
+        r.outlier_p_value = (rest_dof >= 1 && squares > 0.0).then(|| {
+            if rest > 0.0 {
+                let f = (squares / m) / (rest / rest_dof as f64);
+                crate::analysis::stats::f_upper_tail(f, m, rest_dof as f64)
+            } else {
+                0.0
+            }
+        });
     }
     out
 }
@@ -141,7 +165,8 @@ mod tests {
     /// Four records of two equations; residuals (by hand) 0.1, −0.1 | 0.1, −0.1 | 2, 2 |
     /// 0.1, −0.1: Σe² = 6 · 0.01 + 8 = 8.06, so record 3 holds 8/8.06 = 0.9926 of it
     /// (fair share 0.25); with one free coefficient ν = 7, s = √(8.06/7), z_3 = √(8/2)/s;
-    /// the others' RMS is √(0.06/6) = 0.1, so q_3 = 2/0.1 = 20.
+    /// the others' RMS is √(0.06/6) = 0.1, so q_3 = 2/0.1 = 20; F_3 = (8/2)/(0.06/5) = 333.3
+    /// on (2, 5) degrees of freedom, whose tail is (1 + 2F/5)^(−5/2) = 4.82e-6.
     #[test]
     fn shares_and_standardised_residuals_by_hand() {
         let rows = [
@@ -163,6 +188,8 @@ mod tests {
         assert!((records[2].standardised_residual.unwrap() - 2.0 / s).abs() < 1e-12);
         assert_eq!(records[2].mean_residual, 2.0);
         assert!((records[2].ratio_to_others.unwrap() - 20.0).abs() < 1e-9);
+        let p = (1.0 + 2.0 * (4.0 / 0.012) / 5.0f64).powf(-2.5);
+        assert!((records[2].outlier_p_value.unwrap() / p - 1.0).abs() < 1e-9);
         assert!(records[2].dominates(4, 8));
         assert!(!records[0].dominates(4, 8));
         let shares: f64 = records.iter().map(|r| r.residual_share).sum();
@@ -184,6 +211,11 @@ mod tests {
         assert!((weighted[1].residual_share - 200.0 / 201.0).abs() < 1e-12);
         let scaled = per_record(&rows, &[1.0, 10.0, 10.0], Some(&[1.0, 10.0, 10.0]), 0);
         assert!((scaled[1].residual_share - 2.0 / 3.0).abs() < 1e-12);
+        // One equation per record, one residual degree of freedom left outside the record:
+        // however large its share, a record is not called dominant (the POD case).
+        let rows4 = [row(0, 0), row(1, 0), row(2, 0), row(3, 0)];
+        let pod = per_record(&rows4, &[0.1, 0.3, 0.1, 0.1], None, 2);
+        assert!(pod[1].residual_share > 0.75 && !pod[1].dominates(4, 4));
         // No redundancy: no standardised residual.
         assert!(
             per_record(&rows, &[1.0, 1.0, 1.0], None, 3)[0]

@@ -298,7 +298,9 @@ fn identify(
                 sweeps,
                 &on_bar(&bar),
             ),
-            None => bootstrap_with_progress(&regressor, &job.settings.fit, &settings, &on_bar(&bar)),
+            None => {
+                bootstrap_with_progress(&regressor, &job.settings.fit, &settings, &on_bar(&bar))
+            }
         };
         bar.finish_and_clear();
         let intervals = intervals?;

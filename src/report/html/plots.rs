@@ -578,42 +578,46 @@ pub(crate) fn energy_per_cycle(measured: &[(f64, f64)], curves: &[Curve]) -> Res
             )
         })
         .collect();
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+    chart_svg(|root| {
         let all = || {
             points
                 .iter()
                 .chain(lines.iter().flat_map(|(_, l)| l.iter()))
         };
-        let mut chart = frame_with_ticks(
-            &root,
+        let mut chart = frame(
+            root,
             "Dissipated energy per cycle",
             padded(all().map(|p| p.0)),
             padded(all().map(|p| p.1)),
             ("response amplitude X (log10)", "energy per cycle (log10)"),
             (Ticks::Decades, Ticks::Decades),
         )?;
+        let measured_colour = colour(0);
         chart
-            .draw_series(points.iter().map(|&p| Circle::new(p, 3, BLUE.filled())))
+            .draw_series(
+                points
+                    .iter()
+                    .map(|&p| Circle::new(p, px(4) as i32, measured_colour.filled())),
+            )
             .map_err(plot_error)?
             .label("measured π a X sin φ")
-            .legend(|(x, y)| Circle::new((x + 8, y), 3, BLUE.filled()));
+            .legend(move |(x, y)| {
+                Circle::new(
+                    (x + px(10) as i32, y),
+                    px(4) as i32,
+                    measured_colour.filled(),
+                )
+            });
         for (k, (name, line)) in lines.iter().enumerate() {
-            let colour = Palette99::pick(k + 1).to_rgba();
+            let style = colour(k + 1).stroke_width(px(2));
             chart
-                .draw_series(LineSeries::new(
-                    line.iter().copied(),
-                    colour.stroke_width(2),
-                ))
+                .draw_series(LineSeries::new(line.iter().copied(), style))
                 .map_err(plot_error)?
                 .label(name.as_str())
-                .legend(move |(x, y)| PathElement::new([(x, y), (x + 16, y)], colour));
+                .legend(move |(x, y)| legend_line(x, y, style));
         }
-        legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
-        root.present().map_err(plot_error)?;
-    }
-    Ok(svg)
+        legend(&mut chart, SeriesLabelPosition::UpperLeft)
+    })
 }
 
 #[cfg(test)]
