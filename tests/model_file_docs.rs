@@ -78,6 +78,11 @@ fn probes() -> Vec<(&'static str, String)> {
             format!("[system]\ncubic_springs = [{{ {k} = 1 }}]\n"),
         ),
         ("## [pod]", format!("[pod]\n{k} = 1\n")),
+        ("## [stepped_sine]", format!("[stepped_sine]\n{k} = 1\n")),
+        (
+            "## [stepped_sine]",
+            format!("[stepped_sine]\nstructural = [{{ {k} = 1 }}]\n"),
+        ),
         (
             "## [harmonic_approximation]",
             format!("[harmonic_approximation]\n{k} = 1\n"),

@@ -25,20 +25,11 @@ import numpy as np
 
 import dampid
 
-# The chain's model: C = c K and d v|v| on every mass (examples/python/chain.py).
-MODEL = """
-dofs = 4
-[[terms]]
-kind = "stiffness_proportional"
-coefficient = "c"
-matrix = "chain"
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+import chain  # noqa: E402  (the chain's simulator and model, beside this file)
 
-[[terms]]
-kind = "law"
-law = "quadratic"
-elements = "each_dof"
-coefficient = "d"
-"""
+# The chain's model: C = c K and d v|v| on every mass.
+MODEL = chain.MODEL
 
 # Plain rows (measured velocities): a row is then a function of its window alone. The
 # noise-robust rows share a noise model across rows, which (A, b) cannot carry, so
@@ -48,9 +39,6 @@ SETTINGS = dict(velocity="measured", quadrature="trapezoid", cycles=1)
 
 def simulate_campaign(folder, count, seed=1):
     """`count` steady records of the chain, one .npz file each (x, v, t, f, omega)."""
-    sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
-    import chain
-
     rng = np.random.default_rng(seed)
     amplitudes = rng.uniform(0.25, 1.0, count)
     omegas = rng.uniform(0.55, 0.7, count)

@@ -498,12 +498,22 @@ fn compare(first: &Path, second: &Path, as_json: bool) -> anyhow::Result<Outcome
             ..Default::default()
         },
     )?;
+    on_records_of(&comparison, first, as_json)
+}
+
+/// A comparison's output: JSON, or its text under the name of the model file whose
+/// records and settings it used.
+fn on_records_of(
+    result: &(impl serde::Serialize + std::fmt::Display),
+    source: &Path,
+    as_json: bool,
+) -> anyhow::Result<Outcome> {
     let text = if as_json {
-        format!("{}\n", serde_json::to_string_pretty(&comparison)?)
+        format!("{}\n", serde_json::to_string_pretty(result)?)
     } else {
         format!(
-            "records and identification settings of {}\n{comparison}",
-            first.display()
+            "records and identification settings of {}\n{result}",
+            source.display()
         )
     };
     Ok(Outcome {
@@ -534,18 +544,7 @@ fn rank_laws(path: &Path, laws: &[String], as_json: bool) -> anyhow::Result<Outc
             ..Default::default()
         },
     )?;
-    let text = if as_json {
-        format!("{}\n", serde_json::to_string_pretty(&ranking)?)
-    } else {
-        format!(
-            "records and identification settings of {}\n{ranking}",
-            path.display()
-        )
-    };
-    Ok(Outcome {
-        text,
-        trusted: true,
-    })
+    on_records_of(&ranking, path, as_json)
 }
 
 fn design(path: &Path, as_json: bool) -> anyhow::Result<Outcome> {
