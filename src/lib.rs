@@ -48,7 +48,7 @@
 //! spans of non-periodic records with stored-energy unknowns); [`fit`] solves it;
 //! [`analysis`] diagnoses it (conditioning, identifiability, bootstrap, comparison,
 //! experiment design); [`identify::identify_regressor`] runs the part after the
-//! regressor. Cross-cutting: [`error`] (the typed [`Error`]), [`format`] (numbers in
+//! regressor. Cross-cutting: [`error`] (the typed [`Error`]), [`format`](mod@format) (numbers in
 //! messages), [`progress`] (callbacks), [`budget`] (memory and time limits), [`interop`].
 //! The `dampid` binary (feature `cli`) prints what the library returns.
 //!

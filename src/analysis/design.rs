@@ -278,7 +278,7 @@ fn work_units(candidates: usize, started: usize, picks: usize) -> u64 {
     (0..steps).map(|i| (left - i) as u64).sum::<u64>() + candidates as u64
 }
 
-/// [`select`], calling `progress(done, total)` in units of [`work_units`] (blocks
+/// [`select`], calling `progress(done, total)` in units of `work_units` (blocks
 /// built, then candidate evaluations; the count jumps to the end when the target
 /// condition number stops the selection early). It checks [`crate::cancel::check`]
 /// before each unit.

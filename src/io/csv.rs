@@ -1,5 +1,5 @@
 //! CSV files with a header row: every column numeric. Errors name the file, the 1-based
-//! data row and the column. Plain numeric files are parsed by [`super::csv_fast`]
+//! data row and the column. Plain numeric files are parsed by `io/csv_fast.rs`
 //! (in parallel for files of [`PARALLEL_BLOCK`] bytes and more); anything it does not
 //! take (quoted fields, a bad cell) is read by the csv crate, which also words every
 //! error.

@@ -5,7 +5,7 @@
 //! |---|---|---|
 //! | `.csv` | [`csv::read`] | header names |
 //! | `.npy` | [`npy::read_npy`] | the file stem (`x`, or `x[1]`…`x[k]` for N × k) |
-//! | `.npz` | [`npy::read_npz`] ([`npz`]) | each array's name, as above |
+//! | `.npz` | [`npy::read_npz`] (`io/npz.rs`) | each array's name, as above |
 //! | `.mat` | [`mat::read_mat`] | each real numeric variable's name, as above |
 //! | `.uff`, `.unv` | [`uff::read`] | `t`, then per dataset 58 record `3+Z` (node, direction) and its ID line 1 |
 //!

@@ -3,10 +3,10 @@
 //! elements. The elements are read in one pass, in blocks of about 1 MiB straight from
 //! the file (no per-element reader), converted to f64 (f8, f4, i8, i4, little or big
 //! endian) and appended to their columns in file order; C and Fortran order and the
-//! orientation rule are [`Layout`]'s. The bytes the header's shape needs are checked
+//! orientation rule are `Layout`'s (io/arrays.rs). The bytes the header's shape needs are checked
 //! against the bytes the file holds after it before anything of that size is
 //! allocated, so a header that claims more data than there is is an error, never a read
-//! past the end or an allocation of the claimed size. `.npz` archives: [`super::npz`].
+//! past the end or an allocation of the claimed size. `.npz` archives: `io/npz.rs`.
 
 use std::io::{BufReader, Read, Seek};
 use std::path::Path;
@@ -214,7 +214,7 @@ pub fn read_npy(path: &Path) -> Result<Table> {
     table_from_arrays(&file, vec![array])
 }
 
-/// Reads every array of a `.npz` archive ([`super::npz`]); each must be usable.
+/// Reads every array of a `.npz` archive (`io/npz.rs`); each must be usable.
 pub fn read_npz(path: &Path) -> Result<Table> {
     super::data_file::DataFile::open(path)?.whole()
 }

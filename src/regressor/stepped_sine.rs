@@ -24,7 +24,7 @@
 //! stored as the [`RowNoise`] of the noise-robust pipeline (one two-entry whitened
 //! vector per DOF), so the fit weights each equation by 1/√Var e_p(θ), iterated, with
 //! the same χ² model check and calibrated standard errors
-//! ([`crate::fit::weighted`], [`crate::analysis::diagnostics`]). The derivatives are
+//! (`fit/weighted.rs`, [`crate::analysis::diagnostics`]). The derivatives are
 //! forward differences of the synthesized rows, steps 10⁻⁶ X_i (relative), 10⁻⁶ rad
 //! and 10⁻⁶ a: the columns are smooth in X and φ, so their relative error is about
 //! 10⁻⁶, negligible in a variance; b is exactly linear in a.

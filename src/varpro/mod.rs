@@ -11,7 +11,7 @@
 //! For fixed η the inner problem is the ordinary fit ([`crate::fit::solve`]: least
 //! squares, constrained, or weighted by the propagated noise model with W = diag(1/s²)
 //! of the weighted fit), so θ̂(η) is a function of η and the projected cost
-//! φ(η) = ‖r(θ̂(η), η)‖² is minimised over η alone ([`outer`]): bounded Brent for one
+//! φ(η) = ‖r(θ̂(η), η)‖² is minimised over η alone (`outer.rs`): bounded Brent for one
 //! parameter, Nelder–Mead on the logistic transform η = l + (u − l)/(1 + e^{−s}) for
 //! several. Each trial rebuilds the whole regressor of the model the builder makes for
 //! η (measured on the four-mass chain: a build costs about as much as the fit itself,
@@ -20,13 +20,13 @@
 //! Uncertainty, with ν = m − p − q degrees of freedom (m equations, p linear and q
 //! nonlinear parameters):
 //!
-//! - each η_j gets a profile-likelihood interval ([`profile`]): the η_j where the
+//! - each η_j gets a profile-likelihood interval (`profile.rs`): the η_j where the
 //!   profiled cost min_{θ, η_{k≠j}} ‖r‖² rises above φ̂ by F_{1,ν}(0.95)·s², s² = φ̂/ν,
 //!   for an unweighted fit, and by χ²₁(0.95) (times χ²/ν when the weighted fit's χ² check
 //!   rejects it, [`crate::analysis::diagnostics::REJECTION_P_VALUE`]) for a weighted one;
 //!   an end beyond the parameter's bound is reported open;
 //! - the linear coefficients (and η, as Wald errors) get the covariance of the full
-//!   Jacobian J = [∂r/∂θ, ∂r/∂η] at the optimum ([`joint`]), σ²(JᵀJ)⁻¹, so their intervals
+//!   Jacobian J = [∂r/∂θ, ∂r/∂η] at the optimum (`joint.rs`), σ²(JᵀJ)⁻¹, so their intervals
 //!   include the uncertainty of η; ∂r/∂η by central differences of rebuilt regressors.
 //!
 //! An outer loop that does not converge (iteration limit) is data, as [`crate::fit::FitStatus`]
