@@ -32,7 +32,6 @@ use crate::model::DampingModel;
 use crate::prep::harmonic::sweeps::SweptTable;
 use crate::prep::harmonic::{HarmonicApproximation, SteppedSinePoint};
 use crate::regressor::stepped_sine::{StructuralTerm, columns_of};
-use crate::report::FitReport;
 
 /// Amplitudes the curves are evaluated at.
 const GRID: usize = 12;
@@ -179,14 +178,16 @@ pub struct EquivalentDamping {
     pub points: Vec<EquivalentPoint>,
 }
 
-/// ζ_eq(X) and η(X) of the fit `report` of `model` (plus `structural` terms) over the
-/// amplitude range of `swept`.
+/// ζ_eq(X) and η(X) of `model` (plus `structural` terms) with the fitted `coefficients`
+/// (in column order) over the amplitude range of `swept`; with their `covariance`
+/// (p × p, when every coefficient has a standard error), intervals too.
 pub fn equivalent_damping(
     model: &DampingModel,
     structural: &[StructuralTerm],
     approximation: &HarmonicApproximation,
     swept: &SweptTable,
-    report: &FitReport,
+    coefficients: &[f64],
+    covariance: Option<&[Vec<f64>]>,
     modal: Modal,
 ) -> Result<EquivalentDamping> {
     require_one_dof(swept)?;
@@ -209,15 +210,14 @@ pub fn equivalent_damping(
         })
         .collect();
     let columns = columns_of(model, structural, approximation, &synthetic)?;
-    let theta: Vec<f64> = report.coefficients.iter().map(|c| c.value).collect();
-    let covariance = covariance(report);
+    let theta = coefficients;
     let out = grid
         .iter()
         .zip(&columns)
         .map(|(&x, g)| {
-            let energy: f64 = g.iter().zip(&theta).map(|(g, t)| g * t).sum();
+            let energy: f64 = g.iter().zip(theta).map(|(g, t)| g * t).sum();
             let factor = 2.0 * std::f64::consts::PI * modal.stiffness * x * x;
-            let std = covariance.as_ref().map(|c| {
+            let std = covariance.map(|c| {
                 let mut v = 0.0;
                 for (i, gi) in g.iter().enumerate() {
                     for (j, gj) in g.iter().enumerate() {
@@ -229,7 +229,7 @@ pub fn equivalent_damping(
             EquivalentPoint {
                 amplitude: x,
                 dissipated_energy: energy,
-                terms: g.iter().zip(&theta).map(|(g, t)| g * t).collect(),
+                terms: g.iter().zip(theta).map(|(g, t)| g * t).collect(),
                 damping_ratio: energy / factor,
                 damping_ratio_std: std.map(|s| s / factor),
                 loss_factor: 2.0 * energy / factor,
@@ -238,32 +238,6 @@ pub fn equivalent_damping(
         })
         .collect();
     Ok(EquivalentDamping { modal, points: out })
-}
-
-/// Σ_ij = se_i se_j ρ_ij in coefficient order, when every coefficient has a standard
-/// error.
-fn covariance(report: &FitReport) -> Option<Vec<Vec<f64>>> {
-    let p = report.coefficients.len();
-    let se: Vec<f64> = report
-        .coefficients
-        .iter()
-        .map(|c| c.std_error)
-        .collect::<Option<_>>()?;
-    let mut c = vec![vec![0.0; p]; p];
-    for (i, row) in c.iter_mut().enumerate() {
-        row[i] = se[i] * se[i];
-    }
-    if let Some(corr) = &report.correlation {
-        let index = |name: &str| report.coefficients.iter().position(|c| c.name == name);
-        for (a, na) in corr.names.iter().enumerate() {
-            for (b, nb) in corr.names.iter().enumerate() {
-                if let (Some(i), Some(j)) = (index(na), index(nb)) {
-                    c[i][j] = se[i] * se[j] * corr.matrix[a][b];
-                }
-            }
-        }
-    }
-    Some(c)
 }
 
 impl fmt::Display for EquivalentDamping {

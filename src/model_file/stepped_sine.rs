@@ -356,7 +356,12 @@ impl super::Job {
                 &table.structural,
                 &table.approximation,
                 &table.table,
-                report,
+                &report
+                    .coefficients
+                    .iter()
+                    .map(|c| c.value)
+                    .collect::<Vec<_>>(),
+                covariance(report).as_deref(),
                 modal,
             )
         }))
@@ -369,4 +374,30 @@ impl super::Job {
             .as_ref()
             .map(|t| t.table.sweeps.as_slice())
     }
+}
+
+/// Σ_ij = se_i se_j ρ_ij in coefficient order, when every coefficient has a standard
+/// error.
+fn covariance(report: &crate::report::FitReport) -> Option<Vec<Vec<f64>>> {
+    let p = report.coefficients.len();
+    let se: Vec<f64> = report
+        .coefficients
+        .iter()
+        .map(|c| c.std_error)
+        .collect::<Option<_>>()?;
+    let mut c = vec![vec![0.0; p]; p];
+    for (i, row) in c.iter_mut().enumerate() {
+        row[i] = se[i] * se[i];
+    }
+    if let Some(corr) = &report.correlation {
+        let index = |name: &str| report.coefficients.iter().position(|c| c.name == name);
+        for (a, na) in corr.names.iter().enumerate() {
+            for (b, nb) in corr.names.iter().enumerate() {
+                if let (Some(i), Some(j)) = (index(na), index(nb)) {
+                    c[i][j] = se[i] * se[j] * corr.matrix[a][b];
+                }
+            }
+        }
+    }
+    Some(c)
 }
