@@ -234,11 +234,7 @@ fn identify(
         )?;
         let mut out = String::new();
         if as_json {
-            let truth = job.truth.as_ref().map(|t| {
-                t.iter()
-                    .map(|(n, v)| (n.clone(), json!(v)))
-                    .collect::<serde_json::Map<_, _>>()
-            });
+            let truth = truth_json(&job);
             writeln!(
                 out,
                 "{}",
@@ -337,11 +333,7 @@ fn identify(
         eprintln!("wrote {}", file.display());
     }
     if as_json {
-        let truth = job.truth.as_ref().map(|t| {
-            t.iter()
-                .map(|(n, v)| (n.clone(), json!(v)))
-                .collect::<serde_json::Map<_, _>>()
-        });
+        let truth = truth_json(&job);
         writeln!(
             out,
             "{}",
@@ -617,5 +609,14 @@ fn write_records(path: &Path, folder: &Path, overwrite: Overwrite) -> anyhow::Re
     Ok(Outcome {
         text: out,
         trusted: true,
+    })
+}
+
+/// The simulation's true coefficients as a JSON object (`None` for measured data).
+fn truth_json(job: &Job) -> Option<serde_json::Map<String, serde_json::Value>> {
+    job.truth.as_ref().map(|t| {
+        t.iter()
+            .map(|(n, v)| (n.clone(), json!(v)))
+            .collect::<serde_json::Map<_, _>>()
     })
 }
