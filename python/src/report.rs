@@ -190,6 +190,11 @@ impl PyReport {
                 report: &self.report,
                 truth: job.and_then(|j| j.truth.as_deref()),
                 pod: job.and_then(|j| j.pod.as_ref()),
+                // Not yet from Python: the steady-state table and the provenance block
+                // (the CLI's `identify --report` has both).
+                steady: None,
+                provenance: None,
+                units: job.map(|j| &j.units),
             }
             .render()
         };
