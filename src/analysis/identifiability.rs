@@ -540,18 +540,7 @@ impl fmt::Display for Identifiability {
         if !self.determined.is_empty() {
             writeln!(f, "only these combinations are determined by these data:")?;
             for d in &self.determined {
-                match d.std_error {
-                    Some(se) => writeln!(
-                        f,
-                        "  {} = {:.6e} ± {se:.2e} (σ = {:.3e})",
-                        d.combination.text, d.value, d.singular_value
-                    )?,
-                    None => writeln!(
-                        f,
-                        "  {} = {:.6e} (σ = {:.3e})",
-                        d.combination.text, d.value, d.singular_value
-                    )?,
-                }
+                write_determined(f, d)?;
             }
         }
         Ok(())
@@ -639,18 +628,7 @@ impl Identifiability {
                 }
             )?;
             for d in self.determined.iter().take(LISTED) {
-                match d.std_error {
-                    Some(se) => writeln!(
-                        f,
-                        "  {} = {:.6e} ± {se:.2e} (σ = {:.3e})",
-                        d.combination.text, d.value, d.singular_value
-                    )?,
-                    None => writeln!(
-                        f,
-                        "  {} = {:.6e} (σ = {:.3e})",
-                        d.combination.text, d.value, d.singular_value
-                    )?,
-                }
+                write_determined(f, d)?;
             }
             if determined > LISTED {
                 writeln!(
@@ -661,5 +639,22 @@ impl Identifiability {
             }
         }
         Ok(())
+    }
+}
+
+/// One determined combination's line: its value, ± its standard error when known, and
+/// its singular value.
+fn write_determined(f: &mut fmt::Formatter<'_>, d: &DeterminedCombination) -> fmt::Result {
+    match d.std_error {
+        Some(se) => writeln!(
+            f,
+            "  {} = {:.6e} ± {se:.2e} (σ = {:.3e})",
+            d.combination.text, d.value, d.singular_value
+        ),
+        None => writeln!(
+            f,
+            "  {} = {:.6e} (σ = {:.3e})",
+            d.combination.text, d.value, d.singular_value
+        ),
     }
 }
