@@ -81,6 +81,18 @@ pub fn check_flag(flag: &AtomicBool, what: &str) -> Result<()> {
     Ok(())
 }
 
+/// `result`, with a cancellation inside it renamed to `what`: an operation that runs
+/// another checked one (the design builds regressors) names itself, whichever of the
+/// checks, its own or the inner one's, saw the flag first.
+pub fn within<T>(what: &str, result: Result<T>) -> Result<T> {
+    result.map_err(|e| match e {
+        Error::Cancelled { .. } => Error::Cancelled {
+            what: what.to_string(),
+        },
+        other => other,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -94,5 +106,15 @@ mod tests {
         let e = check_flag(&flag, "the bootstrap").unwrap_err();
         assert_eq!(e.kind(), "cancelled");
         assert!(e.to_string().contains("the bootstrap"), "{e}");
+    }
+
+    /// An inner operation's cancellation takes the outer one's name; other errors pass.
+    #[test]
+    fn within_renames_only_cancellation() {
+        let flag = AtomicBool::new(true);
+        let e = within("the design", check_flag(&flag, "building the regressor")).unwrap_err();
+        assert!(e.to_string().contains("the design"), "{e}");
+        let other: Result<()> = Err(Error::Cancelled { what: "x".into() });
+        assert_eq!(within("y", other).unwrap_err().kind(), "cancelled");
     }
 }

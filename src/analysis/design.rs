@@ -232,7 +232,9 @@ pub fn simulate_candidates(
             crate::cancel::check("simulating the design candidates")?;
             let mut one = system.clone();
             one.forcing = vec![*force];
-            let mut parts = simulate(&one, simulation)?.into_parts();
+            let simulated = simulate(&one, simulation);
+            let mut parts =
+                crate::cancel::within("simulating the design candidates", simulated)?.into_parts();
             parts.label = candidate_label(force);
             Record::new(parts)
         })
@@ -297,7 +299,10 @@ pub fn select_with_progress(
         .par_iter()
         .map(|r| {
             crate::cancel::check("the design")?;
-            let block = Regressor::build(model, std::slice::from_ref(r), regressor);
+            let block = crate::cancel::within(
+                "the design",
+                Regressor::build(model, std::slice::from_ref(r), regressor),
+            );
             tick();
             block
         })
