@@ -115,7 +115,7 @@ fn from_csv_files_the_columns_time_and_periods_are_found() {
     let job = dampid::model_file::load(&out).unwrap();
     assert_eq!(job.records.len(), 2);
     let simulated = 2.0 * std::f64::consts::PI / 0.618;
-    for record in &job.records {
+    for record in job.records.iter() {
         assert!(
             ((record.period() - simulated) / simulated).abs() < 1e-6,
             "{} against {simulated}",

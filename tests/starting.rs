@@ -160,7 +160,7 @@ fn simulation_noise_is_gaussian_relative_to_each_channel_and_seeded() {
     for (k, (c, n)) in clean
         .source_records
         .iter()
-        .zip(&noisy.source_records)
+        .zip(noisy.source_records.iter())
         .enumerate()
     {
         let kinds = [

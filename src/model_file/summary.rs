@@ -367,7 +367,7 @@ struct WindowLengths {
 impl WindowLengths {
     fn of(job: &Job, requested: f64) -> Self {
         let mut used: Vec<(f64, Option<(usize, f64)>)> = Vec::new();
-        for record in &job.records {
+        for record in job.records.iter() {
             let h = record.step();
             let steps = (requested / h).round();
             let length = steps * h;
