@@ -140,14 +140,53 @@ fn gain<T>(
     Ok((scale, offset))
 }
 
-/// A column of `table` read as scale × column + offset (as stored when the gain is
-/// the identity).
-fn scaled(table: &Table, column: &str, (scale, offset): (f64, f64)) -> Result<Vec<f64>> {
-    let values = table.column(column)?;
-    if scale == 1.0 && offset == 0.0 {
-        return Ok(values.to_vec());
+/// The columns of a record's table, each moved into the matrix that uses it.
+struct Columns {
+    table: Table,
+    /// How many channels still read each column (by its index in the table).
+    uses: Vec<usize>,
+    rows: usize,
+}
+
+impl Columns {
+    fn new<'a>(table: Table, names: impl Iterator<Item = &'a str>) -> Self {
+        let mut uses = vec![0; table.headers.len()];
+        for name in names {
+            if let Some(k) = table.headers.iter().position(|h| h == name) {
+                uses[k] += 1;
+            }
+        }
+        let rows = table.rows();
+        Self { table, uses, rows }
     }
-    Ok(values.iter().map(|c| scale * c + offset).collect())
+
+    /// Writes scale × `column` + offset into `into`, and frees the column when no
+    /// other channel names it.
+    fn move_into(
+        &mut self,
+        into: faer::ColMut<f64>,
+        column: &str,
+        (scale, offset): (f64, f64),
+    ) -> Result<()> {
+        let values = self.table.column(column)?;
+        // Every channel's name was counted in `new`, so a column is freed only after
+        // its last reader.
+        debug_assert_eq!(
+            values.len(),
+            self.rows,
+            "column '{column}' read after it was freed"
+        );
+        for (out, &c) in into.iter_mut().zip(values) {
+            *out = scale * c + offset;
+        }
+        if let Some(k) = self.table.headers.iter().position(|h| h == column) {
+            self.uses[k] = self.uses[k].saturating_sub(1);
+            if self.uses[k] == 0 {
+                self.table.columns[k] = Vec::new();
+            }
+        }
+        Ok(())
+    }
 }
 
 /// One motion channel of a DOF: the column, its gain and its line.
@@ -311,8 +350,25 @@ pub(super) fn read_record(
             ));
         }
     };
+    let start_time = spec
+        .time
+        .as_deref()
+        .map_or(Ok(0.0), |t| table.column(t).map(|c| time_scale * c[0]))?;
+    let (motion, measured_velocities) = motion_columns(ctx, spec, n, &label)?;
+    // Each column moves from the table into its matrix and is freed there (cloned only
+    // while another channel still names it), so reading a record holds the data once
+    // plus one column, not twice.
+    let mut columns = Columns::new(
+        table,
+        motion
+            .iter()
+            .chain(measured_velocities.iter().flatten())
+            .map(|m| m.spec.get_ref().column.as_str())
+            .chain(spec.forces.iter().map(|f| f.get_ref().column.as_str())),
+    );
+    let rows = columns.rows;
     let mut gains = Vec::new();
-    let mut read = |column: &str, gain: (f64, f64), quantity: String| {
+    let mut read = |into: faer::ColMut<f64>, column: &str, gain: (f64, f64), quantity: String| {
         if gain != (1.0, 0.0) {
             gains.push(ChannelGain {
                 column: column.to_string(),
@@ -321,19 +377,15 @@ pub(super) fn read_record(
                 offset: gain.1,
             });
         }
-        scaled(&table, column, gain)
+        columns.move_into(into, column, gain)
     };
-    let (motion, measured_velocities) = motion_columns(ctx, spec, n, &label)?;
-    let mut matrix = |columns: &[MotionColumn]| -> Result<Mat<f64>> {
-        let data = columns
-            .iter()
-            .enumerate()
-            .map(|(j, m)| {
-                let quantity = format!("{} of DOF {}", m.sensor.name(), j + 1);
-                read(&m.spec.get_ref().column, m.gain, quantity)
-            })
-            .collect::<Result<Vec<_>>>()?;
-        Ok(Mat::from_fn(table.rows(), data.len(), |i, j| data[j][i]))
+    let mut matrix = |channels: &[MotionColumn]| -> Result<Mat<f64>> {
+        let mut m = Mat::zeros(rows, channels.len());
+        for (j, c) in channels.iter().enumerate() {
+            let quantity = format!("{} of DOF {}", c.sensor.name(), j + 1);
+            read(m.col_mut(j), &c.spec.get_ref().column, c.gain, quantity)?;
+        }
+        Ok(m)
     };
     let signals_motion = matrix(&motion)?;
     let velocities = measured_velocities
@@ -342,8 +394,8 @@ pub(super) fn read_record(
         .transpose()?;
     let mut force_names = Vec::with_capacity(spec.forces.len());
     let mut dofs = Vec::with_capacity(spec.forces.len());
-    let mut force_data = Vec::with_capacity(spec.forces.len());
-    for force in &spec.forces {
+    let mut signals = Mat::zeros(rows, spec.forces.len());
+    for (k, force) in spec.forces.iter().enumerate() {
         let f = force.get_ref();
         let dof = f.dof.checked_sub(1).filter(|d| *d < n).ok_or_else(|| {
             let e = Error::DofOutOfRange {
@@ -354,15 +406,15 @@ pub(super) fn read_record(
             ctx.typed_error_at(force, e)
         })?;
         let g = gain(ctx, force, &f.column, f.scale, f.offset)?;
-        force_data.push(read(&f.column, g, format!("force on DOF {}", f.dof))?);
+        read(
+            signals.col_mut(k),
+            &f.column,
+            g,
+            format!("force on DOF {}", f.dof),
+        )?;
         force_names.push(f.column.clone());
         dofs.push(dof);
     }
-    let signals = Mat::from_fn(table.rows(), force_data.len(), |i, k| force_data[k][i]);
-    let start_time = spec
-        .time
-        .as_deref()
-        .map_or(Ok(0.0), |t| table.column(t).map(|c| time_scale * c[0]))?;
     let (period, detected) = match (spec.period, spec.frequency) {
         (Some(period), None) => (period, None),
         (None, Some(omega)) => (2.0 * std::f64::consts::PI / omega, None),
