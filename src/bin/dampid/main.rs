@@ -29,6 +29,11 @@ use serde_json::json;
 
 use args::{Cli, Command, ReferenceSystem};
 
+/// The allocator: returns freed buffers to the system (see Cargo.toml), so that peak
+/// memory follows the data, not the allocator's arenas.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 /// What a command prints, and whether its numbers can be trusted.
 struct Outcome {
     text: String,
@@ -586,7 +591,7 @@ fn write_records(path: &Path, folder: &Path, overwrite: Overwrite) -> anyhow::Re
     let source = path.display().to_string();
     let run = dampid::io::run::write_run(folder, &job.source_records, &source, overwrite)?;
     let mut out = String::new();
-    for (file, record) in run.written.iter().zip(&job.source_records) {
+    for (file, record) in run.written.iter().zip(job.source_records.iter()) {
         writeln!(
             out,
             "{} ({}, period {:.6})",
