@@ -71,6 +71,7 @@ pub mod projection;
 
 use std::fmt;
 
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
@@ -441,17 +442,24 @@ pub fn check(
 ) -> Result<SteadyStateReport> {
     settings.validate()?;
     let spec = windows;
-    let mut windows = Vec::new();
+    let mut cut = Vec::new();
     for (index, record) in records.iter().enumerate() {
         if let Some(e) = energy {
             e.validate(record.dofs())?;
         }
         for window in spec.windows(record, index, quadrature)? {
-            windows.push(judge::check_window(
-                record, &window, quadrature, energy, settings,
-            )?);
+            cut.push((record, window));
         }
     }
+    // Each window is judged on its own; rayon's collect keeps window order, so the
+    // report is the same at any thread count.
+    let windows = cut
+        .par_iter()
+        .map(|(record, window)| {
+            crate::cancel::check("the steady-state check")?;
+            judge::check_window(record, window, quadrature, energy, settings)
+        })
+        .collect::<Result<Vec<_>>>()?;
     Ok(SteadyStateReport {
         settings: *settings,
         energy_known: energy.is_some(),
