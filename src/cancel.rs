@@ -4,8 +4,8 @@
 //!
 //! Long operations call [`check`] between units of work: every 64 integration steps of
 //! a simulation, before each record read or simulated, before each window's
-//! steady-state check and its row of the regressor, before each bootstrap replicate, before each design candidate's
-//! evaluation. Once [`request`] has been called, the next check returns
+//! steady-state check and its row of the regressor, before each bootstrap replicate,
+//! before each design candidate's evaluation. Once [`request`] has been called, the next check returns
 //! [`Error::Cancelled`] naming the work that stopped, and the operation returns it
 //! without producing a result. Nothing is written by a cancelled operation: outputs
 //! are written after the work (io/output.rs, through a temporary file renamed into
