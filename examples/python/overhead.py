@@ -59,6 +59,16 @@ def overhead(python, rust):
     return f"{100 * (python / rust - 1):+.1f} %"
 
 
+def share(call):
+    """The binding's own share of one Python call, measured inside it: the call's wall
+    time minus the time the library's stages took (Report._library_seconds), relative to
+    the latter. The load of the machine stretches both alike."""
+    start = time.perf_counter()
+    report = call()
+    wall = time.perf_counter() - start
+    return wall - report._library_seconds, report._library_seconds
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--repeats", type=int, default=3, help="rounds of the large case")
@@ -78,9 +88,13 @@ def main():
         r_wall.append(w)
         r_cpu.append(c_time)
     same = (report.coefficients["c"], report.coefficients["d"]) == (c, d)
+    shares = [share(lambda: dampid.identify_file("models/four_mass.toml")) for _ in range(args.small_repeats)]
+    outside, inside = np.median([s[0] for s in shares]), np.median([s[1] for s in shares])
     print(f"four_mass: wall python {min(wall):.5f} s, rust {min(r_wall):.5f} s, overhead {overhead(min(wall), min(r_wall))}; "
           f"cpu python {np.mean(cpu):.5f} s, rust {np.mean(r_cpu):.5f} s, overhead {overhead(np.mean(cpu), np.mean(r_cpu))}; "
           f"same coefficients bit for bit: {same}")
+    print(f"four_mass: binding's share of the Python call (median of {len(shares)}): {1e3 * outside:.3f} ms outside "
+          f"the library's stages, {1e3 * inside:.3f} ms inside, {100 * outside / inside:+.2f} %")
 
     n, samples, h, omega = args.dofs, args.samples, 0.05, 0.618
     t = np.arange(samples) * h
@@ -103,12 +117,15 @@ coefficient = "d"
     period = 2 * np.pi / omega
     record = dampid.Record(x=x, step=h, forces=[(f, 1)], period=period, label="large")
     rows = {key: [] for key in ("alone", "built", "r_alone", "r_built")}
+    shares = {"alone": [], "built": []}
     for _ in range(args.repeats):
         *times, report = timed(1, lambda: dampid.identify(
             model, [dampid.Record(x=x, step=h, forces=[(f, 1)], period=period, label="large")]))
         rows["built"].append(times)
-        *times, _ = timed(1, lambda: dampid.identify(model, [record]))
+        shares["built"].append((times[0] - report._library_seconds, report._library_seconds))
+        *times, alone_report = timed(1, lambda: dampid.identify(model, [record]))
         rows["alone"].append(times)
+        shares["alone"].append((times[0] - alone_report._library_seconds, alone_report._library_seconds))
         (alone, built), c, d = rust("large", n, samples, 1)
         rows["r_alone"].append(alone)
         rows["r_built"].append(built)
@@ -120,6 +137,9 @@ coefficient = "d"
         (pw, pc), (rw, rc) = best[py], best[rs]
         print(f"large {n} x {samples}, {name}: wall python {pw:.3f} s, rust {rw:.3f} s, overhead {overhead(pw, rw)}; "
               f"cpu python {pc:.3f} s, rust {rc:.3f} s, overhead {overhead(pc, rc)}")
+        outside = [o / i for o, i in shares[py]]
+        print(f"large, {name}: binding's share of the Python call {', '.join(f'{100 * r:+.2f} %' for r in outside)} "
+              f"(outside the library's stages / inside, each round; the record's copy is outside)")
     print(f"large: coefficients agree to {diff:.1e}")
 
 

@@ -14,6 +14,7 @@ mod report;
 mod settings;
 
 use std::path::PathBuf;
+use std::time::Instant;
 
 use dampid::analysis::velocity_noise::assess_or_none;
 use dampid::identify::identify_regressor;
@@ -217,9 +218,16 @@ fn identify(
     let settings = settings::settings(settings, &model.text, &model.file)?;
     let list = record_list(records)?;
     let lent = Lent::take(&list)?;
+    let mut library_seconds = 0.0;
     let result = mode_records(&list, &lent.records, &settings).and_then(|rebuilt| {
         let records = rebuilt.as_deref().unwrap_or(&lent.records);
-        run_identify(py, &model.model, records, &settings.identification)
+        run_identify(
+            py,
+            &model.model,
+            records,
+            &settings.identification,
+            &mut library_seconds,
+        )
     });
     lent.restore();
     let (regressor, report, steady) = result?;
@@ -241,35 +249,53 @@ fn identify(
         settings: provenance,
         source: Source::Records(list.into_iter().map(|r| r.unbind()).collect()),
         text,
+        library_seconds,
     })
 }
 
+/// `work()`, its wall time added to `seconds`: the time a call spends in the library,
+/// which `Report._library_seconds` gives so that the binding's own share of a call can
+/// be measured in the same call (examples/python/overhead.py).
+fn timed<T>(seconds: &mut f64, work: impl FnOnce() -> T) -> T {
+    let start = Instant::now();
+    let out = work();
+    *seconds += start.elapsed().as_secs_f64();
+    out
+}
+
 /// The stages of `identify` (the library's `identify_with_regressor`, with the CLI's
-/// steady-state check), each without the GIL, signals checked between them.
+/// steady-state check), each without the GIL, signals checked between them; their time
+/// is added to `seconds`.
 #[allow(clippy::type_complexity)]
 fn run_identify(
     py: Python<'_>,
     model: &DampingModel,
     records: &[Record],
     settings: &Identification,
+    seconds: &mut f64,
 ) -> PyResult<(Regressor, FitReport, Option<SteadyStateReport>)> {
     let steady = py
-        .detach(|| enforce_steady_state(records, settings))
+        .detach(|| timed(seconds, || enforce_steady_state(records, settings)))
         .map_err(with_transient_hint)?;
     py.check_signals()?;
     let regressor = py
         .detach(|| {
-            settings.settings.fit.validate()?;
-            Regressor::build(model, records, &settings.settings.regressor)
+            timed(seconds, || {
+                settings.settings.fit.validate()?;
+                Regressor::build(model, records, &settings.settings.regressor)
+            })
         })
         .py_err()?;
     py.check_signals()?;
     let report = py
         .detach(|| {
-            let noise = assess_or_none(model, records, &settings.settings.regressor, &regressor);
-            identify_regressor(&regressor, &settings.settings.fit).map(|r| {
-                r.with_velocity_noise(noise)
-                    .with_steady_state(steady.as_ref())
+            timed(seconds, || {
+                let noise =
+                    assess_or_none(model, records, &settings.settings.regressor, &regressor);
+                identify_regressor(&regressor, &settings.settings.fit).map(|r| {
+                    r.with_velocity_noise(noise)
+                        .with_steady_state(steady.as_ref())
+                })
             })
         })
         .py_err()?;
@@ -282,7 +308,11 @@ fn run_identify(
 #[pyfunction]
 #[pyo3(signature = (path, accept_transient=false))]
 fn identify_file(py: Python<'_>, path: PathBuf, accept_transient: bool) -> PyResult<PyReport> {
-    let mut job = py.detach(|| dampid::model_file::load(&path)).py_err()?;
+    let mut library_seconds = 0.0;
+    let seconds = &mut library_seconds;
+    let mut job = py
+        .detach(|| timed(seconds, || dampid::model_file::load(&path)))
+        .py_err()?;
     if job.parametric.is_some() {
         // The CLI identifies them by variable projection, whose report this package
         // does not carry yet: refuse rather than fit the parameters' initial values.
@@ -294,7 +324,9 @@ fn identify_file(py: Python<'_>, path: PathBuf, accept_transient: bool) -> PyRes
     }
     py.check_signals()?;
     job.steady_state.accept_transient |= accept_transient;
-    let steady = py.detach(|| job.steady_state()).py_err()?;
+    let steady = py
+        .detach(|| timed(seconds, || job.steady_state()))
+        .py_err()?;
     if let Some(Err(e)) = steady.as_ref().map(|s| s.enforce()) {
         // The CLI's message: its context, then the error.
         return Err(error::raise(
@@ -308,41 +340,48 @@ fn identify_file(py: Python<'_>, path: PathBuf, accept_transient: bool) -> PyRes
     py.check_signals()?;
     let regressor = py
         .detach(|| {
-            job.settings.fit.validate()?;
-            job.regressor()
+            timed(seconds, || {
+                job.settings.fit.validate()?;
+                job.regressor()
+            })
         })
         .py_err()?;
     py.check_signals()?;
     let report = py
         .detach(|| {
-            let noise = assess_or_none(
-                &job.model,
-                &job.records,
-                &job.settings.regressor,
-                &regressor,
-            );
-            identify_regressor(&regressor, &job.settings.fit).map(|r| {
-                r.with_velocity_noise(noise)
-                    .with_steady_state(steady.as_ref())
+            timed(seconds, || {
+                let noise = assess_or_none(
+                    &job.model,
+                    &job.records,
+                    &job.settings.regressor,
+                    &regressor,
+                );
+                identify_regressor(&regressor, &job.settings.fit).map(|r| {
+                    r.with_velocity_noise(noise)
+                        .with_steady_state(steady.as_ref())
+                })
             })
         })
         .py_err()?;
     // The CLI's text: title, counts, preamble, report, truth, equivalent damping.
-    let mut text = format!(
-        "{}\n{}, {}\n{}{report}",
-        job.title,
-        count(job.records.len(), "record"),
-        count(report.residuals.len(), "equation"),
-        job.preamble(steady.as_ref())
-    );
-    if let Some(truth) = &job.truth {
-        text.push_str(&report.against(truth).to_string());
-    }
-    match job.equivalent_damping(&report) {
-        Some(Ok(e)) => text.push_str(&e.to_string()),
-        Some(Err(e)) => text.push_str(&format!("equivalent damping not computed: {e}\n")),
-        None => {}
-    }
+    let text = timed(seconds, || {
+        let mut text = format!(
+            "{}\n{}, {}\n{}{report}",
+            job.title,
+            count(job.records.len(), "record"),
+            count(report.residuals.len(), "equation"),
+            job.preamble(steady.as_ref())
+        );
+        if let Some(truth) = &job.truth {
+            text.push_str(&report.against(truth).to_string());
+        }
+        match job.equivalent_damping(&report) {
+            Some(Ok(e)) => text.push_str(&e.to_string()),
+            Some(Err(e)) => text.push_str(&format!("equivalent damping not computed: {e}\n")),
+            None => {}
+        }
+        text
+    });
     let settings = vec![
         (
             "Python call".to_string(),
@@ -366,6 +405,7 @@ fn identify_file(py: Python<'_>, path: PathBuf, accept_transient: bool) -> PyRes
         settings,
         source: Source::Job(Box::new(job), path),
         text,
+        library_seconds,
     })
 }
 
@@ -481,10 +521,13 @@ fn fit_rows(
     };
     let regressor = Regressor::from_parts(matrix, rhs, model.coefficient_names(), rows).py_err()?;
     let fit = &settings.identification.settings.fit;
+    let mut fit_seconds = 0.0;
     let report = py
         .detach(|| {
-            fit.validate()?;
-            identify_regressor(&regressor, fit)
+            timed(&mut fit_seconds, || {
+                fit.validate()?;
+                identify_regressor(&regressor, fit)
+            })
         })
         .py_err()?;
     let text = report.to_string();
@@ -505,6 +548,7 @@ fn fit_rows(
         settings: provenance,
         source: Source::Rows,
         text,
+        library_seconds: fit_seconds,
     })
 }
 

@@ -43,6 +43,8 @@ pub struct PyReport {
     pub source: Source,
     /// `str(report)`: the CLI's text for a model file, the report table otherwise.
     pub text: String,
+    /// Wall seconds the call spent in the library's stages (`_library_seconds`).
+    pub library_seconds: f64,
 }
 
 fn names_to<T>(
@@ -122,6 +124,15 @@ impl PyReport {
     #[getter]
     fn residual_bias(&self) -> f64 {
         self.report.residual_bias.relative_mean
+    }
+
+    /// Wall seconds the call that made this report spent inside the library's stages
+    /// (steady-state check, regressor, fit; for `identify_file` also the loading and the
+    /// text): the rest of the call is the binding's own share (for benchmarks:
+    /// examples/python/overhead.py).
+    #[getter]
+    fn _library_seconds(&self) -> f64 {
+        self.library_seconds
     }
 
     /// The warnings in words.

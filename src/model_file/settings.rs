@@ -153,7 +153,7 @@ pub fn identification(table: &toml::Table) -> Result<Identification> {
 /// `[identification]` and `[non_periodic]` given as tables rather than in a model file
 /// (the Python package's `identify(model, records, non_periodic={"window": 0.25}, ...)`),
 /// for the model of `model_text` (its `dofs`, and its `[matrices]` for a `known` mass or
-/// stiffness), read by the model file's own translation ([`span_settings`]): same keys,
+/// stiffness), read by the model file's own translation (`span_settings`): same keys,
 /// same defaults (central-difference velocities), same errors. An `[identification]` key
 /// of [`PERIODIC_ONLY`] is [`Error::InvalidChoice`] naming it, as in a model file;
 /// `high_pass` is returned apart (it acts where velocity or acceleration records are
