@@ -72,14 +72,14 @@ pub struct ArrayDigest {
     pub record: String,
     /// Which array ("x", "v", "force 1", ...).
     pub name: String,
-    /// Its shape: [N, n] for motion, [N] for a force.
+    /// Its shape: `[N, n]` for motion, `[N]` for a force.
     pub shape: Vec<usize>,
     /// SHA-256 of its float64 values, little-endian, row by row; lowercase hex.
     pub sha256: String,
 }
 
 impl ArrayDigest {
-    /// The digest of `values` (N × n; `vector`: an N-vector held as one column, shape [N]).
+    /// The digest of `values` (N × n; `vector`: an N-vector held as one column, shape `[N]`).
     pub fn of(record: &str, name: &str, values: MatRef<'_, f64>, vector: bool) -> ArrayDigest {
         let (rows, cols) = values.shape();
         let mut hasher = Sha256::new();
