@@ -9,6 +9,7 @@
 //! the docs); complex, object or string arrays are refused with their dtype named.
 
 use faer::Mat;
+use numpy::ndarray::ArrayView2;
 use numpy::{
     PyArrayDescrMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArray, PyUntypedArrayMethods,
 };
@@ -62,10 +63,45 @@ fn float64<'py>(obj: &Bound<'py, PyAny>, what: &str, ndim: usize) -> PyResult<Bo
 pub fn matrix(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Mat<f64>> {
     let array = float64(obj, what, 2)?;
     let readonly: PyReadonlyArray2<'_, f64> = array.extract()?;
-    let view = readonly.as_array();
-    Ok(Mat::from_fn(view.nrows(), view.ncols(), |i, j| {
-        view[[i, j]]
-    }))
+    Ok(columns(readonly.as_array()))
+}
+
+/// Rows of a C-order array copied per block: `BLOCK` rows of every column at a time,
+/// so the block read (BLOCK × n doubles) stays in cache while each column is written
+/// in one run.
+const BLOCK: usize = 256;
+
+/// `view` copied into a column-major matrix, by the fastest route its layout allows:
+/// Fortran order column by column (`copy_from_slice`), C order as a blocked transpose,
+/// other strides element by element.
+fn columns(view: ArrayView2<'_, f64>) -> Mat<f64> {
+    let (rows, cols) = view.dim();
+    let mut out = Mat::<f64>::zeros(rows, cols);
+    if let Some(source) = view.t().to_slice() {
+        // Fortran order: column j is source[j·N .. (j+1)·N].
+        for j in 0..cols {
+            out.col_as_slice_mut(j)
+                .copy_from_slice(&source[j * rows..(j + 1) * rows]);
+        }
+    } else if let Some(source) = view.to_slice() {
+        // C order: x[i, j] is source[i·n + j].
+        for start in (0..rows).step_by(BLOCK) {
+            let end = (start + BLOCK).min(rows);
+            for j in 0..cols {
+                let column = &mut out.col_as_slice_mut(j)[start..end];
+                for (k, value) in column.iter_mut().enumerate() {
+                    *value = source[(start + k) * cols + j];
+                }
+            }
+        }
+    } else {
+        for j in 0..cols {
+            for (value, x) in out.col_as_slice_mut(j).iter_mut().zip(view.column(j)) {
+                *value = *x;
+            }
+        }
+    }
+    out
 }
 
 /// An N-vector as a `Vec` (one copy).

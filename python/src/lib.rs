@@ -14,15 +14,18 @@ mod report;
 mod settings;
 
 use std::path::PathBuf;
+use std::time::Instant;
 
 use dampid::analysis::velocity_noise::assess_or_none;
 use dampid::identify::identify_regressor;
 use dampid::model::DampingModel;
-use dampid::model_file::{Identification, parse_model};
-use dampid::prep::steady_state::check;
+use dampid::model_file::{Identification, parse_model, settings_in_effect};
+use dampid::prelude::{SensorParts, record_from_sensors};
+use dampid::prep::motion::Integration;
+use dampid::prep::steady_state::{SteadyStateReport, check};
 use dampid::record::Record;
 use dampid::regressor::{Regressor, RowLabel};
-use dampid::report::count;
+use dampid::report::{FitReport, count};
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -30,11 +33,16 @@ use pyo3::types::{PyDict, PyList};
 use error::{DampidError, IntoPy, argument, to_py};
 use record::{Lent, PyRecord};
 use report::{PyReport, Source};
+use settings::Settings;
 
 /// A damping model: the `[[terms]]` of a model file.
 #[pyclass(name = "Model", module = "dampid", frozen)]
 struct PyModel {
     model: DampingModel,
+    /// The model file's text (for `[non_periodic]` keyword settings and the provenance).
+    text: String,
+    /// Its path, or `<model text>`.
+    file: String,
 }
 
 #[pymethods]
@@ -43,8 +51,13 @@ impl PyModel {
     /// sections are checked for form but not built).
     #[staticmethod]
     fn from_toml(text: &str) -> PyResult<Self> {
-        parse_model(text, "<model text>")
-            .map(|model| PyModel { model })
+        let file = "<model text>".to_string();
+        parse_model(text, &file)
+            .map(|model| PyModel {
+                model,
+                text: text.to_string(),
+                file,
+            })
             .py_err()
     }
 
@@ -60,8 +73,9 @@ impl PyModel {
                 cause: None,
             })
         })?;
-        parse_model(&text, &path.display().to_string())
-            .map(|model| PyModel { model })
+        let file = path.display().to_string();
+        parse_model(&text, &file)
+            .map(|model| PyModel { model, text, file })
             .py_err()
     }
 
@@ -76,11 +90,14 @@ impl PyModel {
     }
 }
 
-/// The steady-state check of `identify` and of the CLI: windows of whole periods that
-/// are not steady are refused unless `accept_transient`.
-fn enforce_steady_state(records: &[Record], settings: &Identification) -> dampid::Result<()> {
+/// The steady-state check of `identify` and of the CLI over windows of whole periods
+/// (none in the non-periodic mode).
+fn steady_state(
+    records: &[Record],
+    settings: &Identification,
+) -> dampid::Result<Option<SteadyStateReport>> {
     let Some(windows) = settings.settings.regressor.windows.cycles() else {
-        return Ok(());
+        return Ok(None);
     };
     check(
         records,
@@ -88,8 +105,64 @@ fn enforce_steady_state(records: &[Record], settings: &Identification) -> dampid
         settings.settings.regressor.quadrature,
         None,
         &settings.steady_state,
-    )?
-    .enforce()
+    )
+    .map(Some)
+}
+
+/// [`steady_state`], refusing windows that are not steady unless `accept_transient`.
+fn enforce_steady_state(
+    records: &[Record],
+    settings: &Identification,
+) -> dampid::Result<Option<SteadyStateReport>> {
+    let steady = steady_state(records, settings)?;
+    if let Some(steady) = &steady {
+        steady.enforce()?;
+    }
+    Ok(steady)
+}
+
+/// The records of one identification in its mode, where they differ from the records
+/// as built (`None`: use those). Over whole periods every record needs its period; in
+/// the non-periodic mode the records of velocity or acceleration sensors are integrated
+/// again with `high_pass`, as a model file's records are.
+fn mode_records(
+    list: &[Bound<'_, PyRecord>],
+    records: &[Record],
+    settings: &Settings,
+) -> PyResult<Option<Vec<Record>>> {
+    if !settings.non_periodic {
+        if let Some(e) = list.iter().find_map(|r| r.get().undetected()) {
+            return Err(to_py(e.clone()));
+        }
+        return Ok(None);
+    }
+    if records.iter().all(|r| r.measured_motion().is_none()) {
+        return Ok(None);
+    }
+    let Some(cutoff) = settings.high_pass else {
+        return Err(to_py(dampid::Error::Missing {
+            name: "high_pass in non_periodic".into(),
+            reason: "records of velocity or acceleration sensors that are not periodic are integrated with a zero-phase high-pass against drift: add \"high_pass\": f_c (the cut-off frequency, cycles per time unit, well below the slowest motion of interest) to non_periodic={...}; content below f_c is removed".into(),
+        }));
+    };
+    records
+        .iter()
+        .map(|r| match r.measured_motion() {
+            None => Ok(r.clone()),
+            Some(motion) => record_from_sensors(SensorParts {
+                label: r.label().to_string(),
+                step: r.step(),
+                start_time: r.start_time(),
+                motion: motion.signals.clone(),
+                sensors: motion.sensors.clone(),
+                forcing: r.forcing().clone(),
+                period: r.period(),
+                integration: Integration::HighPass { cutoff },
+            }),
+        })
+        .collect::<dampid::Result<Vec<_>>>()
+        .map(Some)
+        .py_err()
 }
 
 /// A library error; a record that is not steady with the CLI's advice before it.
@@ -131,7 +204,8 @@ fn record_list<'py>(records: &Bound<'py, PyAny>) -> PyResult<Vec<Bound<'py, PyRe
         .collect()
 }
 
-/// `identify(model, records, **settings)`: settings are the `[identification]` keys.
+/// `identify(model, records, **settings)`: settings are the `[identification]` keys,
+/// and `non_periodic={...}` the keys of `[non_periodic]`.
 #[pyfunction]
 #[pyo3(signature = (model, records, **settings))]
 fn identify(
@@ -140,49 +214,92 @@ fn identify(
     records: &Bound<'_, PyAny>,
     settings: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<PyReport> {
-    let settings = settings::settings(settings)?;
+    let model = model.get();
+    let settings = settings::settings(settings, &model.text, &model.file)?;
     let list = record_list(records)?;
-    let model = &model.get().model;
     let lent = Lent::take(&list)?;
-    let result = run_identify(py, model, &lent.records, &settings);
+    let mut library_seconds = 0.0;
+    let result = mode_records(&list, &lent.records, &settings).and_then(|rebuilt| {
+        let records = rebuilt.as_deref().unwrap_or(&lent.records);
+        run_identify(
+            py,
+            &model.model,
+            records,
+            &settings.identification,
+            &mut library_seconds,
+        )
+    });
     lent.restore();
-    let (regressor, report) = result?;
+    let (regressor, report, steady) = result?;
     let text = report.to_string();
+    let mut provenance = vec![(
+        "Python call".to_string(),
+        format!("dampid.identify(model, records, {})", settings.given),
+    )];
+    provenance.extend(settings_in_effect(
+        &settings.identification.settings,
+        &settings.identification.steady_state,
+    ));
     Ok(PyReport {
         report,
-        model: model.clone(),
+        model: model.model.clone(),
+        model_file: (model.file.clone(), model.text.clone()),
         regressor,
+        steady,
+        settings: provenance,
         source: Source::Records(list.into_iter().map(|r| r.unbind()).collect()),
         text,
+        library_seconds,
     })
 }
 
+/// `work()`, its wall time added to `seconds`: the time a call spends in the library,
+/// which `Report._library_seconds` gives so that the binding's own share of a call can
+/// be measured in the same call (examples/python/overhead.py).
+fn timed<T>(seconds: &mut f64, work: impl FnOnce() -> T) -> T {
+    let start = Instant::now();
+    let out = work();
+    *seconds += start.elapsed().as_secs_f64();
+    out
+}
+
 /// The stages of `identify` (the library's `identify_with_regressor`, with the CLI's
-/// steady-state check), each without the GIL, signals checked between them.
+/// steady-state check), each without the GIL, signals checked between them; their time
+/// is added to `seconds`.
+#[allow(clippy::type_complexity)]
 fn run_identify(
     py: Python<'_>,
     model: &DampingModel,
     records: &[Record],
     settings: &Identification,
-) -> PyResult<(Regressor, dampid::report::FitReport)> {
-    py.detach(|| enforce_steady_state(records, settings))
+    seconds: &mut f64,
+) -> PyResult<(Regressor, FitReport, Option<SteadyStateReport>)> {
+    let steady = py
+        .detach(|| timed(seconds, || enforce_steady_state(records, settings)))
         .map_err(with_transient_hint)?;
     py.check_signals()?;
     let regressor = py
         .detach(|| {
-            settings.settings.fit.validate()?;
-            Regressor::build(model, records, &settings.settings.regressor)
+            timed(seconds, || {
+                settings.settings.fit.validate()?;
+                Regressor::build(model, records, &settings.settings.regressor)
+            })
         })
         .py_err()?;
     py.check_signals()?;
     let report = py
         .detach(|| {
-            let noise = assess_or_none(model, records, &settings.settings.regressor, &regressor);
-            identify_regressor(&regressor, &settings.settings.fit)
-                .map(|r| r.with_velocity_noise(noise))
+            timed(seconds, || {
+                let noise =
+                    assess_or_none(model, records, &settings.settings.regressor, &regressor);
+                identify_regressor(&regressor, &settings.settings.fit).map(|r| {
+                    r.with_velocity_noise(noise)
+                        .with_steady_state(steady.as_ref())
+                })
+            })
         })
         .py_err()?;
-    Ok((regressor, report))
+    Ok((regressor, report, steady))
 }
 
 /// `identify_file(path)`: `dampid identify PATH` (data paths relative to the file's
@@ -191,10 +308,25 @@ fn run_identify(
 #[pyfunction]
 #[pyo3(signature = (path, accept_transient=false))]
 fn identify_file(py: Python<'_>, path: PathBuf, accept_transient: bool) -> PyResult<PyReport> {
-    let mut job = py.detach(|| dampid::model_file::load(&path)).py_err()?;
+    let mut library_seconds = 0.0;
+    let seconds = &mut library_seconds;
+    let mut job = py
+        .detach(|| timed(seconds, || dampid::model_file::load(&path)))
+        .py_err()?;
+    if job.parametric.is_some() {
+        // The CLI identifies them by variable projection, whose report this package
+        // does not carry yet: refuse rather than fit the parameters' initial values.
+        return Err(to_py(dampid::Error::InvalidChoice {
+            name: "estimated law parameters".into(),
+            given: path.display().to_string(),
+            reason: "dampid.identify_file does not estimate law parameters yet (the CLI's `dampid identify` does, by variable projection): fix them in the model file, or use the CLI".into(),
+        }));
+    }
     py.check_signals()?;
     job.steady_state.accept_transient |= accept_transient;
-    let steady = py.detach(|| job.steady_state()).py_err()?;
+    let steady = py
+        .detach(|| timed(seconds, || job.steady_state()))
+        .py_err()?;
     if let Some(Err(e)) = steady.as_ref().map(|s| s.enforce()) {
         // The CLI's message: its context, then the error.
         return Err(error::raise(
@@ -208,38 +340,72 @@ fn identify_file(py: Python<'_>, path: PathBuf, accept_transient: bool) -> PyRes
     py.check_signals()?;
     let regressor = py
         .detach(|| {
-            job.settings.fit.validate()?;
-            job.regressor()
+            timed(seconds, || {
+                job.settings.fit.validate()?;
+                job.regressor()
+            })
         })
         .py_err()?;
     py.check_signals()?;
     let report = py
         .detach(|| {
-            let noise = assess_or_none(
-                &job.model,
-                &job.records,
-                &job.settings.regressor,
-                &regressor,
-            );
-            identify_regressor(&regressor, &job.settings.fit).map(|r| r.with_velocity_noise(noise))
+            timed(seconds, || {
+                let noise = assess_or_none(
+                    &job.model,
+                    &job.records,
+                    &job.settings.regressor,
+                    &regressor,
+                );
+                identify_regressor(&regressor, &job.settings.fit).map(|r| {
+                    r.with_velocity_noise(noise)
+                        .with_steady_state(steady.as_ref())
+                })
+            })
         })
         .py_err()?;
-    let mut text = format!(
-        "{}\n{}, {}\n{}{report}",
-        job.title,
-        count(job.records.len(), "record"),
-        count(report.residuals.len(), "equation"),
-        job.preamble(steady.as_ref())
-    );
-    if let Some(truth) = &job.truth {
-        text.push_str(&report.against(truth).to_string());
-    }
+    // The CLI's text: title, counts, preamble, report, truth, equivalent damping.
+    let text = timed(seconds, || {
+        let mut text = format!(
+            "{}\n{}, {}\n{}{report}",
+            job.title,
+            count(job.records.len(), "record"),
+            count(report.residuals.len(), "equation"),
+            job.preamble(steady.as_ref())
+        );
+        if let Some(truth) = &job.truth {
+            text.push_str(&report.against(truth).to_string());
+        }
+        match job.equivalent_damping(&report) {
+            Some(Ok(e)) => text.push_str(&e.to_string()),
+            Some(Err(e)) => text.push_str(&format!("equivalent damping not computed: {e}\n")),
+            None => {}
+        }
+        text
+    });
+    let settings = vec![
+        (
+            "Python call".to_string(),
+            format!(
+                "dampid.identify_file({:?}, accept_transient={})",
+                path.display().to_string(),
+                if accept_transient { "True" } else { "False" }
+            ),
+        ),
+        (
+            "accept transient windows".to_string(),
+            job.steady_state.accept_transient.to_string(),
+        ),
+    ];
     Ok(PyReport {
         report,
         model: job.model.clone(),
+        model_file: (path.display().to_string(), String::new()),
         regressor,
-        source: Source::Job(Box::new(job)),
+        steady,
+        settings,
+        source: Source::Job(Box::new(job), path),
         text,
+        library_seconds,
     })
 }
 
@@ -275,15 +441,21 @@ fn regressor_rows<'py>(
     Bound<'py, PyArray1<f64>>,
     Bound<'py, PyAny>,
 )> {
-    let settings = settings::settings(settings)?;
-    let model = &model.get().model;
-    let lent = Lent::take(std::slice::from_ref(record))?;
-    let built = py.detach(|| {
-        enforce_steady_state(&lent.records, &settings)?;
-        Regressor::build(model, &lent.records, &settings.settings.regressor)
+    let model = model.get();
+    let settings = settings::settings(settings, &model.text, &model.file)?;
+    let list = std::slice::from_ref(record);
+    let lent = Lent::take(list)?;
+    let built = mode_records(list, &lent.records, &settings).and_then(|rebuilt| {
+        let records = rebuilt.as_deref().unwrap_or(&lent.records);
+        let identification = &settings.identification;
+        py.detach(|| {
+            enforce_steady_state(records, identification)?;
+            Regressor::build(&model.model, records, &identification.settings.regressor)
+        })
+        .map_err(with_transient_hint)
     });
     lent.restore();
-    let regressor = built.map_err(with_transient_hint)?;
+    let regressor = built?;
     if regressor.noise().is_some() {
         return Err(to_py(dampid::Error::InvalidChoice {
             name: "noise".into(),
@@ -330,8 +502,9 @@ fn fit_rows(
     labels: Option<&Bound<'_, PyAny>>,
     settings: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<PyReport> {
-    let settings = settings::settings(settings)?;
-    let model = &model.get().model;
+    let py_model = model.get();
+    let settings = settings::settings(settings, &py_model.text, &py_model.file)?;
+    let model = &py_model.model;
     let matrix = arrays::matrix(a, "A")?;
     let rhs = arrays::vector(b, "b")?;
     let rows = match labels {
@@ -347,19 +520,35 @@ fn fit_rows(
         Some(labels) => read_labels(labels)?,
     };
     let regressor = Regressor::from_parts(matrix, rhs, model.coefficient_names(), rows).py_err()?;
+    let fit = &settings.identification.settings.fit;
+    let mut fit_seconds = 0.0;
     let report = py
         .detach(|| {
-            settings.settings.fit.validate()?;
-            identify_regressor(&regressor, &settings.settings.fit)
+            timed(&mut fit_seconds, || {
+                fit.validate()?;
+                identify_regressor(&regressor, fit)
+            })
         })
         .py_err()?;
     let text = report.to_string();
+    let mut provenance = vec![(
+        "Python call".to_string(),
+        format!("dampid.fit_rows(model, A, b, ..., {})", settings.given),
+    )];
+    provenance.extend(settings_in_effect(
+        &settings.identification.settings,
+        &settings.identification.steady_state,
+    ));
     Ok(PyReport {
         report,
         model: model.clone(),
+        model_file: (py_model.file.clone(), py_model.text.clone()),
         regressor,
+        steady: None,
+        settings: provenance,
         source: Source::Rows,
         text,
+        library_seconds: fit_seconds,
     })
 }
 

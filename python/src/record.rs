@@ -28,6 +28,10 @@ pub struct PyRecord {
     dofs: usize,
     step: f64,
     period: f64,
+    /// Why no period could be detected from the force, when none was given: raised by
+    /// identifications over whole periods (and by `.period`); a non-periodic
+    /// identification (`non_periodic=`) needs none, as in a model file.
+    undetected: Option<Error>,
 }
 
 #[pymethods]
@@ -140,14 +144,19 @@ impl PyRecord {
             }
             force_dofs.push(index);
         }
+        let mut undetected = None;
         let period = match (period, frequency) {
             (Some(p), None) => p,
             (None, Some(omega)) => 2.0 * std::f64::consts::PI / omega,
-            (None, None) => {
-                detect_period(signals.as_ref(), step, &label)
-                    .py_err()?
-                    .period
-            }
+            (None, None) => match detect_period(signals.as_ref(), step, &label) {
+                Ok(estimate) => estimate.period,
+                Err(e) => {
+                    // As a model file's record in the non-periodic mode: its duration
+                    // (which nothing uses); a periodic identification raises `e`.
+                    undetected = Some(e);
+                    step * (samples.max(2) - 1) as f64
+                }
+            },
             (Some(p), Some(_)) => {
                 return Err(to_py(Error::InvalidParameter {
                     name: "period".into(),
@@ -157,7 +166,7 @@ impl PyRecord {
             }
         };
         let forcing = Forcing::on_dofs(signals, force_dofs);
-        let record = if let Some(velocities) = velocities {
+        let built = if let Some(velocities) = velocities {
             Record::new(RecordParts {
                 label: label.clone(),
                 step,
@@ -178,8 +187,14 @@ impl PyRecord {
                 period,
                 integration: Integration::WholePeriods,
             })
-        }
-        .py_err()?;
+        };
+        let record = match (built, &undetected) {
+            (Ok(record), _) => record,
+            // Measured motion integrated over a period that is not there: the missing
+            // period is the cause.
+            (Err(_), Some(cause)) => return Err(to_py(cause.clone())),
+            (Err(e), None) => return Err(to_py(e)),
+        };
         Ok(PyRecord {
             record: Mutex::new(Some(record)),
             label,
@@ -187,6 +202,7 @@ impl PyRecord {
             dofs,
             step,
             period,
+            undetected,
         })
     }
 
@@ -214,17 +230,32 @@ impl PyRecord {
         self.step
     }
 
-    /// The driving period T (given, from the frequency, or detected from the force).
+    /// The driving period T (given, from the frequency, or detected from the force);
+    /// `DampidError` when none was given and none could be detected.
     #[getter]
-    fn period(&self) -> f64 {
-        self.period
+    fn period(&self) -> PyResult<f64> {
+        match &self.undetected {
+            Some(e) => Err(to_py(e.clone())),
+            None => Ok(self.period),
+        }
     }
 
     fn __repr__(&self) -> String {
+        let period = match self.undetected {
+            Some(_) => "none detected".to_string(),
+            None => self.period.to_string(),
+        };
         format!(
-            "Record(label={:?}, samples={}, dofs={}, step={}, period={})",
-            self.label, self.samples, self.dofs, self.step, self.period
+            "Record(label={:?}, samples={}, dofs={}, step={}, period={period})",
+            self.label, self.samples, self.dofs, self.step
         )
+    }
+}
+
+impl PyRecord {
+    /// Why this record has no period, if it has none.
+    pub fn undetected(&self) -> Option<&Error> {
+        self.undetected.as_ref()
     }
 }
 

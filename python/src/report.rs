@@ -1,21 +1,27 @@
 //! `dampid.Report`: the library's [`FitReport`] with the context its text and HTML
 //! forms need (title, model, regressor, and the records for the HTML plots).
 
+use std::path::PathBuf;
+
 use dampid::model::DampingModel;
 use dampid::model_file::Job;
+use dampid::prep::steady_state::SteadyStateReport;
+use dampid::record::{Record, Sensor};
 use dampid::regressor::Regressor;
 use dampid::report::FitReport;
 use dampid::report::html::HtmlReport;
+use dampid::report::provenance::{ArrayDigest, COMMIT, Provenance, VERSION, now_utc};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::error::{IntoPy, to_py};
 use crate::record::{Lent, PyRecord};
 
-/// Where the records of a report are, for its HTML plots.
+/// Where the records of a report are, for its HTML plots and provenance.
 pub enum Source {
-    /// A model file's job (`identify_file`): records, title, truth and POD.
-    Job(Box<Job>),
+    /// A model file's job (`identify_file`) and the file's path: records, title, truth
+    /// and POD.
+    Job(Box<Job>, PathBuf),
     /// The `Record` objects of `identify`.
     Records(Vec<Py<PyRecord>>),
     /// Rows alone (`fit_rows`): no records.
@@ -27,10 +33,18 @@ pub enum Source {
 pub struct PyReport {
     pub report: FitReport,
     pub model: DampingModel,
+    /// The model's file (or `<model text>`) and text, for the provenance of arrays.
+    pub model_file: (String, String),
     pub regressor: Regressor,
+    /// The steady-state check of the windows (`None`: not run, or non-periodic).
+    pub steady: Option<SteadyStateReport>,
+    /// The settings of the call and every setting in effect, for the provenance.
+    pub settings: Vec<(String, String)>,
     pub source: Source,
     /// `str(report)`: the CLI's text for a model file, the report table otherwise.
     pub text: String,
+    /// Wall seconds the call spent in the library's stages (`_library_seconds`).
+    pub library_seconds: f64,
 }
 
 fn names_to<T>(
@@ -112,6 +126,15 @@ impl PyReport {
         self.report.residual_bias.relative_mean
     }
 
+    /// Wall seconds the call that made this report spent inside the library's stages
+    /// (steady-state check, regressor, fit; for `identify_file` also the loading and the
+    /// text): the rest of the call is the binding's own share (for benchmarks:
+    /// examples/python/overhead.py).
+    #[getter]
+    fn _library_seconds(&self) -> f64 {
+        self.library_seconds
+    }
+
     /// The warnings in words.
     #[getter]
     fn warnings(&self) -> Vec<String> {
@@ -181,7 +204,8 @@ impl PyReport {
         overwrite: bool,
     ) -> PyResult<()> {
         use dampid::io::output::{Overwrite, write_file};
-        let page = |records: &[dampid::record::Record], title: &str, job: Option<&Job>| {
+        let page = |records: &[Record], title: &str, job: Option<&Job>, provenance| {
+            let equivalent = job.and_then(|j| j.equivalent_damping(&self.report));
             HtmlReport {
                 title,
                 model: &self.model,
@@ -190,22 +214,37 @@ impl PyReport {
                 report: &self.report,
                 truth: job.and_then(|j| j.truth.as_deref()),
                 pod: job.and_then(|j| j.pod.as_ref()),
-                // Not yet from Python: the steady-state table and the provenance block
-                // (the CLI's `identify --report` has both).
-                steady: None,
-                provenance: None,
+                steady: self.steady.as_ref(),
+                provenance: Some(&provenance),
                 units: job.map(|j| &j.units),
             }
-            .render()
+            .render_with(equivalent.as_ref().and_then(|e| e.as_ref().ok()))
         };
         let page = match &self.source {
-            Source::Job(job) => page(&job.records, &job.title, Some(job)),
-            Source::Rows => page(&[], "dampid", None),
+            Source::Job(job, file) => {
+                let provenance = job.provenance(file, &self.settings).py_err()?;
+                page(&job.records, &job.title, Some(job), provenance)
+            }
+            Source::Rows => {
+                // The rows came as arrays: A and b are what the fit read.
+                let rhs = faer::ColRef::from_slice(self.regressor.rhs());
+                let arrays = vec![
+                    ArrayDigest::of("rows", "A", self.regressor.matrix().as_ref(), false),
+                    ArrayDigest::of("rows", "b", rhs.as_mat(), true),
+                ];
+                page(&[], "dampid", None, self.arrays_provenance(arrays))
+            }
             Source::Records(list) => {
                 let bound: Vec<Bound<'_, PyRecord>> =
                     list.iter().map(|r| r.bind(py).clone()).collect();
                 let lent = Lent::take(&bound)?;
-                let page = page(&lent.records, "dampid", None);
+                let arrays = lent.records.iter().flat_map(digests).collect();
+                let page = page(
+                    &lent.records,
+                    "dampid",
+                    None,
+                    self.arrays_provenance(arrays),
+                );
                 lent.restore();
                 page
             }
@@ -224,6 +263,56 @@ impl PyReport {
         })
         .map_err(to_py)
     }
+}
+
+impl PyReport {
+    /// The provenance of a report on arrays: the model's text, every array's shape and
+    /// SHA-256, the settings, version, commit and date.
+    fn arrays_provenance(&self, arrays: Vec<ArrayDigest>) -> Provenance {
+        Provenance {
+            model_file: self.model_file.0.clone(),
+            model_text: self.model_file.1.clone(),
+            data_files: Vec::new(),
+            arrays,
+            settings: self.settings.clone(),
+            version: VERSION.into(),
+            commit: COMMIT.into(),
+            date: now_utc(),
+        }
+    }
+}
+
+/// The arrays of `record` as the caller gave them (as float64): the motion its sensors
+/// measured ("x", with "v" when measured velocities were given; or "v" or "a" alone),
+/// then each force channel as an N-vector.
+fn digests(record: &Record) -> Vec<ArrayDigest> {
+    let label = record.label();
+    let mut out = Vec::new();
+    match record.measured_motion() {
+        Some(motion) => {
+            let name = match motion.sensors.first() {
+                Some(Sensor::Acceleration) => "a",
+                _ => "v",
+            };
+            out.push(ArrayDigest::of(label, name, motion.signals.as_ref(), false));
+        }
+        None => {
+            out.push(ArrayDigest::of(label, "x", record.displacements(), false));
+            if let Some(v) = record.velocities() {
+                out.push(ArrayDigest::of(label, "v", v, false));
+            }
+        }
+    }
+    let signals = &record.forcing().signals;
+    for k in 0..signals.ncols() {
+        out.push(ArrayDigest::of(
+            label,
+            &format!("force {}", k + 1),
+            signals.col(k).as_mat(),
+            true,
+        ));
+    }
+    out
 }
 
 fn escape(text: &str) -> String {

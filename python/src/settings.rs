@@ -1,26 +1,76 @@
 //! Keyword settings (`identify(model, records, cycles=2, nonnegative=True)`) as the
 //! `[identification]` table of a model file, read by the library's own translation
-//! ([`dampid::model_file::identification`]): same keys, same values, same errors.
+//! ([`dampid::model_file::identification`]): same keys, same values, same errors. The
+//! keyword `non_periodic={...}` is the model file's `[non_periodic]` section, read by
+//! [`dampid::model_file::non_periodic_identification`] against the model's text (its
+//! `dofs` and `[matrices]`).
 
-use dampid::model_file::{Identification, identification};
+use dampid::model_file::{
+    IDENTIFICATION_KEYS, Identification, identification, non_periodic_identification,
+};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
-use crate::error::{IntoPy, argument};
+use crate::error::{IntoPy, argument, to_py};
 
-/// The settings of `kwargs` (none: the model-file defaults).
-pub fn settings(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Identification> {
+/// The settings of one call.
+pub struct Settings {
+    /// `[identification]` (and `[non_periodic]`) as the library reads them.
+    pub identification: Identification,
+    /// `[non_periodic]`: windows of fixed spans with stored-energy unknowns.
+    pub non_periodic: bool,
+    /// `[non_periodic] high_pass`: the cut-off of the integration of velocity or
+    /// acceleration records that are not periodic.
+    pub high_pass: Option<f64>,
+    /// The keywords as given, `key=value, ...` (for the report's provenance).
+    pub given: String,
+}
+
+/// The settings of `kwargs` (none: the model-file defaults) for the model of
+/// `model_text` (named `file` in errors).
+pub fn settings(
+    kwargs: Option<&Bound<'_, PyDict>>,
+    model_text: &str,
+    file: &str,
+) -> PyResult<Settings> {
     let mut table = toml::Table::new();
+    let mut non_periodic = None;
+    let mut given = Vec::new();
     if let Some(kwargs) = kwargs {
         for (key, value) in kwargs.iter() {
             let key: String = key.extract()?;
+            if key != "non_periodic" && !IDENTIFICATION_KEYS.contains(&key.as_str()) {
+                return Err(to_py(dampid::Error::UnknownName {
+                    what: "setting ([identification] key)".into(),
+                    name: key,
+                    known: [IDENTIFICATION_KEYS, &["non_periodic"]].concat().join(", "),
+                }));
+            }
+            given.push(format!("{key}={}", value.repr()?));
             let value = to_toml(&value, &key)?;
-            table.insert(key, value);
+            if key == "non_periodic" {
+                let toml::Value::Table(section) = value else {
+                    return Err(argument(format!(
+                        "non_periodic = {value}: give a dict of the [non_periodic] keys, e.g. non_periodic={{\"window\": 0.25}}"
+                    )));
+                };
+                non_periodic = Some(section);
+            } else {
+                table.insert(key, value);
+            }
         }
     }
-    identification(&table).py_err()
+    let (identification, high_pass) = match &non_periodic {
+        None => (identification(&table).py_err()?, None),
+        Some(section) => non_periodic_identification(&table, section, model_text, file).py_err()?,
+    };
+    Ok(Settings {
+        identification,
+        non_periodic: non_periodic.is_some(),
+        high_pass,
+        given: given.join(", "),
+    })
 }
-
 /// A Python value as TOML: bool, int, float, str, dict and list/tuple.
 fn to_toml(value: &Bound<'_, PyAny>, key: &str) -> PyResult<toml::Value> {
     // bool before int: Python's bool is an int.

@@ -24,7 +24,9 @@ mod provenance;
 mod records;
 mod reduction;
 mod settings;
-pub use settings::{IDENTIFICATION_KEYS, Identification, PERIODIC_ONLY, identification};
+pub use settings::{
+    IDENTIFICATION_KEYS, Identification, PERIODIC_ONLY, identification, non_periodic_identification,
+};
 mod spec;
 mod stepped_sine;
 pub use stepped_sine::SteppedSineJob;
@@ -37,6 +39,7 @@ use std::path::Path;
 pub use candidates::candidate_model;
 pub use job::Job;
 pub use measured::{ChannelGain, RecordInputs};
+pub use provenance::settings_in_effect;
 pub use spec::*;
 pub use summary::{
     CheckReport, DetectedPeriod, JitteredTime, NOTED_JITTER, Periods, Preamble, SteppedSineSummary,

@@ -6,7 +6,25 @@ use std::path::Path;
 
 use super::Job;
 use crate::error::{Error, Result};
+use crate::identify::IdentifySettings;
+use crate::prep::steady_state::SteadyStateSettings;
 use crate::report::provenance::{COMMIT, DataFile, Provenance, VERSION, now_utc};
+
+/// The identification settings in effect, defaults included, as a report's provenance
+/// lists them (name, value): the regressor's, the fit's and the steady-state check's.
+pub fn settings_in_effect(
+    settings: &IdentifySettings,
+    steady_state: &SteadyStateSettings,
+) -> Vec<(String, String)> {
+    vec![
+        (
+            "identification (windows, quadrature, velocity, noise)".into(),
+            format!("{:#?}", settings.regressor),
+        ),
+        ("fit".into(), format!("{:#?}", settings.fit)),
+        ("steady-state check".into(), format!("{steady_state:#?}")),
+    ]
+}
 
 impl Job {
     /// The provenance of a report on this job read from `model_file`, with the command
@@ -25,15 +43,7 @@ impl Job {
             .map(|p| DataFile::read(p))
             .collect::<Result<Vec<_>>>()?;
         let mut settings: Vec<(String, String)> = extra.to_vec();
-        settings.push((
-            "identification (windows, quadrature, velocity, noise)".into(),
-            format!("{:#?}", self.settings.regressor),
-        ));
-        settings.push(("fit".into(), format!("{:#?}", self.settings.fit)));
-        settings.push((
-            "steady-state check".into(),
-            format!("{:#?}", self.steady_state),
-        ));
+        settings.extend(settings_in_effect(&self.settings, &self.steady_state));
         if let Some(design) = &self.design {
             settings.push(("design".into(), format!("{design:#?}")));
         }
@@ -44,6 +54,7 @@ impl Job {
             model_file: model_file.display().to_string(),
             model_text,
             data_files,
+            arrays: Vec::new(),
             settings,
             version: VERSION.into(),
             commit: COMMIT.into(),

@@ -150,6 +150,65 @@ pub fn identification(table: &toml::Table) -> Result<Identification> {
     })
 }
 
+/// `[identification]` and `[non_periodic]` given as tables rather than in a model file
+/// (the Python package's `identify(model, records, non_periodic={"window": 0.25}, ...)`),
+/// for the model of `model_text` (its `dofs`, and its `[matrices]` for a `known` mass or
+/// stiffness), read by the model file's own translation (`span_settings`): same keys,
+/// same defaults (central-difference velocities), same errors. An `[identification]` key
+/// of [`PERIODIC_ONLY`] is [`Error::InvalidChoice`] naming it, as in a model file;
+/// `high_pass` is returned apart (it acts where velocity or acceleration records are
+/// integrated, which the caller does).
+pub fn non_periodic_identification(
+    identification_table: &toml::Table,
+    non_periodic: &toml::Table,
+    model_text: &str,
+    file: &str,
+) -> Result<(Identification, Option<f64>)> {
+    // Keys and values checked one at a time, as for the periodic mode.
+    identification(identification_table)?;
+    if let Some((key, reason)) = PERIODIC_ONLY
+        .iter()
+        .find(|(key, _)| identification_table.contains_key(*key))
+    {
+        return Err(Error::choice(
+            key,
+            &identification_table[*key],
+            &format!(
+                "[identification] {key} does not apply beside [non_periodic]: {reason}; remove it"
+            ),
+        ));
+    }
+    let spec = IdentificationSpec::deserialize(identification_table.clone())
+        .map_err(|e| Error::choice("[identification]", identification_table, e.message()))?;
+    // Through TOML text, so the section reads as a model file's (`high_pass` is spanned).
+    #[derive(Deserialize)]
+    struct Section {
+        non_periodic: NonPeriodicSpec,
+    }
+    let section = toml::Table::from_iter([(
+        "non_periodic".to_string(),
+        toml::Value::Table(non_periodic.clone()),
+    )]);
+    let text = toml::to_string(&section)
+        .map_err(|e| Error::choice("[non_periodic]", non_periodic, &e.to_string()))?;
+    let np = toml::from_str::<Section>(&text)
+        .map_err(|e| Error::choice("[non_periodic]", non_periodic, e.message()))?
+        .non_periodic;
+    let model = super::parse_spec(model_text, file)?;
+    let n = model.dofs;
+    let matrix = |r: &MatrixRef| super::terms::resolve_matrix(r, &model, n);
+    let mut settings = identification_settings(&spec, true);
+    settings.regressor = span_settings(&np, &settings.regressor, n, &matrix)?;
+    let steady_state = steady_state_settings(&spec);
+    Ok((
+        Identification {
+            settings,
+            steady_state,
+        },
+        np.high_pass.map(|h| *h.get_ref()),
+    ))
+}
+
 /// The steady-state check `[identification]` asks for.
 pub(super) fn steady_state_settings(spec: &IdentificationSpec) -> SteadyStateSettings {
     SteadyStateSettings {

@@ -2,9 +2,15 @@
 //! size and SHA-256, every setting in effect (defaults included), dampid's version and the
 //! git commit it was built from (build.rs; "unknown" outside a git checkout), and the
 //! date and time (UTC) the report was made. The HTML report shows it in one block.
+//!
+//! Records given as arrays rather than files (the Python package) are named by each
+//! array's shape and the SHA-256 of its float64 values, little-endian, in C order (row
+//! by row): `hashlib.sha256(numpy.ascontiguousarray(a, "<f8").tobytes())`.
 
 use std::io::Read;
 use std::path::Path;
+
+use faer::MatRef;
 
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
@@ -50,17 +56,52 @@ impl DataFile {
             bytes += n as u64;
             hasher.update(&buffer[..n]);
         }
-        let sha256 = hasher
-            .finalize()
-            .iter()
-            .map(|b| format!("{b:02x}"))
-            .collect();
+        let sha256 = hex(&hasher.finalize());
         Ok(DataFile {
             path: path.display().to_string(),
             bytes,
             sha256,
         })
     }
+}
+
+/// One array of a record given in memory (the Python package's `dampid.Record`).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ArrayDigest {
+    /// The record's label.
+    pub record: String,
+    /// Which array ("x", "v", "force 1", ...).
+    pub name: String,
+    /// Its shape: `[N, n]` for motion, `[N]` for a force.
+    pub shape: Vec<usize>,
+    /// SHA-256 of its float64 values, little-endian, row by row; lowercase hex.
+    pub sha256: String,
+}
+
+impl ArrayDigest {
+    /// The digest of `values` (N × n; `vector`: an N-vector held as one column, shape `[N]`).
+    pub fn of(record: &str, name: &str, values: MatRef<'_, f64>, vector: bool) -> ArrayDigest {
+        let (rows, cols) = values.shape();
+        let mut hasher = Sha256::new();
+        let mut row = Vec::with_capacity(8 * cols);
+        for i in 0..rows {
+            row.clear();
+            for j in 0..cols {
+                row.extend_from_slice(&values[(i, j)].to_le_bytes());
+            }
+            hasher.update(&row);
+        }
+        ArrayDigest {
+            record: record.into(),
+            name: name.into(),
+            shape: if vector { vec![rows] } else { vec![rows, cols] },
+            sha256: hex(&hasher.finalize()),
+        }
+    }
+}
+
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
 }
 
 /// Everything needed to reproduce a report.
@@ -72,6 +113,10 @@ pub struct Provenance {
     pub model_text: String,
     /// The data files it read, in order (none for simulated records).
     pub data_files: Vec<DataFile>,
+    /// Records given as arrays instead of data files (the Python package): every array
+    /// with its shape and SHA-256; empty for a model file's records.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub arrays: Vec<ArrayDigest>,
     /// Every setting in effect, defaults included: (name, value).
     pub settings: Vec<(String, String)>,
     /// dampid's version.
@@ -124,6 +169,27 @@ mod tests {
             Err(Error::Data { .. })
         ));
         std::fs::remove_dir_all(&dir).ok();
+    }
+
+    /// The digest reads the values row by row as little-endian float64: [[1, 2], [3, 4]]
+    /// hashes as the bytes of 1.0, 2.0, 3.0, 4.0 written out by hand, whatever the
+    /// matrix's column-major layout; a column read as a vector has shape [N].
+    #[test]
+    fn array_digest_is_of_c_order_bytes() {
+        let m = faer::mat![[1.0, 2.0], [3.0, 4.0]];
+        let mut bytes = Vec::new();
+        for v in [1.0f64, 2.0, 3.0, 4.0] {
+            bytes.extend_from_slice(&v.to_le_bytes());
+        }
+        let expected = hex(&Sha256::digest(&bytes));
+        let digest = ArrayDigest::of("r", "x", m.as_ref(), false);
+        assert_eq!(digest.sha256, expected);
+        assert_eq!(digest.shape, vec![2, 2]);
+        // 1.0 is 0x3ff0000000000000: its little-endian bytes end in f0 3f.
+        assert_eq!(&bytes[6..8], &[0xf0, 0x3f]);
+        let column = ArrayDigest::of("r", "force 1", m.col(0).as_mat(), true);
+        assert_eq!(column.shape, vec![2]);
+        assert_ne!(column.sha256, expected);
     }
 
     #[test]

@@ -265,3 +265,79 @@ fn model_alone_needs_no_records_and_keeps_the_term_errors() {
         "{empty:?}"
     );
 }
+
+/// `[identification]` and `[non_periodic]` given as tables (the Python package's keyword
+/// settings) translate as the model file's sections do: the settings of
+/// models/drive_nonperiodic.toml from its own tables are the job's, and the errors name
+/// the key (a periodic-only key beside `[non_periodic]`, an unknown or missing
+/// `[non_periodic]` key, an offset DOF beyond `dofs`, a matrix the model does not name).
+#[test]
+fn non_periodic_sections_as_tables_translate_as_the_model_file() {
+    use dampid::model_file::{load, non_periodic_identification};
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models/drive_nonperiodic.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let file: toml::Table = toml::from_str(&text).unwrap();
+    let table = |name: &str| file[name].as_table().unwrap().clone();
+    let (identification, high_pass) = non_periodic_identification(
+        &table("identification"),
+        &table("non_periodic"),
+        &text,
+        "drive",
+    )
+    .unwrap();
+    let job = load(&path).unwrap();
+    assert_eq!(identification.settings, job.settings);
+    assert_eq!(high_pass, None);
+    let np = |extra: &str| -> toml::Table {
+        toml::from_str(&format!("window = 0.25\n{extra}")).unwrap()
+    };
+    let with_high_pass =
+        non_periodic_identification(&toml::Table::new(), &np("high_pass = 0.05"), &text, "drive");
+    assert_eq!(with_high_pass.unwrap().1, Some(0.05));
+
+    let error = |identification: &str, non_periodic: toml::Table| {
+        let identification: toml::Table = toml::from_str(identification).unwrap();
+        non_periodic_identification(&identification, &non_periodic, &text, "drive").unwrap_err()
+    };
+    match error("cycles = 2", np("")) {
+        Error::InvalidChoice { name, reason, .. } => {
+            assert_eq!(name, "cycles");
+            assert!(
+                reason.contains("does not apply beside [non_periodic]"),
+                "{reason}"
+            );
+        }
+        other => panic!("{other:?}"),
+    }
+    match error("", np("windw = 1.0")) {
+        Error::InvalidChoice { name, reason, .. } => {
+            assert_eq!(name, "[non_periodic]");
+            assert!(reason.contains("windw"), "{reason}");
+        }
+        other => panic!("{other:?}"),
+    }
+    match error("", toml::from_str("offsets = [1]").unwrap()) {
+        Error::InvalidChoice { reason, .. } => assert!(reason.contains("window"), "{reason}"),
+        other => panic!("{other:?}"),
+    }
+    assert!(matches!(
+        error("", np("offsets = [2]")),
+        Error::DofOutOfRange {
+            dof: 2,
+            dofs: 1,
+            ..
+        }
+    ));
+    match error("", np("mass = { known = \"heavy\" }")) {
+        Error::UnknownName { name, known, .. } => {
+            assert_eq!(name, "heavy");
+            assert!(known.contains("identity"), "{known}");
+        }
+        other => panic!("{other:?}"),
+    }
+    match error("quadrature = \"simpson\"", np("")) {
+        Error::InvalidChoice { name, .. } => assert_eq!(name, "quadrature"),
+        other => panic!("{other:?}"),
+    }
+}

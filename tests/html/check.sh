@@ -31,6 +31,11 @@ status=0
 check() {
     local name=$1 model=$2 extra=${3:-}
     "$dampid" identify "$model" --report "$work/$name" >/dev/null
+    check_page "$name" "$extra"
+}
+# Checks $work/NAME/report.html, however it was made.
+check_page() {
+    local name=$1 extra=${2:-}
     local page="$work/$name/report.html"
     # A copy with the checks injected first in <head>; the report itself stays script-free.
     python3 - "$page" "$work/$name/checked.html" <<'PY'
@@ -55,4 +60,22 @@ PY
 check walkthrough_first_try models/walkthrough_first_try.toml --not-determined
 check walkthrough models/walkthrough.toml
 check four_mass_pod models/four_mass_pod.toml
+# The Python package's page of records from NumPy arrays (steady-state table and
+# provenance as the CLI's), when a Python with the package is at hand: $PYTHON, or the
+# virtual environment .ci/run makes.
+python=${PYTHON:-.venv-ci/bin/python}
+if [ -x "$python" ] && "$python" -c "import dampid" 2>/dev/null; then
+    mkdir -p "$work/python_arrays"
+    "$python" - "$work/python_arrays/report.html" <<'PY'
+import sys
+sys.path.insert(0, "examples/python")
+import chain, dampid
+t, x, v, f = chain.simulate([0.25, 0.5, 0.75, 1.0], [chain.OMEGA] * 4)
+records = [dampid.Record(x=x[k], t=t, forces=[(f[k], 4)], frequency=chain.OMEGA, label=f"a{k}") for k in range(4)]
+dampid.identify(dampid.Model.from_toml(chain.MODEL), records).write_html(sys.argv[1])
+PY
+    check_page python_arrays
+else
+    echo "python_arrays: skipped (no Python with the dampid package; set PYTHON)"
+fi
 exit $status

@@ -656,23 +656,44 @@ impl HtmlReport<'_> {
 /// and SHA-256, the units, every setting (folded), dampid's version and commit, the date.
 fn provenance_section(p: &Provenance, units: Units) -> String {
     let mut out = String::from("\n<h2>Provenance</h2>\n");
+    let from = if p.arrays.is_empty() {
+        format!("the model file <code>{}</code>", escape(&p.model_file))
+    } else {
+        "records from Python arrays".into()
+    };
     let _ = writeln!(
         out,
-        "<p>Made {} by dampid {} (git commit <code>{}</code>) from the model file <code>{}</code>.</p>",
+        "<p>Made {} by dampid {} (git commit <code>{}</code>) from {from}.</p>",
         escape(&p.date),
         escape(&p.version),
         escape(&p.commit),
-        escape(&p.model_file)
     );
-    let _ = writeln!(
-        out,
-        "<details><summary>Model file <code>{}</code></summary><pre>{}</pre></details>",
-        escape(&p.model_file),
-        escape(&p.model_text)
-    );
-    if p.data_files.is_empty() {
+    if p.arrays.is_empty() || !p.model_text.is_empty() {
+        let _ = writeln!(
+            out,
+            "<details><summary>Model file <code>{}</code></summary><pre>{}</pre></details>",
+            escape(&p.model_file),
+            escape(&p.model_text)
+        );
+    }
+    if !p.arrays.is_empty() {
+        out.push_str("<table><tr><th>record</th><th>array</th><th>shape</th><th>SHA-256 (float64, little-endian, C order)</th></tr>\n");
+        for a in &p.arrays {
+            let shape: Vec<String> = a.shape.iter().map(|s| s.to_string()).collect();
+            let _ = writeln!(
+                out,
+                "<tr><td>{}</td><td>{}</td><td>{}</td><td><code class=\"hash\">{}</code></td></tr>",
+                escape(&a.record),
+                escape(&a.name),
+                shape.join(" × "),
+                a.sha256
+            );
+        }
+        out.push_str("</table>\n");
+    } else if p.data_files.is_empty() {
         out.push_str("<p>No data files: the records were simulated from the model file.</p>\n");
-    } else {
+    }
+    if !p.data_files.is_empty() {
         out.push_str("<table><tr><th>data file</th><th>bytes</th><th>SHA-256</th></tr>\n");
         for f in &p.data_files {
             let _ = writeln!(
