@@ -34,6 +34,7 @@
 //! such, without intervals.
 
 mod joint;
+mod levenberg_marquardt;
 mod outer;
 mod problem;
 mod profile;
@@ -246,7 +247,12 @@ pub fn identify_varpro(
     settings.fit.validate()?;
     varpro.validate()?;
     let problem = problem::Problem::new(model, records, settings);
-    let minimum = outer::minimise(&|eta: &[f64]| problem.cost(eta), model.parameters(), varpro)?;
+    let minimum = outer::minimise(
+        &|eta: &[f64]| problem.residuals(eta),
+        model.parameters(),
+        varpro,
+        true,
+    )?;
     let best = problem.trial(&minimum.values)?;
     let fit_report = crate::identify::identify_regressor(&best.regressor, &settings.fit)?;
     let converged = minimum.converged && best.fit.status.is_usable();
