@@ -155,3 +155,50 @@ pub(crate) fn require(kind: &str, name: &str, value: f64, ok: bool, expected: &s
         ))
     }
 }
+
+/// One history kind as model files name it: its shape parameters (name and default,
+/// `None` when required), a description and a constructor from their values in that
+/// order. [`KINDS`] lists the built-in ones.
+#[derive(Debug, Clone, Copy)]
+pub struct HistoryKind {
+    /// `kind = "…"` in a model file.
+    pub name: &'static str,
+    /// Shape parameters in constructor order, each with its default.
+    pub parameters: &'static [(&'static str, Option<f64>)],
+    /// The linear coefficient the term's column multiplies.
+    pub coefficient: &'static str,
+    /// One line: the force and its state equation.
+    pub description: &'static str,
+    /// The element at these parameter values.
+    pub build: fn(&[f64]) -> Result<Arc<dyn Hysteresis>>,
+}
+
+/// The built-in history kinds, one per file of this folder.
+pub const KINDS: &[HistoryKind] = &[
+    HistoryKind {
+        name: "bouc_wen",
+        parameters: &[("beta", None), ("gamma", None), ("n", Some(1.0))],
+        coefficient: "α (force per unit z, a stiffness)",
+        description: "f = α z, ż = v − β|v||z|^{n−1}z − γ v|z|^n (A = 1: z in displacement units)",
+        build: |p| Ok(Arc::new(BoucWen::new(p[0], p[1], p[2])?)),
+    },
+    HistoryKind {
+        name: "dahl",
+        parameters: &[("x_c", None), ("exponent", Some(1.0))],
+        coefficient: "F_c (the Coulomb force)",
+        description: "f = F_c ẑ, dẑ/dx = (1 − ẑ sgn ẋ)^i / x_c, x_c = F_c/σ",
+        build: |p| Ok(Arc::new(Dahl::new(p[0], p[1])?)),
+    },
+    HistoryKind {
+        name: "iwan",
+        parameters: &[("phi_max", None), ("chi", None), ("beta", None)],
+        coefficient: "K_T (the joint's stiffness)",
+        description: "Segalman's four-parameter Iwan joint: density R φ^χ on [0, φ_max] + S δ(φ − φ_max), β = S/(R φ_max^{χ+1}/(χ+1))",
+        build: |p| Ok(Arc::new(Iwan::new(p[0], p[1], p[2])?)),
+    },
+];
+
+/// The built-in kind named `name`.
+pub fn kind(name: &str) -> Option<&'static HistoryKind> {
+    KINDS.iter().find(|k| k.name == name)
+}
