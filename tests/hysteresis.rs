@@ -31,7 +31,7 @@ const RECORDED: usize = 6;
 /// The hysteretic force of the simulated oscillator: its state, advanced in time.
 trait Simulated {
     /// State length.
-    fn len(&self) -> usize;
+    fn state_len(&self) -> usize;
     /// The force at displacement x in `state`.
     fn force(&self, state: &[f64], x: f64) -> f64;
     /// d(state)/dt at (x, v) (for the ODE kinds).
@@ -56,7 +56,7 @@ struct SimBoucWen {
 }
 
 impl Simulated for SimBoucWen {
-    fn len(&self) -> usize {
+    fn state_len(&self) -> usize {
         1
     }
     fn force(&self, state: &[f64], _x: f64) -> f64 {
@@ -77,7 +77,7 @@ struct SimDahl {
 }
 
 impl Simulated for SimDahl {
-    fn len(&self) -> usize {
+    fn state_len(&self) -> usize {
         1
     }
     fn force(&self, state: &[f64], _x: f64) -> f64 {
@@ -119,7 +119,7 @@ impl SimIwan {
 }
 
 impl Simulated for SimIwan {
-    fn len(&self) -> usize {
+    fn state_len(&self) -> usize {
         self.strengths.len()
     }
     fn force(&self, state: &[f64], x: f64) -> f64 {
@@ -171,7 +171,7 @@ fn simulate(
 ) -> (Vec<f64>, Vec<f64>, Vec<f64>, f64) {
     let period = 2.0 * PI / drive.omega;
     let h = period / SAMPLES as f64 / fine as f64;
-    let n = element.len();
+    let n = element.state_len();
     // start on the linear steady state of the spring alone
     let k_dyn = drive.stiffness - MASS * drive.omega * drive.omega;
     let amplitude = drive.force / k_dyn;
@@ -195,7 +195,7 @@ fn simulate(
     let mut k4s = vec![0.0; n];
     let mut tmp = vec![0.0; n];
     for step in 0..total {
-        if step >= keep_from && (step - keep_from) % fine == 0 {
+        if step >= keep_from && (step - keep_from).is_multiple_of(fine) {
             xs.push(x);
             vs.push(v);
             fs.push(drive.force * (drive.omega * t).cos());
@@ -222,8 +222,8 @@ fn simulate(
         element.rate(&tmp, x4, v4, &mut k4s);
         x += h / 6.0 * (v + 2.0 * v2 + 2.0 * v3 + v4);
         v += h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4);
-        for j in 0..n {
-            state[j] += h / 6.0 * (k1s[j] + 2.0 * k2s[j] + 2.0 * k3s[j] + k4s[j]);
+        for (j, s) in state.iter_mut().enumerate() {
+            *s += h / 6.0 * (k1s[j] + 2.0 * k2s[j] + 2.0 * k3s[j] + k4s[j]);
         }
         element.commit(&mut state, x);
         t += h;
@@ -595,5 +595,21 @@ fn bouc_wen_force_scaling_scales_the_linear_coefficients() {
             scaled.coefficient(name).unwrap(),
         );
         assert!(relative(b, 3.0 * a) < 1e-9, "{name}: {b} vs 3 × {a}");
+    }
+}
+
+/// README.md's table of forces with memory has one row per built-in history kind, with
+/// its parameters in order.
+#[test]
+fn readme_lists_every_history_kind() {
+    let readme = std::fs::read_to_string("README.md").unwrap();
+    for kind in dampid::terms::history::KINDS {
+        let row = readme
+            .lines()
+            .find(|l| l.starts_with(&format!("| `{}` |", kind.name)))
+            .unwrap_or_else(|| panic!("no README row for {}", kind.name));
+        for (parameter, _) in kind.parameters {
+            assert!(row.contains(&format!("`{parameter}`")), "{row}");
+        }
     }
 }

@@ -17,8 +17,8 @@ use super::spec::{
 };
 use crate::error::{Error, Result};
 use crate::simulate::chain_stiffness;
-use crate::terms::laws::{LawParameters, Registry};
 use crate::terms::history::{self, HistoryKind, HistoryTerm};
+use crate::terms::laws::{LawParameters, Registry};
 use crate::terms::{Coefficients, Element, ElementTerm, Term};
 use crate::varpro::NonlinearParameter;
 

@@ -79,16 +79,15 @@ pub(crate) fn add_columns(
         let Term::History(t) = term else { continue };
         for (index, element) in t.elements().iter().enumerate() {
             let path = relative(x, element.a, element.b, period);
-            let force = orbit::periodic_force(t.hysteresis(), &path).map_err(|e| {
-                Error::NoPeriodicOrbit {
+            let force = orbit::periodic_force_within(t.hysteresis(), &path, t.max_passes())
+                .map_err(|e| Error::NoPeriodicOrbit {
                     record: record.label().to_string(),
                     window: w.index + 1,
                     term: format!("{} [{}]", t.hysteresis().kind(), element.label),
                     passes: e.passes,
                     change: e.change,
                     tolerance: e.tolerance,
-                }
-            })?;
+                })?;
             let s: Vec<f64> = (0..count).map(|i| force[i % period]).collect();
             let velocity = relative(v, element.a, element.b, count);
             let sum: f64 = weights

@@ -73,7 +73,7 @@ pub(super) fn levenberg_marquardt(
         for corner in 0..1usize << q {
             starts.push(
                 (0..q)
-                    .map(|j| if corner >> j & 1 == 1 { 0.75 } else { 0.25 })
+                    .map(|j| if (corner >> j) & 1 == 1 { 0.75 } else { 0.25 })
                     .collect(),
             );
         }

@@ -72,6 +72,7 @@ pub struct HistoryTerm {
     hysteresis: Arc<dyn Hysteresis>,
     elements: Vec<Element>,
     coefficients: Coefficients,
+    max_passes: usize,
 }
 
 impl HistoryTerm {
@@ -85,7 +86,20 @@ impl HistoryTerm {
             hysteresis,
             elements,
             coefficients,
+            max_passes: orbit::MAX_PASSES,
         }
+    }
+
+    /// At most `passes` passes through a window's period to reach the periodic orbit
+    /// (default [`orbit::MAX_PASSES`]); more is an [`Error::NoPeriodicOrbit`].
+    pub fn with_max_passes(mut self, passes: usize) -> Self {
+        self.max_passes = passes;
+        self
+    }
+
+    /// The cap on passes through a window's period.
+    pub fn max_passes(&self) -> usize {
+        self.max_passes
     }
 
     /// The hysteretic element.
@@ -135,6 +149,13 @@ impl HistoryTerm {
             return Err(Error::Empty {
                 what: format!("element list of the {what}"),
             });
+        }
+        if self.max_passes == 0 {
+            return Err(Error::invalid(
+                &format!("max_passes of the {what}"),
+                0.0,
+                "the state needs at least one pass through the window's period",
+            ));
         }
         self.elements
             .iter()

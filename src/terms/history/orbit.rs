@@ -18,7 +18,8 @@
 //! monotone and contracts on these elements, but slowly at small amplitude, where the
 //! plain iteration can need thousands of passes); the Iwan joint's sliders repeat
 //! exactly after the pass that has visited the path's extremes, so plain passes end
-//! in two. No orbit after [`MAX_PASSES`] passes is [`NoOrbit`], which the regressor
+//! in two. No orbit after [`MAX_PASSES`] passes (or a term's own cap,
+//! `HistoryTerm::with_max_passes`) is [`NoOrbit`], which the regressor
 //! reports as an error naming the record and window.
 
 use super::Hysteresis;
@@ -42,11 +43,10 @@ pub struct NoOrbit {
 
 /// One pass from `state` (updated in place to P(state)); the force at each sample in `force`.
 fn pass(element: &dyn Hysteresis, path: &[f64], state: &mut [f64], force: &mut [f64]) {
-    let last = path.len() - 1;
-    for i in 0..path.len() {
-        force[i] = element.force(state, path[i]);
-        let next = if i == last { path[0] } else { path[i + 1] };
-        element.step(state, path[i], next);
+    let next = path.iter().skip(1).chain(path.first());
+    for ((out, &x), &next) in force.iter_mut().zip(path).zip(next) {
+        *out = element.force(state, x);
+        element.step(state, x, next);
     }
 }
 
@@ -58,8 +58,17 @@ fn change(a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// The force per unit coefficient s_i on the periodic orbit of `element` driven by the
-/// cyclic `path` (at least one sample).
+/// cyclic `path` (at least one sample), in at most [`MAX_PASSES`] passes.
 pub fn periodic_force(element: &dyn Hysteresis, path: &[f64]) -> Result<Vec<f64>, NoOrbit> {
+    periodic_force_within(element, path, MAX_PASSES)
+}
+
+/// [`periodic_force`] in at most `max_passes` passes.
+pub fn periodic_force_within(
+    element: &dyn Hysteresis,
+    path: &[f64],
+    max_passes: usize,
+) -> Result<Vec<f64>, NoOrbit> {
     let (lo, hi) = path
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
@@ -73,7 +82,7 @@ pub fn periodic_force(element: &dyn Hysteresis, path: &[f64]) -> Result<Vec<f64>
     // (z, g(z)) of the previous pass, for the secant step.
     let mut previous: Option<(f64, f64)> = None;
     let mut last_change = f64::INFINITY;
-    for passes in 1..=MAX_PASSES {
+    for passes in 1..=max_passes {
         let start = state.clone();
         pass(element, path, &mut state, &mut force);
         last_change = change(&start, &state);
@@ -105,7 +114,7 @@ pub fn periodic_force(element: &dyn Hysteresis, path: &[f64]) -> Result<Vec<f64>
         }
     }
     Err(NoOrbit {
-        passes: MAX_PASSES,
+        passes: max_passes,
         change: last_change,
         tolerance,
     })
@@ -144,13 +153,13 @@ mod tests {
             // shape, s minus its mean.
             let mean = |s: &[f64]| s.iter().sum::<f64>() / s.len() as f64;
             let (ma, mb) = (mean(&a), mean(&b));
-            for i in 0..400 {
+            for (i, &ai) in a.iter().enumerate() {
                 let j = (i + 400 - 100) % 400;
                 assert!(
-                    ((a[i] - ma) - (b[j] - mb)).abs() < 1e-7,
+                    ((ai - ma) - (b[j] - mb)).abs() < 1e-7,
                     "{}: sample {i}: {} vs {}",
                     element.name(),
-                    a[i],
+                    ai,
                     b[j]
                 );
             }
