@@ -7,7 +7,7 @@
 //! - `varpro/linear_fit`: `identify` of the model at the true exponents (regressor build
 //!   and fit, harmonic projection with ordinary weighting, one equation per period);
 //! - `varpro/two_parameters`: `identify_varpro` without the profile intervals (the outer
-//!   Nelder–Mead, the final fit and the joint covariance);
+//!   Levenberg–Marquardt, the final fit and the joint covariance);
 //! - `varpro/two_parameters_with_profiles`: the same with the profile intervals.
 //!
 //! Issue 20's target: `two_parameters` at most 50 × `linear_fit`. Before timing, the
@@ -67,7 +67,7 @@ fn bench_varpro(c: &mut Criterion) {
     let records = records();
     let mut settings = IdentifySettings::default();
     settings.regressor.windows = dampid::prep::window::WindowSpec::cycles(1).into();
-    // ordinary weighting: the propagated weights make Nelder–Mead stop at a spurious
+    // ordinary weighting: the propagated weights make the outer loop stop at a spurious
     // minimum (tests/varpro.rs, docs/laws.md)
     settings.fit.weighting = dampid::fit::Weighting::Ordinary;
     let parametric = ParametricModel::new(
@@ -83,7 +83,7 @@ fn bench_varpro(c: &mut Criterion) {
         ..VarProSettings::default()
     };
     let check = identify_varpro(&parametric, &records, &settings, &fit_only).unwrap();
-    // Nelder–Mead does not reach the true exponents on these data yet (docs/laws.md):
+    // the outer loop does not reach the true exponents on these data yet (docs/laws.md):
     // the bench measures the cost, and prints where the fit ended.
     eprintln!(
         "varpro: p1 = {:?}, p2 = {:?} (truth 1.7)",

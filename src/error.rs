@@ -292,6 +292,27 @@ pub enum Error {
         reason: String,
     },
 
+    /// A history term's state (Bouc–Wen, Dahl, Iwan) did not repeat within the passes
+    /// through a window's period that `crate::terms::history::orbit` allows: the window
+    /// gives the element no periodic orbit to take its force on.
+    #[error(
+        "record '{record}', window {window}: the {term} element's state did not repeat after {passes} passes through the window's period (change {} per pass, tolerance {}); give a longer record of steady periodic motion, or shape parameters whose hysteresis settles", number(*.change), number(*.tolerance)
+    )]
+    NoPeriodicOrbit {
+        /// The record's label.
+        record: String,
+        /// The window, numbered from 1.
+        window: usize,
+        /// The term kind and element (`bouc_wen [1-2]`).
+        term: String,
+        /// Passes made.
+        passes: usize,
+        /// Largest change of the state over the last pass.
+        change: f64,
+        /// The change accepted.
+        tolerance: f64,
+    },
+
     /// Every column of the regressor is zero: no coefficient changes the fit, so
     /// none can be estimated.
     #[error("these data carry no information on {coefficients}: {reason}")]
@@ -386,6 +407,7 @@ pub const KINDS: &[&str] = &[
     "not_steady",
     "no_input_work",
     "no_information",
+    "no_periodic_orbit",
     "infeasible_constraints",
     "too_large",
     "output_exists",
@@ -422,6 +444,7 @@ impl Error {
             Error::NotSteady { .. } => "not_steady",
             Error::NoInputWork { .. } => "no_input_work",
             Error::NoInformation { .. } => "no_information",
+            Error::NoPeriodicOrbit { .. } => "no_periodic_orbit",
             Error::InfeasibleConstraints { .. } => "infeasible_constraints",
             Error::TooLarge { .. } => "too_large",
             Error::OutputExists { .. } => "output_exists",

@@ -34,6 +34,18 @@ fn probes() -> Vec<(&'static str, String)> {
             format!("[[terms]]\nkind = \"mass_proportional\"\n{k} = 1\n"),
         ),
         (
+            "## [[terms]]",
+            format!("[[terms]]\nkind = \"bouc_wen\"\n{k} = 1\n"),
+        ),
+        (
+            "## [[terms]]",
+            format!("[[terms]]\nkind = \"dahl\"\n{k} = 1\n"),
+        ),
+        (
+            "## [[terms]]",
+            format!("[[terms]]\nkind = \"iwan\"\n{k} = 1\n"),
+        ),
+        (
             "## [identification]",
             format!("[identification]\n{k} = 1\n"),
         ),

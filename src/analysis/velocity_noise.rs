@@ -267,6 +267,8 @@ impl WindowNoise {
                         .sum();
                     out[range.start] += per_sample * weights.iter().sum::<f64>();
                 }
+                // A force with memory has no noise-bias model here: it adds none.
+                Term::History(_) => {}
                 Term::Elements(t) => {
                     let law = t.law();
                     for (e, element) in t.elements().iter().enumerate() {

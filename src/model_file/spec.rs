@@ -332,6 +332,29 @@ pub enum TermSpec {
         /// Element weights (sensor spacing or area).
         weights: Option<Vec<f64>>,
     },
+    /// A Bouc–Wen element on elements (`dampid::terms::history`).
+    BoucWen(HistorySpec),
+    /// A Dahl element on elements.
+    Dahl(HistorySpec),
+    /// A four-parameter Iwan joint on elements.
+    Iwan(HistorySpec),
+}
+
+/// A force with memory on elements: `kind = "bouc_wen"`, `"dahl"` or `"iwan"`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HistorySpec {
+    /// The kind's shape parameters by name (`beta`, `gamma`, `n`; `x_c`, `exponent`;
+    /// `phi_max`, `chi`, `beta`), each a number or `{ estimate = true, initial, lower,
+    /// upper }`.
+    #[serde(default)]
+    pub parameters: BTreeMap<String, ParameterSpec>,
+    /// `"each_dof"`, `"chain"` or a list of [a, b] DOF pairs (1-based, 0 = ground).
+    pub elements: ElementsSpec,
+    /// One shared coefficient with this name …
+    pub coefficient: Option<String>,
+    /// … or one per element, named `prefix[label]`.
+    pub per_element: Option<String>,
 }
 
 /// A law parameter: a number, or estimated with the coefficients (variable projection,

@@ -4,14 +4,20 @@
 //! `exponent` shorthand) and `expression`. A parameter written as
 //! `{ estimate = true, initial, lower, upper }` is estimated by variable projection
 //! (`crate::varpro`): the term becomes a recipe built again at each trial value.
+//! `kind = "bouc_wen"`, `"dahl"` and `"iwan"` are history terms
+//! ([`crate::terms::history`]) with their shape parameters in `parameters`, fixed or
+//! estimated the same way.
 
 use std::collections::BTreeMap;
 
 use faer::Mat;
 
-use super::spec::{ElementsSpec, EstimatedSpec, MatrixRef, ModelFileSpec, ParameterSpec, TermSpec};
+use super::spec::{
+    ElementsSpec, EstimatedSpec, HistorySpec, MatrixRef, ModelFileSpec, ParameterSpec, TermSpec,
+};
 use crate::error::{Error, Result};
 use crate::simulate::chain_stiffness;
+use crate::terms::history::{self, HistoryKind, HistoryTerm};
 use crate::terms::laws::{LawParameters, Registry};
 use crate::terms::{Coefficients, Element, ElementTerm, Term};
 use crate::varpro::NonlinearParameter;
@@ -75,6 +81,16 @@ pub(super) enum TermRecipe {
         coefficients: Coefficients,
         weights: Option<Vec<f64>>,
     },
+    /// A history term with estimated shape parameters.
+    History {
+        kind: &'static HistoryKind,
+        /// Every shape parameter's value (the estimated ones' replaced at each trial).
+        fixed: Vec<f64>,
+        /// (shape parameter index, index into the model's estimated parameters).
+        estimated: Vec<(usize, usize)>,
+        elements: Vec<Element>,
+        coefficients: Coefficients,
+    },
 }
 
 impl TermRecipe {
@@ -102,8 +118,126 @@ impl TermRecipe {
                     weights,
                 ))
             }
+            TermRecipe::History {
+                kind,
+                fixed,
+                estimated,
+                elements,
+                coefficients,
+            } => {
+                let mut values = fixed.clone();
+                for &(p, i) in estimated {
+                    values[p] = eta[i];
+                }
+                Ok(Term::History(HistoryTerm::new(
+                    (kind.build)(&values)?,
+                    elements.clone(),
+                    coefficients.clone(),
+                )))
+            }
         }
     }
+}
+
+/// Exactly one of `coefficient` (shared) and `per_element`.
+fn coefficients_of(
+    coefficient: &Option<String>,
+    per_element: &Option<String>,
+) -> Result<Coefficients> {
+    match (coefficient, per_element) {
+        (Some(name), None) => Ok(Coefficients::Shared(name.clone())),
+        (None, Some(prefix)) => Ok(Coefficients::PerElement(prefix.clone())),
+        (shared, _) => {
+            let given = if shared.is_some() {
+                "both `coefficient` and `per_element`"
+            } else {
+                "neither `coefficient` nor `per_element`"
+            };
+            Err(Error::choice(
+                "coefficient",
+                given,
+                "give exactly one of `coefficient` (shared) or `per_element` (one per element)",
+            ))
+        }
+    }
+}
+
+/// The recipe of a history term: its kind's shape parameters from `parameters` (every
+/// name known, every required one given), the estimated ones appended to `estimated`.
+fn history_recipe(
+    name: &str,
+    spec: &HistorySpec,
+    n: usize,
+    estimated: &mut Vec<NonlinearParameter>,
+) -> Result<TermRecipe> {
+    // cannot fail: the model-file schema only names built-in kinds here.
+    let kind = history::kind(name).expect("a built-in history kind");
+    let coefficients = coefficients_of(&spec.coefficient, &spec.per_element)?;
+    let owner = spec
+        .coefficient
+        .as_ref()
+        .or(spec.per_element.as_ref())
+        .cloned()
+        .unwrap_or_default();
+    let known = || {
+        kind.parameters
+            .iter()
+            .map(|(p, _)| *p)
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    if let Some(unknown) = spec
+        .parameters
+        .keys()
+        .find(|k| !kind.parameters.iter().any(|(p, _)| p == k))
+    {
+        return Err(Error::UnknownName {
+            what: format!("{name} parameter"),
+            name: unknown.clone(),
+            known: known(),
+        });
+    }
+    let mut fixed = Vec::with_capacity(kind.parameters.len());
+    let mut indices = Vec::new();
+    let mut initial = Vec::with_capacity(kind.parameters.len());
+    for (p, (parameter, default)) in kind.parameters.iter().enumerate() {
+        match (spec.parameters.get(*parameter), default) {
+            (Some(ParameterSpec::Value(v)), _) => {
+                fixed.push(*v);
+                initial.push(*v);
+            }
+            (Some(ParameterSpec::Estimated(e)), _) => {
+                let parameter = estimated_parameter(&owner, parameter, e)?;
+                fixed.push(parameter.initial);
+                initial.push(parameter.initial);
+                indices.push((p, estimated.len()));
+                estimated.push(parameter);
+            }
+            (None, Some(d)) => {
+                fixed.push(*d);
+                initial.push(*d);
+            }
+            (None, None) => {
+                return Err(Error::missing(
+                    format!("{name} parameter '{parameter}'"),
+                    &format!(
+                        "a {name} term needs its shape parameters ({}) in `parameters`, each a number or {{ estimate = true, initial, lower, upper }}",
+                        known()
+                    ),
+                ));
+            }
+        }
+    }
+    // the element must build at its initial values (values it refuses are reported
+    // here, at the term's line)
+    (kind.build)(&initial)?;
+    Ok(TermRecipe::History {
+        kind,
+        fixed,
+        estimated: indices,
+        elements: build_elements(&spec.elements, n)?,
+        coefficients,
+    })
 }
 
 fn law_term(
@@ -155,22 +289,7 @@ pub(super) fn build_term(
             per_element,
             weights,
         } => {
-            let coefficients = match (coefficient, per_element) {
-                (Some(name), None) => Coefficients::Shared(name.clone()),
-                (None, Some(prefix)) => Coefficients::PerElement(prefix.clone()),
-                (shared, _) => {
-                    let given = if shared.is_some() {
-                        "both `coefficient` and `per_element`"
-                    } else {
-                        "neither `coefficient` nor `per_element`"
-                    };
-                    return Err(Error::choice(
-                        "coefficient",
-                        given,
-                        "give exactly one of `coefficient` (shared) or `per_element` (one per element)",
-                    ));
-                }
-            };
+            let coefficients = coefficients_of(coefficient, per_element)?;
             let owner = coefficient
                 .as_ref()
                 .or(per_element.as_ref())
@@ -209,6 +328,9 @@ pub(super) fn build_term(
                 weights: weights.clone(),
             }
         }
+        TermSpec::BoucWen(h) => history_recipe("bouc_wen", h, n, estimated)?,
+        TermSpec::Dahl(h) => history_recipe("dahl", h, n, estimated)?,
+        TermSpec::Iwan(h) => history_recipe("iwan", h, n, estimated)?,
     })
 }
 

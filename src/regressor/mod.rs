@@ -22,6 +22,7 @@
 //! whose force does no work (a dead sensor) is an error, not a row of zeros.
 
 pub mod derivative_free;
+pub(crate) mod history;
 pub mod input_work;
 mod kernel;
 pub mod nonperiodic;
@@ -115,6 +116,11 @@ impl Regressor {
         let spec = match &settings.windows {
             Windows::Spans(spans) => {
                 settings.validate()?;
+                history::refuse(
+                    model,
+                    "non-periodic spans",
+                    "a hysteretic element stores energy that depends on its internal state, which the stored-energy columns (½ΔvᵀMv, ½ΔxᵀKx) cannot express, and a span has no periodic orbit to start its state on; use windows of whole periods (`cycles`)",
+                )?;
                 let regressor = nonperiodic::build(
                     model,
                     records,
@@ -144,6 +150,11 @@ impl Regressor {
         }
         input_work::require_force(records)?;
         if settings.noise_robust()? {
+            history::refuse(
+                model,
+                "the noise-robust rows",
+                "their columns are corrected for the noise of each law's f(x, v), which a force with memory does not have; use `velocity = \"measured\"`, `central_difference` or `spectral`, or `noise = \"ignore\"`",
+            )?;
             let harmonics = match settings.velocity {
                 VelocitySource::HarmonicProjection { harmonics } => harmonics,
                 _ => None,

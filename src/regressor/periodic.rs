@@ -7,7 +7,8 @@
 //!
 //! with velocities from the chosen source ([`crate::prep::velocity`]). A window that
 //! closes periodically ([`Window::closed`]) reads its L = kT/h samples with w_i = h and
-//! wrapped central differences. With
+//! wrapped central differences. History terms add their columns on each window's
+//! periodic orbit ([`crate::regressor::history`]). With
 //! [`WorkForm::DerivativeFree`] the input work (and Coulomb columns) are then replaced
 //! by their derivative-free forms ([`crate::regressor::derivative_free`]).
 
@@ -18,10 +19,10 @@ use crate::model::DampingModel;
 use crate::prep::quadrature::{Quadrature, WindowWeights};
 use crate::prep::window::{Window, WindowSpec};
 use crate::record::Record;
-use crate::regressor::derivative_free;
 use crate::regressor::kernel::{Plan, WindowSamples, build_in_parallel};
 use crate::regressor::settings::{RegressorSettings, WorkForm};
 use crate::regressor::{Row, map_windows};
+use crate::regressor::{derivative_free, history};
 
 /// The rows of `windows` (cut by `spec` from `records`) under `settings`.
 pub(super) fn rows(
@@ -151,6 +152,9 @@ fn window_row(
         weights,
     };
     let (mut row, mut input) = shared.plan.row(&samples);
+    if history::has_history(model) {
+        history::add_columns(model, record, w, samples.x, samples.v, weights, &mut row)?;
+    }
     if settings.work_form == WorkForm::DerivativeFree {
         input = derivative_free::replace_with_raw(model, record, w, &mut row)?;
     }

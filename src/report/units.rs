@@ -109,6 +109,12 @@ impl Units {
                 MatrixKind::StiffnessProportional => t.cloned(),
                 MatrixKind::MassProportional => Some(format!("1/{}", t?)),
             },
+            // Bouc–Wen's α and Iwan's K_T multiply a displacement-like state (F/L);
+            // Dahl's F_c multiplies ẑ, dimensionless (F).
+            Term::History(h) => match h.hysteresis().kind() {
+                "dahl" => f.cloned(),
+                _ => Some(format!("{}/{}", f?, l?)),
+            },
             Term::Elements(e) => {
                 let name = e.law().name();
                 match name.as_str() {

@@ -15,7 +15,7 @@ use super::FitReport;
 pub struct OuterLoop {
     /// True when the outer optimiser met its tolerance.
     pub converged: bool,
-    /// `brent` (one parameter) or `nelder_mead` (several).
+    /// `brent` (one parameter) or `levenberg_marquardt` (several).
     pub method: String,
     /// Outer iterations.
     pub iterations: u64,

@@ -28,6 +28,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::{Error, Result, check_finite};
 use crate::model::DampingModel;
 use crate::record::{Forcing, Record, RecordParts};
+use crate::terms::Term;
 pub(crate) use rk4::Rk4;
 
 /// `f(x, out)`: adds a conservative force f_c(x) to `out`.
@@ -174,6 +175,18 @@ impl System {
             check_finite(what, m.as_ref())?;
         }
         self.damping.validate(n)?;
+        if let Some(Term::History(h)) = self
+            .damping
+            .terms()
+            .iter()
+            .find(|t| matches!(t, Term::History(_)))
+        {
+            return Err(Error::choice(
+                "damping term",
+                format!("{} (a force with memory)", h.hysteresis().kind()),
+                "not simulated: the RK4 simulator evaluates damping forces f(x, v) of the present state; simulate hysteresis with an integrator that carries its state (tests/hysteresis.rs has one for an SDOF)",
+            ));
+        }
         if self.damping_coefficients.len() != self.damping.coefficient_count() {
             return Err(Error::mismatch(
                 "true damping coefficients vs model coefficients",

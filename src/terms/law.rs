@@ -15,13 +15,13 @@
 //! (`laws::Registry::with`, then `model_file::parse_with_laws`).
 //!
 //! Where laws end. A force with memory, such as hysteresis and friction with an internal
-//! state (Bouc–Wen, Dahl, Iwan/Masing, LuGre), depends on the whole path since the
-//! record's start: a block cannot be evaluated without the state at its first sample.
-//! Such a force is not a `Law`, and `Law` gets no state to pretend otherwise. It will be
-//! a separate term kind, computed once per record: the force per unit coefficient s(t)
-//! integrated along the record from its start, then summed by the kernel like a force
-//! channel, Σ_i w_i v_iᵀ s_i over each window's samples. The next issue adds it beside
-//! [`crate::terms::Term`]'s matrix and element kinds.
+//! state (Bouc–Wen, Dahl, Iwan/Masing, LuGre), depends on the whole path: a block cannot
+//! be evaluated without the state at its first sample. Such a force is not a `Law`, and
+//! `Law` gets no state to pretend otherwise: it is a history term
+//! ([`crate::terms::history`], [`crate::terms::Term::History`]), whose force per unit
+//! coefficient s is computed per window of whole periods on the element's periodic
+//! orbit and summed like a force channel, Σ_i w_i v_iᵀ s_i. If f depends on anything
+//! but the sample's own x and v, it is a history term.
 
 use std::fmt;
 

@@ -2,9 +2,15 @@
 //! coefficients θ_k; its only job is the window integral of the power per coefficient,
 //! ∫ vᵀ f_k(x, v) dt, which becomes one regressor column. The same term also gives the
 //! damping force Σ θ_k f_k(x, v), which the simulator uses.
+//!
+//! Three kinds: a matrix (θ C₀), a memoryless [`Law`] on elements (f(x, v)), and a
+//! force with memory on elements ([`history`]: Bouc–Wen, Dahl, Iwan), whose force per
+//! unit coefficient is a functional of the path, computed per window on its periodic
+//! orbit.
 
 pub mod element;
 pub mod element_term;
+pub mod history;
 pub mod lanes;
 pub mod law;
 pub mod laws;
@@ -16,6 +22,7 @@ use faer::Mat;
 
 pub use element::Element;
 pub use element_term::{Coefficients, ElementTerm};
+pub use history::{HistoryTerm, Hysteresis};
 pub use law::{ElementMotion, Law, PowerForm, Weights};
 pub use matrix_term::{MatrixKind, MatrixTerm};
 
@@ -28,6 +35,9 @@ pub enum Term {
     Matrix(MatrixTerm),
     /// A law on elements.
     Elements(ElementTerm),
+    /// A force with memory (Bouc–Wen, Dahl, Iwan) on elements: computed along each
+    /// window's period on its periodic orbit ([`history`]), periodic windows only.
+    History(HistoryTerm),
 }
 
 impl Term {
@@ -72,6 +82,19 @@ impl Term {
         )
     }
 
+    /// The hysteretic element `hysteresis` on `elements`.
+    pub fn history(
+        hysteresis: impl Hysteresis + 'static,
+        elements: Vec<Element>,
+        coefficients: Coefficients,
+    ) -> Self {
+        Term::History(HistoryTerm::new(
+            Arc::new(hysteresis),
+            elements,
+            coefficients,
+        ))
+    }
+
     /// `law` from each of DOFs 0..n to ground.
     pub fn per_dof(law: impl Law + 'static, dofs: usize, coefficients: Coefficients) -> Self {
         Self::on_elements(law, Element::each_dof(dofs), coefficients)
@@ -82,6 +105,7 @@ impl Term {
         match self {
             Term::Matrix(t) => t.coefficient_names(),
             Term::Elements(t) => t.coefficient_names(),
+            Term::History(t) => t.coefficient_names(),
         }
     }
 
@@ -94,6 +118,7 @@ impl Term {
                 Coefficients::Shared(_) => 1,
                 Coefficients::PerElement(_) => t.elements().len(),
             },
+            Term::History(t) => t.coefficient_count(),
         }
     }
 
@@ -101,14 +126,18 @@ impl Term {
         match self {
             Term::Matrix(t) => t.validate(dofs),
             Term::Elements(t) => t.validate(dofs),
+            Term::History(t) => t.validate(dofs),
         }
     }
 
-    /// Adds the damping force Σ_k θ_k f_k(x, v) to `out` (length n).
+    /// Adds the damping force Σ_k θ_k f_k(x, v) to `out` (length n). A history term
+    /// has no force at (x, v) alone and adds nothing: the simulator refuses models that
+    /// hold one (`System::validate`).
     pub(crate) fn add_force(&self, coefficients: &[f64], x: &[f64], v: &[f64], out: &mut [f64]) {
         match self {
             Term::Matrix(t) => t.add_force(coefficients, v, out),
             Term::Elements(t) => t.add_force(coefficients, x, v, out),
+            Term::History(_) => {}
         }
     }
 }

@@ -12,9 +12,9 @@
 //! squares, constrained, or weighted by the propagated noise model with W = diag(1/s²)
 //! of the weighted fit), so θ̂(η) is a function of η and the projected cost
 //! φ(η) = ‖r(θ̂(η), η)‖² is minimised over η alone (`outer.rs`): bounded Brent for one
-//! parameter, Nelder–Mead on the logistic transform η = l + (u − l)/(1 + e^{−s}) for
-//! several. Each trial rebuilds the whole regressor of the model the builder makes for
-//! η (measured on the four-mass chain: a build costs about as much as the fit itself,
+//! parameter, a bounded Levenberg–Marquardt on the projected residual r(η) from a
+//! multistart set for several (`levenberg_marquardt.rs`). Each trial rebuilds the
+//! whole regressor of the model the builder makes for η (measured on the four-mass chain: a build costs about as much as the fit itself,
 //! and rebuilding only the affected columns would need the kernel's plan per column).
 //!
 //! Uncertainty, with ν = m − p − q degrees of freedom (m equations, p linear and q
@@ -34,6 +34,7 @@
 //! such, without intervals.
 
 mod joint;
+mod levenberg_marquardt;
 mod outer;
 mod problem;
 mod profile;
@@ -55,7 +56,7 @@ pub struct NonlinearParameter {
     /// Name (e.g. `exponent`, `vs`; reports prefix it with the term's coefficient name
     /// where the model file builds it).
     pub name: String,
-    /// Initial value, within [lower, upper] (the start of Nelder–Mead; bounded Brent,
+    /// Initial value, within [lower, upper] (the start of Levenberg–Marquardt, with the multistart corners; bounded Brent,
     /// used for a single parameter, searches the whole interval).
     pub initial: f64,
     /// Lower bound.
@@ -183,8 +184,8 @@ impl ParametricModel {
 ///
 /// | setting | default | what |
 /// |---|---|---|
-/// | `tolerance` | 1e-8 | Brent: relative tolerance on η; Nelder–Mead: standard deviation of the simplex's cost values relative to the initial cost |
-/// | `max_iterations` | 200 | outer iterations (Brent or Nelder–Mead) |
+/// | `tolerance` | 1e-8 | Brent: relative tolerance on η; Levenberg–Marquardt: an accepted step that lowers the cost by at most this fraction of it ends the loop |
+/// | `max_iterations` | 200 | outer iterations (Brent, or Levenberg–Marquardt iterations of q + 1 trials each plus rejected steps) |
 /// | `level` | 0.95 | confidence level of the profile and joint intervals |
 /// | `profile` | true | compute the profile-likelihood intervals (each end is a root search, with a nested optimisation of the other parameters when there are several) |
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -246,7 +247,12 @@ pub fn identify_varpro(
     settings.fit.validate()?;
     varpro.validate()?;
     let problem = problem::Problem::new(model, records, settings);
-    let minimum = outer::minimise(&|eta: &[f64]| problem.cost(eta), model.parameters(), varpro)?;
+    let minimum = outer::minimise(
+        &|eta: &[f64]| problem.residuals(eta),
+        model.parameters(),
+        varpro,
+        true,
+    )?;
     let best = problem.trial(&minimum.values)?;
     let fit_report = crate::identify::identify_regressor(&best.regressor, &settings.fit)?;
     let converged = minimum.converged && best.fit.status.is_usable();

@@ -79,6 +79,16 @@ impl<'a> Problem<'a> {
     pub fn cost(&self, eta: &[f64]) -> Result<f64> {
         self.trial(eta).map(|t| t.cost)
     }
+
+    /// The projected residual r(η) = (A(η) θ̂(η) − b)_r / s_r, whose squared norm is φ(η).
+    pub fn residuals(&self, eta: &[f64]) -> Result<Vec<f64>> {
+        let trial = self.trial(eta)?;
+        Ok(weighted_residuals(
+            &trial.regressor,
+            &trial.fit.coefficients,
+            trial.fit.residual_std.as_deref(),
+        ))
+    }
 }
 
 /// (A θ − b)_r / s_r (s_r = 1 without `std`).

@@ -87,8 +87,9 @@ pub(super) fn interval(
         if others.is_empty() {
             return problem.cost(t);
         }
-        let inner = |rest: &[f64]| problem.cost(&full(t[0], rest));
-        let best = minimise(&inner, &others, settings)?;
+        let inner = |rest: &[f64]| problem.residuals(&full(t[0], rest));
+        // started at the optimum's values of the others: no multistart
+        let best = minimise(&inner, &others, settings, false)?;
         problem.cost(&full(t[0], &best.values))
     };
     let spec = &parameters[j];

@@ -42,6 +42,7 @@
 mod data_files;
 mod fit;
 mod fixtures;
+mod history;
 mod model;
 mod model_file;
 mod prep;

@@ -68,6 +68,7 @@ fn every_variant_is_reachable() {
             identify(&zero, &[record()], &measured()).unwrap_err()
         },
         existing_output(),
+        identify(&crate::history::bouc_wen_model(1), &[record()], &measured()).unwrap_err(),
         // A flag of the caller's own: the process-wide one would stop the other tests.
         dampid::cancel::check_flag(&std::sync::atomic::AtomicBool::new(true), "the simulation")
             .unwrap_err(),

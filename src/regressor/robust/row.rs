@@ -253,6 +253,8 @@ pub(super) fn robust_row(
                 &mut columns,
                 &mut gradients,
             ),
+            // refused before the robust rows are built (Regressor::build)
+            Term::History(_) => {}
             Term::Elements(t) => element_columns(
                 t,
                 &projected,

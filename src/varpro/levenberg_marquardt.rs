@@ -1,0 +1,203 @@
+//! A bounded Levenberg–Marquardt on the projected residual of variable projection.
+//!
+//! In the unit box u_j = (η_j − l_j)/(u_j − l_j) ∈ [0, 1] (every parameter on the same
+//! scale), with r(u) the projected residual of a trial (the inner fit's
+//! (A θ̂ − b)_r / s_r) and its Jacobian J by forward differences of whole trials, step
+//! δu = 10⁻⁶ (backward at the upper bound; the Golub–Pereyra derivative of the
+//! projected residual, so no Kaufman term is dropped and constrained inner fits are
+//! differentiated as they are), each iteration solves
+//!
+//! ```text
+//!   (JᵀJ + λ (diag JᵀJ + ε I)) δ = −Jᵀ r,      ε = 10⁻¹² max diag JᵀJ,
+//! ```
+//!
+//! over the free parameters (a parameter on a bound whose descent direction points out
+//! of the box is held there) and tries u + δ clipped to the box: accepted when the cost
+//! ‖r‖² falls (λ ← λ/3), else λ ← 4λ and solved again (at most [`MAX_REJECTIONS`] times
+//! in a row). Converged when an accepted step lowers the cost by at most `tolerance`
+//! of it, when the step is below 10⁻¹⁰, or when no λ lowers it (a minimum to working
+//! precision). q + 1 trials per iteration, plus the rejected ones.
+//!
+//! Multistart: before the first iteration the cost is evaluated at the initial values
+//! and at the 2^q corners of the box [0.25, 0.75]^q (q ≤ [`MULTISTART_MAX`]; a coarse
+//! grid against the false minima a single start finds, as Nelder–Mead did on the
+//! four-mass chain), and the loop starts from the lowest.
+
+use faer::Mat;
+use faer::prelude::Solve;
+
+use crate::error::{Error, Result};
+
+use super::outer::{Minimum, Residuals};
+use super::{NonlinearParameter, VarProSettings};
+
+/// Forward-difference step in the unit box.
+const DIFFERENCE_STEP: f64 = 1e-6;
+
+/// Rejected steps in a row before the point is taken as the minimum.
+const MAX_REJECTIONS: usize = 20;
+
+/// Multistart corners only up to this many parameters (2^q trials).
+pub(super) const MULTISTART_MAX: usize = 4;
+
+/// Initial damping λ.
+const INITIAL_DAMPING: f64 = 1e-3;
+
+fn squared(r: &[f64]) -> f64 {
+    r.iter().map(|e| e * e).sum()
+}
+
+/// Minimises ‖r(η)‖² over the box of `parameters` (see the module doc).
+pub(super) fn levenberg_marquardt(
+    residuals: Residuals<'_>,
+    parameters: &[NonlinearParameter],
+    settings: &VarProSettings,
+    multistart: bool,
+) -> Result<Minimum> {
+    let q = parameters.len();
+    let lower: Vec<f64> = parameters.iter().map(|p| p.lower).collect();
+    let span: Vec<f64> = parameters.iter().map(|p| p.upper - p.lower).collect();
+    let eta_of = |u: &[f64]| -> Vec<f64> {
+        u.iter()
+            .zip(lower.iter().zip(&span))
+            .map(|(u, (l, s))| l + s * u)
+            .collect()
+    };
+    let mut starts: Vec<Vec<f64>> = vec![
+        parameters
+            .iter()
+            .map(|p| ((p.initial - p.lower) / (p.upper - p.lower)).clamp(0.0, 1.0))
+            .collect(),
+    ];
+    if multistart && q <= MULTISTART_MAX {
+        for corner in 0..1usize << q {
+            starts.push(
+                (0..q)
+                    .map(|j| if (corner >> j) & 1 == 1 { 0.75 } else { 0.25 })
+                    .collect(),
+            );
+        }
+    }
+    let mut best: Option<(Vec<f64>, Vec<f64>, f64)> = None;
+    for start in starts {
+        let r = residuals(&eta_of(&start))?;
+        let c = squared(&r);
+        if best.as_ref().is_none_or(|(_, _, b)| c < *b) {
+            best = Some((start, r, c));
+        }
+    }
+    // cannot fail: `starts` holds the initial values at least.
+    let (mut u, mut r, mut cost) = best.expect("at least one start");
+    let m = r.len();
+    let mut lambda = INITIAL_DAMPING;
+    let mut iterations = 0;
+    let mut converged = false;
+    let mut reason = String::from("maximum number of iterations reached");
+    while iterations < settings.max_iterations {
+        iterations += 1;
+        if cost == 0.0 {
+            (converged, reason) = (true, "converged (zero residual)".into());
+            break;
+        }
+        let mut jacobian = Mat::<f64>::zeros(m, q);
+        for j in 0..q {
+            let h = if u[j] + DIFFERENCE_STEP <= 1.0 {
+                DIFFERENCE_STEP
+            } else {
+                -DIFFERENCE_STEP
+            };
+            let mut moved = u.clone();
+            moved[j] += h;
+            let rj = residuals(&eta_of(&moved))?;
+            if rj.len() != m {
+                return Err(Error::mismatch(
+                    "projected residual length between trials",
+                    m,
+                    rj.len(),
+                ));
+            }
+            for i in 0..m {
+                jacobian[(i, j)] = (rj[i] - r[i]) / h;
+            }
+        }
+        let gradient: Vec<f64> = (0..q)
+            .map(|j| (0..m).map(|i| jacobian[(i, j)] * r[i]).sum())
+            .collect();
+        let normal = Mat::from_fn(q, q, |a, b| {
+            (0..m)
+                .map(|i| jacobian[(i, a)] * jacobian[(i, b)])
+                .sum::<f64>()
+        });
+        let free: Vec<usize> = (0..q)
+            .filter(|&j| {
+                !((u[j] <= 0.0 && gradient[j] > 0.0) || (u[j] >= 1.0 && gradient[j] < 0.0))
+            })
+            .collect();
+        if free.is_empty() {
+            (converged, reason) = (true, "converged (every parameter on a bound)".into());
+            break;
+        }
+        let floor = 1e-12
+            * free
+                .iter()
+                .map(|&j| normal[(j, j)])
+                .fold(0.0, f64::max)
+                .max(f64::MIN_POSITIVE);
+        let mut accepted = None;
+        for _ in 0..MAX_REJECTIONS {
+            let k = free.len();
+            let system = Mat::from_fn(k, k, |a, b| {
+                let (ja, jb) = (free[a], free[b]);
+                normal[(ja, jb)]
+                    + if a == b {
+                        lambda * (normal[(ja, ja)] + floor)
+                    } else {
+                        0.0
+                    }
+            });
+            let rhs = Mat::from_fn(k, 1, |a, _| -gradient[free[a]]);
+            let delta = system.partial_piv_lu().solve(rhs);
+            let mut trial = u.clone();
+            for (a, &j) in free.iter().enumerate() {
+                trial[j] = (u[j] + delta[(a, 0)]).clamp(0.0, 1.0);
+            }
+            let step = trial
+                .iter()
+                .zip(&u)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            if !step.is_finite() {
+                lambda *= 4.0;
+                continue;
+            }
+            let r_trial = residuals(&eta_of(&trial))?;
+            let c_trial = squared(&r_trial);
+            if c_trial < cost {
+                lambda = (lambda / 3.0).max(1e-12);
+                accepted = Some((trial, r_trial, c_trial, step));
+                break;
+            }
+            if step <= 1e-10 {
+                break;
+            }
+            lambda *= 4.0;
+        }
+        let Some((trial, r_trial, c_trial, step)) = accepted else {
+            (converged, reason) = (true, "converged (no step lowers the cost)".into());
+            break;
+        };
+        let gain = cost - c_trial;
+        (u, r, cost) = (trial, r_trial, c_trial);
+        if gain <= settings.tolerance * (cost + gain) || step <= 1e-10 {
+            (converged, reason) = (true, "converged".into());
+            break;
+        }
+    }
+    Ok(Minimum {
+        values: eta_of(&u),
+        converged,
+        iterations,
+        method: "levenberg_marquardt",
+        reason,
+    })
+}
