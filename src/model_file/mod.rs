@@ -40,7 +40,7 @@ pub use measured::{ChannelGain, RecordInputs};
 pub use spec::*;
 pub use summary::{
     CheckReport, DetectedPeriod, JitteredTime, NOTED_JITTER, Periods, Preamble, SteppedSineSummary,
-    selected_experiments_toml,
+    SelectedExperiment, selected_experiments, selected_experiments_toml,
 };
 
 use crate::error::{Error, Result};

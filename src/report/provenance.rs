@@ -63,6 +63,45 @@ impl DataFile {
     }
 }
 
+/// One setting in effect: where a model file (or the command line) sets it, its value
+/// as a model file writes it, and where the value came from.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Setting {
+    /// The model-file section (`identification`, `non_periodic`, `design`, `units`), or
+    /// `command line`, or `fit (not in model files)` for internal settings.
+    pub section: String,
+    /// The key, as docs/model-file.md names it.
+    pub key: String,
+    /// The value in effect, in TOML form (`"trapezoid"`, `1`, `0.01`), or in words where
+    /// it is chosen from the data (`harmonics`).
+    pub value: String,
+    /// Where the value came from.
+    pub source: SettingSource,
+}
+
+/// Where a setting's value came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SettingSource {
+    /// Not set: dampid's default.
+    Default,
+    /// Set in the model file.
+    ModelFile,
+    /// Set on the command line.
+    CommandLine,
+}
+
+impl SettingSource {
+    /// "default", "set in model file", "command line".
+    pub fn text(self) -> &'static str {
+        match self {
+            SettingSource::Default => "default",
+            SettingSource::ModelFile => "set in model file",
+            SettingSource::CommandLine => "command line",
+        }
+    }
+}
+
 /// Everything needed to reproduce a report.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Provenance {
@@ -72,8 +111,8 @@ pub struct Provenance {
     pub model_text: String,
     /// The data files it read, in order (none for simulated records).
     pub data_files: Vec<DataFile>,
-    /// Every setting in effect, defaults included: (name, value).
-    pub settings: Vec<(String, String)>,
+    /// Every setting in effect, defaults included, by model-file section and key.
+    pub settings: Vec<Setting>,
     /// dampid's version.
     pub version: String,
     /// The git commit dampid was built from, or "unknown".

@@ -46,11 +46,14 @@ pub(crate) fn colour(k: usize) -> RGBColor {
     PALETTE[k % PALETTE.len()]
 }
 
-/// A named curve with an optional band (lower, upper) at each point.
+/// A named curve with an optional band (lower, upper) at each point. With `measured`
+/// = (lo, hi), the curve was measured over lo ≤ x ≤ hi only: [`force_laws`] draws it
+/// solid (with its band) there and dashed beyond.
 pub(crate) struct Curve {
     pub name: String,
     pub points: Vec<(f64, f64)>,
     pub band: Option<Vec<(f64, f64, f64)>>,
+    pub measured: Option<(f64, f64)>,
 }
 
 /// Points of one group (a record) in a scatter: its legend name and (x, y) points.
@@ -73,15 +76,31 @@ type Chart<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64
 fn chart_svg(
     draw: impl FnOnce(&DrawingArea<SVGBackend<'_>, plotters::coord::Shift>) -> Result<()>,
 ) -> Result<String> {
+    chart_svg_of_height(SIZE.1, draw)
+}
+
+/// [`chart_svg`] at `height` shown pixels (a chart with its legend below the plot).
+fn chart_svg_of_height(
+    height: u32,
+    draw: impl FnOnce(&DrawingArea<SVGBackend<'_>, plotters::coord::Shift>) -> Result<()>,
+) -> Result<String> {
     let mut svg = String::new();
     {
-        let root = SVGBackend::with_string(&mut svg, (px(SIZE.0), px(SIZE.1))).into_drawing_area();
+        let root = SVGBackend::with_string(&mut svg, (px(SIZE.0), px(height))).into_drawing_area();
         draw(&root)?;
         root.present().map_err(plot_error)?;
     }
-    let drawn = format!("width=\"{}\" height=\"{}\"", px(SIZE.0), px(SIZE.1));
-    let shown = format!("width=\"{}\" height=\"{}\"", SIZE.0, SIZE.1);
+    let drawn = format!("width=\"{}\" height=\"{}\"", px(SIZE.0), px(height));
+    let shown = format!("width=\"{}\" height=\"{}\"", SIZE.0, height);
     Ok(svg.replacen(&drawn, &shown, 1))
+}
+
+/// Shown pixels per legend entry (plotters' `legend_area_size` plus its spacing).
+const LEGEND_ROW: u32 = 30;
+
+/// Shown pixels below the plot for a legend of `entries` entries (with its margins).
+fn legend_strip(entries: usize) -> u32 {
+    LEGEND_ROW * entries as u32 + 30
 }
 
 /// How an axis's tick labels read.
@@ -148,15 +167,33 @@ fn frame<'a, 'b>(
     caption: &str,
     x: std::ops::Range<f64>,
     y: std::ops::Range<f64>,
+    descriptions: (&str, &str),
+    ticks: (Ticks, Ticks),
+) -> Result<Chart<'a, 'b>> {
+    frame_above(root, caption, x, y, descriptions, ticks, 0)
+}
+
+/// Shown pixels of the area under the plot that holds the x tick labels and description.
+const X_LABEL_AREA: u32 = 52;
+
+/// [`frame`] with `strip` shown pixels left empty below the x axis's labels (for a
+/// legend outside the plot, [`legend_below`]).
+fn frame_above<'a, 'b>(
+    root: &'a DrawingArea<SVGBackend<'b>, plotters::coord::Shift>,
+    caption: &str,
+    x: std::ops::Range<f64>,
+    y: std::ops::Range<f64>,
     (x_desc, y_desc): (&str, &str),
     (x_ticks, y_ticks): (Ticks, Ticks),
+    strip: u32,
 ) -> Result<Chart<'a, 'b>> {
     root.fill(&WHITE).map_err(plot_error)?;
     let (x_span, y_span) = (x.end - x.start, y.end - y.start);
     let mut chart = ChartBuilder::on(root)
         .caption(caption, ("sans-serif", CAPTION_FONT * OVERSAMPLE as f64))
         .margin(px(14))
-        .x_label_area_size(px(52))
+        .margin_bottom(px(14 + strip))
+        .x_label_area_size(px(X_LABEL_AREA))
         .y_label_area_size(px(96))
         .build_cartesian_2d(x, y)
         .map_err(plot_error)?;
@@ -207,6 +244,14 @@ fn legend<'a, 'b: 'a>(chart: &mut Chart<'a, 'b>, position: SeriesLabelPosition) 
         .border_style(BLACK.mix(0.3).stroke_width(OVERSAMPLE))
         .draw()
         .map_err(plot_error)
+}
+
+/// Draws the legend box under the plot, below the x axis's labels, in the strip
+/// [`frame_above`] left empty: it covers no data point however the points fall.
+fn legend_below<'a, 'b: 'a>(chart: &mut Chart<'a, 'b>) -> Result<()> {
+    let (_, height) = chart.plotting_area().dim_in_pixel();
+    let y = height as i32 + px(X_LABEL_AREA + 4) as i32;
+    legend(chart, SeriesLabelPosition::Coordinate(0, y))
 }
 
 /// A legend sample line of `style` at (x, y).
@@ -318,14 +363,15 @@ pub(crate) fn work_balance(groups: &[Group], stored: bool, unit: Option<&str>) -
 
 /// Residual per equation (1-based), one colour per record, with the zero line and the
 /// mean residual, labelled as the residual bias (mean residual / mean |input work|) the
-/// report's header gives.
+/// report's header gives. The legend sits below the plot, where it covers no point.
 pub(crate) fn residuals(
     groups: &[Group],
     equations: usize,
     bias: f64,
     unit: Option<&str>,
 ) -> Result<String> {
-    chart_svg(|root| {
+    let strip = legend_strip(groups.len() + 1);
+    chart_svg_of_height(SIZE.1 + strip, |root| {
         let all: Vec<f64> = groups
             .iter()
             .flat_map(|g| g.points.iter().map(|p| p.1))
@@ -334,13 +380,14 @@ pub(crate) fn residuals(
         let mean = all.iter().sum::<f64>() / all.len().max(1) as f64;
         let y = padded(all.iter().copied().chain([0.0, mean]));
         let y_desc = super::super::units::with_unit("residual work b − Aθ", unit);
-        let mut chart = frame(
+        let mut chart = frame_above(
             root,
             "Residuals b − Aθ per equation",
             0.5..(n + 0.5),
             y,
             ("equation (window)", &y_desc),
             (Ticks::Integers(equations.clamp(1, 12)), Ticks::Plain),
+            strip,
         )?;
         chart
             .draw_series(LineSeries::new(
@@ -359,17 +406,22 @@ pub(crate) fn residuals(
         for (k, group) in groups.iter().enumerate() {
             draw_group(&mut chart, k, group)?;
         }
-        legend(&mut chart, SeriesLabelPosition::UpperRight)
+        legend_below(&mut chart)
     })
 }
 
-/// Identified force laws against relative velocity, each over the velocity range its
-/// elements were measured at, with its uncertainty band.
+/// Identified force laws against relative velocity: each solid, with its uncertainty
+/// band, over the velocity range its elements were measured at (`Curve::measured`),
+/// and dashed beyond it, as a legend entry says.
 pub(crate) fn force_laws(
     title: &str,
     curves: &[Curve],
     units: (Option<&str>, Option<&str>),
 ) -> Result<String> {
+    let inside = |c: &Curve, x: f64| c.measured.is_none_or(|(lo, hi)| lo <= x && x <= hi);
+    let extrapolated = curves
+        .iter()
+        .any(|c| c.points.iter().any(|p| !inside(c, p.0)));
     chart_svg(|root| {
         let x = padded(
             curves
@@ -381,8 +433,7 @@ pub(crate) fn force_laws(
             let band = c.band.iter().flatten().flat_map(|b| [b.1, b.2]);
             c.points.iter().map(|p| p.1).chain(band)
         }));
-        let x_desc =
-            super::super::units::with_unit("relative velocity v (measured range)", units.0);
+        let x_desc = super::super::units::with_unit("relative velocity v", units.0);
         let y_desc = super::super::units::with_unit("damping force θ f(v)", units.1);
         let mut chart = frame(
             root,
@@ -395,6 +446,7 @@ pub(crate) fn force_laws(
         for (k, curve) in curves.iter().enumerate() {
             let color = colour(k);
             if let Some(band) = &curve.band {
+                let band: Vec<_> = band.iter().filter(|b| inside(curve, b.0)).collect();
                 let upper = band.iter().map(|b| (b.0, b.2));
                 let lower = band.iter().rev().map(|b| (b.0, b.1));
                 chart
@@ -405,11 +457,58 @@ pub(crate) fn force_laws(
                     .map_err(plot_error)?;
             }
             let style = color.stroke_width(px(2));
+            // Runs of points inside or outside the measured range, each joined to the
+            // next run's first point so the line is unbroken where it changes style.
+            let mut start = 0;
+            let mut labelled = false;
+            while start < curve.points.len() {
+                let measured = inside(curve, curve.points[start].0);
+                let mut end = start + 1;
+                while end < curve.points.len() && inside(curve, curve.points[end].0) == measured {
+                    end += 1;
+                }
+                let run = curve.points[start..(end + 1).min(curve.points.len())].to_vec();
+                if measured {
+                    let series = chart
+                        .draw_series(LineSeries::new(run, style))
+                        .map_err(plot_error)?;
+                    if !labelled {
+                        series
+                            .label(curve.name.clone())
+                            .legend(move |(x, y)| legend_line(x, y, style));
+                        labelled = true;
+                    }
+                } else {
+                    chart
+                        .draw_series(DashedLineSeries::new(run, px(8), px(6), style))
+                        .map_err(plot_error)?;
+                }
+                start = end;
+            }
+            if !labelled {
+                // Nothing measured: the name still shows, on a dashed sample.
+                chart
+                    .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
+                    .map_err(plot_error)?
+                    .label(format!("{} (outside the measured range only)", curve.name))
+                    .legend(move |(x, y)| {
+                        EmptyElement::at((x, y))
+                            + PathElement::new([(0, 0), (px(8) as i32, 0)], style)
+                            + PathElement::new([(px(13) as i32, 0), (px(21) as i32, 0)], style)
+                    });
+            }
+        }
+        if extrapolated {
+            let grey = BLACK.mix(0.6).stroke_width(px(2));
             chart
-                .draw_series(LineSeries::new(curve.points.iter().copied(), style))
+                .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
                 .map_err(plot_error)?
-                .label(curve.name.clone())
-                .legend(move |(x, y)| legend_line(x, y, style));
+                .label("dashed: beyond the measured range of relative velocity (extrapolated)")
+                .legend(move |(x, y)| {
+                    EmptyElement::at((x, y))
+                            + PathElement::new([(0, 0), (px(8) as i32, 0)], grey)
+                            + PathElement::new([(px(13) as i32, 0), (px(21) as i32, 0)], grey)
+                });
         }
         legend(&mut chart, SeriesLabelPosition::UpperLeft)
     })
@@ -633,6 +732,7 @@ mod tests {
                 .map(|(i, &a)| ((i + 1) as f64, a))
                 .collect(),
             band: None,
+            measured: None,
         }
     }
 
