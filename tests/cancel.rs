@@ -151,10 +151,11 @@ fn long_work_stops_at_a_check_and_leaves_no_state() {
     for name in ["a.csv", "b.csv"] {
         staged
             .add(&folder.join(name), |sink| {
-                sink.write_all(b"t,x\n0,1\n").map_err(|e| dampid::Error::Output {
-                    path: name.into(),
-                    message: e.to_string(),
-                })
+                sink.write_all(b"t,x\n0,1\n")
+                    .map_err(|e| dampid::Error::Output {
+                        path: name.into(),
+                        message: e.to_string(),
+                    })
             })
             .unwrap();
     }
@@ -165,13 +166,23 @@ fn long_work_stops_at_a_check_and_leaves_no_state() {
     dampid::cancel::request();
     let run = folder.join("run");
     cancelled(
-        write_run(&run, &job.source_records, "four_mass.toml", Overwrite::Refuse),
+        write_run(
+            &run,
+            &job.source_records,
+            "four_mass.toml",
+            Overwrite::Refuse,
+        ),
         "writing the run",
     );
     assert!(!run.exists());
-    let written = write_run(&run, &job.source_records, "four_mass.toml", Overwrite::Refuse)
-        .unwrap()
-        .written;
+    let written = write_run(
+        &run,
+        &job.source_records,
+        "four_mass.toml",
+        Overwrite::Refuse,
+    )
+    .unwrap()
+    .written;
     assert_eq!(written.len(), job.source_records.len() + 2);
     std::fs::remove_dir_all(&folder).ok();
 }

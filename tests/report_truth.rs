@@ -251,6 +251,12 @@ fn units_and_provenance_in_the_html_report() {
         "record_1.csv",
         &format!("dampid {}", env!("CARGO_PKG_VERSION")),
         "UTC",
+        // The identifiability and steady-state sections, with a verdict per window.
+        "<h2>Identifiability</h2>",
+        "<h3>Variance inflation factors</h3>",
+        "<h2>Steady state</h2>",
+        "windows steady, judged by",
+        "<th>verdict</th>",
         // The settings as a table of model-file keys, with where each value came from.
         "<th>section</th><th>key</th><th>value</th><th>source</th>",
         "<td class=\"left\">units</td><td class=\"left\"><code>length</code></td><td class=\"left\"><code>&quot;m&quot;</code></td><td class=\"left\">set in model file</td>",
@@ -259,7 +265,10 @@ fn units_and_provenance_in_the_html_report() {
     ] {
         assert!(page.contains(needle), "missing {needle}");
     }
-    assert!(!page.contains("RegressorSettings {"), "Rust Debug text left");
+    assert!(
+        !page.contains("RegressorSettings {"),
+        "Rust Debug text left"
+    );
     let first = models.join("data/chain3/record_1.csv");
     let bytes = std::fs::metadata(&first).unwrap().len();
     let digest = dampid::report::provenance::DataFile::read(&first).unwrap();

@@ -126,8 +126,9 @@ fn library_results_do_not_depend_on_the_rayon_pool() {
                     .unwrap_or_else(|e| panic!("{model}: {e}"));
                 let plain = identify(&job.model, &job.records, &job.settings)
                     .unwrap_or_else(|e| panic!("{model}: {e}"));
-                let booted = identify_with_bootstrap(&job.model, &job.records, &job.settings, &boot)
-                    .unwrap_or_else(|e| panic!("{model}: {e}"));
+                let booted =
+                    identify_with_bootstrap(&job.model, &job.records, &job.settings, &boot)
+                        .unwrap_or_else(|e| panic!("{model}: {e}"));
                 (
                     serde_json::to_string_pretty(&plain).expect("JSON"),
                     serde_json::to_string_pretty(&booted).expect("JSON"),

@@ -39,8 +39,8 @@ pub use job::Job;
 pub use measured::{ChannelGain, RecordInputs};
 pub use spec::*;
 pub use summary::{
-    CheckReport, DetectedPeriod, JitteredTime, NOTED_JITTER, Periods, Preamble, SteppedSineSummary,
-    SelectedExperiment, selected_experiments, selected_experiments_toml,
+    CheckReport, DetectedPeriod, JitteredTime, NOTED_JITTER, Periods, Preamble, SelectedExperiment,
+    SteppedSineSummary, selected_experiments, selected_experiments_toml,
 };
 
 use crate::error::{Error, Result};

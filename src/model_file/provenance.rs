@@ -8,8 +8,8 @@
 use std::path::Path;
 
 use super::Job;
-use crate::error::{Error, Result};
 use super::settings::IDENTIFICATION_KEYS;
+use crate::error::{Error, Result};
 use crate::prep::velocity::VelocitySource;
 use crate::regressor::Windows;
 use crate::report::provenance::{

@@ -279,9 +279,9 @@ impl HtmlReport<'_> {
         }
         let mut out = String::new();
         if undetermined.len() < coefficients.len() {
-            out.push_str(&self.coefficient_rows(|k| {
-                coefficients.get(k).is_none_or(|c| c.determined)
-            }));
+            out.push_str(
+                &self.coefficient_rows(|k| coefficients.get(k).is_none_or(|c| c.determined)),
+            );
         }
         let _ = writeln!(
             out,
@@ -447,7 +447,7 @@ impl HtmlReport<'_> {
             }
         }
         let mut out = format!(
-            "<h3>Determined combinations</h3>\n<p>{} combinations of the {} coefficients are what the data determine, grouped by the term of each one's largest weight; per term the {GROUP_LISTED} best determined (largest singular value), each by its {} largest weights (every weight vector: <code>identifiability.determined</code> in the JSON).</p>\n<table><tr><th>term</th><th>combinations</th><th>best determined (value ± standard error)</th></tr>\n",
+            "<h3>Determined combinations</h3>\n<p>{} combinations of the {} coefficients are what the data determine, grouped by the term of each one's largest weight; per term the {GROUP_LISTED} best determined (largest singular value), each by its {} largest weights (every weight vector: <code>identifiability.determined</code> in the JSON).</p>\n<table><tr><th>term</th><th>combinations</th><th class=\"left\">best determined (value ± standard error)</th></tr>\n",
             id.determined.len(),
             id.names.len(),
             digest::CONTRIBUTORS
@@ -617,7 +617,7 @@ impl HtmlReport<'_> {
         if nulls > 0 {
             let _ = writeln!(
                 out,
-                "<h3>Directions not determined</h3>\n<p>{nulls} direction(s) along which the fit does not change (σ below {:.3e}); {}each by its {} largest components:</p>\n<table><tr><th>σ</th><th>largest components of the direction Δθ</th></tr>",
+                "<h3>Directions not determined</h3>\n<p>{nulls} direction(s) along which the fit does not change (σ below {:.3e}); {}each by its {} largest components:</p>\n<table><tr><th>σ</th><th class=\"left\">largest components of the direction Δθ</th></tr>",
                 id.threshold,
                 if nulls > digest::LISTED {
                     format!("the {} smallest, ", digest::LISTED)
@@ -940,7 +940,11 @@ fn correlated_pairs(c: &crate::analysis::diagnostics::Correlation) -> String {
     if pairs.is_empty() {
         return String::new();
     }
-    pairs.sort_by(|a, b| b.2.abs().total_cmp(&a.2.abs()).then((a.0, a.1).cmp(&(b.0, b.1))));
+    pairs.sort_by(|a, b| {
+        b.2.abs()
+            .total_cmp(&a.2.abs())
+            .then((a.0, a.1).cmp(&(b.0, b.1)))
+    });
     let mut out = format!(
         "<h3>Correlation of the estimates</h3>\n<p>The {} most correlated of {} pairs (the whole matrix: <code>correlation</code> in the JSON).</p>\n<table><tr><th>coefficient</th><th>coefficient</th><th>correlation</th></tr>\n",
         pairs.len().min(PAIRS_LISTED),
@@ -1026,7 +1030,7 @@ table{border-collapse:collapse;display:block;max-width:100%;overflow-x:auto}td,t
 th{background:#eee}.warning{background:#fff3cd;border:1px solid #e0c060;padding:.5em}.flag td{background:#fde2d8}\
 td.undetermined{text-align:left}.undetermined{color:#7a2e00}pre{white-space:pre-wrap;word-break:break-all;background:#f6f6f6;padding:.5em}\
 code.hash{word-break:break-all}svg{display:block;margin:1em 0;width:100%;height:auto}\
-td.left{text-align:left}.bar{display:inline-block;height:.8em;background:#0072B2}";
+td{white-space:nowrap}td.left,th.left,td.undetermined{text-align:left;white-space:normal}.bar{display:inline-block;height:.8em;background:#0072B2}";
 
 /// The noise-robust pipeline's model check and, per window, the harmonics kept and the
 /// estimated noise.

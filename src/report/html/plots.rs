@@ -167,33 +167,15 @@ fn frame<'a, 'b>(
     caption: &str,
     x: std::ops::Range<f64>,
     y: std::ops::Range<f64>,
-    descriptions: (&str, &str),
-    ticks: (Ticks, Ticks),
-) -> Result<Chart<'a, 'b>> {
-    frame_above(root, caption, x, y, descriptions, ticks, 0)
-}
-
-/// Shown pixels of the area under the plot that holds the x tick labels and description.
-const X_LABEL_AREA: u32 = 52;
-
-/// [`frame`] with `strip` shown pixels left empty below the x axis's labels (for a
-/// legend outside the plot, [`legend_below`]).
-fn frame_above<'a, 'b>(
-    root: &'a DrawingArea<SVGBackend<'b>, plotters::coord::Shift>,
-    caption: &str,
-    x: std::ops::Range<f64>,
-    y: std::ops::Range<f64>,
     (x_desc, y_desc): (&str, &str),
     (x_ticks, y_ticks): (Ticks, Ticks),
-    strip: u32,
 ) -> Result<Chart<'a, 'b>> {
     root.fill(&WHITE).map_err(plot_error)?;
     let (x_span, y_span) = (x.end - x.start, y.end - y.start);
     let mut chart = ChartBuilder::on(root)
         .caption(caption, ("sans-serif", CAPTION_FONT * OVERSAMPLE as f64))
         .margin(px(14))
-        .margin_bottom(px(14 + strip))
-        .x_label_area_size(px(X_LABEL_AREA))
+        .x_label_area_size(px(52))
         .y_label_area_size(px(96))
         .build_cartesian_2d(x, y)
         .map_err(plot_error)?;
@@ -246,12 +228,74 @@ fn legend<'a, 'b: 'a>(chart: &mut Chart<'a, 'b>, position: SeriesLabelPosition) 
         .map_err(plot_error)
 }
 
-/// Draws the legend box under the plot, below the x axis's labels, in the strip
-/// [`frame_above`] left empty: it covers no data point however the points fall.
-fn legend_below<'a, 'b: 'a>(chart: &mut Chart<'a, 'b>) -> Result<()> {
-    let (_, height) = chart.plotting_area().dim_in_pixel();
-    let y = height as i32 + px(X_LABEL_AREA + 4) as i32;
-    legend(chart, SeriesLabelPosition::Coordinate(0, y))
+/// What a legend entry shows beside its text.
+#[derive(Clone, Copy)]
+enum Mark {
+    /// A line sample of this style.
+    Line(ShapeStyle),
+    /// The markers of group k ([`draw_group`]).
+    Group(usize),
+    /// A dashed line sample of this style.
+    Dashed(ShapeStyle),
+}
+
+/// Draws a legend in `area` (a strip below a chart, [`legend_strip`] high): a box like
+/// plotters' own (translucent white, thin border), one entry per row, so that it
+/// covers no data point however the points fall.
+fn legend_below(
+    area: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+    entries: &[(Mark, String)],
+) -> Result<()> {
+    let font = TextStyle::from(("sans-serif", LABEL_FONT * OVERSAMPLE as f64).into_font()).pos(
+        plotters::style::text_anchor::Pos::new(
+            plotters::style::text_anchor::HPos::Left,
+            plotters::style::text_anchor::VPos::Center,
+        ),
+    );
+    // Text width estimated at 0.6 em per character (no font metrics here).
+    let longest = entries
+        .iter()
+        .map(|e| e.1.chars().count())
+        .max()
+        .unwrap_or(0);
+    let width = px(50) as i32 + (0.6 * LABEL_FONT * longest as f64) as i32 * OVERSAMPLE as i32;
+    let (left, top) = (px(110) as i32, px(8) as i32);
+    let height = (px(LEGEND_ROW) * entries.len() as u32 + px(10)) as i32;
+    area.draw(&Rectangle::new(
+        [(left, top), (left + width, top + height)],
+        WHITE.mix(0.85).filled(),
+    ))
+    .map_err(plot_error)?;
+    area.draw(&Rectangle::new(
+        [(left, top), (left + width, top + height)],
+        BLACK.mix(0.3).stroke_width(OVERSAMPLE),
+    ))
+    .map_err(plot_error)?;
+    for (row, (mark, text)) in entries.iter().enumerate() {
+        let y =
+            top + px(5) as i32 + (px(LEGEND_ROW) as i32) * row as i32 + px(LEGEND_ROW / 2) as i32;
+        let x = left + px(10) as i32;
+        match *mark {
+            Mark::Line(style) => area.draw(&legend_line(x, y, style)),
+            Mark::Group(k) => area.draw(&group_marker(k, (x, y))),
+            Mark::Dashed(style) => area
+                .draw(&PathElement::new([(x, y), (x + px(8) as i32, y)], style))
+                .and_then(|()| {
+                    area.draw(&PathElement::new(
+                        [(x + px(13) as i32, y), (x + px(21) as i32, y)],
+                        style,
+                    ))
+                }),
+        }
+        .map_err(plot_error)?;
+        area.draw(&Text::new(
+            text.clone(),
+            (x + px(30) as i32, y),
+            font.clone(),
+        ))
+        .map_err(plot_error)?;
+    }
+    Ok(())
 }
 
 /// A legend sample line of `style` at (x, y).
@@ -297,18 +341,39 @@ fn draw_group<'a, 'b: 'a>(chart: &mut Chart<'a, 'b>, k: usize, group: &Group) ->
             .draw_series(points.map(|p| Cross::new(p, size, colour(k).stroke_width(px(2)))))
             .map_err(plot_error)?,
     };
-    // One element type for every shape: the two shapes not used are transparent.
+    annotation
+        .label(group.name.clone())
+        .legend(move |(x, y)| group_marker(k, (x, y)));
+    Ok(())
+}
+
+/// A group's legend marker: a circle, a triangle and a cross, two of them transparent.
+type GroupMarker<'b> = plotters::element::ComposedElement<
+    (i32, i32),
+    SVGBackend<'b>,
+    Circle<(i32, i32), i32>,
+    plotters::element::ComposedElement<
+        (i32, i32),
+        SVGBackend<'b>,
+        TriangleMarker<(i32, i32), i32>,
+        Cross<(i32, i32), i32>,
+    >,
+>;
+
+/// The legend sample of group `k` at (x, y): its marker ([`draw_group`]), one element
+/// type for every shape (the two shapes not used are transparent).
+fn group_marker<'b>(k: usize, (x, y): (i32, i32)) -> GroupMarker<'b> {
+    let style = colour(k).filled();
+    let size = px(5) as i32;
+    let shape = (k / PALETTE.len()) % 3;
     let pick = move |active: bool, style: ShapeStyle| {
         if active { style } else { TRANSPARENT.filled() }
     };
     let cross = colour(k).stroke_width(px(2));
-    annotation.label(group.name.clone()).legend(move |(x, y)| {
-        EmptyElement::at((x + px(10) as i32, y))
-            + Circle::new((0, 0), size, pick(shape == 0, style))
-            + TriangleMarker::new((0, 0), size + px(1) as i32, pick(shape == 1, style))
-            + Cross::new((0, 0), size, pick(shape == 2, cross))
-    });
-    Ok(())
+    EmptyElement::at((x + px(10) as i32, y))
+        + Circle::new((0, 0), size, pick(shape == 0, style))
+        + TriangleMarker::new((0, 0), size + px(1) as i32, pick(shape == 1, style))
+        + Cross::new((0, 0), size, pick(shape == 2, cross))
 }
 
 /// Measured input work against identified dissipated work per window, one colour per
@@ -372,6 +437,7 @@ pub(crate) fn residuals(
 ) -> Result<String> {
     let strip = legend_strip(groups.len() + 1);
     chart_svg_of_height(SIZE.1 + strip, |root| {
+        let (plot, below) = root.split_vertically(px(SIZE.1));
         let all: Vec<f64> = groups
             .iter()
             .flat_map(|g| g.points.iter().map(|p| p.1))
@@ -380,14 +446,13 @@ pub(crate) fn residuals(
         let mean = all.iter().sum::<f64>() / all.len().max(1) as f64;
         let y = padded(all.iter().copied().chain([0.0, mean]));
         let y_desc = super::super::units::with_unit("residual work b − Aθ", unit);
-        let mut chart = frame_above(
-            root,
+        let mut chart = frame(
+            &plot,
             "Residuals b − Aθ per equation",
             0.5..(n + 0.5),
             y,
             ("equation (window)", &y_desc),
             (Ticks::Integers(equations.clamp(1, 12)), Ticks::Plain),
-            strip,
         )?;
         chart
             .draw_series(LineSeries::new(
@@ -398,21 +463,27 @@ pub(crate) fn residuals(
         let mean_style = BLACK.stroke_width(px(2));
         chart
             .draw_series(LineSeries::new([(0.5, mean), (n + 0.5, mean)], mean_style))
-            .map_err(plot_error)?
-            .label(format!(
-                "mean residual {mean:+.3e} = residual bias {bias:+.3e} × mean |input work|"
-            ))
-            .legend(move |(x, y)| legend_line(x, y, mean_style));
+            .map_err(plot_error)?;
         for (k, group) in groups.iter().enumerate() {
             draw_group(&mut chart, k, group)?;
         }
-        legend_below(&mut chart)
+        let mut entries = vec![(
+            Mark::Line(mean_style),
+            format!("mean residual {mean:+.3e} = residual bias {bias:+.3e} × mean |input work|"),
+        )];
+        entries.extend(
+            groups
+                .iter()
+                .enumerate()
+                .map(|(k, g)| (Mark::Group(k), g.name.clone())),
+        );
+        legend_below(&below, &entries)
     })
 }
 
 /// Identified force laws against relative velocity: each solid, with its uncertainty
 /// band, over the velocity range its elements were measured at (`Curve::measured`),
-/// and dashed beyond it, as a legend entry says.
+/// and dashed beyond it, as a legend entry (below the plot) says.
 pub(crate) fn force_laws(
     title: &str,
     curves: &[Curve],
@@ -422,7 +493,9 @@ pub(crate) fn force_laws(
     let extrapolated = curves
         .iter()
         .any(|c| c.points.iter().any(|p| !inside(c, p.0)));
-    chart_svg(|root| {
+    let strip = legend_strip(curves.len() + usize::from(extrapolated));
+    chart_svg_of_height(SIZE.1 + strip, |root| {
+        let (plot, below) = root.split_vertically(px(SIZE.1));
         let x = padded(
             curves
                 .iter()
@@ -436,13 +509,14 @@ pub(crate) fn force_laws(
         let x_desc = super::super::units::with_unit("relative velocity v", units.0);
         let y_desc = super::super::units::with_unit("damping force θ f(v)", units.1);
         let mut chart = frame(
-            root,
+            &plot,
             title,
             x,
             y,
             (&x_desc, &y_desc),
             (Ticks::Plain, Ticks::Plain),
         )?;
+        let mut entries = Vec::new();
         for (k, curve) in curves.iter().enumerate() {
             let color = colour(k);
             if let Some(band) = &curve.band {
@@ -460,7 +534,7 @@ pub(crate) fn force_laws(
             // Runs of points inside or outside the measured range, each joined to the
             // next run's first point so the line is unbroken where it changes style.
             let mut start = 0;
-            let mut labelled = false;
+            let mut measured_any = false;
             while start < curve.points.len() {
                 let measured = inside(curve, curve.points[start].0);
                 let mut end = start + 1;
@@ -469,15 +543,10 @@ pub(crate) fn force_laws(
                 }
                 let run = curve.points[start..(end + 1).min(curve.points.len())].to_vec();
                 if measured {
-                    let series = chart
+                    measured_any = true;
+                    chart
                         .draw_series(LineSeries::new(run, style))
                         .map_err(plot_error)?;
-                    if !labelled {
-                        series
-                            .label(curve.name.clone())
-                            .legend(move |(x, y)| legend_line(x, y, style));
-                        labelled = true;
-                    }
                 } else {
                     chart
                         .draw_series(DashedLineSeries::new(run, px(8), px(6), style))
@@ -485,32 +554,22 @@ pub(crate) fn force_laws(
                 }
                 start = end;
             }
-            if !labelled {
-                // Nothing measured: the name still shows, on a dashed sample.
-                chart
-                    .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
-                    .map_err(plot_error)?
-                    .label(format!("{} (outside the measured range only)", curve.name))
-                    .legend(move |(x, y)| {
-                        EmptyElement::at((x, y))
-                            + PathElement::new([(0, 0), (px(8) as i32, 0)], style)
-                            + PathElement::new([(px(13) as i32, 0), (px(21) as i32, 0)], style)
-                    });
-            }
+            entries.push(if measured_any {
+                (Mark::Line(style), curve.name.clone())
+            } else {
+                (
+                    Mark::Dashed(style),
+                    format!("{} (outside the measured range only)", curve.name),
+                )
+            });
         }
         if extrapolated {
-            let grey = BLACK.mix(0.6).stroke_width(px(2));
-            chart
-                .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
-                .map_err(plot_error)?
-                .label("dashed: beyond the measured range of relative velocity (extrapolated)")
-                .legend(move |(x, y)| {
-                    EmptyElement::at((x, y))
-                            + PathElement::new([(0, 0), (px(8) as i32, 0)], grey)
-                            + PathElement::new([(px(13) as i32, 0), (px(21) as i32, 0)], grey)
-                });
+            entries.push((
+                Mark::Dashed(BLACK.mix(0.6).stroke_width(px(2))),
+                "dashed: beyond the measured range of relative velocity (extrapolated)".into(),
+            ));
         }
-        legend(&mut chart, SeriesLabelPosition::UpperLeft)
+        legend_below(&below, &entries)
     })
 }
 
