@@ -8,7 +8,6 @@
 //! The cancellation flag is process-wide, so everything runs in one test, one step
 //! after another (this file is its own test binary).
 
-use std::io::Write;
 use std::path::Path;
 use std::sync::Mutex;
 
