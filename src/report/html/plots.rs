@@ -829,12 +829,15 @@ mod tests {
         )
         .unwrap();
         let head = &svg[..svg.find('>').unwrap()];
+        // The residual chart is SIZE plus the strip its legend takes below the plot
+        // (two entries: the mean and one record).
+        let height = SIZE.1 + legend_strip(2);
         assert!(
-            head.contains(&format!("width=\"{}\" height=\"{}\"", SIZE.0, SIZE.1)),
+            head.contains(&format!("width=\"{}\" height=\"{height}\"", SIZE.0)),
             "{head}"
         );
         assert!(
-            head.contains(&format!("viewBox=\"0 0 {} {}\"", px(SIZE.0), px(SIZE.1))),
+            head.contains(&format!("viewBox=\"0 0 {} {}\"", px(SIZE.0), px(height))),
             "{head}"
         );
         assert!(svg.contains("record 1") && svg.contains("[N·m]"));
