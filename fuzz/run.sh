@@ -17,7 +17,7 @@ shift || true
 if [ $# -gt 0 ]; then
     targets=("$@")
 else
-    targets=(model_file expression csv_table identify npy npz mat uff)
+    targets=(model_file expression csv_table identify npy npz mat uff job)
 fi
 export RUSTC_BOOTSTRAP=1
 for target in "${targets[@]}"; do

@@ -9,7 +9,8 @@
 //! [`Error::Cancelled`] naming the work that stopped, and the operation returns it
 //! without producing a result. Nothing is written by a cancelled operation: outputs
 //! are written after the work (io/output.rs, through a temporary file renamed into
-//! place), so a cancelled `simulate --out` leaves no file.
+//! place), and the commit checks the flag before its first rename, so a run cancelled
+//! even while its files are written (`simulate --out`, `identify --report`) leaves none.
 //!
 //! The flag is process-wide, like [`crate::budget::set_max_memory`]: a program that
 //! cancels one operation and then starts another calls [`clear`] in between.

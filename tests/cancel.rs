@@ -3,6 +3,7 @@
 //! each stop with `Error::Cancelled` at a check between steps, and after `cancel::clear`
 //! the same work gives the same bits as a run never cancelled (a cancelled run leaves
 //! no state behind). Progress counts reach the total once each, in order of finishing.
+//! Output files of a run cancelled before their commit are never written.
 //!
 //! The cancellation flag is process-wide, so everything runs in one test, one step
 //! after another (this file is its own test binary).
@@ -12,6 +13,8 @@ use std::sync::Mutex;
 
 use dampid::analysis::bootstrap::{BootstrapSettings, bootstrap_with_progress};
 use dampid::analysis::design::select_with_progress;
+use dampid::io::output::{Overwrite, Staged};
+use dampid::io::run::write_run;
 use dampid::model_file::load;
 use dampid::reference::{four_mass_model, four_mass_system};
 use dampid::simulate::{SimSettings, simulate};
@@ -136,4 +139,49 @@ fn long_work_stops_at_a_check_and_leaves_no_state() {
     )
     .unwrap();
     assert_eq!(chosen.chosen, again.chosen);
+
+    // Output files: a cancellation requested after the content is staged (the last
+    // moment before the renames) commits nothing; the folder holds no file, not even a
+    // temporary one. The same run after `clear` writes every file.
+    let folder = std::env::temp_dir().join(format!("dampid-cancel-out-{}", std::process::id()));
+    std::fs::remove_dir_all(&folder).ok();
+    std::fs::create_dir_all(&folder).unwrap();
+    let mut staged = Staged::new(Overwrite::Refuse);
+    for name in ["a.csv", "b.csv"] {
+        staged
+            .add(&folder.join(name), |sink| {
+                sink.write_all(b"t,x\n0,1\n")
+                    .map_err(|e| dampid::Error::Output {
+                        path: name.into(),
+                        message: e.to_string(),
+                    })
+            })
+            .unwrap();
+    }
+    dampid::cancel::request();
+    cancelled(staged.commit(), "writing the output files");
+    assert_eq!(std::fs::read_dir(&folder).unwrap().count(), 0);
+    // A whole simulation run (records, [data] stub, manifest): cancelled, nothing.
+    dampid::cancel::request();
+    let run = folder.join("run");
+    cancelled(
+        write_run(
+            &run,
+            &job.source_records,
+            "four_mass.toml",
+            Overwrite::Refuse,
+        ),
+        "writing the run",
+    );
+    assert!(!run.exists());
+    let written = write_run(
+        &run,
+        &job.source_records,
+        "four_mass.toml",
+        Overwrite::Refuse,
+    )
+    .unwrap()
+    .written;
+    assert_eq!(written.len(), job.source_records.len() + 2);
+    std::fs::remove_dir_all(&folder).ok();
 }

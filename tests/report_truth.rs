@@ -241,16 +241,34 @@ fn units_and_provenance_in_the_html_report() {
         "<th>unit</th>",
         "<td>N·s/m</td>",
         "<td>N</td>",
-        "relative velocity v (measured range) [m/s]",
+        // Law curves are solid over the measured range and dashed beyond (the axis
+        // spans both; before the dashed extension it read "(measured range)").
+        "relative velocity v [m/s]",
+        "dashed: beyond the measured range of relative velocity (extrapolated)",
         "damping force θ f(v) [N]",
         "[N·m]",
         "Units: length m, force N, time s.",
         "record_1.csv",
         &format!("dampid {}", env!("CARGO_PKG_VERSION")),
         "UTC",
+        // The identifiability and steady-state sections, with a verdict per window.
+        "<h2>Identifiability</h2>",
+        "<h3>Variance inflation factors</h3>",
+        "<h2>Steady state</h2>",
+        "windows steady, judged by",
+        "<th>verdict</th>",
+        // The settings as a table of model-file keys, with where each value came from.
+        "<th>section</th><th>key</th><th>value</th><th>source</th>",
+        "<td class=\"left\">units</td><td class=\"left\"><code>length</code></td><td class=\"left\"><code>&quot;m&quot;</code></td><td class=\"left\">set in model file</td>",
+        "<td class=\"left\">identification</td><td class=\"left\"><code>max_energy_mismatch</code></td><td class=\"left\"><code>0.01</code></td><td class=\"left\">default</td>",
+        "<td class=\"left\">command line</td><td class=\"left\"><code>--strict</code></td><td class=\"left\"><code>not given</code></td>",
     ] {
         assert!(page.contains(needle), "missing {needle}");
     }
+    assert!(
+        !page.contains("RegressorSettings {"),
+        "Rust Debug text left"
+    );
     let first = models.join("data/chain3/record_1.csv");
     let bytes = std::fs::metadata(&first).unwrap().len();
     let digest = dampid::report::provenance::DataFile::read(&first).unwrap();

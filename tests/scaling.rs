@@ -75,3 +75,53 @@ fn the_201_coefficient_chain_reads_in_under_200_lines_and_the_json_keeps_everyth
         "{check_text}"
     );
 }
+
+/// The HTML report of the 201-coefficient chain summarises as the text report does: the
+/// undetermined coefficients counted by term with every row folded, the determined
+/// combinations grouped by term, the 10 smallest undetermined directions and "+ N
+/// more", the 10 largest VIFs sorted and a histogram by decade, the most correlated
+/// pairs instead of the 201 × 201 matrix; the page before its folded JSON stays small.
+#[test]
+fn the_html_report_of_the_201_coefficient_chain_summarises() {
+    let folder = std::env::temp_dir().join(format!("dampid-scaling-html-{}", std::process::id()));
+    std::fs::remove_dir_all(&folder).ok();
+    dampid_ok(&["identify", MODEL, "--report", folder.to_str().unwrap()]);
+    let page = std::fs::read_to_string(folder.join("report.html")).unwrap();
+    let visible = &page[..page.find("<summary>Report JSON").unwrap()];
+    for needle in [
+        "<b>not determined</b>: ",
+        "of 201 coefficients (by term: dashpot",
+        "<summary>Every coefficient (201)</summary>",
+        "<h3>Determined combinations</h3>",
+        "<th>term</th><th>combinations</th>",
+        "the 10 smallest, each by its 5 largest components",
+        "(<code>identifiability.null_directions</code> in the JSON)",
+        "The 10 largest of 201, sorted:",
+        "Histogram of the VIFs by decade:",
+        "most correlated of 20100 pairs",
+    ] {
+        assert!(visible.contains(needle), "missing {needle}");
+    }
+    // The largest VIFs are listed in decreasing order.
+    let start = visible.find("The 10 largest of 201, sorted:").unwrap();
+    let table = &visible[start..start + visible[start..].find("</table>").unwrap()];
+    let vifs: Vec<f64> = table
+        .split("<tr><td>")
+        .skip(1)
+        .map(|row| {
+            let cell = row.split("</td><td>").nth(1).unwrap();
+            cell.trim_end_matches("</td></tr>\n").parse().unwrap()
+        })
+        .collect();
+    assert_eq!(vifs.len(), 10);
+    assert!(vifs.windows(2).all(|w| w[0] >= w[1]), "{vifs:?}");
+    // No table row per pair of coefficients: the correlation matrix is not drawn.
+    let rows = visible.matches("<tr>").count();
+    assert!(rows < 1500, "{rows} table rows");
+    assert!(
+        visible.len() < 1_000_000,
+        "{} bytes before the JSON",
+        visible.len()
+    );
+    std::fs::remove_dir_all(&folder).ok();
+}

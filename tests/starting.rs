@@ -134,6 +134,52 @@ fn design_prints_the_selected_experiments_as_toml() {
     }
 }
 
+/// `design --json` stands alone: beside the report it gives the selected experiments as
+/// data (1-based candidate and DOF, as the model file writes them) and as the TOML to
+/// paste, the same blocks the text output prints; each matches its candidate in the
+/// model file.
+#[test]
+fn design_json_carries_the_selected_experiments() {
+    let model = "models/per_dashpot.toml";
+    let report = dampid_json(&["design", model, "--json"]);
+    let selected: Vec<usize> = ["start", "chosen"]
+        .iter()
+        .flat_map(|k| report[*k].as_array().unwrap().clone())
+        .map(|i| i.as_u64().unwrap() as usize)
+        .collect();
+    let experiments = report["selected_experiments"].as_array().unwrap();
+    assert_eq!(experiments.len(), selected.len());
+    assert!(!selected.is_empty());
+    let source: toml::Value = toml::from_str(&std::fs::read_to_string(model).unwrap()).unwrap();
+    let candidates = source["simulation"]["experiments"].as_array().unwrap();
+    let toml_text = report["selected_experiments_toml"].as_str().unwrap();
+    let pasted: toml::Value = toml::from_str(toml_text).unwrap();
+    let blocks = pasted["simulation"]["experiments"].as_array().unwrap();
+    assert_eq!(blocks.len(), selected.len());
+    for ((e, block), k) in experiments.iter().zip(blocks).zip(&selected) {
+        assert_eq!(e["candidate"].as_u64().unwrap() as usize, k + 1);
+        let candidate = &candidates[*k];
+        assert_eq!(
+            e["force_dof"].as_i64(),
+            candidate["force_dof"].as_integer(),
+            "force_dof of candidate {}",
+            k + 1
+        );
+        for key in ["amplitude", "frequency"] {
+            assert_eq!(
+                e[key].as_f64(),
+                candidate[key].as_float(),
+                "{key} of candidate {}",
+                k + 1
+            );
+            assert_eq!(block[key], candidate[key], "{key} of candidate {}", k + 1);
+        }
+    }
+    // The text output prints the same TOML.
+    let text = String::from_utf8_lossy(&dampid_ok(&["design", model]).stdout).into_owned();
+    assert!(text.contains(toml_text), "{text}");
+}
+
 /// The four-mass model file with `noise` and `noise_seed` in `[simulation]`.
 fn four_mass_with(noise: &str) -> dampid::model_file::Job {
     let text = std::fs::read_to_string("models/four_mass.toml")

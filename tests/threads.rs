@@ -88,3 +88,74 @@ fn first_difference(a: &[u8], b: &[u8]) -> String {
             format!("{} vs {}", x.trim(), y.trim())
         })
 }
+
+/// The library, not the binary: a model file loaded (simulated, POD-reduced or read from
+/// its data files), identified (`dampid::identify`) and bootstrapped
+/// (`identify_with_bootstrap`, 200 replicates) inside rayon pools of 1, 2 and 3 threads,
+/// with faer sequential as lib.rs tells library users to set it. The reports' JSON
+/// (shortest round-trip numbers, so equal text is equal bits) must agree byte for byte.
+/// One model per mode: plain rows, the noise-robust weighted rows of harmonic
+/// projection, POD, per-element coefficients, non-periodic spans, the string, measured
+/// files.
+#[test]
+fn library_results_do_not_depend_on_the_rayon_pool() {
+    use dampid::analysis::bootstrap::BootstrapSettings;
+    use dampid::identify::{identify, identify_with_bootstrap};
+
+    faer::set_global_parallelism(faer::Par::Seq);
+    let models = [
+        "four_mass.toml",
+        "four_mass_harmonic.toml",
+        "four_mass_pod.toml",
+        "per_dashpot.toml",
+        "drive_nonperiodic.toml",
+        "string.toml",
+        "measured_chain.toml",
+    ];
+    let boot = BootstrapSettings {
+        replicates: 200,
+        ..BootstrapSettings::default()
+    };
+    let run = |model: &str, threads: usize| -> (String, String) {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("a rayon pool")
+            .install(|| {
+                let job = dampid::model_file::load(&PathBuf::from("models").join(model))
+                    .unwrap_or_else(|e| panic!("{model}: {e}"));
+                let plain = identify(&job.model, &job.records, &job.settings)
+                    .unwrap_or_else(|e| panic!("{model}: {e}"));
+                let booted =
+                    identify_with_bootstrap(&job.model, &job.records, &job.settings, &boot)
+                        .unwrap_or_else(|e| panic!("{model}: {e}"));
+                (
+                    serde_json::to_string_pretty(&plain).expect("JSON"),
+                    serde_json::to_string_pretty(&booted).expect("JSON"),
+                )
+            })
+    };
+    let mut differ = Vec::new();
+    for model in models {
+        let reference = run(model, 1);
+        for threads in [2, 3] {
+            let other = run(model, threads);
+            if other.0 != reference.0 {
+                differ.push(format!(
+                    "{model}, identify on {threads} threads: {}",
+                    first_difference(reference.0.as_bytes(), other.0.as_bytes())
+                ));
+            }
+            if other.1 != reference.1 {
+                differ.push(format!(
+                    "{model}, bootstrap on {threads} threads: {}",
+                    first_difference(reference.1.as_bytes(), other.1.as_bytes())
+                ));
+            }
+        }
+    }
+    assert!(
+        differ.is_empty(),
+        "results depend on the thread count:\n{differ:#?}"
+    );
+}

@@ -19,12 +19,13 @@ use std::time::Instant;
 use dampid::analysis::velocity_noise::assess_or_none;
 use dampid::identify::identify_regressor;
 use dampid::model::DampingModel;
-use dampid::model_file::{Identification, parse_model, settings_in_effect};
+use dampid::model_file::{Identification, parse_model};
 use dampid::prelude::{SensorParts, record_from_sensors};
 use dampid::prep::motion::Integration;
 use dampid::prep::steady_state::{SteadyStateReport, check};
 use dampid::record::Record;
 use dampid::regressor::{Regressor, RowLabel};
+use dampid::report::provenance::{Setting, SettingSource};
 use dampid::report::{FitReport, count};
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1};
 use pyo3::prelude::*;
@@ -232,13 +233,9 @@ fn identify(
     lent.restore();
     let (regressor, report, steady) = result?;
     let text = report.to_string();
-    let mut provenance = vec![(
-        "Python call".to_string(),
-        format!("dampid.identify(model, records, {})", settings.given),
-    )];
-    provenance.extend(settings_in_effect(
-        &settings.identification.settings,
-        &settings.identification.steady_state,
+    let provenance = settings.provenance(format!(
+        "dampid.identify(model, records, {})",
+        settings.given
     ));
     Ok(PyReport {
         report,
@@ -251,6 +248,16 @@ fn identify(
         text,
         library_seconds,
     })
+}
+
+/// The provenance row of the Python call itself (`call`: as the user wrote it).
+pub(crate) fn python_call(call: String) -> Setting {
+    Setting {
+        section: "Python call".into(),
+        key: "call".into(),
+        value: call,
+        source: SettingSource::Keyword,
+    }
 }
 
 /// `work()`, its wall time added to `seconds`: the time a call spends in the library,
@@ -382,20 +389,13 @@ fn identify_file(py: Python<'_>, path: PathBuf, accept_transient: bool) -> PyRes
         }
         text
     });
-    let settings = vec![
-        (
-            "Python call".to_string(),
-            format!(
-                "dampid.identify_file({:?}, accept_transient={})",
-                path.display().to_string(),
-                if accept_transient { "True" } else { "False" }
-            ),
-        ),
-        (
-            "accept transient windows".to_string(),
-            job.steady_state.accept_transient.to_string(),
-        ),
-    ];
+    // The job's own rows (the model file's keys; `accept_transient` marked as set by
+    // the call when it overrides the file) follow this one in the page.
+    let settings = vec![python_call(format!(
+        "dampid.identify_file({:?}, accept_transient={})",
+        path.display().to_string(),
+        if accept_transient { "True" } else { "False" }
+    ))];
     Ok(PyReport {
         report,
         model: job.model.clone(),
@@ -531,13 +531,9 @@ fn fit_rows(
         })
         .py_err()?;
     let text = report.to_string();
-    let mut provenance = vec![(
-        "Python call".to_string(),
-        format!("dampid.fit_rows(model, A, b, ..., {})", settings.given),
-    )];
-    provenance.extend(settings_in_effect(
-        &settings.identification.settings,
-        &settings.identification.steady_state,
+    let provenance = settings.provenance(format!(
+        "dampid.fit_rows(model, A, b, ..., {})",
+        settings.given
     ));
     Ok(PyReport {
         report,

@@ -10,7 +10,7 @@ use dampid::record::{Record, Sensor};
 use dampid::regressor::Regressor;
 use dampid::report::FitReport;
 use dampid::report::html::HtmlReport;
-use dampid::report::provenance::{ArrayDigest, COMMIT, Provenance, VERSION, now_utc};
+use dampid::report::provenance::{ArrayDigest, COMMIT, Provenance, Setting, VERSION, now_utc};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -39,7 +39,7 @@ pub struct PyReport {
     /// The steady-state check of the windows (`None`: not run, or non-periodic).
     pub steady: Option<SteadyStateReport>,
     /// The settings of the call and every setting in effect, for the provenance.
-    pub settings: Vec<(String, String)>,
+    pub settings: Vec<Setting>,
     pub source: Source,
     /// `str(report)`: the CLI's text for a model file, the report table otherwise.
     pub text: String,
@@ -222,7 +222,10 @@ impl PyReport {
         };
         let page = match &self.source {
             Source::Job(job, file) => {
-                let provenance = job.provenance(file, &self.settings).py_err()?;
+                let mut provenance = job.provenance(file, &[]).py_err()?;
+                provenance
+                    .settings
+                    .splice(0..0, self.settings.iter().cloned());
                 page(&job.records, &job.title, Some(job), provenance)
             }
             Source::Rows => {

@@ -7,7 +7,10 @@
 
 use dampid::model_file::{
     IDENTIFICATION_KEYS, Identification, identification, non_periodic_identification,
+    settings_in_effect,
 };
+use dampid::report::provenance::{Setting, SettingSource};
+use dampid::report::units::Units;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
@@ -24,6 +27,25 @@ pub struct Settings {
     pub high_pass: Option<f64>,
     /// The keywords as given, `key=value, ...` (for the report's provenance).
     pub given: String,
+    /// The keywords laid out as a model file's sections (`identification`,
+    /// `non_periodic`), so the provenance marks the keys they set.
+    pub given_table: toml::Table,
+}
+
+impl Settings {
+    /// The provenance rows of a call written as `call`: the call, then every setting in
+    /// effect, those given as keywords marked so.
+    pub fn provenance(&self, call: String) -> Vec<Setting> {
+        let mut rows = vec![crate::python_call(call)];
+        rows.extend(settings_in_effect(
+            &self.identification.settings,
+            &self.identification.steady_state,
+            None,
+            &Units::default(),
+            (&self.given_table, SettingSource::Keyword),
+        ));
+        rows
+    }
 }
 
 /// The settings of `kwargs` (none: the model-file defaults) for the model of
@@ -60,6 +82,11 @@ pub fn settings(
             }
         }
     }
+    let mut given_table = toml::Table::new();
+    given_table.insert("identification".into(), toml::Value::Table(table.clone()));
+    if let Some(section) = &non_periodic {
+        given_table.insert("non_periodic".into(), toml::Value::Table(section.clone()));
+    }
     let (identification, high_pass) = match &non_periodic {
         None => (identification(&table).py_err()?, None),
         Some(section) => non_periodic_identification(&table, section, model_text, file).py_err()?,
@@ -69,6 +96,7 @@ pub fn settings(
         non_periodic: non_periodic.is_some(),
         high_pass,
         given: given.join(", "),
+        given_table,
     })
 }
 /// A Python value as TOML: bool, int, float, str, dict and list/tuple.

@@ -40,7 +40,9 @@ def test_html_from_arrays_has_the_steady_state_table_and_the_provenance(four_mas
         assert hashlib.sha256(f[k].tobytes()).hexdigest() in page
     assert f"{x.shape[1]} × {x.shape[2]}" in page
     assert f"dampid {dampid.__version__}" in page
-    assert "cycles=1, nonnegative=True" in page and "HarmonicProjection" in page
+    assert "cycles=1, nonnegative=True" in page and "harmonic_projection" in page
+    # The settings table marks the keys the call set.
+    assert re.search(r"<code>cycles</code></td><td[^>]*><code>1</code></td><td[^>]*>keyword argument</td>", page), page.split("<h2>Provenance</h2>")[1][:3000]
     assert re.search(r"Made 20\d\d-\d\d-\d\d \d\d:\d\d:\d\d UTC", page)
     # The model's text, as written.
     assert "law = &quot;quadratic&quot;" in page or 'law = "quadratic"' in page

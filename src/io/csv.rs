@@ -27,6 +27,7 @@ pub fn read(path: &Path) -> Result<Table> {
         column: String::new(),
         message: e.to_string(),
     };
+    super::require_data_file(path)?;
     let fast = super::csv_fast::read_file(path, READ_BUFFER, PARALLEL_BLOCK).map_err(error)?;
     if let Some((headers, columns)) = fast {
         return Ok(Table {

@@ -61,6 +61,7 @@ pub struct DataFile {
 impl DataFile {
     /// Opens the data file at `path` by its extension (see [`super::read_table`]).
     pub fn open(path: &Path) -> Result<DataFile> {
+        super::require_data_file(path)?;
         let file = path.display().to_string();
         let extension = path
             .extension()

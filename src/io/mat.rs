@@ -117,6 +117,7 @@ pub(crate) fn variables(path: &Path) -> Result<Vec<Variable>> {
         column: String::new(),
         message,
     };
+    super::require_data_file(path)?;
     let bytes = std::fs::read(path).map_err(|e| error(e.to_string()))?;
     complete(&bytes).map_err(error)?;
     // matfile 0.5 panics on some malformed files (a data element whose size is within 8

@@ -39,6 +39,39 @@ use std::path::Path;
 use crate::error::{Error, Result};
 pub use table::Table;
 
+/// Checks a data file before it is opened: it must be a regular file (symbolic links
+/// followed), since opening a FIFO waits for a writer and a device such as `/dev/zero`
+/// never ends, and its size must fit the memory budget
+/// ([`crate::budget::require`]: readers hold at least the file's bytes or its values).
+/// Returns the size in bytes; [`Error::Data`] naming the file, or [`Error::TooLarge`].
+pub(crate) fn require_data_file(path: &Path) -> Result<u64> {
+    let file = path.display().to_string();
+    let fail = |message: String| Error::Data {
+        file: file.clone(),
+        row: 0,
+        column: String::new(),
+        message,
+    };
+    let metadata = std::fs::metadata(path).map_err(|e| fail(e.to_string()))?;
+    if !metadata.is_file() {
+        let kind = if metadata.is_dir() {
+            "a folder"
+        } else {
+            "a device, FIFO or socket"
+        };
+        return Err(fail(format!(
+            "is {kind}, not a regular file: data are read only from files"
+        )));
+    }
+    let bytes = metadata.len();
+    crate::budget::require(
+        &format!("reading the data file {file}"),
+        u128::from(bytes),
+        "read a smaller file (fewer samples or channels), or raise --max-memory",
+    )?;
+    Ok(bytes)
+}
+
 /// Reads a data file by its extension: every column of it (every array of a `.npz`,
 /// every real numeric variable of a `.mat`).
 pub fn read_table(path: &Path) -> Result<Table> {

@@ -194,6 +194,7 @@ pub fn read_npy(path: &Path) -> Result<Table> {
     let name = path
         .file_stem()
         .map_or("x".into(), |s| s.to_string_lossy().into_owned());
+    super::require_data_file(path)?;
     let opened = std::fs::File::open(path).map_err(|e| data_error(&file, "", e))?;
     let length = opened
         .metadata()

@@ -76,6 +76,7 @@ impl Npz {
     pub fn open(path: &Path) -> Result<Npz> {
         let file = path.display().to_string();
         let error = |e: &dyn std::fmt::Display| data_error(&file, "", e);
+        super::require_data_file(path)?;
         let opened = File::open(path).map_err(|e| error(&e))?;
         let length = opened.metadata().map_err(|e| error(&e))?.len();
         let mut archive = ZipArchive::new(BufReader::new(opened))

@@ -117,10 +117,14 @@ impl Staged {
     }
 
     /// Renames every temporary file onto its target, in the order added; returns the
-    /// targets. Under [`Overwrite::Refuse`] the first target that appeared meanwhile
+    /// targets. A cancellation requested before the first rename ([`crate::cancel`])
+    /// stops the commit with [`Error::Cancelled`], and no target is written. Under [`Overwrite::Refuse`] the first target that appeared meanwhile
     /// stops the commit with [`Error::OutputExists`]; the files not yet renamed are
     /// removed.
     pub fn commit(self) -> Result<Vec<PathBuf>> {
+        // A run cancelled while its files were written commits none of them: dropping
+        // the temporary files removes them.
+        crate::cancel::check("writing the output files")?;
         let mut written = Vec::with_capacity(self.files.len());
         for (temporary, target) in self.files {
             let persisted = match self.overwrite {

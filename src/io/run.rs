@@ -72,6 +72,7 @@ pub fn write_run(
         path: folder.display().to_string(),
         message: e.to_string(),
     };
+    crate::cancel::check("writing the run")?;
     std::fs::create_dir_all(folder).map_err(|e| failed(&e))?;
     let earlier = earlier_run(folder).map_err(|e| failed(&e))?;
     if overwrite == Overwrite::Refuse

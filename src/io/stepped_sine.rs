@@ -68,6 +68,7 @@ impl SteppedSineTable {
     /// Reads a CSV file.
     pub fn load_csv(path: &Path) -> Result<Self> {
         let file = path.display().to_string();
+        super::require_data_file(path)?;
         let handle = std::fs::File::open(path).map_err(|e| Error::Data {
             file: file.clone(),
             row: 0,

@@ -42,8 +42,8 @@ pub use measured::{ChannelGain, RecordInputs};
 pub use provenance::settings_in_effect;
 pub use spec::*;
 pub use summary::{
-    CheckReport, DetectedPeriod, JitteredTime, NOTED_JITTER, Periods, Preamble, SteppedSineSummary,
-    selected_experiments_toml,
+    CheckReport, DetectedPeriod, JitteredTime, NOTED_JITTER, Periods, Preamble, SelectedExperiment,
+    SteppedSineSummary, selected_experiments, selected_experiments_toml,
 };
 
 use crate::error::{Error, Result};

@@ -409,9 +409,56 @@ impl fmt::Display for WindowLengths {
     }
 }
 
-/// The experiments `report` selected (its start set, then the ones it added), as
-/// `[[simulation.experiments]]` blocks to paste into a model file; `experiments` are
-/// the job's ([`Job::experiments`]), in candidate order.
+/// One experiment a design selected, as a model file writes it (DOF 1-based).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct SelectedExperiment {
+    /// Its number among the candidates, `[[simulation.experiments]]` order, from 1.
+    pub candidate: usize,
+    /// `"start"` (in the design's start set) or `"added"` (chosen by the design).
+    pub selected_as: &'static str,
+    /// The candidate's description in the design report.
+    pub description: String,
+    /// `force_dof`, 1-based.
+    pub force_dof: usize,
+    /// `amplitude`.
+    pub amplitude: f64,
+    /// `frequency` (rad per time unit).
+    pub frequency: f64,
+    /// `phase` (rad).
+    pub phase: f64,
+}
+
+/// The experiments `report` selected (its start set, then the ones it added);
+/// `experiments` are the job's ([`Job::experiments`]), in candidate order. `dampid
+/// design --json` gives them beside the report, so the JSON stands alone.
+pub fn selected_experiments(
+    report: &crate::analysis::design::DesignReport,
+    experiments: &[crate::simulate::HarmonicForce],
+) -> Vec<SelectedExperiment> {
+    report
+        .selected()
+        .into_iter()
+        .filter_map(|k| {
+            let e = experiments.get(k)?;
+            Some(SelectedExperiment {
+                candidate: k + 1,
+                selected_as: if report.start.contains(&k) {
+                    "start"
+                } else {
+                    "added"
+                },
+                description: report.candidates.get(k).cloned().unwrap_or_default(),
+                force_dof: e.dof + 1,
+                amplitude: e.amplitude,
+                frequency: e.frequency,
+                phase: e.phase,
+            })
+        })
+        .collect()
+}
+
+/// The experiments `report` selected ([`selected_experiments`]) as
+/// `[[simulation.experiments]]` blocks to paste into a model file.
 pub fn selected_experiments_toml(
     report: &crate::analysis::design::DesignReport,
     experiments: &[crate::simulate::HarmonicForce],
@@ -419,22 +466,10 @@ pub fn selected_experiments_toml(
     let mut text = String::from(
         "# The selected experiments as [[simulation.experiments]], to paste into a model file:\n",
     );
-    for k in report.selected() {
-        let Some(e) = experiments.get(k) else {
-            continue;
-        };
-        let why = if report.start.contains(&k) {
-            "start"
-        } else {
-            "added"
-        };
+    for e in selected_experiments(report, experiments) {
         text.push_str(&format!(
-            "\n[[simulation.experiments]]   # candidate {} ({why}): {}\nforce_dof = {}\namplitude = {:?}\nfrequency = {:?}\n",
-            k + 1,
-            report.candidates.get(k).map_or("", String::as_str),
-            e.dof + 1,
-            e.amplitude,
-            e.frequency
+            "\n[[simulation.experiments]]   # candidate {} ({}): {}\nforce_dof = {}\namplitude = {:?}\nfrequency = {:?}\n",
+            e.candidate, e.selected_as, e.description, e.force_dof, e.amplitude, e.frequency
         ));
         if e.phase != 0.0 {
             text.push_str(&format!("phase = {:?}\n", e.phase));

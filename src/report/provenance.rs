@@ -11,7 +11,6 @@ use std::io::Read;
 use std::path::Path;
 
 use faer::MatRef;
-
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
@@ -62,6 +61,48 @@ impl DataFile {
             bytes,
             sha256,
         })
+    }
+}
+
+/// One setting in effect: where a model file (or the command line) sets it, its value
+/// as a model file writes it, and where the value came from.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Setting {
+    /// The model-file section (`identification`, `non_periodic`, `design`, `units`), or
+    /// `command line`, or `fit (not in model files)` for internal settings.
+    pub section: String,
+    /// The key, as docs/model-file.md names it.
+    pub key: String,
+    /// The value in effect, in TOML form (`"trapezoid"`, `1`, `0.01`), or in words where
+    /// it is chosen from the data (`harmonics`).
+    pub value: String,
+    /// Where the value came from.
+    pub source: SettingSource,
+}
+
+/// Where a setting's value came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SettingSource {
+    /// Not set: dampid's default.
+    Default,
+    /// Set in the model file.
+    ModelFile,
+    /// Set on the command line.
+    CommandLine,
+    /// Set by a keyword argument of the Python package's call.
+    Keyword,
+}
+
+impl SettingSource {
+    /// "default", "set in model file", "command line".
+    pub fn text(self) -> &'static str {
+        match self {
+            SettingSource::Default => "default",
+            SettingSource::ModelFile => "set in model file",
+            SettingSource::CommandLine => "command line",
+            SettingSource::Keyword => "keyword argument",
+        }
     }
 }
 
@@ -117,8 +158,8 @@ pub struct Provenance {
     /// with its shape and SHA-256; empty for a model file's records.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub arrays: Vec<ArrayDigest>,
-    /// Every setting in effect, defaults included: (name, value).
-    pub settings: Vec<(String, String)>,
+    /// Every setting in effect, defaults included, by model-file section and key.
+    pub settings: Vec<Setting>,
     /// dampid's version.
     pub version: String,
     /// The git commit dampid was built from, or "unknown".

@@ -263,3 +263,127 @@ fn npy_header_claiming_more_than_the_file_holds_is_a_data_error() {
         other => panic!("{other:?}"),
     }
 }
+
+/// A scratch folder of this test process.
+fn scratch(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("dampid-{name}-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Runs `read` on another thread and waits for it (a reader that blocks on a FIFO or
+/// reads `/dev/zero` without end fails the test instead of hanging it; the bound is a
+/// guard against a hang, not a speed requirement).
+fn without_hanging<T: Send + 'static>(read: impl FnOnce() -> T + Send + 'static) -> T {
+    let (send, receive) = std::sync::mpsc::channel();
+    std::thread::spawn(move || send.send(read()).ok());
+    receive
+        .recv_timeout(std::time::Duration::from_secs(60))
+        .expect("the reader returned instead of blocking")
+}
+
+/// Every reader, given a path that is not a regular file: `/dev/zero` behind a symbolic
+/// link named as a data file, a FIFO (opening it would wait for a writer), a folder.
+/// Each is `Error::Data` naming the file, checked before the file is opened.
+#[test]
+fn device_fifo_or_folder_named_as_a_data_file_is_a_data_error() {
+    let dir = scratch("not-a-file");
+    type Reader = fn(&std::path::Path) -> Result<()>;
+    let readers: [(&str, Reader); 7] = [
+        ("csv", |p| dampid::io::read_table(p).map(drop)),
+        ("npy", |p| dampid::io::npy::read_npy(p).map(drop)),
+        ("npz", |p| dampid::io::npy::read_npz(p).map(drop)),
+        ("mat", |p| dampid::io::mat::read_mat(p).map(drop)),
+        ("uff", |p| dampid::io::uff::read(p).map(drop)),
+        ("txt", |p| dampid::io::csv::read(p).map(drop)),
+        ("csv", |p| {
+            dampid::prep::harmonic::SteppedSineTable::load_csv(p).map(drop)
+        }),
+    ];
+    for (k, (extension, read)) in readers.into_iter().enumerate() {
+        let zero = dir.join(format!("zero{k}.{extension}"));
+        std::os::unix::fs::symlink("/dev/zero", &zero).unwrap();
+        let fifo = dir.join(format!("fifo{k}.{extension}"));
+        let made = std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap();
+        assert!(made.success());
+        let folder = dir.join(format!("folder{k}.{extension}"));
+        std::fs::create_dir(&folder).unwrap();
+        for (path, kind) in [
+            (zero, "a device, FIFO or socket"),
+            (fifo, "a device, FIFO or socket"),
+            (folder, "a folder"),
+        ] {
+            let shown = path.display().to_string();
+            match without_hanging(move || read(&path)) {
+                Err(Error::Data { file, message, .. }) => {
+                    assert_eq!(file, shown);
+                    assert!(message.contains(kind), "{message}");
+                    assert!(message.contains("not a regular file"), "{message}");
+                }
+                other => panic!("{shown}: {other:?}"),
+            }
+        }
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A model file whose record names `/dev/zero` through a link: the model-file error at
+/// the record, whose cause is the `Data` error naming the file.
+#[test]
+fn model_file_record_that_is_a_device_is_refused_at_its_line() {
+    let dir = scratch("model-dev-zero");
+    std::os::unix::fs::symlink("/dev/zero", dir.join("run.csv")).unwrap();
+    let text = "dofs = 1\n\n[[terms]]\nkind = \"law\"\nlaw = \"linear\"\nelements = \"each_dof\"\ncoefficient = \"c\"\n\n[[data.records]]\nfile = \"run.csv\"\ntime = \"t\"\ndisplacements = [\"x\"]\nforces = [{ column = \"f\", dof = 1 }]\n";
+    let base = dir.clone();
+    let result = without_hanging(move || {
+        dampid::model_file::parse(text, "m.toml", &base)
+            .map(drop)
+            .map_err(|e| (e.to_string(), e.innermost().kind()))
+    });
+    let (message, kind) = result.unwrap_err();
+    assert_eq!(kind, "data", "{message}");
+    assert!(message.contains("run.csv"), "{message}");
+    assert!(message.contains("not a regular file"), "{message}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A data file larger than `--max-memory` is refused before it is read, naming the file
+/// and the size (exit 2).
+#[test]
+fn data_file_beyond_the_memory_limit_is_refused_before_reading() {
+    let dir = scratch("data-too-large");
+    let mut csv = String::from("t,x,f\n");
+    for i in 0..2000 {
+        let t = f64::from(i) * 0.01;
+        csv.push_str(&format!("{t},{},{}\n", t.sin(), t.cos()));
+    }
+    std::fs::write(dir.join("run.csv"), &csv).unwrap();
+    let model = dir.join("m.toml");
+    std::fs::write(&model, "dofs = 1\n\n[[terms]]\nkind = \"law\"\nlaw = \"linear\"\nelements = \"each_dof\"\ncoefficient = \"c\"\n\n[[data.records]]\nfile = \"run.csv\"\ntime = \"t\"\ndisplacements = [\"x\"]\nforces = [{ column = \"f\", dof = 1 }]\nperiod = 6.283185307179586\n").unwrap();
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_dampid"))
+        .args(["check", "--max-memory", "10000"])
+        .arg(&model)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("run.csv"), "{stderr}");
+    assert!(stderr.contains("reading the data file"), "{stderr}");
+    assert!(stderr.contains("10 kB"), "{stderr}");
+    // Within the limit the same file is read.
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_dampid"))
+        .args(["check", "--max-memory", "1000000"])
+        .arg(&model)
+        .output()
+        .unwrap();
+    assert!(
+        !String::from_utf8_lossy(&output.stderr).contains("reading the data file"),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -276,16 +276,28 @@ fn identify(
             std::env::args().collect::<Vec<_>>().join(" "),
         ),
         (
-            "accept transient windows".to_string(),
-            job.steady_state.accept_transient.to_string(),
+            "--accept-transient".to_string(),
+            if accept_transient {
+                "given (accept_transient = true whatever [identification] says)".to_string()
+            } else {
+                "not given".to_string()
+            },
         ),
         (
-            "bootstrap".to_string(),
-            bootstrap
-                .as_ref()
-                .map_or("none".to_string(), |b| format!("{b:?}")),
+            "--bootstrap".to_string(),
+            bootstrap.as_ref().map_or("not given".to_string(), |b| {
+                format!(
+                    "{} replicates, seed {}, {}% percentile intervals",
+                    b.replicates,
+                    b.seed,
+                    100.0 * b.level
+                )
+            }),
         ),
-        ("strict".to_string(), strict.to_string()),
+        (
+            "--strict".to_string(),
+            if strict { "given" } else { "not given" }.to_string(),
+        ),
     ];
     if let Some(settings) = bootstrap {
         // Stepped-sine tables: errors are correlated within a sweep, so whole sweeps
@@ -564,7 +576,26 @@ fn design(path: &Path, as_json: bool) -> anyhow::Result<Outcome> {
     bar.finish_and_clear();
     let report = report?;
     let text = if as_json {
-        format!("{}\n", serde_json::to_string_pretty(&report)?)
+        // The report, with the selected experiments as data and as the TOML to paste:
+        // the JSON stands alone.
+        let mut json = serde_json::to_value(&report)?;
+        if let Some(object) = json.as_object_mut() {
+            object.insert(
+                "selected_experiments".into(),
+                serde_json::to_value(dampid::model_file::selected_experiments(
+                    &report,
+                    &job.experiments,
+                ))?,
+            );
+            object.insert(
+                "selected_experiments_toml".into(),
+                json!(dampid::model_file::selected_experiments_toml(
+                    &report,
+                    &job.experiments
+                )),
+            );
+        }
+        format!("{}\n", serde_json::to_string_pretty(&json)?)
     } else {
         format!(
             "{}: the [simulation] coefficients are the nominal damping\n{report}\n{}",

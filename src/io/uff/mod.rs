@@ -306,6 +306,7 @@ impl Uff58 {
 /// Reads the dataset 58 records of a UFF file with their units.
 pub fn read_records(path: &Path) -> Result<Uff58> {
     let file = path.display().to_string();
+    crate::io::require_data_file(path)?;
     let bytes = std::fs::read(path).map_err(|e| data_error(&file, 0, "", e))?;
     parse(&file, &bytes)
 }

@@ -6,8 +6,8 @@
 //! correlations, near-null directions, determined combinations) and the steady-state
 //! verdict of every window; inline SVG plots (plots.rs): measured input work against
 //! identified dissipated work per window and the residuals, both coloured by record, and
-//! each identified damping law θ f(v) with its band over the relative velocity its
-//! elements were measured at; when identification ran on proper orthogonal mode
+//! each identified damping law θ f(v) with its band, solid over the relative velocity
+//! its elements were measured at and dashed beyond; when identification ran on proper orthogonal mode
 //! coordinates, the modes (pom.rs); and the provenance (model file, data files with
 //! SHA-256, settings, version, commit, date). Nothing is loaded from outside the file.
 
@@ -16,7 +16,9 @@ mod pom;
 
 use std::fmt::Write as _;
 
+use crate::analysis::digest;
 use crate::analysis::equivalent::EquivalentDamping;
+use crate::analysis::identifiability::DeterminedCombination;
 use crate::error::Result;
 use crate::model::DampingModel;
 use crate::prep::pod::Reduction;
@@ -31,6 +33,13 @@ use crate::terms::{Coefficients, Term};
 
 /// Curves drawn per term at most (per-element terms may have thousands).
 const MAX_CURVES: usize = 8;
+
+/// The law plots extend this fraction of the largest measured speed beyond the measured
+/// range on each side, dashed.
+const EXTRAPOLATED: f64 = 0.2;
+
+/// Points per law curve (besides the measured range's ends).
+const LAW_POINTS: usize = 240;
 
 /// Steady-state rows shown open; beyond, the table is folded.
 const OPEN_WINDOWS: usize = 40;
@@ -175,6 +184,7 @@ impl HtmlReport<'_> {
                 .map(|p| (p.amplitude, p.dissipated_energy))
                 .collect(),
             band: None,
+            measured: None,
         }];
         for (k, c) in self.report.coefficients.iter().enumerate() {
             curves.push(plots::Curve {
@@ -185,6 +195,7 @@ impl HtmlReport<'_> {
                     .filter_map(|p| p.terms.get(k).map(|e| (p.amplitude, *e)))
                     .collect(),
                 band: None,
+                measured: None,
             });
         }
         Ok(format!(
@@ -253,7 +264,44 @@ impl HtmlReport<'_> {
             .collect()
     }
 
+    /// The coefficient table; with more than [`digest::FULL_LISTING`] coefficients, the
+    /// determined ones (and the nuisance unknowns) in the open table, the undetermined
+    /// ones counted by term, and every row in a folded table, as the text report does.
     fn coefficient_table(&self) -> String {
+        let coefficients = &self.report.coefficients;
+        let undetermined: Vec<&str> = coefficients
+            .iter()
+            .filter(|c| !c.determined)
+            .map(|c| c.name.as_str())
+            .collect();
+        if coefficients.len() <= digest::FULL_LISTING || undetermined.is_empty() {
+            return self.coefficient_rows(|_| true);
+        }
+        let mut out = String::new();
+        if undetermined.len() < coefficients.len() {
+            out.push_str(
+                &self.coefficient_rows(|k| coefficients.get(k).is_none_or(|c| c.determined)),
+            );
+        }
+        let _ = writeln!(
+            out,
+            "<p class=\"undetermined\"><b>not determined</b>: {} of {} coefficients (by term: {}); their least-squares values are not estimates (see the determined combinations).</p>",
+            undetermined.len(),
+            coefficients.len(),
+            escape(&digest::by_term_text(undetermined.iter().copied()))
+        );
+        let _ = writeln!(
+            out,
+            "<details><summary>Every coefficient ({})</summary>\n{}</details>",
+            coefficients.len() + self.report.nuisance.len(),
+            self.coefficient_rows(|_| true)
+        );
+        out
+    }
+
+    /// The rows `shown(k)` of the coefficient table (k in model order, the nuisance
+    /// unknowns after the coefficients).
+    fn coefficient_rows(&self, shown: impl Fn(usize) -> bool) -> String {
         let units = self.coefficient_units();
         let with_units = units.iter().any(Option::is_some);
         let bootstrap = self.report.bootstrap.as_ref().map(|b| b.level);
@@ -281,6 +329,9 @@ impl HtmlReport<'_> {
             .chain(&self.report.nuisance)
             .enumerate()
         {
+            if !shown(k) {
+                continue;
+            }
             if k == damping {
                 let _ = writeln!(
                     table,
@@ -359,6 +410,9 @@ impl HtmlReport<'_> {
         if id.determined.is_empty() {
             return String::new();
         }
+        if id.names.len() > digest::FULL_LISTING {
+            return self.determined_digest();
+        }
         let mut out = String::from(
             "<h3>Determined combinations</h3>\n<p>These combinations of the coefficients are what the data determine (value ± standard error):</p>\n<ul>\n",
         );
@@ -375,6 +429,60 @@ impl HtmlReport<'_> {
             );
         }
         out.push_str("</ul>\n");
+        out
+    }
+
+    /// The determined combinations of a model of many coefficients, grouped by the term
+    /// of each one's largest weight: per term, how many, and its [`GROUP_LISTED`] best
+    /// determined, each by its [`digest::CONTRIBUTORS`] largest weights (their written
+    /// form); every weight vector is in the JSON.
+    fn determined_digest(&self) -> String {
+        let id = &self.report.identifiability;
+        let mut groups: Vec<(&str, Vec<&DeterminedCombination>)> = Vec::new();
+        for d in &id.determined {
+            let term = leading_term(&d.combination);
+            match groups.iter_mut().find(|(t, _)| *t == term) {
+                Some((_, members)) => members.push(d),
+                None => groups.push((term, vec![d])),
+            }
+        }
+        let mut out = format!(
+            "<h3>Determined combinations</h3>\n<p>{} combinations of the {} coefficients are what the data determine, grouped by the term of each one's largest weight; per term the {GROUP_LISTED} best determined (largest singular value), each by its {} largest weights (every weight vector: <code>identifiability.determined</code> in the JSON).</p>\n<table><tr><th>term</th><th>combinations</th><th class=\"left\">best determined (value ± standard error)</th></tr>\n",
+            id.determined.len(),
+            id.names.len(),
+            digest::CONTRIBUTORS
+        );
+        for (term, members) in &groups {
+            let listed: Vec<String> = members
+                .iter()
+                .take(GROUP_LISTED)
+                .map(|d| {
+                    let se = d
+                        .std_error
+                        .map(|s| format!(" ± {s:.2e}"))
+                        .unwrap_or_default();
+                    format!(
+                        "<code>{}</code> = {:.4e}{se}",
+                        escape(&d.combination.text),
+                        d.value
+                    )
+                })
+                .collect();
+            let more = members.len().saturating_sub(GROUP_LISTED);
+            let _ = writeln!(
+                out,
+                "<tr><td>{}</td><td>{}</td><td class=\"left\">{}{}</td></tr>",
+                escape(term),
+                members.len(),
+                listed.join("<br>"),
+                if more > 0 {
+                    format!("<br>+ {more} more")
+                } else {
+                    String::new()
+                }
+            );
+        }
+        out.push_str("</table>\n");
         out
     }
 
@@ -420,14 +528,22 @@ impl HtmlReport<'_> {
             .iter()
             .map(|s| format!("{s:.3e}"))
             .collect();
+        let singular = if singular.len() > digest::FULL_LISTING {
+            digest::sequence(&report.singular_values)
+        } else {
+            format!("[{}]", singular.join(", "))
+        };
         let _ = writeln!(
             out,
-            "<p>Column-scaled regressor: rank {}, practical rank {} of {}, condition number {condition}, singular values [{}].</p>",
+            "<p>Column-scaled regressor: rank {}, practical rank {} of {}, condition number {condition}, singular values {singular}.</p>",
             report.rank,
             id.practical_rank,
             id.names.len(),
-            singular.join(", ")
         );
+        if id.names.len() > digest::FULL_LISTING {
+            out.push_str(&self.identifiability_digest());
+            return out;
+        }
         if id.null_directions.is_empty() {
             out.push_str(
                 "<p>No near-null direction: every coefficient is separated by the data.</p>\n",
@@ -470,6 +586,96 @@ impl HtmlReport<'_> {
                 out.push_str("</tr>\n");
             }
             out.push_str("</table>\n");
+        }
+        out
+    }
+
+    /// The identifiability of a model of many coefficients, as the text report gives
+    /// it: the undetermined coefficients counted by term, the [`digest::LISTED`]
+    /// smallest undetermined directions by their [`digest::CONTRIBUTORS`] largest
+    /// components and "+ N more", the largest VIFs as a sorted list and a histogram by
+    /// decade, and the most correlated pairs instead of the whole correlation matrix.
+    fn identifiability_digest(&self) -> String {
+        let report = self.report;
+        let id = &report.identifiability;
+        let p = id.names.len();
+        let mut out = String::new();
+        if id.separable() {
+            out.push_str(
+                "<p>No near-null direction: every coefficient is separated by the data.</p>\n",
+            );
+        } else {
+            let names: Vec<&str> = id.unidentifiable.iter().map(String::as_str).collect();
+            let _ = writeln!(
+                out,
+                "<p>These data cannot separate {} of {p} coefficients (by term: {}; every name in <code>identifiability.unidentifiable</code> in the JSON).</p>",
+                names.len(),
+                escape(&digest::by_term_text(names.iter().copied()))
+            );
+        }
+        let nulls = id.null_directions.len();
+        if nulls > 0 {
+            let _ = writeln!(
+                out,
+                "<h3>Directions not determined</h3>\n<p>{nulls} direction(s) along which the fit does not change (σ below {:.3e}); {}each by its {} largest components:</p>\n<table><tr><th>σ</th><th class=\"left\">largest components of the direction Δθ</th></tr>",
+                id.threshold,
+                if nulls > digest::LISTED {
+                    format!("the {} smallest, ", digest::LISTED)
+                } else {
+                    String::new()
+                },
+                digest::CONTRIBUTORS
+            );
+            for d in id.null_directions.iter().take(digest::LISTED) {
+                let _ = writeln!(
+                    out,
+                    "<tr><td>{:.3e}</td><td class=\"left\"><code>{}</code></td></tr>",
+                    d.singular_value,
+                    escape(&d.direction.text)
+                );
+            }
+            out.push_str("</table>\n");
+            if nulls > digest::LISTED {
+                let _ = writeln!(
+                    out,
+                    "<p>+ {} more (<code>identifiability.null_directions</code> in the JSON).</p>",
+                    nulls - digest::LISTED
+                );
+            }
+        }
+        out.push_str("<h3>Variance inflation factors</h3>\n<p>VIF = 1/(1 − R²) of each column against the others: 1 for an orthogonal column, infinite for one the others reproduce.</p>\n");
+        let finite: Vec<(usize, f64)> = id
+            .variance_inflation
+            .iter()
+            .enumerate()
+            .filter_map(|(j, v)| v.map(|v| (j, v)))
+            .collect();
+        if finite.is_empty() {
+            let _ = writeln!(
+                out,
+                "<p>Infinite for all {p} coefficients: the regressor is rank deficient.</p>"
+            );
+        } else {
+            let values: Vec<f64> = finite.iter().map(|f| f.1).collect();
+            let top = digest::largest(&values, digest::LISTED);
+            let _ = writeln!(
+                out,
+                "<p>The {} largest of {p}, sorted:</p>\n<table><tr><th>coefficient</th><th>VIF</th></tr>",
+                top.len()
+            );
+            for k in top {
+                let (j, v) = finite[k];
+                let _ = writeln!(
+                    out,
+                    "<tr><td>{}</td><td>{v:.3e}</td></tr>",
+                    escape(&id.names[j])
+                );
+            }
+            out.push_str("</table>\n");
+        }
+        out.push_str(&vif_histogram(&id.variance_inflation));
+        if let Some(c) = &report.correlation {
+            out.push_str(&correlated_pairs(c));
         }
         out
     }
@@ -549,8 +755,10 @@ impl HtmlReport<'_> {
         out
     }
 
-    /// One plot per element term: θ f(0, v) over the relative velocity its elements were
-    /// measured at (nothing drawn beyond), with the band (θ ± 1.96 se) f(0, v) when the
+    /// One plot per element term: θ f(0, v) against relative velocity, solid over the
+    /// range its elements were measured at and dashed beyond it (the plot spans the
+    /// measured ranges of the term's curves and a fifth of the largest speed more on
+    /// each side), with the band (θ ± 1.96 se) f(0, v) over the measured range when the
     /// coefficient is determined. Laws of x are drawn at x = 0.
     fn force_law_plots(&self) -> Result<Vec<String>> {
         let units = self.units();
@@ -562,24 +770,48 @@ impl HtmlReport<'_> {
             let law = term.law();
             let elements = term.elements();
             let shared = matches!(term.coefficients(), Coefficients::Shared(_));
+            // The measured range of each drawn coefficient (None: nothing measured).
+            let measured: Vec<Option<(f64, f64)>> = (0..range.len().min(MAX_CURVES))
+                .map(|j| {
+                    let (lo, hi) = if shared {
+                        elements
+                            .iter()
+                            .map(|e| self.velocity_range(e.a, e.b))
+                            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), (a, b)| {
+                                (l.min(a), h.max(b))
+                            })
+                    } else {
+                        self.velocity_range(elements[j].a, elements[j].b)
+                    };
+                    (hi > lo).then_some((lo, hi))
+                })
+                .collect();
+            let (lo, hi) = measured
+                .iter()
+                .flatten()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &(a, b)| {
+                    (l.min(a), h.max(b))
+                });
+            let (lo, hi) = if hi > lo {
+                let margin = EXTRAPOLATED * lo.abs().max(hi.abs());
+                (lo - margin, hi + margin)
+            } else {
+                (-1.0, 1.0)
+            };
             let curves: Vec<plots::Curve> = range
                 .clone()
                 .take(MAX_CURVES)
                 .enumerate()
                 .map(|(j, k)| {
                     let c = &self.report.coefficients[k];
-                    let (lo, hi) = if shared {
-                        elements
-                            .iter()
-                            .map(|e| self.velocity_range(e.a, e.b))
-                            .fold((0.0f64, 0.0f64), |(l, h), (a, b)| (l.min(a), h.max(b)))
-                    } else {
-                        self.velocity_range(elements[j].a, elements[j].b)
-                    };
-                    let (lo, hi) = if hi > lo { (lo, hi) } else { (-1.0, 1.0) };
-                    let speeds: Vec<f64> = (0..=200)
-                        .map(|i| lo + (hi - lo) * i as f64 / 200.0)
+                    // Uniform speeds with the measured range's ends among them, so the
+                    // solid part ends exactly there.
+                    let mut speeds: Vec<f64> = (0..=LAW_POINTS)
+                        .map(|i| lo + (hi - lo) * i as f64 / LAW_POINTS as f64)
+                        .chain(measured[j].iter().flat_map(|&(a, b)| [a, b]))
                         .collect();
+                    speeds.sort_by(f64::total_cmp);
+                    speeds.dedup();
                     let f = |theta: f64, v: f64| theta * law.force(0.0, v);
                     let name = if c.determined {
                         c.name.clone()
@@ -599,6 +831,7 @@ impl HtmlReport<'_> {
                                 })
                                 .collect()
                         }),
+                        measured: measured[j],
                     }
                 })
                 .collect();
@@ -650,6 +883,83 @@ impl HtmlReport<'_> {
         }
         range
     }
+}
+
+/// Determined combinations listed per term in a model of many coefficients.
+const GROUP_LISTED: usize = 3;
+
+/// The term of a combination's largest weight (`dashpot[3-4]` → `dashpot`).
+fn leading_term(combination: &crate::analysis::identifiability::Combination) -> &str {
+    combination
+        .terms
+        .iter()
+        .max_by(|a, b| a.weight.abs().total_cmp(&b.weight.abs()))
+        .map_or("", |t| digest::term_of(&t.name))
+}
+
+/// The VIFs counted by decade ([`digest::decade_histogram`]), as a table with a bar per
+/// decade (its width the count's share of the largest count).
+fn vif_histogram(values: &[Option<f64>]) -> String {
+    let (decades, infinite) = digest::decade_histogram(values);
+    let mut rows: Vec<(String, usize)> = decades
+        .iter()
+        .map(|(d, n)| (format!("10<sup>{d}</sup> – 10<sup>{}</sup>", d + 1), *n))
+        .collect();
+    if infinite > 0 {
+        rows.push(("infinite".into(), infinite));
+    }
+    let most = rows.iter().map(|r| r.1).max().unwrap_or(1).max(1);
+    let mut out = String::from(
+        "<p>Histogram of the VIFs by decade:</p>\n<table class=\"histogram\"><tr><th>VIF</th><th>coefficients</th><th></th></tr>\n",
+    );
+    for (label, n) in rows {
+        let _ = writeln!(
+            out,
+            "<tr><td>{label}</td><td>{n}</td><td class=\"left\"><span class=\"bar\" style=\"width:{:.1}em\"></span></td></tr>",
+            20.0 * n as f64 / most as f64
+        );
+    }
+    out.push_str("</table>\n");
+    out
+}
+
+/// Pairs of estimates listed by their correlation when the matrix is too large to show.
+const PAIRS_LISTED: usize = 10;
+
+/// The [`PAIRS_LISTED`] most correlated pairs of estimates (largest |r|, ties in model
+/// order), for a correlation matrix too large to show.
+fn correlated_pairs(c: &crate::analysis::diagnostics::Correlation) -> String {
+    let n = c.names.len();
+    let mut pairs: Vec<(usize, usize, f64)> = (0..n)
+        .flat_map(|i| ((i + 1)..n).map(move |j| (i, j)))
+        .filter_map(|(i, j)| {
+            let r = *c.matrix.get(i)?.get(j)?;
+            r.is_finite().then_some((i, j, r))
+        })
+        .collect();
+    if pairs.is_empty() {
+        return String::new();
+    }
+    pairs.sort_by(|a, b| {
+        b.2.abs()
+            .total_cmp(&a.2.abs())
+            .then((a.0, a.1).cmp(&(b.0, b.1)))
+    });
+    let mut out = format!(
+        "<h3>Correlation of the estimates</h3>\n<p>The {} most correlated of {} pairs (the whole matrix: <code>correlation</code> in the JSON).</p>\n<table><tr><th>coefficient</th><th>coefficient</th><th>correlation</th></tr>\n",
+        pairs.len().min(PAIRS_LISTED),
+        pairs.len()
+    );
+    for (i, j, r) in pairs.into_iter().take(PAIRS_LISTED) {
+        let _ = writeln!(
+            out,
+            "<tr><td>{}</td><td>{}</td><td>{r:.4}</td></tr>",
+            escape(&c.names[i]),
+            escape(&c.names[j])
+        );
+    }
+    out.push_str("</table>\n");
+    out
 }
 
 /// Where the report came from: the model file (folded), the data files with their size
@@ -721,19 +1031,27 @@ fn provenance_section(p: &Provenance, units: Units) -> String {
         .collect();
         let _ = writeln!(out, "<p>Units: {}.</p>", given.join(", "));
     }
-    out.push_str("<details><summary>Every setting in effect, defaults included</summary>\n");
-    for (name, value) in &p.settings {
-        let _ = writeln!(out, "<h4>{}</h4><pre>{}</pre>", escape(name), escape(value));
+    out.push_str("<details><summary>Every setting in effect, defaults included</summary>\n<table><tr><th>section</th><th>key</th><th>value</th><th>source</th></tr>\n");
+    for s in &p.settings {
+        let _ = writeln!(
+            out,
+            "<tr><td class=\"left\">{}</td><td class=\"left\"><code>{}</code></td><td class=\"left\"><code>{}</code></td><td class=\"left\">{}</td></tr>",
+            escape(&s.section),
+            escape(&s.key),
+            escape(&s.value),
+            s.source.text()
+        );
     }
-    out.push_str("</details>\n");
+    out.push_str("</table>\n</details>\n");
     out
 }
 
 const STYLE: &str = "body{font-family:sans-serif;max-width:72em;margin:2em auto;padding:0 1em;color:#222;line-height:1.4}\
 table{border-collapse:collapse;display:block;max-width:100%;overflow-x:auto}td,th{border:1px solid #bbb;padding:.25em .6em;text-align:right}\
 th{background:#eee}.warning{background:#fff3cd;border:1px solid #e0c060;padding:.5em}.flag td{background:#fde2d8}\
-td.undetermined{text-align:left;color:#7a2e00}pre{white-space:pre-wrap;word-break:break-all;background:#f6f6f6;padding:.5em}\
-code.hash{word-break:break-all}svg{display:block;margin:1em 0;width:100%;height:auto}";
+td.undetermined{text-align:left}.undetermined{color:#7a2e00}pre{white-space:pre-wrap;word-break:break-all;background:#f6f6f6;padding:.5em}\
+code.hash{word-break:break-all}svg{display:block;margin:1em 0;width:100%;height:auto}\
+td{white-space:nowrap}td.left,th.left,td.undetermined{text-align:left;white-space:normal}.bar{display:inline-block;height:.8em;background:#0072B2}";
 
 /// The noise-robust pipeline's model check and, per window, the harmonics kept and the
 /// estimated noise.
@@ -756,6 +1074,14 @@ fn noise_section(noise: &crate::report::NoiseSummary) -> String {
         section,
         "<p>Equations weighted by their propagated residual standard deviation. {check}.</p>"
     );
+    let fold = noise.windows.len() > OPEN_WINDOWS;
+    if fold {
+        let _ = writeln!(
+            section,
+            "<details><summary>Every window ({})</summary>",
+            noise.windows.len()
+        );
+    }
     section.push_str(
         "<table><tr><th>record</th><th>window</th><th>harmonics kept</th><th>displacement noise σ</th><th>residual sd</th></tr>\n",
     );
@@ -776,6 +1102,9 @@ fn noise_section(noise: &crate::report::NoiseSummary) -> String {
         );
     }
     section.push_str("</table>\n");
+    if fold {
+        section.push_str("</details>\n");
+    }
     section
 }
 

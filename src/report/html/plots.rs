@@ -46,11 +46,14 @@ pub(crate) fn colour(k: usize) -> RGBColor {
     PALETTE[k % PALETTE.len()]
 }
 
-/// A named curve with an optional band (lower, upper) at each point.
+/// A named curve with an optional band (lower, upper) at each point. With `measured`
+/// = (lo, hi), the curve was measured over lo ≤ x ≤ hi only: [`force_laws`] draws it
+/// solid (with its band) there and dashed beyond.
 pub(crate) struct Curve {
     pub name: String,
     pub points: Vec<(f64, f64)>,
     pub band: Option<Vec<(f64, f64, f64)>>,
+    pub measured: Option<(f64, f64)>,
 }
 
 /// Points of one group (a record) in a scatter: its legend name and (x, y) points.
@@ -73,15 +76,31 @@ type Chart<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64
 fn chart_svg(
     draw: impl FnOnce(&DrawingArea<SVGBackend<'_>, plotters::coord::Shift>) -> Result<()>,
 ) -> Result<String> {
+    chart_svg_of_height(SIZE.1, draw)
+}
+
+/// [`chart_svg`] at `height` shown pixels (a chart with its legend below the plot).
+fn chart_svg_of_height(
+    height: u32,
+    draw: impl FnOnce(&DrawingArea<SVGBackend<'_>, plotters::coord::Shift>) -> Result<()>,
+) -> Result<String> {
     let mut svg = String::new();
     {
-        let root = SVGBackend::with_string(&mut svg, (px(SIZE.0), px(SIZE.1))).into_drawing_area();
+        let root = SVGBackend::with_string(&mut svg, (px(SIZE.0), px(height))).into_drawing_area();
         draw(&root)?;
         root.present().map_err(plot_error)?;
     }
-    let drawn = format!("width=\"{}\" height=\"{}\"", px(SIZE.0), px(SIZE.1));
-    let shown = format!("width=\"{}\" height=\"{}\"", SIZE.0, SIZE.1);
+    let drawn = format!("width=\"{}\" height=\"{}\"", px(SIZE.0), px(height));
+    let shown = format!("width=\"{}\" height=\"{}\"", SIZE.0, height);
     Ok(svg.replacen(&drawn, &shown, 1))
+}
+
+/// Shown pixels per legend entry (plotters' `legend_area_size` plus its spacing).
+const LEGEND_ROW: u32 = 30;
+
+/// Shown pixels below the plot for a legend of `entries` entries (with its margins).
+fn legend_strip(entries: usize) -> u32 {
+    LEGEND_ROW * entries as u32 + 30
 }
 
 /// How an axis's tick labels read.
@@ -209,6 +228,76 @@ fn legend<'a, 'b: 'a>(chart: &mut Chart<'a, 'b>, position: SeriesLabelPosition) 
         .map_err(plot_error)
 }
 
+/// What a legend entry shows beside its text.
+#[derive(Clone, Copy)]
+enum Mark {
+    /// A line sample of this style.
+    Line(ShapeStyle),
+    /// The markers of group k ([`draw_group`]).
+    Group(usize),
+    /// A dashed line sample of this style.
+    Dashed(ShapeStyle),
+}
+
+/// Draws a legend in `area` (a strip below a chart, [`legend_strip`] high): a box like
+/// plotters' own (translucent white, thin border), one entry per row, so that it
+/// covers no data point however the points fall.
+fn legend_below(
+    area: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+    entries: &[(Mark, String)],
+) -> Result<()> {
+    let font = TextStyle::from(("sans-serif", LABEL_FONT * OVERSAMPLE as f64).into_font()).pos(
+        plotters::style::text_anchor::Pos::new(
+            plotters::style::text_anchor::HPos::Left,
+            plotters::style::text_anchor::VPos::Center,
+        ),
+    );
+    // Text width estimated at 0.6 em per character (no font metrics here).
+    let longest = entries
+        .iter()
+        .map(|e| e.1.chars().count())
+        .max()
+        .unwrap_or(0);
+    let width = px(50) as i32 + (0.6 * LABEL_FONT * longest as f64) as i32 * OVERSAMPLE as i32;
+    let (left, top) = (px(110) as i32, px(8) as i32);
+    let height = (px(LEGEND_ROW) * entries.len() as u32 + px(10)) as i32;
+    area.draw(&Rectangle::new(
+        [(left, top), (left + width, top + height)],
+        WHITE.mix(0.85).filled(),
+    ))
+    .map_err(plot_error)?;
+    area.draw(&Rectangle::new(
+        [(left, top), (left + width, top + height)],
+        BLACK.mix(0.3).stroke_width(OVERSAMPLE),
+    ))
+    .map_err(plot_error)?;
+    for (row, (mark, text)) in entries.iter().enumerate() {
+        let y =
+            top + px(5) as i32 + (px(LEGEND_ROW) as i32) * row as i32 + px(LEGEND_ROW / 2) as i32;
+        let x = left + px(10) as i32;
+        match *mark {
+            Mark::Line(style) => area.draw(&legend_line(x, y, style)),
+            Mark::Group(k) => area.draw(&group_marker(k, (x, y))),
+            Mark::Dashed(style) => area
+                .draw(&PathElement::new([(x, y), (x + px(8) as i32, y)], style))
+                .and_then(|()| {
+                    area.draw(&PathElement::new(
+                        [(x + px(13) as i32, y), (x + px(21) as i32, y)],
+                        style,
+                    ))
+                }),
+        }
+        .map_err(plot_error)?;
+        area.draw(&Text::new(
+            text.clone(),
+            (x + px(30) as i32, y),
+            font.clone(),
+        ))
+        .map_err(plot_error)?;
+    }
+    Ok(())
+}
+
 /// A legend sample line of `style` at (x, y).
 fn legend_line(x: i32, y: i32, style: ShapeStyle) -> PathElement<(i32, i32)> {
     PathElement::new([(x, y), (x + px(20) as i32, y)], style)
@@ -252,18 +341,39 @@ fn draw_group<'a, 'b: 'a>(chart: &mut Chart<'a, 'b>, k: usize, group: &Group) ->
             .draw_series(points.map(|p| Cross::new(p, size, colour(k).stroke_width(px(2)))))
             .map_err(plot_error)?,
     };
-    // One element type for every shape: the two shapes not used are transparent.
+    annotation
+        .label(group.name.clone())
+        .legend(move |(x, y)| group_marker(k, (x, y)));
+    Ok(())
+}
+
+/// A group's legend marker: a circle, a triangle and a cross, two of them transparent.
+type GroupMarker<'b> = plotters::element::ComposedElement<
+    (i32, i32),
+    SVGBackend<'b>,
+    Circle<(i32, i32), i32>,
+    plotters::element::ComposedElement<
+        (i32, i32),
+        SVGBackend<'b>,
+        TriangleMarker<(i32, i32), i32>,
+        Cross<(i32, i32), i32>,
+    >,
+>;
+
+/// The legend sample of group `k` at (x, y): its marker ([`draw_group`]), one element
+/// type for every shape (the two shapes not used are transparent).
+fn group_marker<'b>(k: usize, (x, y): (i32, i32)) -> GroupMarker<'b> {
+    let style = colour(k).filled();
+    let size = px(5) as i32;
+    let shape = (k / PALETTE.len()) % 3;
     let pick = move |active: bool, style: ShapeStyle| {
         if active { style } else { TRANSPARENT.filled() }
     };
     let cross = colour(k).stroke_width(px(2));
-    annotation.label(group.name.clone()).legend(move |(x, y)| {
-        EmptyElement::at((x + px(10) as i32, y))
-            + Circle::new((0, 0), size, pick(shape == 0, style))
-            + TriangleMarker::new((0, 0), size + px(1) as i32, pick(shape == 1, style))
-            + Cross::new((0, 0), size, pick(shape == 2, cross))
-    });
-    Ok(())
+    EmptyElement::at((x + px(10) as i32, y))
+        + Circle::new((0, 0), size, pick(shape == 0, style))
+        + TriangleMarker::new((0, 0), size + px(1) as i32, pick(shape == 1, style))
+        + Cross::new((0, 0), size, pick(shape == 2, cross))
 }
 
 /// Measured input work against identified dissipated work per window, one colour per
@@ -318,14 +428,16 @@ pub(crate) fn work_balance(groups: &[Group], stored: bool, unit: Option<&str>) -
 
 /// Residual per equation (1-based), one colour per record, with the zero line and the
 /// mean residual, labelled as the residual bias (mean residual / mean |input work|) the
-/// report's header gives.
+/// report's header gives. The legend sits below the plot, where it covers no point.
 pub(crate) fn residuals(
     groups: &[Group],
     equations: usize,
     bias: f64,
     unit: Option<&str>,
 ) -> Result<String> {
-    chart_svg(|root| {
+    let strip = legend_strip(groups.len() + 1);
+    chart_svg_of_height(SIZE.1 + strip, |root| {
+        let (plot, below) = root.split_vertically(px(SIZE.1));
         let all: Vec<f64> = groups
             .iter()
             .flat_map(|g| g.points.iter().map(|p| p.1))
@@ -335,7 +447,7 @@ pub(crate) fn residuals(
         let y = padded(all.iter().copied().chain([0.0, mean]));
         let y_desc = super::super::units::with_unit("residual work b − Aθ", unit);
         let mut chart = frame(
-            root,
+            &plot,
             "Residuals b − Aθ per equation",
             0.5..(n + 0.5),
             y,
@@ -351,26 +463,39 @@ pub(crate) fn residuals(
         let mean_style = BLACK.stroke_width(px(2));
         chart
             .draw_series(LineSeries::new([(0.5, mean), (n + 0.5, mean)], mean_style))
-            .map_err(plot_error)?
-            .label(format!(
-                "mean residual {mean:+.3e} = residual bias {bias:+.3e} × mean |input work|"
-            ))
-            .legend(move |(x, y)| legend_line(x, y, mean_style));
+            .map_err(plot_error)?;
         for (k, group) in groups.iter().enumerate() {
             draw_group(&mut chart, k, group)?;
         }
-        legend(&mut chart, SeriesLabelPosition::UpperRight)
+        let mut entries = vec![(
+            Mark::Line(mean_style),
+            format!("mean residual {mean:+.3e} = residual bias {bias:+.3e} × mean |input work|"),
+        )];
+        entries.extend(
+            groups
+                .iter()
+                .enumerate()
+                .map(|(k, g)| (Mark::Group(k), g.name.clone())),
+        );
+        legend_below(&below, &entries)
     })
 }
 
-/// Identified force laws against relative velocity, each over the velocity range its
-/// elements were measured at, with its uncertainty band.
+/// Identified force laws against relative velocity: each solid, with its uncertainty
+/// band, over the velocity range its elements were measured at (`Curve::measured`),
+/// and dashed beyond it, as a legend entry (below the plot) says.
 pub(crate) fn force_laws(
     title: &str,
     curves: &[Curve],
     units: (Option<&str>, Option<&str>),
 ) -> Result<String> {
-    chart_svg(|root| {
+    let inside = |c: &Curve, x: f64| c.measured.is_none_or(|(lo, hi)| lo <= x && x <= hi);
+    let extrapolated = curves
+        .iter()
+        .any(|c| c.points.iter().any(|p| !inside(c, p.0)));
+    let strip = legend_strip(curves.len() + usize::from(extrapolated));
+    chart_svg_of_height(SIZE.1 + strip, |root| {
+        let (plot, below) = root.split_vertically(px(SIZE.1));
         let x = padded(
             curves
                 .iter()
@@ -381,20 +506,21 @@ pub(crate) fn force_laws(
             let band = c.band.iter().flatten().flat_map(|b| [b.1, b.2]);
             c.points.iter().map(|p| p.1).chain(band)
         }));
-        let x_desc =
-            super::super::units::with_unit("relative velocity v (measured range)", units.0);
+        let x_desc = super::super::units::with_unit("relative velocity v", units.0);
         let y_desc = super::super::units::with_unit("damping force θ f(v)", units.1);
         let mut chart = frame(
-            root,
+            &plot,
             title,
             x,
             y,
             (&x_desc, &y_desc),
             (Ticks::Plain, Ticks::Plain),
         )?;
+        let mut entries = Vec::new();
         for (k, curve) in curves.iter().enumerate() {
             let color = colour(k);
             if let Some(band) = &curve.band {
+                let band: Vec<_> = band.iter().filter(|b| inside(curve, b.0)).collect();
                 let upper = band.iter().map(|b| (b.0, b.2));
                 let lower = band.iter().rev().map(|b| (b.0, b.1));
                 chart
@@ -405,13 +531,45 @@ pub(crate) fn force_laws(
                     .map_err(plot_error)?;
             }
             let style = color.stroke_width(px(2));
-            chart
-                .draw_series(LineSeries::new(curve.points.iter().copied(), style))
-                .map_err(plot_error)?
-                .label(curve.name.clone())
-                .legend(move |(x, y)| legend_line(x, y, style));
+            // Runs of points inside or outside the measured range, each joined to the
+            // next run's first point so the line is unbroken where it changes style.
+            let mut start = 0;
+            let mut measured_any = false;
+            while start < curve.points.len() {
+                let measured = inside(curve, curve.points[start].0);
+                let mut end = start + 1;
+                while end < curve.points.len() && inside(curve, curve.points[end].0) == measured {
+                    end += 1;
+                }
+                let run = curve.points[start..(end + 1).min(curve.points.len())].to_vec();
+                if measured {
+                    measured_any = true;
+                    chart
+                        .draw_series(LineSeries::new(run, style))
+                        .map_err(plot_error)?;
+                } else {
+                    chart
+                        .draw_series(DashedLineSeries::new(run, px(8), px(6), style))
+                        .map_err(plot_error)?;
+                }
+                start = end;
+            }
+            entries.push(if measured_any {
+                (Mark::Line(style), curve.name.clone())
+            } else {
+                (
+                    Mark::Dashed(style),
+                    format!("{} (outside the measured range only)", curve.name),
+                )
+            });
         }
-        legend(&mut chart, SeriesLabelPosition::UpperLeft)
+        if extrapolated {
+            entries.push((
+                Mark::Dashed(BLACK.mix(0.6).stroke_width(px(2))),
+                "dashed: beyond the measured range of relative velocity (extrapolated)".into(),
+            ));
+        }
+        legend_below(&below, &entries)
     })
 }
 
@@ -633,6 +791,7 @@ mod tests {
                 .map(|(i, &a)| ((i + 1) as f64, a))
                 .collect(),
             band: None,
+            measured: None,
         }
     }
 
@@ -670,12 +829,15 @@ mod tests {
         )
         .unwrap();
         let head = &svg[..svg.find('>').unwrap()];
+        // The residual chart is SIZE plus the strip its legend takes below the plot
+        // (two entries: the mean and one record).
+        let height = SIZE.1 + legend_strip(2);
         assert!(
-            head.contains(&format!("width=\"{}\" height=\"{}\"", SIZE.0, SIZE.1)),
+            head.contains(&format!("width=\"{}\" height=\"{height}\"", SIZE.0)),
             "{head}"
         );
         assert!(
-            head.contains(&format!("viewBox=\"0 0 {} {}\"", px(SIZE.0), px(SIZE.1))),
+            head.contains(&format!("viewBox=\"0 0 {} {}\"", px(SIZE.0), px(height))),
             "{head}"
         );
         assert!(svg.contains("record 1") && svg.contains("[N·m]"));

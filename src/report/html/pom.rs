@@ -128,6 +128,7 @@ fn basis_section(pod: &Pod, label: &str) -> Result<String> {
                     .map(|(dof, &amplitude)| ((dof + 1) as f64, amplitude))
                     .collect(),
                 band: None,
+                measured: None,
             })
         })
         .collect();
