@@ -30,7 +30,7 @@
 //!
 //! and for A > φ_max, D = 4R[A φ_max^{χ+2}/(χ+2) − φ_max^{χ+3}/(χ+3)] + 4Sφ_max(A − φ_max)
 //! ([`Iwan::dissipation`]). The centroid rule makes each fully slipping interval's
-//! dissipation 4m(Aφ̄ − φ̄²), short of the exact 4m(Aφ̄ − E[φ²]) by 4m·Var(φ) ≤ m(Δφ)²:
+//! dissipation 4m(Aφ̄ − φ̄²), short of the exact 4m(Aφ̄ − E\[φ²\]) by 4m·Var(φ) ≤ m(Δφ)²:
 //! a relative error O((1 − q)²) ≈ 10⁻³ for every amplitude in [10 SMALLEST, 1]·φ_max;
 //! tests/hysteresis.rs checks the discrete loop against D(A) within 1 %.
 
