@@ -24,6 +24,29 @@ pub enum Coefficients {
     PerElement(String),
 }
 
+impl Coefficients {
+    /// The coefficients' names for `elements`: the shared name once, or `prefix[label]`
+    /// per element.
+    pub(crate) fn names(&self, elements: &[Element]) -> Vec<String> {
+        match self {
+            Coefficients::Shared(name) => vec![name.clone()],
+            Coefficients::PerElement(prefix) => elements
+                .iter()
+                .map(|e| {
+                    // "prefix[label]" without the format machinery: thousands of
+                    // columns name themselves on every build.
+                    let mut name = String::with_capacity(prefix.len() + e.label.len() + 2);
+                    name.push_str(prefix);
+                    name.push('[');
+                    name.push_str(&e.label);
+                    name.push(']');
+                    name
+                })
+                .collect(),
+        }
+    }
+}
+
 /// A damping law on elements.
 #[derive(Debug, Clone)]
 pub struct ElementTerm {
@@ -76,23 +99,7 @@ impl ElementTerm {
     }
 
     pub(crate) fn coefficient_names(&self) -> Vec<String> {
-        match &self.coefficients {
-            Coefficients::Shared(name) => vec![name.clone()],
-            Coefficients::PerElement(prefix) => self
-                .elements
-                .iter()
-                .map(|e| {
-                    // "prefix[label]" without the format machinery: thousands of
-                    // columns name themselves on every build.
-                    let mut name = String::with_capacity(prefix.len() + e.label.len() + 2);
-                    name.push_str(prefix);
-                    name.push('[');
-                    name.push_str(&e.label);
-                    name.push(']');
-                    name
-                })
-                .collect(),
-        }
+        self.coefficients.names(&self.elements)
     }
 
     pub(crate) fn validate(&self, dofs: usize) -> Result<()> {

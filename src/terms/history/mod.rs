@@ -118,14 +118,7 @@ impl HistoryTerm {
     }
 
     pub(crate) fn coefficient_names(&self) -> Vec<String> {
-        match &self.coefficients {
-            Coefficients::Shared(name) => vec![name.clone()],
-            Coefficients::PerElement(prefix) => self
-                .elements
-                .iter()
-                .map(|e| format!("{prefix}[{}]", e.label))
-                .collect(),
-        }
+        self.coefficients.names(&self.elements)
     }
 
     pub(crate) fn coefficient_count(&self) -> usize {
