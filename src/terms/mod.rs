@@ -103,6 +103,16 @@ impl Term {
         ))
     }
 
+    /// Structural damping: a loss factor on each of `elements`, element i of stiffness
+    /// `stiffness[i]` ([`structural`]).
+    pub fn structural(
+        elements: Vec<Element>,
+        stiffness: Vec<f64>,
+        coefficients: Coefficients,
+    ) -> Self {
+        Term::Structural(StructuralDamping::new(elements, stiffness, coefficients))
+    }
+
     /// `law` from each of DOFs 0..n to ground.
     pub fn per_dof(law: impl Law + 'static, dofs: usize, coefficients: Coefficients) -> Self {
         Self::on_elements(law, Element::each_dof(dofs), coefficients)
