@@ -203,8 +203,14 @@ mod tests {
     /// The mean and the Nyquist bin give no force; too short a path none at all.
     #[test]
     fn mean_and_nyquist_give_nothing() {
-        let path: Vec<f64> = (0..8).map(|i| 1.0 + if i % 2 == 0 { 0.3 } else { -0.3 }).collect();
-        assert!(force_per_unit_loss(&path, 2.0).iter().all(|s| s.abs() < 1e-15));
+        let path: Vec<f64> = (0..8)
+            .map(|i| 1.0 + if i % 2 == 0 { 0.3 } else { -0.3 })
+            .collect();
+        assert!(
+            force_per_unit_loss(&path, 2.0)
+                .iter()
+                .all(|s| s.abs() < 1e-15)
+        );
         assert_eq!(force_per_unit_loss(&[1.0, 2.0], 2.0), vec![0.0, 0.0]);
     }
 }

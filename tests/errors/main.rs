@@ -51,6 +51,7 @@ mod regressions;
 mod regressor;
 mod simulate;
 mod stepped_sine;
+mod structural;
 #[path = "../support/mod.rs"]
 mod support;
 mod variants;
