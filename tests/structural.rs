@@ -81,9 +81,9 @@ impl Chain {
         for p in 0..n {
             for r in p + 1..n {
                 let f = d[r][p] / d[p][p];
-                for c in p..n {
-                    let v = d[p][c];
-                    d[r][c] -= f * v;
+                let pivot = d[p].clone();
+                for (entry, above) in d[r].iter_mut().zip(&pivot).skip(p) {
+                    *entry -= f * above;
                 }
                 let v = rhs[p];
                 rhs[r] -= f * v;

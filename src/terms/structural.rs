@@ -86,7 +86,7 @@ pub fn force_per_unit_loss(path: &[f64], stiffness: f64) -> Vec<f64> {
     let last = spectrum.len() - 1;
     let scale = stiffness / len as f64;
     for (j, bin) in spectrum.iter_mut().enumerate() {
-        let resolved = j > 0 && !(len % 2 == 0 && j == last);
+        let resolved = j > 0 && !(len.is_multiple_of(2) && j == last);
         *bin = if resolved {
             Complex::new(0.0, scale) * *bin
         } else {
