@@ -94,6 +94,8 @@ pub fn force_per_unit_loss(path: &[f64], stiffness: f64) -> Vec<f64> {
         };
     }
     let mut out = inverse.make_output_vec();
+    // cannot fail: the buffers come from the plan, and the mean and Nyquist bins,
+    // whose imaginary parts the inverse requires to be zero, are zero
     inverse
         .process(&mut spectrum, &mut out)
         .expect("buffers sized by the plan");
