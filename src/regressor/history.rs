@@ -12,7 +12,7 @@
 //! trapezoid's end sample, a rule's padding) takes s periodically, s_{i+L} = s_i.
 //!
 //! Structural damping ([`crate::terms::structural`]) is summed the same way, its s_e the
-//! element's −k H[x_e] over the same L samples (one real FFT), taken periodically too.
+//! element's −k H\[x_e\] over the same L samples (one real FFT), taken periodically too.
 //!
 //! Only windows of whole periods have an orbit or harmonics: non-periodic spans and the
 //! noise-robust rows refuse history terms ([`refuse`]) and structural damping

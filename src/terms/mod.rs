@@ -7,7 +7,7 @@
 //! force with memory on elements ([`history`]: Bouc–Wen, Dahl, Iwan), whose force per
 //! unit coefficient is a functional of the path, computed per window on its periodic
 //! orbit; and structural damping ([`structural`]: a loss factor on elements of given
-//! stiffness, its force per unit loss factor −k H[x_e] a functional of the window's
+//! stiffness, its force per unit loss factor −k H\[x_e\] a functional of the window's
 //! periodic motion).
 
 pub mod element;
@@ -43,7 +43,7 @@ pub enum Term {
     /// window's period on its periodic orbit ([`history`]), periodic windows only.
     History(HistoryTerm),
     /// Structural damping: a loss factor on elements of given stiffness, its force per
-    /// unit loss factor −k H[x_e] in each window of whole periods ([`structural`]),
+    /// unit loss factor −k H\[x_e\] in each window of whole periods ([`structural`]),
     /// periodic windows only.
     Structural(StructuralDamping),
 }

@@ -11,7 +11,7 @@
 //! **Where it comes from.** The complex stiffness acts on each harmonic's phasor
 //! X_n e^{iθ_n}, θ_n = nωt + φ_n: Re[k(1 + iη) X_n e^{iθ_n}] = k X_n cos θ_n − ηk X_n sin θ_n.
 //! The first part is the elastic force (conservative, in the mass and stiffness the
-//! energy balance never needs); the second is η s(t), s = −k Σ_n X_n sin θ_n = −k H[x_e].
+//! energy balance never needs); the second is η s(t), s = −k Σ_n X_n sin θ_n = −k H\[x_e\].
 //!
 //! **Its work per window (derived by hand).** With v_e = −Σ_n nω X_n sin θ_n, over the
 //! fundamental period T = 2π/ω the cross products of different harmonics vanish and
@@ -44,11 +44,11 @@
 //! of the step) is read periodically all the same; its closing jump x_{L−1} → x_0 leaks
 //! into the transform, an error that shrinks with the step as the history terms' does.
 //!
-//! **Where it does not apply.** The force is non-causal in the time domain: H[x](t)
+//! **Where it does not apply.** The force is non-causal in the time domain: H\[x\](t)
 //! depends on x at every time of the period, future included, so no time-stepping
 //! simulator produces it, and a span that is not whole periods has no harmonics to
 //! rotate. The simulator and the non-periodic mode refuse it; so do the noise-robust
-//! rows, whose noise model is of f(x, v) laws (the noise of x enters v and H[x] through
+//! rows, whose noise model is of f(x, v) laws (the noise of x enters v and H\[x\] through
 //! the same harmonics).
 
 use std::cell::RefCell;
@@ -64,7 +64,7 @@ thread_local! {
     static PLANNER: RefCell<RealFftPlanner<f64>> = RefCell::new(RealFftPlanner::new());
 }
 
-/// The structural-damping force per unit loss factor, s = −k H[x], of one period
+/// The structural-damping force per unit loss factor, s = −k H\[x\], of one period
 /// `path` (the samples of a run of whole periods, read periodically) of an element of
 /// stiffness `stiffness` (module doc): mean and Nyquist bins give no force.
 pub fn force_per_unit_loss(path: &[f64], stiffness: f64) -> Vec<f64> {
@@ -103,7 +103,7 @@ pub fn force_per_unit_loss(path: &[f64], stiffness: f64) -> Vec<f64> {
 }
 
 /// Structural damping on elements: a loss factor η (one shared or one per element) on
-/// each element of given stiffness, its force per unit η s = −k H[x_e] in each window of
+/// each element of given stiffness, its force per unit η s = −k H\[x_e\] in each window of
 /// whole periods (module doc).
 #[derive(Debug, Clone)]
 pub struct StructuralDamping {
