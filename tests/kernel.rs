@@ -149,7 +149,9 @@ fn direct_row(model: &DampingModel, record: &Record, start: usize, w: &[f64]) ->
                 }
                 row.push(total);
             }
-            Term::History(_) => unreachable!("this test's models hold no history term"),
+            Term::History(_) | Term::Structural(_) => {
+                unreachable!("this test's models hold no history term")
+            }
             Term::Elements(t) => {
                 let columns: Vec<f64> = t
                     .elements()

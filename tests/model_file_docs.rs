@@ -46,6 +46,10 @@ fn probes() -> Vec<(&'static str, String)> {
             format!("[[terms]]\nkind = \"iwan\"\n{k} = 1\n"),
         ),
         (
+            "## [[terms]]",
+            format!("[[terms]]\nkind = \"structural\"\n{k} = 1\n"),
+        ),
+        (
             "## [identification]",
             format!("[identification]\n{k} = 1\n"),
         ),

@@ -267,8 +267,10 @@ impl WindowNoise {
                         .sum();
                     out[range.start] += per_sample * weights.iter().sum::<f64>();
                 }
-                // A force with memory has no noise-bias model here: it adds none.
-                Term::History(_) => {}
+                // A force with memory, or structural damping (whose −kH[x] shares the
+                // noise of x with the differenced v, a bias not modelled here), has no
+                // noise-bias model here: it adds none.
+                Term::History(_) | Term::Structural(_) => {}
                 Term::Elements(t) => {
                     let law = t.law();
                     for (e, element) in t.elements().iter().enumerate() {

@@ -338,6 +338,34 @@ pub enum TermSpec {
     Dahl(HistorySpec),
     /// A four-parameter Iwan joint on elements.
     Iwan(HistorySpec),
+    /// Structural damping: a loss factor on elements of given stiffness
+    /// (`dampid::terms::structural`), periodic windows only.
+    Structural(StructuralTermSpec),
+}
+
+/// Structural damping on elements: `kind = "structural"`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StructuralTermSpec {
+    /// Each element's stiffness k: one number for every element or a list, one per
+    /// element.
+    pub stiffness: StiffnessSpec,
+    /// `"each_dof"`, `"chain"` or a list of [a, b] DOF pairs (1-based, 0 = ground).
+    pub elements: ElementsSpec,
+    /// One shared loss factor with this name …
+    pub coefficient: Option<String>,
+    /// … or one per element, named `prefix[label]`.
+    pub per_element: Option<String>,
+}
+
+/// The stiffness of structural damping's elements.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+pub enum StiffnessSpec {
+    /// The same stiffness for every element.
+    Each(f64),
+    /// One per element, in element order.
+    PerElement(Vec<f64>),
 }
 
 /// A force with memory on elements: `kind = "bouc_wen"`, `"dahl"` or `"iwan"`.

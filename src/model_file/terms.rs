@@ -6,20 +6,22 @@
 //! (`crate::varpro`): the term becomes a recipe built again at each trial value.
 //! `kind = "bouc_wen"`, `"dahl"` and `"iwan"` are history terms
 //! ([`crate::terms::history`]) with their shape parameters in `parameters`, fixed or
-//! estimated the same way.
+//! estimated the same way. `kind = "structural"` is a loss factor on elements of given
+//! `stiffness` ([`crate::terms::structural`]).
 
 use std::collections::BTreeMap;
 
 use faer::Mat;
 
 use super::spec::{
-    ElementsSpec, EstimatedSpec, HistorySpec, MatrixRef, ModelFileSpec, ParameterSpec, TermSpec,
+    ElementsSpec, EstimatedSpec, HistorySpec, MatrixRef, ModelFileSpec, ParameterSpec,
+    StiffnessSpec, StructuralTermSpec, TermSpec,
 };
 use crate::error::{Error, Result};
 use crate::simulate::chain_stiffness;
 use crate::terms::history::{self, HistoryKind, HistoryTerm};
 use crate::terms::laws::{LawParameters, Registry};
-use crate::terms::{Coefficients, Element, ElementTerm, Term};
+use crate::terms::{Coefficients, Element, ElementTerm, StructuralDamping, Term};
 use crate::varpro::NonlinearParameter;
 
 pub(super) fn resolve_matrix(
@@ -331,7 +333,22 @@ pub(super) fn build_term(
         TermSpec::BoucWen(h) => history_recipe("bouc_wen", h, n, estimated)?,
         TermSpec::Dahl(h) => history_recipe("dahl", h, n, estimated)?,
         TermSpec::Iwan(h) => history_recipe("iwan", h, n, estimated)?,
+        TermSpec::Structural(s) => TermRecipe::Fixed(structural_term(s, n)?),
     })
+}
+
+/// Structural damping: the elements, one stiffness each (a number for all or a list
+/// as long as the elements, each finite and > 0) and the loss factors' sharing.
+fn structural_term(spec: &StructuralTermSpec, n: usize) -> Result<Term> {
+    let coefficients = coefficients_of(&spec.coefficient, &spec.per_element)?;
+    let elements = build_elements(&spec.elements, n)?;
+    let stiffness = match &spec.stiffness {
+        StiffnessSpec::Each(k) => vec![*k; elements.len()],
+        StiffnessSpec::PerElement(list) => list.clone(),
+    };
+    let term = StructuralDamping::new(elements, stiffness, coefficients);
+    term.validate(n)?;
+    Ok(Term::Structural(term))
 }
 
 /// An estimated parameter's spec as a [`NonlinearParameter`] named `owner.name`:

@@ -11,8 +11,12 @@
 //! cyclically (`terms/history/orbit.rs`); a window that reads more samples (the
 //! trapezoid's end sample, a rule's padding) takes s periodically, s_{i+L} = s_i.
 //!
-//! Only windows of whole periods have an orbit: non-periodic spans and the noise-robust
-//! rows refuse history terms ([`refuse`]).
+//! Structural damping ([`crate::terms::structural`]) is summed the same way, its s_e the
+//! element's −k H\[x_e\] over the same L samples (one real FFT), taken periodically too.
+//!
+//! Only windows of whole periods have an orbit or harmonics: non-periodic spans and the
+//! noise-robust rows refuse history terms ([`refuse`]) and structural damping
+//! ([`refuse_structural`]).
 
 use faer::MatRef;
 
@@ -22,11 +26,32 @@ use crate::prep::quadrature::{Quadrature, WindowWeights};
 use crate::prep::window::Window;
 use crate::record::{Record, col};
 use crate::terms::history::orbit;
+use crate::terms::structural::force_per_unit_loss;
 use crate::terms::{Term, lanes};
 
-/// Whether `model` holds a history term.
+/// Whether `model` holds a history term or structural damping (a column computed here).
 pub(crate) fn has_history(model: &DampingModel) -> bool {
-    model.terms().iter().any(|t| matches!(t, Term::History(_)))
+    model
+        .terms()
+        .iter()
+        .any(|t| matches!(t, Term::History(_) | Term::Structural(_)))
+}
+
+/// An error when `model` holds structural damping, which needs windows of whole periods
+/// (harmonics to rotate) that `mode` does not give, for `reason`.
+pub(crate) fn refuse_structural(model: &DampingModel, mode: &str, reason: &str) -> Result<()> {
+    if model
+        .terms()
+        .iter()
+        .any(|t| matches!(t, Term::Structural(_)))
+    {
+        return Err(Error::choice(
+            "damping term",
+            format!("structural (a loss factor, −k H[x] of the window) in {mode}"),
+            reason,
+        ));
+    }
+    Ok(())
 }
 
 /// An error when `model` holds a history term: such terms need windows of whole
@@ -75,7 +100,29 @@ pub(crate) fn add_columns(
                 .collect(),
         }
     };
+    let window_sum = |s: &[f64], velocity: &[f64]| -> f64 {
+        weights
+            .pieces(0..count)
+            .map(|piece| {
+                lanes::dot(
+                    piece.weights,
+                    &velocity[piece.rows.clone()],
+                    &s[piece.rows.clone()],
+                )
+            })
+            .sum()
+    };
     for (term, range) in model.term_columns() {
+        if let Term::Structural(t) = term {
+            for (index, (element, &k)) in t.elements().iter().zip(t.stiffness()).enumerate() {
+                let path = relative(x, element.a, element.b, period);
+                let force = force_per_unit_loss(&path, k);
+                let s: Vec<f64> = (0..count).map(|i| force[i % period]).collect();
+                let velocity = relative(v, element.a, element.b, count);
+                row[range.start + t.column_of(index)] += window_sum(&s, &velocity);
+            }
+            continue;
+        }
         let Term::History(t) = term else { continue };
         for (index, element) in t.elements().iter().enumerate() {
             let path = relative(x, element.a, element.b, period);
@@ -90,17 +137,7 @@ pub(crate) fn add_columns(
                 })?;
             let s: Vec<f64> = (0..count).map(|i| force[i % period]).collect();
             let velocity = relative(v, element.a, element.b, count);
-            let sum: f64 = weights
-                .pieces(0..count)
-                .map(|piece| {
-                    lanes::dot(
-                        piece.weights,
-                        &velocity[piece.rows.clone()],
-                        &s[piece.rows.clone()],
-                    )
-                })
-                .sum();
-            row[range.start + t.column_of(index)] += sum;
+            row[range.start + t.column_of(index)] += window_sum(&s, &velocity);
         }
     }
     Ok(())

@@ -121,6 +121,11 @@ impl Regressor {
                     "non-periodic spans",
                     "a hysteretic element stores energy that depends on its internal state, which the stored-energy columns (½ΔvᵀMv, ½ΔxᵀKx) cannot express, and a span has no periodic orbit to start its state on; use windows of whole periods (`cycles`)",
                 )?;
+                history::refuse_structural(
+                    model,
+                    "non-periodic spans",
+                    "its force −ηk H[x] is defined per harmonic of a periodic motion: a span that is not whole periods has no harmonics, and H[x] at a time depends on the motion before and after the span (it is non-causal); use windows of whole periods (`cycles`)",
+                )?;
                 let regressor = nonperiodic::build(
                     model,
                     records,
@@ -154,6 +159,11 @@ impl Regressor {
                 model,
                 "the noise-robust rows",
                 "their columns are corrected for the noise of each law's f(x, v), which a force with memory does not have; use `velocity = \"measured\"`, `central_difference` or `spectral`, or `noise = \"ignore\"`",
+            )?;
+            history::refuse_structural(
+                model,
+                "the noise-robust rows",
+                "their columns are corrected for the noise of each law's f(x, v); the noise of x enters both v and −kH[x] through the same harmonics, a bias they do not model; use `velocity = \"measured\"`, `central_difference` or `spectral`, or `noise = \"ignore\"`",
             )?;
             let harmonics = match settings.velocity {
                 VelocitySource::HarmonicProjection { harmonics } => harmonics,

@@ -14,6 +14,7 @@
 //! | stiffness-proportional C = θK | T (K is F/L, C is F·T/L) | s |
 //! | mass-proportional C = θM | 1/T (M is F·T²/L) | 1/s |
 //! | an expression | F per unit of the expression | N per unit of sign(v)*abs(v)^1.5 |
+//! | structural loss factor η (−ηk H\[x\]) | 1 (dimensionless) | 1 |
 //!
 //! Work (the energy balance's axes) is F·L.
 
@@ -115,6 +116,8 @@ impl Units {
                 "dahl" => f.cloned(),
                 _ => Some(format!("{}/{}", f?, l?)),
             },
+            // a loss factor is dimensionless
+            Term::Structural(_) => Some("1".into()),
             Term::Elements(e) => {
                 let name = e.law().name();
                 match name.as_str() {

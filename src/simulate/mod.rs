@@ -187,6 +187,18 @@ impl System {
                 "not simulated: the RK4 simulator evaluates damping forces f(x, v) of the present state; simulate hysteresis with an integrator that carries its state (tests/hysteresis.rs has one for an SDOF)",
             ));
         }
+        if self
+            .damping
+            .terms()
+            .iter()
+            .any(|t| matches!(t, Term::Structural(_)))
+        {
+            return Err(Error::choice(
+                "damping term",
+                "structural (a loss factor)",
+                "not simulated: a hysteretic-damping force −ηk H[x](t) is non-causal in the time domain (the Hilbert transform at t reads the motion after t), so no time-stepping integrator produces it; its steady state is closed form per harmonic, X_n = F_n/(k − m(nω)² + iηk) (tests/structural.rs)",
+            ));
+        }
         if self.damping_coefficients.len() != self.damping.coefficient_count() {
             return Err(Error::mismatch(
                 "true damping coefficients vs model coefficients",

@@ -6,7 +6,9 @@
 //! Three kinds: a matrix (θ C₀), a memoryless [`Law`] on elements (f(x, v)), and a
 //! force with memory on elements ([`history`]: Bouc–Wen, Dahl, Iwan), whose force per
 //! unit coefficient is a functional of the path, computed per window on its periodic
-//! orbit.
+//! orbit; and structural damping ([`structural`]: a loss factor on elements of given
+//! stiffness, its force per unit loss factor −k H\[x_e\] a functional of the window's
+//! periodic motion).
 
 pub mod element;
 pub mod element_term;
@@ -15,6 +17,7 @@ pub mod lanes;
 pub mod law;
 pub mod laws;
 pub mod matrix_term;
+pub mod structural;
 
 use std::sync::Arc;
 
@@ -25,6 +28,7 @@ pub use element_term::{Coefficients, ElementTerm};
 pub use history::{HistoryTerm, Hysteresis};
 pub use law::{ElementMotion, Law, PowerForm, Weights};
 pub use matrix_term::{MatrixKind, MatrixTerm};
+pub use structural::StructuralDamping;
 
 use crate::error::Result;
 
@@ -38,6 +42,10 @@ pub enum Term {
     /// A force with memory (Bouc–Wen, Dahl, Iwan) on elements: computed along each
     /// window's period on its periodic orbit ([`history`]), periodic windows only.
     History(HistoryTerm),
+    /// Structural damping: a loss factor on elements of given stiffness, its force per
+    /// unit loss factor −k H\[x_e\] in each window of whole periods ([`structural`]),
+    /// periodic windows only.
+    Structural(StructuralDamping),
 }
 
 impl Term {
@@ -95,6 +103,16 @@ impl Term {
         ))
     }
 
+    /// Structural damping: a loss factor on each of `elements`, element i of stiffness
+    /// `stiffness[i]` ([`structural`]).
+    pub fn structural(
+        elements: Vec<Element>,
+        stiffness: Vec<f64>,
+        coefficients: Coefficients,
+    ) -> Self {
+        Term::Structural(StructuralDamping::new(elements, stiffness, coefficients))
+    }
+
     /// `law` from each of DOFs 0..n to ground.
     pub fn per_dof(law: impl Law + 'static, dofs: usize, coefficients: Coefficients) -> Self {
         Self::on_elements(law, Element::each_dof(dofs), coefficients)
@@ -106,6 +124,7 @@ impl Term {
             Term::Matrix(t) => t.coefficient_names(),
             Term::Elements(t) => t.coefficient_names(),
             Term::History(t) => t.coefficient_names(),
+            Term::Structural(t) => t.coefficient_names(),
         }
     }
 
@@ -119,6 +138,7 @@ impl Term {
                 Coefficients::PerElement(_) => t.elements().len(),
             },
             Term::History(t) => t.coefficient_count(),
+            Term::Structural(t) => t.coefficient_count(),
         }
     }
 
@@ -127,17 +147,18 @@ impl Term {
             Term::Matrix(t) => t.validate(dofs),
             Term::Elements(t) => t.validate(dofs),
             Term::History(t) => t.validate(dofs),
+            Term::Structural(t) => t.validate(dofs),
         }
     }
 
-    /// Adds the damping force Σ_k θ_k f_k(x, v) to `out` (length n). A history term
-    /// has no force at (x, v) alone and adds nothing: the simulator refuses models that
-    /// hold one (`System::validate`).
+    /// Adds the damping force Σ_k θ_k f_k(x, v) to `out` (length n). A history
+    /// or structural term has no force at (x, v) alone and adds nothing: the simulator
+    /// refuses models that hold one (`System::validate`).
     pub(crate) fn add_force(&self, coefficients: &[f64], x: &[f64], v: &[f64], out: &mut [f64]) {
         match self {
             Term::Matrix(t) => t.add_force(coefficients, v, out),
             Term::Elements(t) => t.add_force(coefficients, x, v, out),
-            Term::History(_) => {}
+            Term::History(_) | Term::Structural(_) => {}
         }
     }
 }

@@ -13,7 +13,7 @@
 //! | `NonFinite` | `Record::new`; model matrices and element weights; regressor columns and `Regressor::from_parts`; `simulate` (mass matrix) | record, model, regressor, simulate, regressions |
 //! | `DimensionMismatch` | `Record::new`; matrix terms and element weights; `Regressor::from_parts`; `simulate` (matrices, coefficients) | record, model, regressor, simulate, regressions |
 //! | `InvalidParameter` | `Record::new` (step, period, start time); window settings and spectral velocities; elements and power laws; constraint values and fit settings; `simulate` (settings, forces, coefficients); estimated law parameters' bounds and initial values, variable-projection settings | record, prep, model, fit, simulate, regressions, model_file, varpro |
-//! | `InvalidChoice` | a setting that is a choice and does not fit: a spectral rule or velocity on non-periodic windows, noise correction without harmonic projection, propagated weights without a noise model, an expression for a law that takes none, one key or another (`time`/`step`, `coefficient`/`per_element`), element `[0, 0]` | variants, model_file (tests/), noise (tests/), nonperiodic (tests/), registry (tests/) |
+//! | `InvalidChoice` | a setting that is a choice and does not fit: a spectral rule or velocity on non-periodic windows, noise correction without harmonic projection, propagated weights without a noise model, an expression for a law that takes none, one key or another (`time`/`step`, `coefficient`/`per_element`), element `[0, 0]`, a history or structural term in non-periodic spans, the noise-robust rows or the simulator | variants, model_file (tests/), noise (tests/), nonperiodic (tests/), registry (tests/), history, structural |
 //! | `Missing` | a law parameter the law needs; an estimated parameter's `initial`, `lower` or `upper`; a `[simulation]` coefficient; `dof` for `phase = "dof"` | model_file, variants, registry (tests/) |
 //! | `RecordTooShort` | `Record::new` (under three samples); windows that do not fit a record | record, prep, regressions |
 //! | `TooFewEquations` | the fit: fewer rows than free coefficients | fit |
@@ -51,6 +51,7 @@ mod regressions;
 mod regressor;
 mod simulate;
 mod stepped_sine;
+mod structural;
 #[path = "../support/mod.rs"]
 mod support;
 mod variants;

@@ -131,7 +131,7 @@ impl<'m> Plan<'m> {
             .iter()
             .filter_map(|t| match t {
                 Term::Matrix(m) => Some(symmetric_entries(m.matrix())),
-                Term::Elements(_) | Term::History(_) => None,
+                Term::Elements(_) | Term::History(_) | Term::Structural(_) => None,
             })
             .collect();
         let use_gram = use_gram(dofs, &matrix_entries);
@@ -174,9 +174,10 @@ impl<'m> Plan<'m> {
                         columns[column].push((sums.len() - 1, weight));
                     }
                 }
-                // Computed per window on the periodic orbit (regressor/history.rs),
-                // then added to the row: no sum here.
-                Term::History(_) => {}
+                // Computed per window on the periodic orbit or by the window's
+                // Hilbert transform (regressor/history.rs), then added to the row: no
+                // sum here.
+                Term::History(_) | Term::Structural(_) => {}
             }
         }
 

@@ -332,7 +332,7 @@ pub(super) fn robust_row(
                 &mut gradients,
             ),
             // refused before the robust rows are built (Regressor::build)
-            Term::History(_) => {}
+            Term::History(_) | Term::Structural(_) => {}
             Term::Elements(t) => element_columns(
                 t,
                 &projected,
