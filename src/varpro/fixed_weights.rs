@@ -22,12 +22,19 @@
 //!    ψ_w⁽¹⁾ from η₁ (no multistart) → η̂ (one refinement: the weights of the report's
 //!    fit at η̂ are those of its own propagated fit, as for a linear fit).
 //!
+//! The regressor last built is kept, so the weights at η₀ and η₁ and the first cost of
+//! the search that starts there read one build (equal η to 4 ulp: the unit-box round
+//! trip of the Levenberg–Marquardt).
+//!
 //! Unweighted inner fits (ordinary weighting, or rows without a noise model) have no
 //! weights to fix: the Levenberg–Marquardt runs on φ as before. One parameter keeps the
 //! bounded Brent on φ (`outer.rs`).
 
+use std::cell::RefCell;
+
 use crate::error::Result;
 use crate::fit::{FitSettings, Weighting, inverse_std};
+use crate::regressor::Regressor;
 
 use super::levenberg_marquardt::levenberg_marquardt;
 use super::outer::Minimum;
@@ -45,8 +52,29 @@ pub(super) fn minimise(
     if fit.weighting == Weighting::Ordinary {
         return levenberg_marquardt(&unweighted, parameters, settings, true);
     }
+    // the weights at η₀ and η₁ and the first residual of the search from there read
+    // one regressor: the last one built is kept
+    let last: RefCell<Option<(Vec<f64>, Regressor)>> = RefCell::new(None);
+    let regressor = |eta: &[f64]| -> Result<Regressor> {
+        if let Some((at, regressor)) = last.borrow().as_ref()
+            && at
+                .iter()
+                .zip(eta)
+                .all(|(a, b)| (a - b).abs() <= 4.0 * f64::EPSILON * a.abs().max(b.abs()))
+        {
+            return Ok(regressor.clone());
+        }
+        let regressor = problem.regressor(eta)?;
+        *last.borrow_mut() = Some((eta.to_vec(), regressor.clone()));
+        Ok(regressor)
+    };
+    // 1/s_r of the propagated fit at η, or `None` when the inner fit is unweighted
+    let row_weights = |eta: &[f64]| -> Result<Option<Vec<f64>>> {
+        let fit = crate::fit::solve(&regressor(eta)?, fit)?;
+        Ok(fit.residual_std.as_deref().map(inverse_std))
+    };
     let initial: Vec<f64> = parameters.iter().map(|p| p.initial).collect();
-    let Some(weights) = row_weights(problem, &initial)? else {
+    let Some(weights) = row_weights(&initial)? else {
         return levenberg_marquardt(&unweighted, parameters, settings, true);
     };
     let ordinary = FitSettings {
@@ -54,7 +82,7 @@ pub(super) fn minimise(
         ..fit.clone()
     };
     let fixed = |weights: &[f64], eta: &[f64]| -> Result<Vec<f64>> {
-        let rows = problem.regressor(eta)?.weighted(weights)?;
+        let rows = regressor(eta)?.weighted(weights)?;
         let fit = crate::fit::solve(&rows, &ordinary)?;
         Ok(weighted_residuals(&rows, &fit.coefficients, None))
     };
@@ -62,7 +90,7 @@ pub(super) fn minimise(
     if !first.converged {
         return Ok(first);
     }
-    let Some(weights) = row_weights(problem, &first.values)? else {
+    let Some(weights) = row_weights(&first.values)? else {
         return Ok(first);
     };
     let from_first: Vec<NonlinearParameter> = parameters
@@ -78,10 +106,4 @@ pub(super) fn minimise(
         iterations: first.iterations + second.iterations,
         ..second
     })
-}
-
-/// 1/s_r of the propagated fit at `eta`, or `None` when the inner fit is unweighted.
-fn row_weights(problem: &Problem<'_>, eta: &[f64]) -> Result<Option<Vec<f64>>> {
-    let trial = problem.trial(eta)?;
-    Ok(trial.fit.residual_std.as_deref().map(inverse_std))
 }
