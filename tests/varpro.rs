@@ -270,12 +270,43 @@ fn full_jacobian_condition(
     sigma[0] / sigma[p + 1]
 }
 
+/// φ(p₁, p₂)/‖b‖² of the ordinary least-squares fit of `model` on `records` over
+/// `grid` × `grid` (rows p₁), printed as the markdown table of docs/laws.md (⁻: a
+/// coefficient came out negative).
+fn cost_grid(
+    model: impl Fn(f64, f64) -> DampingModel,
+    records: &[Record],
+    grid: &[f64],
+) -> Vec<Vec<f64>> {
+    let mut ordinary = settings();
+    ordinary.fit.weighting = dampid::fit::Weighting::Ordinary;
+    grid.iter()
+        .map(|&p1| {
+            let mut line = format!("| {p1} |");
+            let row = grid
+                .iter()
+                .map(|&p2| {
+                    let (regressor, report) =
+                        identify_with_regressor(&model(p1, p2), records, &ordinary).unwrap();
+                    let b: f64 = regressor.rhs().iter().map(|x| x * x).sum();
+                    let phi = report.residuals.iter().map(|e| e * e).sum::<f64>() / b;
+                    let negative = report.coefficients.iter().any(|c| c.value < 0.0);
+                    line += &format!(" {phi:.1e}{} |", if negative { "⁻" } else { "" });
+                    phi
+                })
+                .collect();
+            eprintln!("{line}");
+            row
+        })
+        .collect()
+}
+
 /// Why the two-exponent data are what they are (tests/support/two_exponents.rs): on
 /// the chain driven at its first resonance only (the former bench: four force levels,
 /// 0.1|v|^1.7 on every mass, exponents split between masses 1–2 and 3–4) the full
 /// Jacobian at the truth is singular to working accuracy, while the ends/middle split
 /// driven at both of the first two resonances conditions it like an ordinary fit
-/// (measured 6.7e6 and 4.9e2).
+/// (measured 6.7e6 and 4.9e2); the cost grids are docs/laws.md's tables.
 #[test]
 fn two_resonances_identify_two_exponents_where_one_does_not() {
     let halves = |p1: f64, p2: f64| {
@@ -318,6 +349,25 @@ fn two_resonances_identify_two_exponents_where_one_does_not() {
     eprintln!("condition numbers: one resonance {single:.3e}, two resonances {two:.3e}");
     assert!(single > 1e5, "{single}");
     assert!(two < 2e3, "{two}");
+    // one resonance: every pair of exponents on the grid fits to a few 1e-6 of ‖b‖²
+    let grid = cost_grid(halves, &one_resonance, &[1.0, 1.5, 1.7, 2.0, 3.0]);
+    let worst = grid.iter().flatten().fold(0.0, |a: f64, &b| a.max(b));
+    assert!(worst < 1e-5, "{worst}");
+    // two resonances: one minimum, at the truth (1.5, 2.5), every other cell above 1e-6
+    let grid = cost_grid(
+        |p1, p2| two_exponents::model(p1, p2).unwrap(),
+        two_exponent_records(),
+        &[1.0, 1.5, 2.0, 2.5, 3.0],
+    );
+    for (i, row) in grid.iter().enumerate() {
+        for (j, &phi) in row.iter().enumerate() {
+            if (i, j) == (1, 3) {
+                assert!(phi < 1e-10, "at the truth: {phi}");
+            } else {
+                assert!(phi > 1e-6, "({i}, {j}): {phi}");
+            }
+        }
+    }
 }
 
 /// Issue 20's two-parameter target: from (1, 1), with the default (propagated,

@@ -17,7 +17,9 @@
 //! minimum at the truth for noise-free data whatever the weights. Three stages:
 //!
 //! 1. w⁽⁰⁾ = 1/s(θ̂(η₀)) from the propagated fit at the initial values η₀;
-//! 2. Levenberg–Marquardt with its multistart on ψ_w⁽⁰⁾ → η₁;
+//! 2. Levenberg–Marquardt with its multistart on ψ_w⁽⁰⁾ → η₁, to the square root of
+//!    `tolerance` (it only has to reach the basin: measured on the two-exponent data,
+//!    BENCHMARKS.md §10);
 //! 3. w⁽¹⁾ = 1/s(θ̂(η₁)) from the propagated fit at η₁, and Levenberg–Marquardt on
 //!    ψ_w⁽¹⁾ from η₁ (no multistart) → η̂ (one refinement: the weights of the report's
 //!    fit at η̂ are those of its own propagated fit, as for a linear fit).
@@ -48,9 +50,8 @@ pub(super) fn minimise(
     settings: &VarProSettings,
 ) -> Result<Minimum> {
     let parameters = problem.parameters();
-    let unweighted = |eta: &[f64]| problem.residuals(eta);
     if fit.weighting == Weighting::Ordinary {
-        return levenberg_marquardt(&unweighted, parameters, settings, true);
+        return levenberg_marquardt(&|eta| problem.residuals(eta), parameters, settings, true);
     }
     // the weights at η₀ and η₁ and the first residual of the search from there read
     // one regressor: the last one built is kept
@@ -75,6 +76,16 @@ pub(super) fn minimise(
     };
     let initial: Vec<f64> = parameters.iter().map(|p| p.initial).collect();
     let Some(weights) = row_weights(&initial)? else {
+        // rows without a noise model: φ itself, its first trial the regressor just built
+        let unweighted = |eta: &[f64]| -> Result<Vec<f64>> {
+            let rows = regressor(eta)?;
+            let fit = crate::fit::solve(&rows, fit)?;
+            Ok(weighted_residuals(
+                &rows,
+                &fit.coefficients,
+                fit.residual_std.as_deref(),
+            ))
+        };
         return levenberg_marquardt(&unweighted, parameters, settings, true);
     };
     let ordinary = FitSettings {
@@ -86,7 +97,13 @@ pub(super) fn minimise(
         let fit = crate::fit::solve(&rows, &ordinary)?;
         Ok(weighted_residuals(&rows, &fit.coefficients, None))
     };
-    let first = levenberg_marquardt(&|eta| fixed(&weights, eta), parameters, settings, true)?;
+    // the first search only has to reach the basin: the refinement converges to
+    // `tolerance`
+    let loose = VarProSettings {
+        tolerance: settings.tolerance.sqrt(),
+        ..*settings
+    };
+    let first = levenberg_marquardt(&|eta| fixed(&weights, eta), parameters, &loose, true)?;
     if !first.converged {
         return Ok(first);
     }
