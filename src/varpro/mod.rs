@@ -187,7 +187,7 @@ impl ParametricModel {
 ///
 /// | setting | default | what |
 /// |---|---|---|
-/// | `tolerance` | 1e-8 | Brent: relative tolerance on η; Levenberg–Marquardt: an accepted step that lowers the cost by at most this fraction of it ends the loop |
+/// | `tolerance` | 1e-8 | Brent: relative tolerance on η; Levenberg–Marquardt: an accepted step that lowers the cost by at most this fraction of it ends the loop (its square root for the first, fixed-weight search of a weighted fit, `fixed_weights.rs`) |
 /// | `max_iterations` | 200 | outer iterations (Brent, or Levenberg–Marquardt iterations of q + 1 trials each plus rejected steps) |
 /// | `level` | 0.95 | confidence level of the profile and joint intervals |
 /// | `profile` | true | compute the profile-likelihood intervals (each end is a root search, with a nested optimisation of the other parameters when there are several) |
