@@ -1,81 +1,60 @@
 //! Cost of one variable-projection fit with two nonlinear parameters against one linear
-//! fit, on the paper's four-mass chain (four force levels at its first resonance, 5000
-//! steps into the steady state, 8 periods recorded) simulated with C = 0.15 K and
-//! 0.1|v|^1.7 sign(v) on every mass. The parametric model gives masses 1–2 and masses
-//! 3–4 power laws of their own, d₁|v|^p₁ and d₂|v|^p₂, p₁, p₂ ∈ [0.5, 4] from 1.0.
+//! fit, on the paper's four-mass chain with data that identify both exponents
+//! (tests/support/two_exponents.rs): driven at mass 4 at its first two resonances, six
+//! force levels each, 5000 steps into the steady state, 8 periods recorded, simulated
+//! with C = 0.15 K, 0.1|v|^1.5 sign(v) on masses 1 and 4 and 0.1|v|^2.5 sign(v) on
+//! masses 2 and 3. The parametric model estimates both exponents, p₁, p₂ ∈ [0.5, 4]
+//! from (1, 1), with c, d₁, d₂; the default noise-robust pipeline (harmonic projection,
+//! propagated weights), one equation per period.
+//!
+//! Why these data: the former bench drove the chain at its first resonance only (four
+//! force levels, split masses 1–2 / 3–4). The chain is symmetric, so every mode shape
+//! has mirror-symmetric magnitudes and one resonance gives nearly one mode shape: four
+//! distinct equations for five unknowns, the column-scaled full Jacobian
+//! [A, ∂r/∂p₁, ∂r/∂p₂] at the truth had singular values 1.74, 1.40, 1.5e-2, 1.5e-3,
+//! 2.6e-7 (condition 6.7e6) and the projected cost stayed below 1e-6 of ‖b‖² over the
+//! whole grid of exponents: no cost target means anything there. Here: condition about
+//! 5e2 (docs/laws.md; tests/varpro.rs checks both).
 //!
 //! - `varpro/linear_fit`: `identify` of the model at the true exponents (regressor build
-//!   and fit, harmonic projection with ordinary weighting, one equation per period);
+//!   and weighted fit);
 //! - `varpro/two_parameters`: `identify_varpro` without the profile intervals (the outer
-//!   Levenberg–Marquardt, the final fit and the joint covariance);
+//!   loop, the final fit and the joint covariance);
 //! - `varpro/two_parameters_with_profiles`: the same with the profile intervals.
 //!
 //! Issue 20's target: `two_parameters` at most 50 × `linear_fit`. Before timing, the
-//! fit is checked to recover both exponents to 1%.
+//! fit is checked to recover both exponents and the coefficients to 1 % (the bench
+//! panics otherwise); it prints the regressors built, and the ratio
+//! `two_parameters / linear_fit` from medians of interleaved runs in the same process.
 
 use std::hint::black_box;
-use std::time::Duration;
+use std::time::{Duration, Instant};
+
+#[path = "../tests/support/two_exponents.rs"]
+mod two_exponents;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use dampid::prelude::*;
-use dampid::reference::{FOUR_MASS_AMPLITUDES, FOUR_MASS_C, four_mass_system};
-use dampid::simulate::{SimSettings, chain_stiffness, simulate};
-use dampid::terms::laws::PowerLaw;
-use dampid::terms::{Coefficients, Element, Term};
 use dampid::varpro::{NonlinearParameter, ParametricModel, VarProSettings, identify_varpro};
 
-fn model(p1: f64, p2: f64) -> dampid::Result<DampingModel> {
-    Ok(DampingModel::new()
-        .with(Term::stiffness_proportional("c", chain_stiffness(4)))
-        .with(Term::on_elements(
-            PowerLaw::new(p1)?,
-            vec![Element::to_ground(0), Element::to_ground(1)],
-            Coefficients::Shared("d1".into()),
-        ))
-        .with(Term::on_elements(
-            PowerLaw::new(p2)?,
-            vec![Element::to_ground(2), Element::to_ground(3)],
-            Coefficients::Shared("d2".into()),
-        )))
-}
+/// Interleaved pairs for the printed ratio.
+const PAIRS: usize = 7;
 
-fn records() -> Vec<Record> {
-    let period = 2.0 * std::f64::consts::PI / 0.618;
-    let settings = SimSettings {
-        transient_steps: 5000,
-        recorded_steps: (8.0 * period / 0.1).ceil() as usize + 4,
-        ..SimSettings::default()
-    };
-    FOUR_MASS_AMPLITUDES
-        .iter()
-        .map(|&a| {
-            let mut system = four_mass_system(a, false);
-            system.damping = DampingModel::new()
-                .with(Term::stiffness_proportional("c", chain_stiffness(4)))
-                .with(Term::per_dof(
-                    PowerLaw::new(1.7).unwrap(),
-                    4,
-                    Coefficients::Shared("d".into()),
-                ));
-            system.damping_coefficients = vec![FOUR_MASS_C, 0.1];
-            simulate(&system, &settings).unwrap()
-        })
-        .collect()
+fn median(mut seconds: Vec<f64>) -> f64 {
+    seconds.sort_by(f64::total_cmp);
+    seconds[seconds.len() / 2]
 }
 
 fn bench_varpro(c: &mut Criterion) {
-    let records = records();
+    let records = two_exponents::records();
     let mut settings = IdentifySettings::default();
     settings.regressor.windows = dampid::prep::window::WindowSpec::cycles(1).into();
-    // ordinary weighting: the propagated weights make the outer loop stop at a spurious
-    // minimum (tests/varpro.rs, docs/laws.md)
-    settings.fit.weighting = dampid::fit::Weighting::Ordinary;
     let parametric = ParametricModel::new(
         vec![
             NonlinearParameter::new("p1", 1.0, 0.5, 4.0),
             NonlinearParameter::new("p2", 1.0, 0.5, 4.0),
         ],
-        |eta| model(eta[0], eta[1]),
+        |eta| two_exponents::model(eta[0], eta[1]),
     )
     .unwrap();
     let fit_only = VarProSettings {
@@ -83,18 +62,45 @@ fn bench_varpro(c: &mut Criterion) {
         ..VarProSettings::default()
     };
     let check = identify_varpro(&parametric, &records, &settings, &fit_only).unwrap();
-    // the outer loop does not reach the true exponents on these data yet (docs/laws.md):
-    // the bench measures the cost, and prints where the fit ended.
+    let recovered = |name: &str, truth: f64, found: Option<f64>| {
+        let found = found.unwrap_or(f64::NAN);
+        assert!(
+            (found - truth).abs() < 0.01 * truth,
+            "{name} = {found}, truth {truth}: the bench times a fit that does not recover the truth\n{check}"
+        );
+    };
+    assert!(check.is_estimate(), "{check}");
+    recovered("p1", two_exponents::P1, check.parameter("p1"));
+    recovered("p2", two_exponents::P2, check.parameter("p2"));
+    recovered("c", two_exponents::C, check.coefficient("c"));
+    recovered("d1", two_exponents::D, check.coefficient("d1"));
+    recovered("d2", two_exponents::D, check.coefficient("d2"));
     eprintln!(
-        "varpro: p1 = {:?}, p2 = {:?} (truth 1.7)",
-        check.parameter("p1"),
-        check.parameter("p2")
+        "varpro: p1 = {:.6}, p2 = {:.6} (truth {}, {}); {} outer iterations, {} regressors built",
+        check.parameter("p1").unwrap(),
+        check.parameter("p2").unwrap(),
+        two_exponents::P1,
+        two_exponents::P2,
+        check.status.iterations,
+        check.status.evaluations
     );
+    let truth = two_exponents::model(two_exponents::P1, two_exponents::P2).unwrap();
+    let (mut linear, mut two) = (Vec::new(), Vec::new());
+    for _ in 0..PAIRS {
+        let start = Instant::now();
+        black_box(identify(&truth, &records, &settings).unwrap());
+        linear.push(start.elapsed().as_secs_f64());
+        let start = Instant::now();
+        black_box(identify_varpro(&parametric, &records, &settings, &fit_only).unwrap());
+        two.push(start.elapsed().as_secs_f64());
+    }
+    let (linear, two) = (median(linear), median(two));
     eprintln!(
-        "varpro: {} outer iterations, {} regressors built",
-        check.status.iterations, check.status.evaluations
+        "varpro: medians of {PAIRS} interleaved runs: linear fit {:.2} ms, two parameters {:.1} ms; two_parameters / linear_fit = {:.1} (target <= 50)",
+        linear * 1e3,
+        two * 1e3,
+        two / linear
     );
-    let truth = model(1.7, 1.7).unwrap();
     let mut group = c.benchmark_group("varpro");
     group.sample_size(10);
     group.measurement_time(Duration::from_secs(10));

@@ -13,7 +13,9 @@
 //! of the weighted fit), so θ̂(η) is a function of η and the projected cost
 //! φ(η) = ‖r(θ̂(η), η)‖² is minimised over η alone (`outer.rs`): bounded Brent for one
 //! parameter, a bounded Levenberg–Marquardt on the projected residual r(η) from a
-//! multistart set for several (`levenberg_marquardt.rs`). Each trial rebuilds the
+//! multistart set for several (`levenberg_marquardt.rs`), with the weights of a weighted
+//! inner fit held fixed during the search and refreshed once at its end
+//! (`fixed_weights.rs`). Each trial rebuilds the
 //! whole regressor of the model the builder makes for η (measured on the four-mass chain: a build costs about as much as the fit itself,
 //! and rebuilding only the affected columns would need the kernel's plan per column).
 //!
@@ -33,6 +35,7 @@
 //! is: [`VarProReport::is_estimate`] is false, and the report shows the last trial as
 //! such, without intervals.
 
+mod fixed_weights;
 mod joint;
 mod levenberg_marquardt;
 mod outer;
@@ -184,7 +187,7 @@ impl ParametricModel {
 ///
 /// | setting | default | what |
 /// |---|---|---|
-/// | `tolerance` | 1e-8 | Brent: relative tolerance on η; Levenberg–Marquardt: an accepted step that lowers the cost by at most this fraction of it ends the loop |
+/// | `tolerance` | 1e-8 | Brent: relative tolerance on η; Levenberg–Marquardt: an accepted step that lowers the cost by at most this fraction of it ends the loop (its square root for the first, fixed-weight search of a weighted fit, `fixed_weights.rs`) |
 /// | `max_iterations` | 200 | outer iterations (Brent, or Levenberg–Marquardt iterations of q + 1 trials each plus rejected steps) |
 /// | `level` | 0.95 | confidence level of the profile and joint intervals |
 /// | `profile` | true | compute the profile-likelihood intervals (each end is a root search, with a nested optimisation of the other parameters when there are several) |
@@ -247,12 +250,16 @@ pub fn identify_varpro(
     settings.fit.validate()?;
     varpro.validate()?;
     let problem = problem::Problem::new(model, records, settings);
-    let minimum = outer::minimise(
-        &|eta: &[f64]| problem.residuals(eta),
-        model.parameters(),
-        varpro,
-        true,
-    )?;
+    let minimum = if model.parameters().len() == 1 {
+        outer::minimise(
+            &|eta: &[f64]| problem.residuals(eta),
+            model.parameters(),
+            varpro,
+            true,
+        )?
+    } else {
+        fixed_weights::minimise(&problem, &settings.fit, varpro)?
+    };
     let best = problem.trial(&minimum.values)?;
     let fit_report = crate::identify::identify_regressor(&best.regressor, &settings.fit)?;
     let converged = minimum.converged && best.fit.status.is_usable();

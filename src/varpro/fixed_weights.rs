@@ -1,0 +1,126 @@
+//! The outer loop for several parameters with the row weights held fixed.
+//!
+//! With propagated weighting the inner fit weights equation r by 1/s_r(θ̂), s_r the
+//! propagated residual standard deviation at its own coefficients, so the projected
+//! cost φ(η) = Σ_r (e_r/s_r(θ̂(η)))² changes its weights with every trial and has
+//! spurious minima where large coefficients inflate every s_r (noise-free records of
+//! the four-mass chain with two exponents: χ² = 4e10 at (1.03, 1.05), coefficients
+//! −3.2, 7.5, −1.1, where the truth (1.5, 2.5) fits to round-off). With q ≥ 2
+//! parameters the search therefore runs on a cost whose weights w are fixed:
+//!
+//! ```text
+//!   ψ_w(η) = ‖W^{1/2}(A(η) θ̂_w(η) − b)‖²,   θ̂_w(η) = argmin_θ ‖W^{1/2}(A(η) θ − b)‖²,
+//! ```
+//!
+//! W = diag(w_r²), θ̂_w the inner fit of the weighted rows as they are (least squares or
+//! the user's constrained fit; no reweighting), a smooth function of η with its
+//! minimum at the truth for noise-free data whatever the weights. Three stages:
+//!
+//! 1. w⁽⁰⁾ = 1/s(θ̂(η₀)) from the propagated fit at the initial values η₀;
+//! 2. Levenberg–Marquardt with its multistart on ψ_w⁽⁰⁾ → η₁, to the square root of
+//!    `tolerance` (it only has to reach the basin: measured on the two-exponent data,
+//!    BENCHMARKS.md §10);
+//! 3. w⁽¹⁾ = 1/s(θ̂(η₁)) from the propagated fit at η₁, and Levenberg–Marquardt on
+//!    ψ_w⁽¹⁾ from η₁ (no multistart) → η̂ (one refinement: the weights of the report's
+//!    fit at η̂ are those of its own propagated fit, as for a linear fit).
+//!
+//! The regressor last built is kept, so the weights at η₀ and η₁ and the first cost of
+//! the search that starts there read one build (equal η to 4 ulp: the unit-box round
+//! trip of the Levenberg–Marquardt).
+//!
+//! Unweighted inner fits (ordinary weighting, or rows without a noise model) have no
+//! weights to fix: the Levenberg–Marquardt runs on φ as before. One parameter keeps the
+//! bounded Brent on φ (`outer.rs`).
+
+use std::cell::RefCell;
+
+use crate::error::Result;
+use crate::fit::{FitSettings, Weighting, inverse_std};
+use crate::regressor::Regressor;
+
+use super::levenberg_marquardt::levenberg_marquardt;
+use super::outer::Minimum;
+use super::problem::{Problem, weighted_residuals};
+use super::{NonlinearParameter, VarProSettings};
+
+/// Minimises the projected cost over several parameters (see the module doc).
+pub(super) fn minimise(
+    problem: &Problem<'_>,
+    fit: &FitSettings,
+    settings: &VarProSettings,
+) -> Result<Minimum> {
+    let parameters = problem.parameters();
+    if fit.weighting == Weighting::Ordinary {
+        return levenberg_marquardt(&|eta| problem.residuals(eta), parameters, settings, true);
+    }
+    // the weights at η₀ and η₁ and the first residual of the search from there read
+    // one regressor: the last one built is kept
+    let last: RefCell<Option<(Vec<f64>, Regressor)>> = RefCell::new(None);
+    let regressor = |eta: &[f64]| -> Result<Regressor> {
+        if let Some((at, regressor)) = last.borrow().as_ref()
+            && at
+                .iter()
+                .zip(eta)
+                .all(|(a, b)| (a - b).abs() <= 4.0 * f64::EPSILON * a.abs().max(b.abs()))
+        {
+            return Ok(regressor.clone());
+        }
+        let regressor = problem.regressor(eta)?;
+        *last.borrow_mut() = Some((eta.to_vec(), regressor.clone()));
+        Ok(regressor)
+    };
+    // 1/s_r of the propagated fit at η, or `None` when the inner fit is unweighted
+    let row_weights = |eta: &[f64]| -> Result<Option<Vec<f64>>> {
+        let fit = crate::fit::solve(&regressor(eta)?, fit)?;
+        Ok(fit.residual_std.as_deref().map(inverse_std))
+    };
+    let initial: Vec<f64> = parameters.iter().map(|p| p.initial).collect();
+    let Some(weights) = row_weights(&initial)? else {
+        // rows without a noise model: φ itself, its first trial the regressor just built
+        let unweighted = |eta: &[f64]| -> Result<Vec<f64>> {
+            let rows = regressor(eta)?;
+            let fit = crate::fit::solve(&rows, fit)?;
+            Ok(weighted_residuals(
+                &rows,
+                &fit.coefficients,
+                fit.residual_std.as_deref(),
+            ))
+        };
+        return levenberg_marquardt(&unweighted, parameters, settings, true);
+    };
+    let ordinary = FitSettings {
+        weighting: Weighting::Ordinary,
+        ..fit.clone()
+    };
+    let fixed = |weights: &[f64], eta: &[f64]| -> Result<Vec<f64>> {
+        let rows = regressor(eta)?.weighted(weights)?;
+        let fit = crate::fit::solve(&rows, &ordinary)?;
+        Ok(weighted_residuals(&rows, &fit.coefficients, None))
+    };
+    // the first search only has to reach the basin: the refinement converges to
+    // `tolerance`
+    let loose = VarProSettings {
+        tolerance: settings.tolerance.sqrt(),
+        ..*settings
+    };
+    let first = levenberg_marquardt(&|eta| fixed(&weights, eta), parameters, &loose, true)?;
+    if !first.converged {
+        return Ok(first);
+    }
+    let Some(weights) = row_weights(&first.values)? else {
+        return Ok(first);
+    };
+    let from_first: Vec<NonlinearParameter> = parameters
+        .iter()
+        .zip(&first.values)
+        .map(|(p, &value)| NonlinearParameter {
+            initial: value,
+            ..p.clone()
+        })
+        .collect();
+    let second = levenberg_marquardt(&|eta| fixed(&weights, eta), &from_first, settings, false)?;
+    Ok(Minimum {
+        iterations: first.iterations + second.iterations,
+        ..second
+    })
+}
