@@ -388,6 +388,10 @@ fn run(
             std_error: joint
                 .as_ref()
                 .and_then(|joint| joint.std_errors[best.fit.coefficients.len() + j]),
+            joint_interval: joint.as_ref().and_then(|joint| {
+                joint.std_errors[best.fit.coefficients.len() + j]
+                    .map(|s| [value - joint.quantile * s, value + joint.quantile * s])
+            }),
             interval,
         });
     }

@@ -18,13 +18,16 @@
 //!   Z_mode = (X cos φ − R a) − i X sin φ,   X_mode = |Z_mode|,   φ_mode = −arg Z_mode.
 //! ```
 
+use serde::Deserialize;
+
 use crate::error::{Error, Result};
 
 use super::SteppedSinePoint;
 use super::sweeps::SweptTable;
 
 /// Which residual unknowns each sweep carries.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum ResidualKind {
     /// No residual: the points as measured.
     #[default]
@@ -33,6 +36,16 @@ pub enum ResidualKind {
     Stiffness,
     /// r_k and r_m per sweep (R = r_k − r_m/ω²).
     MassAndStiffness,
+}
+
+impl std::fmt::Display for ResidualKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            ResidualKind::None => "none",
+            ResidualKind::Stiffness => "stiffness",
+            ResidualKind::MassAndStiffness => "mass_and_stiffness",
+        })
+    }
 }
 
 impl ResidualKind {
