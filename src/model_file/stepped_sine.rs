@@ -385,7 +385,9 @@ impl Context<'_> {
                 if frequencies.all(|w| w == first) {
                     return Err(Error::choice(
                         "stepped_sine.residual",
-                        format!("\"mass_and_stiffness\" with sweep '{name}' (column '{sweep}') at one frequency"),
+                        format!(
+                            "\"mass_and_stiffness\" with sweep '{name}' (column '{sweep}') at one frequency"
+                        ),
                         "r_k and r_m/ω² are told apart only by the frequency: every sweep needs two frequencies at least (or residual = \"stiffness\")",
                     ));
                 }
@@ -418,11 +420,7 @@ impl Context<'_> {
                 bk,
             )?);
             if kind == ResidualKind::MassAndStiffness {
-                parameters.push(parameter(
-                    format!("r_m ({name})"),
-                    &spec.residual_mass,
-                    bm,
-                )?);
+                parameters.push(parameter(format!("r_m ({name})"), &spec.residual_mass, bm)?);
             }
         }
         Ok(Residual { kind, parameters })

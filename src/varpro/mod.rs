@@ -334,12 +334,7 @@ fn run(
     varpro: &VarProSettings,
 ) -> Result<VarProReport> {
     let specs = problem.parameters();
-    let minimum = outer::minimise(
-        &|eta: &[f64]| problem.residuals(eta),
-        specs,
-        varpro,
-        true,
-    )?;
+    let minimum = outer::minimise(&|eta: &[f64]| problem.residuals(eta), specs, varpro, true)?;
     let best = problem.trial(&minimum.values)?;
     let fit_report = crate::identify::identify_regressor(&best.regressor, &settings.fit)?;
     let converged = minimum.converged && best.fit.status.is_usable();
@@ -350,14 +345,9 @@ fn run(
         .filter(|&d| d > 0);
     let variance = problem::Variance::of(&fit_report, best.cost, dof);
     let joint = match (converged, dof) {
-        (true, Some(dof)) => joint::covariance(
-            problem,
-            &best,
-            &minimum.values,
-            variance,
-            dof,
-            varpro.level,
-        )?,
+        (true, Some(dof)) => {
+            joint::covariance(problem, &best, &minimum.values, variance, dof, varpro.level)?
+        }
         _ => None,
     };
     let mut parameters = Vec::with_capacity(minimum.values.len());

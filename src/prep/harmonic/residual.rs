@@ -128,10 +128,7 @@ pub fn default_bounds(swept: &SweptTable) -> Vec<(f64, f64)> {
         bounds[s].0 = bounds[s].0.min(receptance);
         bounds[s].1 = bounds[s].1.min(p.frequency * p.frequency);
     }
-    bounds
-        .into_iter()
-        .map(|(b, w2)| (b, b * w2))
-        .collect()
+    bounds.into_iter().map(|(b, w2)| (b, b * w2)).collect()
 }
 
 #[cfg(test)]
