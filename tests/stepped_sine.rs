@@ -619,3 +619,32 @@ fn force_scale_scales_coefficients_and_residuals() {
         assert!((pb.std_error.unwrap() - se).abs() < 1e-3 * se);
     }
 }
+
+/// Law parameters and residuals together: the power law's exponent estimated from 1.0
+/// (η = exponent, then the seven r_k), noise-free: the exponent within 1 %, c and d
+/// within 1 %, every r_k within 5 %.
+#[test]
+fn estimated_exponent_and_residual_together() {
+    let file = scratch("residual_exponent.csv");
+    support::write_scratch_csv(&file, &headers(), &residual_columns(R_K, 0.0, 1.0, None));
+    let text = model_text(&file, "residual = \"stiffness\"").replace(
+        "exponent = 1.5",
+        "exponent = { estimate = true, initial = 1.0, lower = 0.2, upper = 3.0 }",
+    );
+    let job = dampid::model_file::parse(&text, "test.toml", Path::new(".")).unwrap();
+    let report = fit_residual(&job);
+    assert_eq!(report.parameters[0].name, "d.exponent");
+    let exponent = report.parameters[0].value;
+    assert!((exponent - 1.5).abs() < 0.015, "exponent {exponent}");
+    let (c, d) = (coefficient(&report, "c"), coefficient(&report, "d"));
+    assert!((c - C).abs() < 0.01 * C, "c = {c}");
+    assert!((d - D).abs() < 0.01 * D, "d = {d}");
+    for p in &report.parameters[1..] {
+        assert!(
+            (p.value - R_K).abs() < 0.05 * R_K.abs(),
+            "{} = {}",
+            p.name,
+            p.value
+        );
+    }
+}
