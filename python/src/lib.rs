@@ -320,13 +320,14 @@ fn identify_file(py: Python<'_>, path: PathBuf, accept_transient: bool) -> PyRes
     let mut job = py
         .detach(|| timed(seconds, || dampid::model_file::load(&path)))
         .py_err()?;
-    if job.parametric.is_some() {
+    if job.parametric.is_some() || job.estimates_residual() {
         // The CLI identifies them by variable projection, whose report this package
-        // does not carry yet: refuse rather than fit the parameters' initial values.
+        // does not carry yet: refuse rather than fit the parameters' initial values
+        // (or a stepped-sine table without its residual receptances).
         return Err(to_py(dampid::Error::InvalidChoice {
-            name: "estimated law parameters".into(),
+            name: "estimated law parameters or residual receptances".into(),
             given: path.display().to_string(),
-            reason: "dampid.identify_file does not estimate law parameters yet (the CLI's `dampid identify` does, by variable projection): fix them in the model file, or use the CLI".into(),
+            reason: "dampid.identify_file does not estimate law parameters or residual receptances yet (the CLI's `dampid identify` does, by variable projection): fix them in the model file, or use the CLI".into(),
         }));
     }
     py.check_signals()?;

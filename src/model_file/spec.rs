@@ -98,6 +98,17 @@ pub struct SteppedSineSpec {
     /// Structural damping terms: a loss factor on an element of given stiffness.
     #[serde(default)]
     pub structural: Vec<Spanned<StructuralSpec>>,
+    /// The residual receptance of the out-of-band modes estimated per sweep with the
+    /// damping: `"none"` (default), `"stiffness"` (r_k) or `"mass_and_stiffness"`
+    /// (R = r_k − r_m/ω²); one-DOF tables with a `sweep` column.
+    #[serde(default)]
+    pub residual: crate::prep::harmonic::residual::ResidualKind,
+    /// Bounds [lower, upper] of every sweep's r_k (default ± the sweep's smallest
+    /// measured receptance X/a).
+    pub residual_stiffness: Option<Spanned<[f64; 2]>>,
+    /// Bounds [lower, upper] of every sweep's r_m (default ± that bound × the sweep's
+    /// lowest ω²).
+    pub residual_mass: Option<Spanned<[f64; 2]>>,
 }
 
 /// Which way a stepped-sine phase is counted.

@@ -12,6 +12,14 @@
 //! column: a missing column, a non-positive frequency, force or amplitude, a phase
 //! beyond ±2π after its gain (a phase in degrees needs `scale = 0.017453292519943295`),
 //! a negative or non-finite standard deviation.
+//!
+//! `residual` makes each sweep's residual receptance of the out-of-band modes
+//! ([`crate::prep::harmonic::residual`]) nonlinear unknowns estimated with the damping
+//! by variable projection ([`super::Job::parametric_regressor`]): r_k (and r_m) per
+//! sweep, named `r_k (<sweep>)`, initial 0 (the middle of the bounds when they exclude
+//! 0), bounds given once for every sweep or by default ±B_s (r_k) and ±B_s ω²_min,s
+//! (r_m), B_s the sweep's smallest measured receptance X/a
+//! ([`crate::prep::harmonic::residual::default_bounds`]).
 
 use std::path::Path;
 
@@ -24,9 +32,12 @@ use crate::error::{Error, Result};
 use crate::io::Table;
 use crate::prep::fourier::wrap_phase;
 use crate::prep::harmonic::HarmonicApproximation;
+use crate::prep::harmonic::residual::{self, ResidualKind};
 use crate::prep::harmonic::sweeps::{PointNoise, SweptTable};
 use crate::prep::harmonic::{SteppedSinePoint, SteppedSineTable};
-use crate::regressor::stepped_sine::StructuralTerm;
+use crate::regressor::Regressor;
+use crate::regressor::stepped_sine::{StructuralTerm, build_with_residual};
+use crate::varpro::{NonlinearParameter, ParametricRegressor};
 
 /// What `[stepped_sine]` describes, ready to build the regressor from.
 #[derive(Debug, Clone)]
@@ -39,6 +50,18 @@ pub struct SteppedSineJob {
     pub approximation: HarmonicApproximation,
     /// The data file.
     pub file: String,
+    /// The residual receptance unknowns (empty parameters when `residual = "none"`).
+    pub residual: Residual,
+}
+
+/// The residual receptance estimated per sweep: its kind and its unknowns (per sweep in
+/// sweep order: r_k, then r_m for `mass_and_stiffness`).
+#[derive(Debug, Clone, Default)]
+pub struct Residual {
+    /// Which unknowns each sweep carries.
+    pub kind: ResidualKind,
+    /// The unknowns with their bounds.
+    pub parameters: Vec<NonlinearParameter>,
 }
 
 /// A data error in `file`.
@@ -299,12 +322,108 @@ impl Context<'_> {
             .iter()
             .map(|s| self.at(s, |s| structural_term(s, n)))
             .collect::<Result<Vec<_>>>()?;
+        let residual = self.residual(spec, n, &swept)?;
         Ok(SteppedSineJob {
             table: swept,
             structural,
             approximation,
             file,
+            residual,
         })
+    }
+
+    /// The residual unknowns of `spec` on `swept` (module doc).
+    fn residual(&self, spec: &SteppedSineSpec, n: usize, swept: &SweptTable) -> Result<Residual> {
+        let kind = spec.residual;
+        let given = |bounds: &Option<toml::Spanned<[f64; 2]>>, key: &str| -> Result<()> {
+            match bounds {
+                Some(b) => Err(self.typed_error_at(
+                    b,
+                    Error::choice(
+                        &format!("stepped_sine.{key}"),
+                        format!("{:?}", b.get_ref()),
+                        &format!("bounds of an unknown that residual = \"{kind}\" does not estimate (set residual = \"{}\")", if key == "residual_mass" { "mass_and_stiffness" } else { "stiffness" }),
+                    ),
+                )),
+                None => Ok(()),
+            }
+        };
+        match kind {
+            ResidualKind::None => {
+                given(&spec.residual_stiffness, "residual_stiffness")?;
+                given(&spec.residual_mass, "residual_mass")?;
+                return Ok(Residual::default());
+            }
+            ResidualKind::Stiffness => given(&spec.residual_mass, "residual_mass")?,
+            ResidualKind::MassAndStiffness => {}
+        }
+        if n != 1 {
+            return Err(Error::choice(
+                "stepped_sine.residual",
+                format!("\"{kind}\" on a table of {n} DOFs"),
+                "the residual receptance is estimated for one-DOF tables (a driving-point measurement of one mode) only: a table of several DOFs needs a residual per response point and a cross term per pair, which dampid does not estimate",
+            ));
+        }
+        let Some(sweep) = &spec.sweep else {
+            return Err(Error::choice(
+                "stepped_sine.residual",
+                format!("\"{kind}\" without a sweep column"),
+                "the residual is estimated per sweep: give `sweep = \"<column>\"` (one sweep per level)",
+            ));
+        };
+        if kind == ResidualKind::MassAndStiffness {
+            // r_k and r_m/ω² are told apart only by ω: a sweep at one frequency cannot.
+            for (s, name) in swept.sweep_names.iter().enumerate() {
+                let mut frequencies = swept
+                    .table
+                    .points()
+                    .iter()
+                    .zip(&swept.sweeps)
+                    .filter(|(_, q)| **q == s)
+                    .map(|(p, _)| p.frequency);
+                let first = frequencies.next().unwrap_or(f64::NAN);
+                if frequencies.all(|w| w == first) {
+                    return Err(Error::choice(
+                        "stepped_sine.residual",
+                        format!(
+                            "\"mass_and_stiffness\" with sweep '{name}' (column '{sweep}') at one frequency"
+                        ),
+                        "r_k and r_m/ω² are told apart only by the frequency: every sweep needs two frequencies at least (or residual = \"stiffness\")",
+                    ));
+                }
+            }
+        }
+        let defaults = residual::default_bounds(swept);
+        let parameter = |name: String,
+                         given: &Option<toml::Spanned<[f64; 2]>>,
+                         default: f64|
+         -> Result<NonlinearParameter> {
+            let [lower, upper] = given.as_ref().map_or([-default, default], |b| *b.get_ref());
+            let initial = if lower <= 0.0 && 0.0 <= upper {
+                0.0
+            } else {
+                0.5 * (lower + upper)
+            };
+            let p = NonlinearParameter::new(name, initial, lower, upper);
+            match given {
+                Some(b) => self.at(b, |_| p.validate())?,
+                None => p.validate()?,
+            }
+            Ok(p)
+        };
+        let mut parameters = Vec::new();
+        for (s, name) in swept.sweep_names.iter().enumerate() {
+            let (bk, bm) = defaults[s];
+            parameters.push(parameter(
+                format!("r_k ({name})"),
+                &spec.residual_stiffness,
+                bk,
+            )?);
+            if kind == ResidualKind::MassAndStiffness {
+                parameters.push(parameter(format!("r_m ({name})"), &spec.residual_mass, bm)?);
+            }
+        }
+        Ok(Residual { kind, parameters })
     }
 }
 
@@ -365,6 +484,63 @@ impl super::Job {
                 modal,
             )
         }))
+    }
+
+    /// True for a `[stepped_sine]` job whose residual receptance is estimated.
+    pub fn estimates_residual(&self) -> bool {
+        self.stepped_sine
+            .as_ref()
+            .is_some_and(|t| t.residual.kind != ResidualKind::None)
+    }
+
+    /// For a `[stepped_sine]` job whose residual receptance is estimated: the regressor
+    /// as a function of η = (the estimated law parameters of [`super::Job::parametric`],
+    /// if any, then the residual unknowns), the table rebuilt at each η with
+    /// Z − R a ([`build_with_residual`]). Identify it with
+    /// [`crate::varpro::identify_varpro_regressor`]. `None` for other jobs.
+    pub fn parametric_regressor(&self) -> Option<Result<ParametricRegressor>> {
+        let table = self.stepped_sine.as_ref()?;
+        if table.residual.kind == ResidualKind::None {
+            return None;
+        }
+        let law = self.parametric.clone();
+        let q_law = law.as_ref().map_or(0, |p| p.parameters().len());
+        let mut parameters: Vec<NonlinearParameter> = law
+            .as_ref()
+            .map_or_else(Vec::new, |p| p.parameters().to_vec());
+        parameters.extend(table.residual.parameters.iter().cloned());
+        let model = self.model.clone();
+        let table = table.clone();
+        Some(ParametricRegressor::new(
+            parameters,
+            move |eta: &[f64]| -> Result<Regressor> {
+                let (at, unknowns) = eta.split_at(q_law);
+                let model = match &law {
+                    Some(p) => p.model(at)?,
+                    None => model.clone(),
+                };
+                let r = residual::per_point(table.residual.kind, unknowns, &table.table)?;
+                build_with_residual(
+                    &model,
+                    &table.structural,
+                    &table.table,
+                    &table.approximation,
+                    Some(&r),
+                )
+            },
+        ))
+    }
+
+    /// The settings of [`crate::varpro::identify_varpro`] (or `_regressor`) for this job:
+    /// the defaults, without profile intervals when residual receptances are estimated
+    /// (one per sweep or two: each profile end is a nested optimisation over all the
+    /// others, about 2 500 rebuilt tables for seven sweeps against about 50 for the
+    /// fit and its joint covariance; the report gives their joint Wald intervals).
+    pub fn varpro_settings(&self) -> crate::varpro::VarProSettings {
+        crate::varpro::VarProSettings {
+            profile: !self.estimates_residual(),
+            ..Default::default()
+        }
     }
 
     /// The sweep of each equation of a `[stepped_sine]` job (for resampling whole

@@ -28,12 +28,20 @@
 //! forward differences of the synthesized rows, steps 10⁻⁶ X_i (relative), 10⁻⁶ rad
 //! and 10⁻⁶ a: the columns are smooth in X and φ, so their relative error is about
 //! 10⁻⁶, negligible in a variance; b is exactly linear in a.
+//!
+//! **Residual receptance** ([`build_with_residual`]): each point's response, and each
+//! perturbed copy of it, is first corrected by its residual R_p of the out-of-band
+//! modes, Z_mode = Z − R_p a ([`crate::prep::harmonic::residual`]); the derivatives
+//! are still taken with respect to the measured a, X and φ, so the noise model
+//! propagates the measured noise through the correction (σ_a now also moves X_mode).
+//! b is unchanged by R, the columns read X_mode and φ_mode.
 
 use faer::Mat;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 use crate::model::DampingModel;
+use crate::prep::harmonic::residual;
 use crate::prep::harmonic::sweeps::SweptTable;
 use crate::prep::harmonic::{HarmonicApproximation, SteppedSinePoint};
 use crate::record::Record;
@@ -164,6 +172,18 @@ pub fn build(
     swept: &SweptTable,
     approximation: &HarmonicApproximation,
 ) -> Result<Regressor> {
+    build_with_residual(model, structural, swept, approximation, None)
+}
+
+/// [`build`] with each point's response corrected by its residual receptance
+/// `residual[p]` (R_p of point p, the module doc; `None`: as measured).
+pub fn build_with_residual(
+    model: &DampingModel,
+    structural: &[StructuralTerm],
+    swept: &SweptTable,
+    approximation: &HarmonicApproximation,
+    residual: Option<&[f64]>,
+) -> Result<Regressor> {
     approximation.validate()?;
     let table = &swept.table;
     let dofs = table.dofs();
@@ -183,6 +203,15 @@ pub fn build(
     let per_point = 2 + 2 * dofs;
     let mut expanded = Vec::with_capacity(points.len() * per_point);
     let mut steps = Vec::with_capacity(points.len() * per_point);
+    if let Some(r) = residual
+        && r.len() != points.len()
+    {
+        return Err(Error::mismatch(
+            "residual receptances vs stepped-sine points",
+            points.len(),
+            r.len(),
+        ));
+    }
     for p in points {
         expanded.push(p.clone());
         steps.push(1.0);
@@ -202,6 +231,11 @@ pub fn build(
             q.phases[j] += STEP;
             expanded.push(q);
             steps.push(STEP);
+        }
+    }
+    if let Some(r) = residual {
+        for (k, q) in expanded.iter_mut().enumerate() {
+            *q = residual::correct(q, r[k / per_point])?;
         }
     }
     let all = rows(model, structural, &expanded, approximation)?;

@@ -58,6 +58,10 @@ pub struct NonlinearEstimate {
     pub std_error: Option<f64>,
     /// Profile-likelihood interval.
     pub interval: Option<ProfileInterval>,
+    /// The Wald interval value ± q·se of the joint covariance (q as the coefficients'
+    /// joint intervals), reported where no profile interval is computed.
+    #[serde(default)]
+    pub joint_interval: Option<[f64; 2]>,
 }
 
 /// A linear coefficient with its joint (nonlinear-aware) interval.
@@ -138,28 +142,35 @@ impl fmt::Display for VarProReport {
             )?;
         }
         let percent = (100.0 * self.level * 1e6).round() / 1e6;
+        let joint_only = self
+            .parameters
+            .iter()
+            .any(|p| p.interval.is_none() && p.joint_interval.is_some());
         writeln!(
             f,
             "{:<20} {:>14} {:>12}  {:>34}  bounds",
             "estimated parameter",
             "value",
             "std error",
-            format!("{percent}% profile interval"),
+            if joint_only {
+                format!("{percent}% profile (or joint) interval")
+            } else {
+                format!("{percent}% profile interval")
+            },
         )?;
         for p in &self.parameters {
             let se = p
                 .std_error
                 .map_or_else(|| "-".into(), |s| format!("{s:.3e}"));
-            let interval = p.interval.as_ref().map_or_else(
-                || "-".into(),
-                |i| {
-                    format!(
-                        "[{}, {}]",
-                        end(i.lower, p.lower_bound),
-                        end(i.upper, p.upper_bound)
-                    )
-                },
-            );
+            let interval = match (&p.interval, p.joint_interval) {
+                (Some(i), _) => format!(
+                    "[{}, {}]",
+                    end(i.lower, p.lower_bound),
+                    end(i.upper, p.upper_bound)
+                ),
+                (None, Some([l, u])) => format!("joint [{l:.6e}, {u:.6e}]"),
+                (None, None) => "-".into(),
+            };
             let flag = if p.at_bound { " (on a bound)" } else { "" };
             writeln!(
                 f,

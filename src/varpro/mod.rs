@@ -49,6 +49,7 @@ use crate::error::{Error, Result};
 use crate::identify::IdentifySettings;
 use crate::model::DampingModel;
 use crate::record::Record;
+use crate::regressor::Regressor;
 pub use crate::report::varpro::{
     JointEstimate, NonlinearEstimate, OuterLoop, ProfileInterval, VarProReport,
 };
@@ -138,21 +139,7 @@ impl ParametricModel {
         parameters: Vec<NonlinearParameter>,
         builder: impl Fn(&[f64]) -> Result<DampingModel> + Send + Sync + 'static,
     ) -> Result<Self> {
-        if parameters.is_empty() {
-            return Err(Error::Empty {
-                what: "estimated parameters of a parametric model".into(),
-            });
-        }
-        for (i, p) in parameters.iter().enumerate() {
-            p.validate()?;
-            if parameters[..i].iter().any(|q| q.name == p.name) {
-                return Err(Error::choice(
-                    "estimated parameter",
-                    format!("'{}'", p.name),
-                    "given twice: every estimated parameter needs its own name",
-                ));
-            }
-        }
+        validate_parameters(&parameters, "a parametric model")?;
         Ok(ParametricModel {
             parameters,
             builder: Arc::new(builder),
@@ -180,6 +167,79 @@ impl ParametricModel {
     pub fn initial_model(&self) -> Result<DampingModel> {
         let initial: Vec<f64> = self.parameters.iter().map(|p| p.initial).collect();
         self.model(&initial)
+    }
+}
+
+/// At least one parameter, unique names, each valid.
+fn validate_parameters(parameters: &[NonlinearParameter], of: &str) -> Result<()> {
+    if parameters.is_empty() {
+        return Err(Error::Empty {
+            what: format!("estimated parameters of {of}"),
+        });
+    }
+    for (i, p) in parameters.iter().enumerate() {
+        p.validate()?;
+        if parameters[..i].iter().any(|q| q.name == p.name) {
+            return Err(Error::choice(
+                "estimated parameter",
+                format!("'{}'", p.name),
+                "given twice: every estimated parameter needs its own name",
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Builds the whole regressor for given nonlinear parameter values (in the order of
+/// [`ParametricRegressor::parameters`]).
+pub type RegressorBuilder = Arc<dyn Fn(&[f64]) -> Result<Regressor> + Send + Sync>;
+
+/// A regressor with nonlinear parameters: their specs and a builder η → regressor, for
+/// problems whose η changes more than the damping model (a stepped-sine table's
+/// residual receptances, [`crate::prep::harmonic::residual`], with or without
+/// estimated law parameters). A [`ParametricModel`] on records is one such builder.
+#[derive(Clone)]
+pub struct ParametricRegressor {
+    parameters: Vec<NonlinearParameter>,
+    builder: RegressorBuilder,
+}
+
+impl fmt::Debug for ParametricRegressor {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("ParametricRegressor")
+            .field("parameters", &self.parameters)
+            .finish_non_exhaustive()
+    }
+}
+
+impl ParametricRegressor {
+    /// `parameters` (at least one, unique names, each valid) and the `builder`.
+    pub fn new(
+        parameters: Vec<NonlinearParameter>,
+        builder: impl Fn(&[f64]) -> Result<Regressor> + Send + Sync + 'static,
+    ) -> Result<Self> {
+        validate_parameters(&parameters, "a parametric regressor")?;
+        Ok(ParametricRegressor {
+            parameters,
+            builder: Arc::new(builder),
+        })
+    }
+
+    /// The nonlinear parameters.
+    pub fn parameters(&self) -> &[NonlinearParameter] {
+        &self.parameters
+    }
+
+    /// The regressor at `values` (one per parameter).
+    pub fn regressor(&self, values: &[f64]) -> Result<Regressor> {
+        if values.len() != self.parameters.len() {
+            return Err(Error::mismatch(
+                "nonlinear parameter values vs parameters",
+                self.parameters.len(),
+                values.len(),
+            ));
+        }
+        (self.builder)(values)
     }
 }
 
@@ -250,15 +310,37 @@ pub fn identify_varpro(
     settings.fit.validate()?;
     varpro.validate()?;
     let problem = problem::Problem::new(model, records, settings);
-    let minimum = if model.parameters().len() == 1 {
-        outer::minimise(
-            &|eta: &[f64]| problem.residuals(eta),
-            model.parameters(),
-            varpro,
-            true,
-        )?
+    run(&problem, settings, varpro)
+}
+
+/// [`identify_varpro`] for a regressor built directly from η (`model`'s builder); the
+/// inner fits use `settings.fit` (its regressor settings are the builder's business).
+pub fn identify_varpro_regressor(
+    model: &ParametricRegressor,
+    settings: &IdentifySettings,
+    varpro: &VarProSettings,
+) -> Result<VarProReport> {
+    settings.fit.validate()?;
+    varpro.validate()?;
+    let problem = problem::Problem::with_builder(
+        model.parameters(),
+        Box::new(|eta: &[f64]| model.regressor(eta)),
+        settings,
+    );
+    run(&problem, settings, varpro)
+}
+
+/// The outer loop, the fit at its minimum and the intervals of `problem`.
+fn run(
+    problem: &problem::Problem<'_>,
+    settings: &IdentifySettings,
+    varpro: &VarProSettings,
+) -> Result<VarProReport> {
+    let specs = problem.parameters();
+    let minimum = if specs.len() == 1 {
+        outer::minimise(&|eta: &[f64]| problem.residuals(eta), specs, varpro, true)?
     } else {
-        fixed_weights::minimise(&problem, &settings.fit, varpro)?
+        fixed_weights::minimise(problem, &settings.fit, varpro)?
     };
     let best = problem.trial(&minimum.values)?;
     let fit_report = crate::identify::identify_regressor(&best.regressor, &settings.fit)?;
@@ -270,23 +352,18 @@ pub fn identify_varpro(
         .filter(|&d| d > 0);
     let variance = problem::Variance::of(&fit_report, best.cost, dof);
     let joint = match (converged, dof) {
-        (true, Some(dof)) => joint::covariance(
-            &problem,
-            &best,
-            &minimum.values,
-            variance,
-            dof,
-            varpro.level,
-        )?,
+        (true, Some(dof)) => {
+            joint::covariance(problem, &best, &minimum.values, variance, dof, varpro.level)?
+        }
         _ => None,
     };
     let mut parameters = Vec::with_capacity(minimum.values.len());
-    for (j, spec) in model.parameters().iter().enumerate() {
+    for (j, spec) in specs.iter().enumerate() {
         let value = minimum.values[j];
         let interval = match (converged && varpro.profile, dof) {
             (true, Some(dof)) => Some(profile::interval(
-                &problem,
-                model.parameters(),
+                problem,
+                specs,
                 &minimum.values,
                 j,
                 best.cost,
@@ -308,6 +385,10 @@ pub fn identify_varpro(
             std_error: joint
                 .as_ref()
                 .and_then(|joint| joint.std_errors[best.fit.coefficients.len() + j]),
+            joint_interval: joint.as_ref().and_then(|joint| {
+                joint.std_errors[best.fit.coefficients.len() + j]
+                    .map(|s| [value - joint.quantile * s, value + joint.quantile * s])
+            }),
             interval,
         });
     }

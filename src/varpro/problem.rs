@@ -1,6 +1,10 @@
 //! One trial of variable projection: the model at η, its regressor, the inner fit
 //! θ̂(η) and the projected cost φ(η) = Σ_r (e_r / s_r)², e = A(η) θ̂ − b, with s_r the
 //! propagated residual standard deviation of a weighted fit (s_r = 1 otherwise).
+//!
+//! A trial's regressor comes from a builder η → A(η), b: a [`ParametricModel`] on
+//! records (its model at η, then [`Regressor::build`]) or any builder
+//! (a stepped-sine table rebuilt with its residual receptances at η).
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -12,12 +16,15 @@ use crate::record::Record;
 use crate::regressor::Regressor;
 use crate::report::FitReport;
 
-use super::ParametricModel;
+use super::{NonlinearParameter, ParametricModel};
+
+/// The regressor at η (η in the order of the problem's parameters).
+pub type TrialBuilder<'a> = dyn Fn(&[f64]) -> Result<Regressor> + Send + Sync + 'a;
 
 /// The data and settings every trial shares, and a count of the trials.
 pub(super) struct Problem<'a> {
-    model: &'a ParametricModel,
-    records: &'a [Record],
+    parameters: &'a [NonlinearParameter],
+    build: Box<TrialBuilder<'a>>,
     settings: &'a IdentifySettings,
     evaluations: AtomicU64,
 }
@@ -35,17 +42,32 @@ impl<'a> Problem<'a> {
         records: &'a [Record],
         settings: &'a IdentifySettings,
     ) -> Self {
+        Self::with_builder(
+            model.parameters(),
+            Box::new(move |eta: &[f64]| {
+                Regressor::build(&model.model(eta)?, records, &settings.regressor)
+            }),
+            settings,
+        )
+    }
+
+    /// A problem whose trial at η fits the regressor `build(η)`.
+    pub fn with_builder(
+        parameters: &'a [NonlinearParameter],
+        build: Box<TrialBuilder<'a>>,
+        settings: &'a IdentifySettings,
+    ) -> Self {
         Problem {
-            model,
-            records,
+            parameters,
+            build,
             settings,
             evaluations: AtomicU64::new(0),
         }
     }
 
     /// The nonlinear parameters.
-    pub fn parameters(&self) -> &[super::NonlinearParameter] {
-        self.model.parameters()
+    pub fn parameters(&self) -> &[NonlinearParameter] {
+        self.parameters
     }
 
     /// Regressors built so far.
@@ -56,8 +78,7 @@ impl<'a> Problem<'a> {
     /// The regressor of the model at `eta`.
     pub fn regressor(&self, eta: &[f64]) -> Result<Regressor> {
         self.evaluations.fetch_add(1, Ordering::Relaxed);
-        let model = self.model.model(eta)?;
-        Regressor::build(&model, self.records, &self.settings.regressor)
+        (self.build)(eta)
     }
 
     /// The trial at `eta`.

@@ -90,3 +90,122 @@ fn too_few_points_per_sweep_for_the_scatter() {
     let (_, e) = parse_table("short.csv", "w,a,x,phi\n1.0,1,0.5,1.0\n1.1,1,0.6,1.2\n");
     assert!(matches!(e.innermost(), Error::InvalidChoice { .. }), "{e}");
 }
+
+/// Parses a `[stepped_sine]` model of `dofs` DOFs on `csv` (columns w, a, x, phi,
+/// level; a second DOF reads x and phi again) with `extra` keys in the section.
+fn parse_residual(name: &str, csv: &str, dofs: usize, extra: &str) -> Error {
+    let dir = std::env::temp_dir().join(format!("dampid_errors_ss_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join(name);
+    std::fs::write(&file, csv).unwrap();
+    let columns = |c: &str| vec![format!("\"{c}\""); dofs].join(", ");
+    let text = format!(
+        r#"dofs = {dofs}
+[[terms]]
+kind = "law"
+law = "linear"
+elements = "each_dof"
+coefficient = "c"
+[stepped_sine]
+file = "{}"
+frequency = "w"
+force = "a"
+amplitudes = [{}]
+phases = [{}]
+{extra}
+"#,
+        file.display(),
+        columns("x"),
+        columns("phi"),
+    );
+    dampid::model_file::parse(&text, "m.toml", Path::new(".")).unwrap_err()
+}
+
+/// Two sweeps of three points each.
+const SWEPT: &str = "w,a,x,phi,level\n1.0,1,0.5,1.0,1\n1.1,1,0.6,1.2,1\n1.2,1,0.5,1.4,1\n\
+                     1.0,2,1.0,1.0,2\n1.1,2,1.2,1.2,2\n1.2,2,1.0,1.4,2\n";
+
+fn is_choice(e: &Error, needle: &str) {
+    assert!(
+        matches!(e, Error::ModelFile { line, .. } if *line > 0),
+        "{e}"
+    );
+    match e.innermost() {
+        Error::InvalidChoice {
+            name,
+            given,
+            reason,
+        } => assert!(format!("{name} {given} {reason}").contains(needle), "{e}"),
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn residual_without_sweeps_is_refused() {
+    let e = parse_residual("r_nosweep.csv", SWEPT, 1, "residual = \"stiffness\"");
+    is_choice(&e, "sweep");
+}
+
+#[test]
+fn residual_on_several_dofs_is_refused() {
+    let e = parse_residual(
+        "r_dofs.csv",
+        SWEPT,
+        2,
+        "sweep = \"level\"\nresidual = \"stiffness\"",
+    );
+    is_choice(&e, "2 DOFs");
+}
+
+#[test]
+fn residual_mass_and_stiffness_needs_two_frequencies_per_sweep() {
+    let csv = "w,a,x,phi,level\n1.0,1,0.5,1.0,1\n1.1,1,0.6,1.2,1\n1.2,1,0.5,1.4,1\n\
+               1.0,2,1.0,1.0,2\n1.0,2,1.2,1.2,2\n1.0,2,1.0,1.4,2\n";
+    let e = parse_residual(
+        "r_onefreq.csv",
+        csv,
+        1,
+        "sweep = \"level\"\nresidual = \"mass_and_stiffness\"",
+    );
+    is_choice(&e, "level = 2");
+}
+
+#[test]
+fn residual_bounds_of_an_unknown_not_estimated_are_refused() {
+    let e = parse_residual(
+        "r_unused.csv",
+        SWEPT,
+        1,
+        "sweep = \"level\"\nresidual = \"stiffness\"\nresidual_mass = [-1.0, 1.0]",
+    );
+    is_choice(&e, "residual_mass");
+    let e = parse_residual(
+        "r_unused_none.csv",
+        SWEPT,
+        1,
+        "sweep = \"level\"\nresidual_stiffness = [-1.0, 1.0]",
+    );
+    is_choice(&e, "none");
+}
+
+/// Contradictory bounds: an error at the bounds' own line naming the parameter.
+#[test]
+fn residual_bounds_contradictory_name_the_line() {
+    let e = parse_residual(
+        "r_bounds.csv",
+        SWEPT,
+        1,
+        "sweep = \"level\"\nresidual = \"stiffness\"\nresidual_stiffness = [1e-3, -1e-3]",
+    );
+    match &e {
+        Error::ModelFile { line, .. } => assert_eq!(*line, 15, "{e}"),
+        other => panic!("{other:?}"),
+    }
+    match e.innermost() {
+        Error::InvalidParameter { name, value, .. } => {
+            assert!(name.contains("r_k (level = 1)"), "{name}");
+            assert_eq!(*value, 1e-3);
+        }
+        other => panic!("{other:?}"),
+    }
+}

@@ -225,18 +225,30 @@ fn identify(
     }
     let (job, steady) = load_steady_job(path, accept_transient)?;
     job.settings.fit.validate()?;
-    if let Some(parametric) = &job.parametric {
-        if html.is_some() || bootstrap.is_some() {
-            anyhow::bail!(
-                "--report and --bootstrap do not take estimated law parameters yet: fix them, or identify without those options"
-            );
-        }
-        let report = dampid::varpro::identify_varpro(
+    if (job.parametric.is_some() || job.estimates_residual())
+        && (html.is_some() || bootstrap.is_some())
+    {
+        anyhow::bail!(
+            "--report and --bootstrap do not take estimated law parameters or residual receptances yet: fix them, or identify without those options"
+        );
+    }
+    let varpro = job.varpro_settings();
+    let varpro_report = match (job.parametric_regressor().transpose()?, &job.parametric) {
+        // A stepped-sine table with its residual receptances (and any law parameters).
+        (Some(regressor), _) => Some(dampid::varpro::identify_varpro_regressor(
+            &regressor,
+            &job.settings,
+            &varpro,
+        )?),
+        (None, Some(parametric)) => Some(dampid::varpro::identify_varpro(
             parametric,
             &job.records,
             &job.settings,
-            &dampid::varpro::VarProSettings::default(),
-        )?;
+            &varpro,
+        )?),
+        (None, None) => None,
+    };
+    if let Some(report) = varpro_report {
         let mut out = String::new();
         if as_json {
             let truth = truth_json(&job);

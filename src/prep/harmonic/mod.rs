@@ -30,9 +30,11 @@
 //! - [`table`]: the stepped-sine table (one test point per row), from records or from
 //!   a CSV file.
 //! - [`approximation`]: the synchronous motion, the choice of φ̄, and the fit.
+//! - [`residual`]: the residual receptance of out-of-band modes, removed per point.
 
 pub mod approximation;
 pub mod fundamentals;
+pub mod residual;
 pub mod sweeps;
 pub mod table;
 
