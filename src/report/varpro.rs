@@ -175,7 +175,10 @@ impl fmt::Display for VarProReport {
             writeln!(
                 f,
                 "{:<20} {:>14.6e} {se:>12}  {interval:>34}  [{}, {}]{flag}",
-                p.name, p.value, p.lower_bound, p.upper_bound
+                p.name,
+                p.value,
+                bound(p.lower_bound),
+                bound(p.upper_bound)
             )?;
         }
         writeln!(
@@ -210,5 +213,16 @@ impl fmt::Display for VarProReport {
             "linear fit at the estimated parameters (its errors hold them fixed):"
         )?;
         write!(f, "{}", self.fit)
+    }
+}
+
+/// A bound as the user wrote it when that is short (`0.5`, `4`), else with 5 significant
+/// digits (a bound the program derived from the data, `-1.6519e-4`, not 17 digits).
+fn bound(x: f64) -> String {
+    let shortest = format!("{x}");
+    if shortest.len() <= 8 {
+        shortest
+    } else {
+        format!("{x:.4e}")
     }
 }
