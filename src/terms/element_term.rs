@@ -45,6 +45,22 @@ impl Coefficients {
                 .collect(),
         }
     }
+
+    /// How many coefficients on `elements`: one shared, or one per element.
+    pub(crate) fn count(&self, elements: usize) -> usize {
+        match self {
+            Coefficients::Shared(_) => 1,
+            Coefficients::PerElement(_) => elements,
+        }
+    }
+
+    /// The column of element `index` within the term's columns.
+    pub(crate) fn column_of(&self, index: usize) -> usize {
+        match self {
+            Coefficients::Shared(_) => 0,
+            Coefficients::PerElement(_) => index,
+        }
+    }
 }
 
 /// A damping law on elements.

@@ -133,10 +133,7 @@ impl Term {
     pub fn coefficient_count(&self) -> usize {
         match self {
             Term::Matrix(_) => 1,
-            Term::Elements(t) => match t.coefficients() {
-                Coefficients::Shared(_) => 1,
-                Coefficients::PerElement(_) => t.elements().len(),
-            },
+            Term::Elements(t) => t.coefficients().count(t.elements().len()),
             Term::History(t) => t.coefficient_count(),
             Term::Structural(t) => t.coefficient_count(),
         }

@@ -142,18 +142,12 @@ impl StructuralDamping {
     }
 
     pub(crate) fn coefficient_count(&self) -> usize {
-        match self.coefficients {
-            Coefficients::Shared(_) => 1,
-            Coefficients::PerElement(_) => self.elements.len(),
-        }
+        self.coefficients.count(self.elements.len())
     }
 
     /// The column of element `index` (an offset within the term's columns).
     pub(crate) fn column_of(&self, index: usize) -> usize {
-        match self.coefficients {
-            Coefficients::Shared(_) => 0,
-            Coefficients::PerElement(_) => index,
-        }
+        self.coefficients.column_of(index)
     }
 
     pub(crate) fn validate(&self, dofs: usize) -> Result<()> {

@@ -153,13 +153,7 @@ impl ParametricModel {
 
     /// The damping model at `values` (one per parameter).
     pub fn model(&self, values: &[f64]) -> Result<DampingModel> {
-        if values.len() != self.parameters.len() {
-            return Err(Error::mismatch(
-                "nonlinear parameter values vs parameters",
-                self.parameters.len(),
-                values.len(),
-            ));
-        }
+        check_values(&self.parameters, values)?;
         (self.builder)(values)
     }
 
@@ -167,6 +161,19 @@ impl ParametricModel {
     pub fn initial_model(&self) -> Result<DampingModel> {
         let initial: Vec<f64> = self.parameters.iter().map(|p| p.initial).collect();
         self.model(&initial)
+    }
+}
+
+/// One value per parameter.
+fn check_values(parameters: &[NonlinearParameter], values: &[f64]) -> Result<()> {
+    if values.len() == parameters.len() {
+        Ok(())
+    } else {
+        Err(Error::mismatch(
+            "nonlinear parameter values vs parameters",
+            parameters.len(),
+            values.len(),
+        ))
     }
 }
 
@@ -232,13 +239,7 @@ impl ParametricRegressor {
 
     /// The regressor at `values` (one per parameter).
     pub fn regressor(&self, values: &[f64]) -> Result<Regressor> {
-        if values.len() != self.parameters.len() {
-            return Err(Error::mismatch(
-                "nonlinear parameter values vs parameters",
-                self.parameters.len(),
-                values.len(),
-            ));
-        }
+        check_values(&self.parameters, values)?;
         (self.builder)(values)
     }
 }

@@ -23,7 +23,7 @@ use crate::regressor::robust::WindowNoise;
 use crate::regressor::robust::projected::ProjectedWindow;
 use crate::regressor::robust::sensitivity::{ChannelSensitivity, RowNoise};
 use crate::regressor::settings::WorkForm;
-use crate::terms::{Coefficients, ElementTerm, MatrixTerm, Term};
+use crate::terms::{ElementTerm, MatrixTerm, Term};
 
 /// A row of the noise-robust pipeline.
 pub(super) struct RobustRow {
@@ -487,10 +487,7 @@ fn element_columns(
     let mut vr = vec![0.0; rows];
     for (e, element) in term.elements().iter().enumerate() {
         let weight = term.weights().map_or(1.0, |w| w[e]);
-        let column = match term.coefficients() {
-            Coefficients::Shared(_) => first,
-            Coefficients::PerElement(_) => first + e,
-        };
+        let column = first + term.coefficients().column_of(e);
         let (xa, va) = (col(x, element.a), col(v, element.a));
         let mut variance = sigma[element.a].powi(2);
         // the second end's noise, when its sensor differs (its own Var per unit variance)
