@@ -160,11 +160,6 @@ impl Regressor {
                 "the noise-robust rows",
                 "their columns are corrected for the noise of each law's f(x, v), which a force with memory does not have; use `velocity = \"measured\"`, `central_difference` or `spectral`, or `noise = \"ignore\"`",
             )?;
-            history::refuse_structural(
-                model,
-                "the noise-robust rows",
-                "their columns are corrected for the noise of each law's f(x, v); the noise of x enters both v and −kH[x] through the same harmonics, a bias they do not model; use `velocity = \"measured\"`, `central_difference` or `spectral`, or `noise = \"ignore\"`",
-            )?;
             let harmonics = match settings.velocity {
                 VelocitySource::HarmonicProjection { harmonics } => harmonics,
                 _ => None,

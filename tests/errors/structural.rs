@@ -1,6 +1,7 @@
 //! Structural damping (src/terms/structural.rs): every refusal is typed and names what
-//! it refuses. Modes without harmonics to rotate (non-periodic spans), the noise-robust
-//! rows and the RK4 simulator (the force is non-causal) refuse the term; a stiffness
+//! it refuses. Modes without harmonics to rotate (non-periodic spans) and the RK4
+//! simulator (the force is non-causal) refuse the term (the noise-robust rows take it:
+//! tests/structural_noise.rs); a stiffness
 //! that is not finite and > 0, or a stiffness list of the wrong length, is refused, in
 //! a model file at the term's line.
 
@@ -50,17 +51,6 @@ fn non_periodic_spans_refuse_structural_damping() {
     };
     let error = identify(&structural_model(vec![2.0]), &[record()], &spans).unwrap_err();
     assert_refused(error, "non-periodic");
-}
-
-#[test]
-fn noise_robust_rows_refuse_structural_damping() {
-    let error = identify(
-        &structural_model(vec![2.0]),
-        &[record()],
-        &IdentifySettings::default(),
-    )
-    .unwrap_err();
-    assert_refused(error, "noise-robust");
 }
 
 #[test]

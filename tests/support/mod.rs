@@ -4,6 +4,7 @@
 #![allow(dead_code)]
 
 pub mod cli;
+pub mod complex_chain;
 pub mod regressors;
 
 use dampid::prelude::*;

@@ -44,6 +44,7 @@
 mod projected;
 mod row;
 mod sensitivity;
+mod structural;
 
 pub use sensitivity::{ChannelSensitivity, RowNoise};
 

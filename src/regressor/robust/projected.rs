@@ -191,6 +191,20 @@ impl ProjectedWindow {
             .sum()
     }
 
+    /// Cov(c_x) of channel `j` per unit noise variance of its measured signal,
+    /// S (RᵀR)⁻¹ Sᵀ = YᵀY with Rᵀ Y = Sᵀ (S = I for a displacement), p × p.
+    pub(crate) fn unit_covariance(&self, j: usize) -> Mat<f64> {
+        let p = self.columns();
+        let mut y = match &self.maps[j] {
+            None => Mat::<f64>::identity(p, p),
+            Some(map) => map.transpose().to_owned(),
+        };
+        self.r
+            .transpose()
+            .solve_lower_triangular_in_place(y.as_mut());
+        y.transpose() * &y
+    }
+
     /// σ R⁻ᵀ Sᵀ u: the whitened sensitivity of a quantity with gradient `u` in the
     /// displacement coefficients of `channel`, whose measured signal has noise σ.
     pub(crate) fn whiten(&self, u: &[f64], sigma: f64, channel: usize) -> Vec<f64> {

@@ -22,6 +22,7 @@ use crate::regressor::derivative_free::{Path, stieltjes};
 use crate::regressor::robust::WindowNoise;
 use crate::regressor::robust::projected::ProjectedWindow;
 use crate::regressor::robust::sensitivity::{ChannelSensitivity, RowNoise};
+use crate::regressor::robust::structural;
 use crate::regressor::settings::WorkForm;
 use crate::terms::{ElementTerm, MatrixTerm, Term};
 
@@ -42,7 +43,7 @@ pub(super) struct RobustRow {
 /// Bᵀ G'), a matrix product over every channel and slot at once rather than a pass over
 /// the window's rows per element (on a 100-DOF chain, 200 elements: the rows were read
 /// 200 times).
-struct Gradients {
+pub(super) struct Gradients {
     p: usize,
     count: usize,
     by_channel: BTreeMap<usize, BTreeMap<usize, Vec<f64>>>,
@@ -85,7 +86,8 @@ impl Gradients {
         accumulate(&mut self.on_design, count, (channel, slot), g, scale);
     }
 
-    fn add(&mut self, channel: usize, slot: usize, u: &[f64], scale: f64) {
+    /// Adds `scale` u (a gradient in the coefficients) to (`channel`, `slot`).
+    pub(super) fn add(&mut self, channel: usize, slot: usize, u: &[f64], scale: f64) {
         for (t, u) in self.slot(channel, slot).iter_mut().zip(u) {
             *t += scale * u;
         }
@@ -331,8 +333,17 @@ pub(super) fn robust_row(
                 &mut columns,
                 &mut gradients,
             ),
+            Term::Structural(t) => structural::add_columns(
+                t,
+                &projected,
+                &weights,
+                &sigma,
+                range.start,
+                &mut columns,
+                &mut gradients,
+            ),
             // refused before the robust rows are built (Regressor::build)
-            Term::History(_) | Term::Structural(_) => {}
+            Term::History(_) => {}
             Term::Elements(t) => element_columns(
                 t,
                 &projected,
