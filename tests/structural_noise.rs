@@ -239,8 +239,8 @@ fn loss_factor_is_unbiased_and_its_standard_error_matches_the_scatter() {
     let model = viscous_and_structural();
     let mut rng = StdRng::seed_from_u64(7);
     let draws = 300;
-    let mut estimates = vec![Vec::with_capacity(draws); 2];
-    let mut errors = vec![Vec::with_capacity(draws); 2];
+    let mut estimates: Vec<Vec<f64>> = vec![Vec::new(); 2];
+    let mut errors: Vec<Vec<f64>> = vec![Vec::new(); 2];
     for _ in 0..draws {
         let records: Vec<Record> = clean
             .iter()

@@ -14,9 +14,11 @@
 //! Structural damping ([`crate::terms::structural`]) is summed the same way, its s_e the
 //! element's −k H\[x_e\] over the same L samples (one real FFT), taken periodically too.
 //!
-//! Only windows of whole periods have an orbit or harmonics: non-periodic spans and the
-//! noise-robust rows refuse history terms ([`refuse`]) and structural damping
-//! ([`refuse_structural`]).
+//! Only windows of whole periods have an orbit or harmonics: non-periodic spans refuse
+//! history terms ([`refuse`]) and structural damping ([`refuse_structural`]). The
+//! noise-robust rows refuse history terms too; they compute structural damping
+//! themselves, on the projected motion, less its expected noise contribution
+//! (`regressor/robust/structural.rs`), and never call [`add_columns`].
 
 use faer::MatRef;
 

@@ -47,9 +47,10 @@
 //! **Where it does not apply.** The force is non-causal in the time domain: H\[x\](t)
 //! depends on x at every time of the period, future included, so no time-stepping
 //! simulator produces it, and a span that is not whole periods has no harmonics to
-//! rotate. The simulator and the non-periodic mode refuse it; so do the noise-robust
-//! rows, whose noise model is of f(x, v) laws (the noise of x enters v and H\[x\] through
-//! the same harmonics).
+//! rotate. The simulator and the non-periodic mode refuse it. The noise-robust rows
+//! compute it on the projection instead, as a quadratic form in the element's harmonic
+//! coefficients with its expected noise contribution removed
+//! (`regressor/robust/structural.rs`).
 
 use std::cell::RefCell;
 

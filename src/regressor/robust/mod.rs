@@ -22,7 +22,11 @@
 //!    Var v̂_j for a matrix term. Coulomb columns are the exact total variation of the
 //!    projected displacement (no velocity difference, no quadrature error at the kinks
 //!    of |v̂|), which zero-mean noise leaves unbiased to first order; the input work
-//!    ∫ rᵀ v̂ dt = ∫ rᵀ dx̂ needs no correction either (the noise is independent of r);
+//!    ∫ rᵀ v̂ dt = ∫ rᵀ dx̂ needs no correction either (the noise is independent of r).
+//!    Structural damping (a loss factor, force −k H[x̂_e] per unit η) is a quadratic form
+//!    k cᵀ N c in the element's relative coefficients, less k tr(N Cov δc) (see
+//!    `structural.rs`). History terms (forces with memory) are refused before the rows
+//!    are built: their noise bias is not modelled;
 //! 4. propagates the noise to first order into each equation's residual
 //!    e = b − Σ_k θ_k A_k: every column and the input work is a smooth function of the
 //!    projection coefficients c_j of each channel, so δe = Σ_j u_j(θ)ᵀ δc_j with

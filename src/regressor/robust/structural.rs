@@ -49,10 +49,11 @@
 //! (module doc of [`crate::regressor::robust`]).
 //!
 //! Cost: G is one p × p product over the window's samples (O(m p²)), then O(p²) per
-//! element for the value and gradient and O(p³) for its C_j (p = 2K + 1).
+//! element for the value and gradient, and O(p³) for C_j once per sensor kind (p = 2K + 1).
 
 use faer::Mat;
 
+use crate::record::Sensor;
 use crate::regressor::robust::projected::ProjectedWindow;
 use crate::regressor::robust::row::Gradients;
 use crate::terms::StructuralDamping;
@@ -99,7 +100,8 @@ pub(super) fn add_columns(
 ) {
     let n = rotated_gram(projected, weights);
     let p = n.nrows();
-    let mut covariance: Vec<Option<Mat<f64>>> = vec![None; sigma.len()];
+    // C_j depends on channel j through its sensor kind only (S_j): one per kind present
+    let mut covariance: Vec<(Sensor, Mat<f64>)> = Vec::new();
     for (index, (element, &k)) in term.elements().iter().zip(term.stiffness()).enumerate() {
         let column = first + term.column_of(index);
         let mut ends = vec![(element.a, 1.0)];
@@ -125,7 +127,15 @@ pub(super) fn add_columns(
             if variance == 0.0 {
                 continue;
             }
-            let unit = covariance[j].get_or_insert_with(|| projected.unit_covariance(j));
+            let kind = projected.sensors[j];
+            let at = match covariance.iter().position(|(k, _)| *k == kind) {
+                Some(at) => at,
+                None => {
+                    covariance.push((kind, projected.unit_covariance(j)));
+                    covariance.len() - 1
+                }
+            };
+            let unit = &covariance[at].1;
             let mut trace = 0.0;
             for a in 0..p {
                 for b in 0..p {
