@@ -572,7 +572,7 @@ fn residual_intervals_cover_the_truth_with_noise() {
     for p in &report.parameters {
         let [lower, upper] = p.joint_interval.expect("joint interval");
         println!("{} = {:e} [{lower:e}, {upper:e}]", p.name, p.value);
-        assert!(p.interval.is_none(), "no profile for residual jobs");
+        assert!(p.interval.is_none(), "residuals are nuisance parameters: no profile");
         covered += usize::from(lower <= R_K && R_K <= upper);
     }
     assert!(covered >= 6, "{covered} of 7 intervals cover r_k");
@@ -646,5 +646,37 @@ fn estimated_exponent_and_residual_together() {
             p.name,
             p.value
         );
+    }
+}
+
+/// With noise, an estimated exponent and the seven r_k: the exponent, a law parameter,
+/// gets a profile-likelihood interval (each end a nested fit of the residuals), which
+/// covers the truth and agrees with its joint Wald interval to within a factor 1.5 in
+/// width; the residuals, nuisance parameters, get their joint intervals only.
+#[test]
+fn exponent_profile_with_residuals_as_nuisance() {
+    let file = scratch("residual_exponent_noisy.csv");
+    let columns = residual_columns(R_K, 0.0, 1.0, Some((20, 0.005, 0.3f64.to_radians())));
+    support::write_scratch_csv(&file, &headers(), &columns);
+    let text = model_text(&file, "residual = \"stiffness\"").replace(
+        "exponent = 1.5",
+        "exponent = { estimate = true, initial = 1.0, lower = 0.2, upper = 3.0 }",
+    );
+    let job = dampid::model_file::parse(&text, "test.toml", Path::new(".")).unwrap();
+    let report = fit_residual(&job);
+    let exponent = &report.parameters[0];
+    let profile = exponent.interval.as_ref().expect("a profile interval");
+    let (lower, upper) = (profile.lower.unwrap(), profile.upper.unwrap());
+    let [wald_lower, wald_upper] = exponent.joint_interval.unwrap();
+    println!(
+        "exponent {} profile [{lower}, {upper}] joint [{wald_lower}, {wald_upper}]",
+        exponent.value
+    );
+    assert!(lower <= 1.5 && 1.5 <= upper, "[{lower}, {upper}]");
+    assert!(lower < exponent.value && exponent.value < upper);
+    let ratio = (upper - lower) / (wald_upper - wald_lower);
+    assert!((1.0 / 1.5..1.5).contains(&ratio), "width ratio {ratio}");
+    for p in &report.parameters[1..] {
+        assert!(p.interval.is_none() && p.joint_interval.is_some(), "{}", p.name);
     }
 }

@@ -404,7 +404,7 @@ impl Context<'_> {
             } else {
                 0.5 * (lower + upper)
             };
-            let p = NonlinearParameter::new(name, initial, lower, upper);
+            let p = NonlinearParameter::new(name, initial, lower, upper).as_nuisance();
             match given {
                 Some(b) => self.at(b, |_| p.validate())?,
                 None => p.validate()?,
@@ -532,15 +532,12 @@ impl super::Job {
     }
 
     /// The settings of [`crate::varpro::identify_varpro`] (or `_regressor`) for this job:
-    /// the defaults, without profile intervals when residual receptances are estimated
-    /// (one per sweep or two: each profile end is a nested optimisation over all the
-    /// others, about 2 500 rebuilt tables for seven sweeps against about 50 for the
-    /// fit and its joint covariance; the report gives their joint Wald intervals).
+    /// the defaults. Residual receptances are nuisance parameters
+    /// ([`NonlinearParameter::as_nuisance`]): their joint Wald intervals are reported,
+    /// and only the law parameters get profile intervals (each end a nested
+    /// optimisation over the residuals).
     pub fn varpro_settings(&self) -> crate::varpro::VarProSettings {
-        crate::varpro::VarProSettings {
-            profile: !self.estimates_residual(),
-            ..Default::default()
-        }
+        crate::varpro::VarProSettings::default()
     }
 
     /// The sweep of each equation of a `[stepped_sine]` job (for resampling whole
