@@ -442,7 +442,10 @@ fn residual_columns(
 /// The variable-projection fit of a table with estimated residuals or law parameters,
 /// as `dampid identify` runs it.
 fn fit_residual(job: &dampid::model_file::Job) -> VarProReport {
-    let regressor = job.parametric_regressor().expect("something estimated").unwrap();
+    let regressor = job
+        .parametric_regressor()
+        .expect("something estimated")
+        .unwrap();
     let report =
         identify_varpro_regressor(&regressor, &job.settings, &job.varpro_settings()).unwrap();
     assert!(report.is_estimate(), "{report}");
@@ -573,7 +576,10 @@ fn residual_intervals_cover_the_truth_with_noise() {
     for p in &report.parameters {
         let [lower, upper] = p.joint_interval.expect("joint interval");
         println!("{} = {:e} [{lower:e}, {upper:e}]", p.name, p.value);
-        assert!(p.interval.is_none(), "residuals are nuisance parameters: no profile");
+        assert!(
+            p.interval.is_none(),
+            "residuals are nuisance parameters: no profile"
+        );
         covered += usize::from(lower <= R_K && R_K <= upper);
     }
     assert!(covered >= 6, "{covered} of 7 intervals cover r_k");
@@ -678,7 +684,11 @@ fn exponent_profile_with_residuals_as_nuisance() {
     let ratio = (upper - lower) / (wald_upper - wald_lower);
     assert!((1.0 / 1.5..1.5).contains(&ratio), "width ratio {ratio}");
     for p in &report.parameters[1..] {
-        assert!(p.interval.is_none() && p.joint_interval.is_some(), "{}", p.name);
+        assert!(
+            p.interval.is_none() && p.joint_interval.is_some(),
+            "{}",
+            p.name
+        );
     }
 }
 
@@ -709,6 +719,9 @@ fn estimated_exponent_on_a_table_is_weighted() {
     for (name, truth) in [("c", C), ("d", D)] {
         let e = report.coefficients.iter().find(|c| c.name == name).unwrap();
         let (l, u) = (e.lower.unwrap(), e.upper.unwrap());
-        assert!(l <= truth && truth <= u, "{name}: [{l}, {u}], truth {truth}");
+        assert!(
+            l <= truth && truth <= u,
+            "{name}: [{l}, {u}], truth {truth}"
+        );
     }
 }

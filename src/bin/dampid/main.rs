@@ -508,12 +508,19 @@ fn pod(
 fn compare(first: &Path, second: &Path, as_json: bool) -> anyhow::Result<Outcome> {
     let job = load_job(first)?;
     // Only model B's terms are used: its records, if it has any, are not simulated or read.
-    let other = dampid::model_file::load_model(second)?;
+    let (other, other_law) = dampid::model_file::load_parametric_model(second)?;
     // Both models on the first file's records, windows and mode (in the non-periodic
-    // mode both regressors carry the same nuisance columns).
-    let comparison = dampid::analysis::compare::compare_regressors(
-        (&first.display().to_string(), &job.regressor()?),
-        (&second.display().to_string(), &job.regressor_of(&other)?),
+    // mode both regressors carry the same nuisance columns); estimated parameters (and
+    // the first file's residual receptances) at their least-squares values.
+    let a = job.compared(
+        &first.display().to_string(),
+        &job.model,
+        job.parametric.as_ref(),
+    )?;
+    let b = job.compared(&second.display().to_string(), &other, other_law.as_ref())?;
+    let comparison = dampid::analysis::compare::compare_candidates(
+        a.candidate(),
+        b.candidate(),
         &dampid::analysis::compare::CompareSettings {
             rank_tolerance: job.settings.fit.rank_tolerance,
             ..Default::default()
@@ -551,14 +558,16 @@ fn rank_laws(path: &Path, laws: &[String], as_json: bool) -> anyhow::Result<Outc
     let regressors = laws
         .iter()
         .map(|spec| {
-            let model = dampid::model_file::candidate_model(spec, dofs, &registry)
+            let (model, law) = dampid::model_file::candidate(spec, dofs, &registry)
                 .with_context(|| format!("candidate '{spec}'"))?;
-            Ok((spec.clone(), job.regressor_of(&model)?))
+            // Its estimated exponents and the table's residual receptances (if the job
+            // estimates them) at their least-squares values.
+            job.compared(spec, &model, law.as_ref())
+                .with_context(|| format!("candidate '{spec}'"))
         })
         .collect::<anyhow::Result<Vec<_>>>()?;
-    let candidates: Vec<(&str, &Regressor)> =
-        regressors.iter().map(|(l, r)| (l.as_str(), r)).collect();
-    let ranking = dampid::analysis::compare::rank(
+    let candidates: Vec<_> = regressors.iter().map(|c| c.candidate()).collect();
+    let ranking = dampid::analysis::compare::rank_candidates(
         &candidates,
         &dampid::analysis::compare::CompareSettings {
             rank_tolerance: job.settings.fit.rank_tolerance,
