@@ -322,7 +322,9 @@ fn solve(candidate: Candidate<'_>, tolerance: f64) -> Result<Solved> {
 /// but the synthesized periods integrate it again).
 fn differing_input_work(a: &Regressor, b: &Regressor) -> Option<usize> {
     let scale = a.rhs().iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    (0..a.equations()).find(|&i| !((a.rhs()[i] - b.rhs()[i]).abs() <= 1e-12 * scale))
+    // NaN differs too.
+    let same = |i: usize| (a.rhs()[i] - b.rhs()[i]).abs() <= 1e-12 * scale;
+    (0..a.equations()).find(|&i| !same(i))
 }
 
 /// Largest relative residual of `small`'s columns projected on the span of `basis`.
