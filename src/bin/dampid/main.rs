@@ -195,6 +195,7 @@ fn load_steady_job(
 
 /// The regressor with a spinner while it is built: it is built in one call (its rows
 /// in parallel, and a noise model across them), so there is no per-record count to show.
+/// Estimated parameters, if any, stand at their initial values (`dampid check`).
 fn build_regressor(job: &Job) -> anyhow::Result<Regressor> {
     let spinner = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
     spinner.set_style(
@@ -206,7 +207,7 @@ fn build_regressor(job: &Job) -> anyhow::Result<Regressor> {
         count(job.records.len(), "record")
     ));
     spinner.enable_steady_tick(std::time::Duration::from_millis(120));
-    let regressor = job.regressor();
+    let regressor = job.initial_regressor();
     spinner.finish_and_clear();
     Ok(regressor?)
 }
