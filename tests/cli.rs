@@ -482,3 +482,18 @@ fn absurd_sizes_exit_with_2_before_allocating() {
 fn text_of(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
 }
+
+/// `dampid check` on a job with an estimated exponent examines the regressor at the
+/// exponent's initial value and says so, by name and value, in the text and the JSON.
+#[test]
+fn check_names_the_parameters_it_holds_at_their_initial_values() {
+    let json = support::cli::dampid_json(&["check", "models/four_mass_power.toml", "--json"]);
+    assert_eq!(json["held_at_initial"][0][0], "d.exponent");
+    assert_eq!(json["held_at_initial"][0][1], 1.0);
+    let out = support::cli::dampid_ok(&["check", "models/four_mass_power.toml"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("held at their initial values for this check: d.exponent = 1"),
+        "{text}"
+    );
+}

@@ -30,6 +30,14 @@
 //! negative coefficient (a damper that feeds energy in) is flagged in the conclusion:
 //! least squares lets a negative Coulomb or viscous term absorb a missing mechanism, so
 //! its winning says nothing about physics until the nonnegative fits agree.
+//!
+//! **Estimated nonlinear parameters** ([`Candidate::estimated`]: an exponent, a
+//! stepped-sine table's residual receptances): the candidate's regressor is built at η̂,
+//! the η minimising its RSS by variable projection ([`crate::varpro`], unweighted, so
+//! that the criteria above are those of its own maximum likelihood), and each estimated
+//! parameter counts in k: k = rank + q. Its leave-one-out refits hold η at η̂ (a refit of
+//! η per equation would cost a variable projection each), which favours it slightly:
+//! the text says so.
 
 use std::fmt;
 
@@ -93,6 +101,34 @@ impl CompareSettings {
     }
 }
 
+/// A model to compare: its label and regressor, and the nonlinear parameters the
+/// regressor was built at when they were estimated (empty for a linear model).
+#[derive(Debug, Clone, Copy)]
+pub struct Candidate<'a> {
+    /// The model's label (e.g. its file).
+    pub label: &'a str,
+    /// Its regressor (at the estimated parameters).
+    pub regressor: &'a Regressor,
+    /// The estimated nonlinear law parameters: (name, value minimising the RSS).
+    pub estimated: &'a [(String, f64)],
+    /// Estimated nuisance parameters (a stepped-sine table's residual receptances,
+    /// [`crate::varpro::NonlinearParameter::nuisance`]): counted in k like the others,
+    /// listed in the JSON, summarised as a count in the text.
+    pub nuisance: &'a [(String, f64)],
+}
+
+impl<'a> Candidate<'a> {
+    /// A model linear in its coefficients, nothing estimated.
+    pub fn linear(label: &'a str, regressor: &'a Regressor) -> Self {
+        Candidate {
+            label,
+            regressor,
+            estimated: &[],
+            nuisance: &[],
+        }
+    }
+}
+
 /// One model's least-squares fit in the comparison.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ModelFit {
@@ -102,8 +138,17 @@ pub struct ModelFit {
     pub coefficients: Vec<String>,
     /// Least-squares values (minimum norm when rank deficient).
     pub values: Vec<f64>,
-    /// k: numerical rank of its column-scaled regressor.
+    /// k: numerical rank of its column-scaled regressor, plus its estimated nonlinear
+    /// parameters.
     pub parameters: usize,
+    /// The nonlinear parameters estimated for it (name, value at the least-squares
+    /// optimum), counted in `parameters`; empty for a linear model.
+    #[serde(default)]
+    pub estimated: Vec<(String, f64)>,
+    /// The nuisance parameters estimated for it ([`Candidate::nuisance`]), counted in
+    /// `parameters`.
+    #[serde(default)]
+    pub nuisance: Vec<(String, f64)>,
     /// RSS = ‖b − Aθ‖².
     pub residual_sum_of_squares: f64,
     /// ‖b − Aθ‖/‖b‖.
@@ -215,7 +260,8 @@ struct Solved {
     basis: Mat<f64>,
 }
 
-fn solve(label: &str, r: &Regressor, tolerance: f64) -> Result<Solved> {
+fn solve(candidate: Candidate<'_>, tolerance: f64) -> Result<Solved> {
+    let (label, r) = (candidate.label, candidate.regressor);
     let a = r.matrix();
     let (m, p) = a.shape();
     if p == 0 {
@@ -251,20 +297,34 @@ fn solve(label: &str, r: &Regressor, tolerance: f64) -> Result<Solved> {
     let mf = m as f64;
     let log_likelihood_term = mf * (rss.max(f64::MIN_POSITIVE) / mf).ln();
     let basis = Mat::from_fn(m, rank, |i, k| u[(i, k)]);
+    let k = rank + candidate.estimated.len() + candidate.nuisance.len();
     Ok(Solved {
         fit: ModelFit {
             label: label.to_string(),
             coefficients: r.columns().to_vec(),
             values: scaling.unscale(&theta_s),
-            parameters: rank,
+            parameters: k,
+            estimated: candidate.estimated.to_vec(),
+            nuisance: candidate.nuisance.to_vec(),
             residual_sum_of_squares: rss,
             relative_residual: rss_s.sqrt(),
-            aic: log_likelihood_term + 2.0 * rank as f64,
-            bic: log_likelihood_term + rank as f64 * mf.ln(),
+            aic: log_likelihood_term + 2.0 * k as f64,
+            bic: log_likelihood_term + k as f64 * mf.ln(),
             cross_validation: press_s.map(|p| p * scaling.rhs * scaling.rhs),
         },
         basis,
     })
+}
+
+/// The first equation whose input work differs between two regressors of as many
+/// equations by more than round-off, 10⁻¹² of the largest |b| (a stepped-sine table's
+/// residual receptance leaves b = −π a Im Z unchanged analytically, R a being real,
+/// but the synthesized periods integrate it again).
+fn differing_input_work(a: &Regressor, b: &Regressor) -> Option<usize> {
+    let scale = a.rhs().iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    // NaN differs too.
+    let same = |i: usize| (a.rhs()[i] - b.rhs()[i]).abs() <= 1e-12 * scale;
+    (0..a.equations()).find(|&i| !same(i))
 }
 
 /// Largest relative residual of `small`'s columns projected on the span of `basis`.
@@ -296,8 +356,22 @@ pub fn compare_regressors(
     second: (&str, &Regressor),
     settings: &CompareSettings,
 ) -> Result<Comparison> {
+    compare_candidates(
+        Candidate::linear(first.0, first.1),
+        Candidate::linear(second.0, second.1),
+        settings,
+    )
+}
+
+/// [`compare_regressors`] for candidates that may carry estimated nonlinear
+/// parameters (counted in k; module doc).
+pub fn compare_candidates(
+    first: Candidate<'_>,
+    second: Candidate<'_>,
+    settings: &CompareSettings,
+) -> Result<Comparison> {
     settings.validate()?;
-    let (ra, rb) = (first.1, second.1);
+    let (ra, rb) = (first.regressor, second.regressor);
     if ra.equations() != rb.equations() {
         return Err(Error::mismatch(
             "equations of the two models (they must be built from the same windows)",
@@ -305,7 +379,7 @@ pub fn compare_regressors(
             rb.equations(),
         ));
     }
-    if let Some(row) = (0..ra.equations()).find(|&i| ra.rhs()[i] != rb.rhs()[i]) {
+    if let Some(row) = differing_input_work(ra, rb) {
         return Err(Error::invalid(
             &format!("input work of equation {row}"),
             rb.rhs()[row],
@@ -316,8 +390,8 @@ pub fn compare_regressors(
         ));
     }
     let m = ra.equations();
-    let a = solve(first.0, ra, settings.rank_tolerance)?;
-    let b = solve(second.0, rb, settings.rank_tolerance)?;
+    let a = solve(first, settings.rank_tolerance)?;
+    let b = solve(second, settings.rank_tolerance)?;
     // The candidate smaller model: fewer parameters (ties: fewer columns, then first).
     let (small_which, small_r, large) =
         if (b.fit.parameters, rb.columns().len()) < (a.fit.parameters, ra.columns().len()) {
@@ -379,6 +453,35 @@ pub fn compare_regressors(
     };
     comparison.text = conclusion(&comparison, small_which, large_which);
     Ok(comparison)
+}
+
+/// What k and the leave-one-out refits mean for models with estimated parameters.
+fn estimated_note<'a>(models: impl IntoIterator<Item = &'a ModelFit>) -> Option<String> {
+    let with: Vec<&str> = models
+        .into_iter()
+        .filter(|m| !m.estimated.is_empty() || !m.nuisance.is_empty())
+        .map(|m| m.label.as_str())
+        .collect();
+    (!with.is_empty()).then(|| {
+        format!(
+            "; k counts the estimated parameters of {}, and their leave-one-out refits hold them at their estimates (which favours them slightly)",
+            with.join(", ")
+        )
+    })
+}
+
+/// `name = value` of each estimated parameter, then the count of nuisance ones.
+fn estimated_values(m: &ModelFit) -> Vec<String> {
+    m.estimated
+        .iter()
+        .map(|(n, v)| format!("{n} = {v:.4e} (estimated)"))
+        .chain((!m.nuisance.is_empty()).then(|| {
+            format!(
+                "+ {} residual receptances (estimated; --json lists them)",
+                m.nuisance.len()
+            )
+        }))
+        .collect()
 }
 
 fn other(which: Which) -> Which {
@@ -458,6 +561,9 @@ fn conclusion(c: &Comparison, small: Which, large: Which) -> String {
             name(w)
         ));
     }
+    if let Some(note) = estimated_note([&c.first, &c.second]) {
+        text.push_str(&note);
+    }
     // A model that wins with a negative coefficient wins unphysically: say so.
     let winner = match c.verdict {
         Verdict::LargerNeeded => large,
@@ -520,6 +626,16 @@ impl fmt::Display for Comparison {
                 press
             )?;
         }
+        for m in [&self.first, &self.second] {
+            if !m.estimated.is_empty() || !m.nuisance.is_empty() {
+                writeln!(
+                    f,
+                    "{}: at its least-squares {}",
+                    m.label,
+                    estimated_values(m).join(", ")
+                )?;
+            }
+        }
         match self.nested_in {
             Some(w) => writeln!(
                 f,
@@ -560,14 +676,32 @@ pub struct Ranking {
 /// beside it. A candidate with a negative coefficient is flagged; when the first is
 /// one, the text names the best physical candidate.
 pub fn rank(candidates: &[(&str, &Regressor)], settings: &CompareSettings) -> Result<Ranking> {
+    let candidates: Vec<Candidate<'_>> = candidates
+        .iter()
+        .map(|(label, r)| Candidate::linear(label, r))
+        .collect();
+    rank_candidates(&candidates, settings)
+}
+
+/// [`rank`] for candidates that may carry estimated nonlinear parameters (counted in
+/// k; module doc).
+pub fn rank_candidates(
+    candidates: &[Candidate<'_>],
+    settings: &CompareSettings,
+) -> Result<Ranking> {
     settings.validate()?;
-    let Some((_, first)) = candidates.first() else {
+    let Some(first) = candidates.first().map(|c| c.regressor) else {
         return Err(Error::Empty {
             what: "candidate models".into(),
         });
     };
-    for (label, r) in candidates {
-        if r.equations() != first.equations() || r.rhs() != first.rhs() {
+    for &Candidate {
+        label,
+        regressor: r,
+        ..
+    } in candidates
+    {
+        if r.equations() != first.equations() || differing_input_work(r, first).is_some() {
             return Err(Error::choice(
                 "candidate models",
                 format!("'{label}'"),
@@ -577,8 +711,8 @@ pub fn rank(candidates: &[(&str, &Regressor)], settings: &CompareSettings) -> Re
     }
     let mut models = candidates
         .iter()
-        .map(|(label, r)| {
-            let fit = solve(label, r, settings.rank_tolerance)?.fit;
+        .map(|&candidate| {
+            let fit = solve(candidate, settings.rank_tolerance)?.fit;
             let negative = fit
                 .coefficients
                 .iter()
@@ -611,6 +745,9 @@ pub fn rank(candidates: &[(&str, &Regressor)], settings: &CompareSettings) -> Re
     }
     if let Some(cv) = by(|f| f.cross_validation) {
         text.push_str(&format!("; leave-one-out cross-validation prefers {cv}"));
+    }
+    if let Some(note) = estimated_note(models.iter().map(|m| &m.fit)) {
+        text.push_str(&note);
     }
     if !top.negative.is_empty() {
         text.push_str(&format!(
@@ -656,6 +793,7 @@ impl fmt::Display for Ranking {
                 .iter()
                 .zip(&m.fit.values)
                 .map(|(n, v)| format!("{n} = {v:.4e}"))
+                .chain(estimated_values(&m.fit))
                 .collect();
             let flag = if m.negative.is_empty() {
                 ""

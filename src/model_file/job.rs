@@ -117,6 +117,36 @@ impl Job {
         self.regressor_of(&self.model)
     }
 
+    /// Every nonlinear parameter the job estimates: its law parameters, then a
+    /// stepped-sine table's residual receptances (empty for a linear job).
+    pub fn estimated_parameters(&self) -> Vec<crate::varpro::NonlinearParameter> {
+        let mut all = self
+            .parametric
+            .as_ref()
+            .map_or_else(Vec::new, |p| p.parameters().to_vec());
+        if let Some(table) = &self.stepped_sine {
+            all.extend(table.residual.parameters.iter().cloned());
+        }
+        all
+    }
+
+    /// The regressor at the initial values of every estimated parameter
+    /// ([`Self::estimated_parameters`]; [`Self::regressor`] for a linear job), as
+    /// `dampid check` examines it.
+    pub fn initial_regressor(&self) -> Result<Regressor> {
+        match self.parametric_regressor() {
+            Some(parametric) => {
+                let initial: Vec<f64> = self
+                    .estimated_parameters()
+                    .iter()
+                    .map(|p| p.initial)
+                    .collect();
+                parametric?.regressor(&initial)
+            }
+            None => self.regressor(),
+        }
+    }
+
     /// The regressor of another damping `model` on this job's records, windows and
     /// mode (to compare models on the same equations).
     pub fn regressor_of(&self, model: &DampingModel) -> Result<Regressor> {

@@ -16,6 +16,8 @@
 //! (`dampid init`); docs/model-file.md is the reference of every key.
 
 mod candidates;
+mod compared;
+pub use compared::ComparedModel;
 mod context;
 pub mod init;
 mod job;
@@ -36,7 +38,7 @@ mod terms;
 
 use std::path::Path;
 
-pub use candidates::candidate_model;
+pub use candidates::{ESTIMATED_EXPONENT, candidate, candidate_model};
 pub use job::Job;
 pub use measured::{ChannelGain, RecordInputs};
 pub use provenance::settings_in_effect;
@@ -50,6 +52,7 @@ use crate::error::{Error, Result};
 use crate::model::DampingModel;
 use crate::progress::Progress;
 use crate::terms::laws::Registry;
+use crate::varpro::ParametricModel;
 use context::Context;
 
 /// Reads and builds the model file at `path` (data paths are relative to its folder).
@@ -96,12 +99,26 @@ pub fn load_model(path: &Path) -> Result<DampingModel> {
 
 /// [`load_model`] of model-file `text` (named `file` in errors).
 pub fn parse_model(text: &str, file: &str) -> Result<DampingModel> {
+    // Estimated parameters stand at their initial values in a terms-only model.
+    parse_parametric_model(text, file).map(|(model, _)| model)
+}
+
+/// [`load_model`] with the file's estimated law parameters, if it has any: the model
+/// at their initial values and the [`ParametricModel`] that builds it at others
+/// (`dampid compare` estimates them on the first file's records).
+pub fn load_parametric_model(path: &Path) -> Result<(DampingModel, Option<ParametricModel>)> {
+    let text = read(path)?;
+    parse_parametric_model(&text, &path.display().to_string())
+}
+
+/// [`load_parametric_model`] of model-file `text` (named `file` in errors).
+pub fn parse_parametric_model(
+    text: &str,
+    file: &str,
+) -> Result<(DampingModel, Option<ParametricModel>)> {
     let context = Context { file, text };
     let spec = parse_spec(text, file)?;
-    // Estimated parameters stand at their initial values in a terms-only model.
-    context
-        .damping_model(&spec, &Registry::builtin())
-        .map(|(model, _)| model)
+    context.damping_model(&spec, &Registry::builtin())
 }
 
 fn read(path: &Path) -> Result<String> {

@@ -404,7 +404,7 @@ impl Context<'_> {
             } else {
                 0.5 * (lower + upper)
             };
-            let p = NonlinearParameter::new(name, initial, lower, upper);
+            let p = NonlinearParameter::new(name, initial, lower, upper).as_nuisance();
             match given {
                 Some(b) => self.at(b, |_| p.validate())?,
                 None => p.validate()?,
@@ -493,23 +493,35 @@ impl super::Job {
             .is_some_and(|t| t.residual.kind != ResidualKind::None)
     }
 
-    /// For a `[stepped_sine]` job whose residual receptance is estimated: the regressor
-    /// as a function of η = (the estimated law parameters of [`super::Job::parametric`],
-    /// if any, then the residual unknowns), the table rebuilt at each η with
-    /// Z − R a ([`build_with_residual`]). Identify it with
-    /// [`crate::varpro::identify_varpro_regressor`]. `None` for other jobs.
+    /// For a `[stepped_sine]` job with estimated residual receptances or law parameters:
+    /// the regressor as a function of η = (the estimated law parameters of
+    /// [`super::Job::parametric`], if any, then the residual unknowns, if any), the
+    /// table rebuilt at each η with Z − R a ([`build_with_residual`]) and its noise
+    /// model, so the fit stays weighted by each point's propagated variance. Identify it
+    /// with [`crate::varpro::identify_varpro_regressor`]. `None` for other jobs.
     pub fn parametric_regressor(&self) -> Option<Result<ParametricRegressor>> {
+        self.parametric_regressor_of(&self.model, self.parametric.as_ref())
+    }
+
+    /// [`Self::parametric_regressor`] for another damping `model` (with its estimated
+    /// law parameters `law`) on this job's table: `None` unless the job is a
+    /// `[stepped_sine]` one and something is estimated.
+    pub fn parametric_regressor_of(
+        &self,
+        model: &crate::model::DampingModel,
+        law: Option<&crate::varpro::ParametricModel>,
+    ) -> Option<Result<ParametricRegressor>> {
         let table = self.stepped_sine.as_ref()?;
-        if table.residual.kind == ResidualKind::None {
+        if table.residual.kind == ResidualKind::None && law.is_none() {
             return None;
         }
-        let law = self.parametric.clone();
+        let law = law.cloned();
         let q_law = law.as_ref().map_or(0, |p| p.parameters().len());
         let mut parameters: Vec<NonlinearParameter> = law
             .as_ref()
             .map_or_else(Vec::new, |p| p.parameters().to_vec());
         parameters.extend(table.residual.parameters.iter().cloned());
-        let model = self.model.clone();
+        let model = model.clone();
         let table = table.clone();
         Some(ParametricRegressor::new(
             parameters,
@@ -519,28 +531,28 @@ impl super::Job {
                     Some(p) => p.model(at)?,
                     None => model.clone(),
                 };
-                let r = residual::per_point(table.residual.kind, unknowns, &table.table)?;
+                let r = match table.residual.kind {
+                    ResidualKind::None => None,
+                    kind => Some(residual::per_point(kind, unknowns, &table.table)?),
+                };
                 build_with_residual(
                     &model,
                     &table.structural,
                     &table.table,
                     &table.approximation,
-                    Some(&r),
+                    r.as_deref(),
                 )
             },
         ))
     }
 
     /// The settings of [`crate::varpro::identify_varpro`] (or `_regressor`) for this job:
-    /// the defaults, without profile intervals when residual receptances are estimated
-    /// (one per sweep or two: each profile end is a nested optimisation over all the
-    /// others, about 2 500 rebuilt tables for seven sweeps against about 50 for the
-    /// fit and its joint covariance; the report gives their joint Wald intervals).
+    /// the defaults. Residual receptances are nuisance parameters
+    /// ([`NonlinearParameter::as_nuisance`]): their joint Wald intervals are reported,
+    /// and only the law parameters get profile intervals (each end a nested
+    /// optimisation over the residuals).
     pub fn varpro_settings(&self) -> crate::varpro::VarProSettings {
-        crate::varpro::VarProSettings {
-            profile: !self.estimates_residual(),
-            ..Default::default()
-        }
+        crate::varpro::VarProSettings::default()
     }
 
     /// The sweep of each equation of a `[stepped_sine]` job (for resampling whole

@@ -228,13 +228,19 @@ pub struct CheckReport {
     /// periods).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub stepped_sine: Option<SteppedSineSummary>,
+    /// The estimated nonlinear parameters (law parameters, a table's residual
+    /// receptances), held at their initial values for the check: (name, value).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub held_at_initial: Vec<(String, f64)>,
     /// The regressor's size, conditioning and identifiability.
     #[serde(flatten)]
     pub regressor: RegressorCheck,
 }
 
 impl CheckReport {
-    /// The check of `job` with its steady-state report `steady` and its `regressor`.
+    /// The check of `job` with its steady-state report `steady` and its `regressor`
+    /// (built at the initial values of any estimated parameters,
+    /// [`Job::initial_regressor`]).
     pub fn new(
         job: &Job,
         steady: Option<SteadyStateReport>,
@@ -255,6 +261,11 @@ impl CheckReport {
                 .unwrap_or_default(),
             records: job.records.len(),
             stepped_sine: job.stepped_sine.as_ref().map(SteppedSineSummary::of),
+            held_at_initial: job
+                .estimated_parameters()
+                .into_iter()
+                .map(|p| (p.name, p.initial))
+                .collect(),
             regressor: RegressorCheck::new(regressor, &job.settings.fit)?,
         })
     }
@@ -332,6 +343,18 @@ impl fmt::Display for CheckReport {
                     "non-periodic mode: windows of {lengths}, no steady state needed"
                 )?
             }
+        }
+        if !self.held_at_initial.is_empty() {
+            let held: Vec<String> = self
+                .held_at_initial
+                .iter()
+                .map(|(n, v)| format!("{n} = {v}"))
+                .collect();
+            writeln!(
+                f,
+                "estimated parameters held at their initial values for this check: {} (`dampid identify` estimates them; its report gives the conditioning at the estimate)",
+                held.join(", ")
+            )?;
         }
         let check = &self.regressor;
         writeln!(

@@ -44,7 +44,6 @@ use crate::model::DampingModel;
 use crate::prep::harmonic::residual;
 use crate::prep::harmonic::sweeps::SweptTable;
 use crate::prep::harmonic::{HarmonicApproximation, SteppedSinePoint};
-use crate::record::Record;
 use crate::regressor::robust::{ChannelSensitivity, NoiseModel, RowNoise, WindowNoise};
 use crate::regressor::{Regressor, RegressorSettings, RowLabel};
 
@@ -122,10 +121,7 @@ fn rows(
     points: &[SteppedSinePoint],
     approximation: &HarmonicApproximation,
 ) -> Result<Vec<Row>> {
-    let records: Vec<Record> = points
-        .iter()
-        .map(|p| approximation.synthesize(p))
-        .collect::<Result<_>>()?;
+    let records = approximation.records_of(points)?;
     let model_rows = if model.terms().is_empty() {
         None
     } else {

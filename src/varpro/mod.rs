@@ -67,6 +67,10 @@ pub struct NonlinearParameter {
     pub lower: f64,
     /// Upper bound.
     pub upper: f64,
+    /// A nuisance parameter (a stepped-sine table's residual receptance): estimated with
+    /// the others and reported with its joint Wald interval, but given no profile
+    /// interval of its own. The profiles of the other parameters still minimise over it.
+    pub nuisance: bool,
 }
 
 impl NonlinearParameter {
@@ -77,6 +81,15 @@ impl NonlinearParameter {
             initial,
             lower,
             upper,
+            nuisance: false,
+        }
+    }
+
+    /// The same parameter as a nuisance one ([`NonlinearParameter::nuisance`]).
+    pub fn as_nuisance(self) -> Self {
+        NonlinearParameter {
+            nuisance: true,
+            ..self
         }
     }
 
@@ -361,7 +374,7 @@ fn run(
     let mut parameters = Vec::with_capacity(minimum.values.len());
     for (j, spec) in specs.iter().enumerate() {
         let value = minimum.values[j];
-        let interval = match (converged && varpro.profile, dof) {
+        let interval = match (converged && varpro.profile && !spec.nuisance, dof) {
             (true, Some(dof)) => Some(profile::interval(
                 problem,
                 specs,

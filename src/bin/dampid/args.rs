@@ -169,7 +169,8 @@ pub(crate) enum Command {
         model_b: Option<PathBuf>,
         /// Instead of a second model file: candidate laws fitted on the first file's data
         /// and ranked, separated by commas, laws of one candidate joined by `+`, a power
-        /// law's exponent after `:` (e.g. `linear,coulomb,linear+coulomb,linear+power:1.5`).
+        /// law's exponent after `:`, or `:est` to estimate it in [0.1, 5] (e.g.
+        /// `linear,coulomb,linear+coulomb,linear+power:1.5,linear+power:est`).
         #[arg(long, value_delimiter = ',', value_name = "LAWS")]
         laws: Option<Vec<String>>,
         /// Print the comparison as one JSON object.

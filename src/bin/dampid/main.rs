@@ -195,6 +195,7 @@ fn load_steady_job(
 
 /// The regressor with a spinner while it is built: it is built in one call (its rows
 /// in parallel, and a noise model across them), so there is no per-record count to show.
+/// Estimated parameters, if any, stand at their initial values (`dampid check`).
 fn build_regressor(job: &Job) -> anyhow::Result<Regressor> {
     let spinner = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
     spinner.set_style(
@@ -206,7 +207,7 @@ fn build_regressor(job: &Job) -> anyhow::Result<Regressor> {
         count(job.records.len(), "record")
     ));
     spinner.enable_steady_tick(std::time::Duration::from_millis(120));
-    let regressor = job.regressor();
+    let regressor = job.initial_regressor();
     spinner.finish_and_clear();
     Ok(regressor?)
 }
@@ -508,12 +509,19 @@ fn pod(
 fn compare(first: &Path, second: &Path, as_json: bool) -> anyhow::Result<Outcome> {
     let job = load_job(first)?;
     // Only model B's terms are used: its records, if it has any, are not simulated or read.
-    let other = dampid::model_file::load_model(second)?;
+    let (other, other_law) = dampid::model_file::load_parametric_model(second)?;
     // Both models on the first file's records, windows and mode (in the non-periodic
-    // mode both regressors carry the same nuisance columns).
-    let comparison = dampid::analysis::compare::compare_regressors(
-        (&first.display().to_string(), &job.regressor()?),
-        (&second.display().to_string(), &job.regressor_of(&other)?),
+    // mode both regressors carry the same nuisance columns); estimated parameters (and
+    // the first file's residual receptances) at their least-squares values.
+    let a = job.compared(
+        &first.display().to_string(),
+        &job.model,
+        job.parametric.as_ref(),
+    )?;
+    let b = job.compared(&second.display().to_string(), &other, other_law.as_ref())?;
+    let comparison = dampid::analysis::compare::compare_candidates(
+        a.candidate(),
+        b.candidate(),
         &dampid::analysis::compare::CompareSettings {
             rank_tolerance: job.settings.fit.rank_tolerance,
             ..Default::default()
@@ -551,14 +559,16 @@ fn rank_laws(path: &Path, laws: &[String], as_json: bool) -> anyhow::Result<Outc
     let regressors = laws
         .iter()
         .map(|spec| {
-            let model = dampid::model_file::candidate_model(spec, dofs, &registry)
+            let (model, law) = dampid::model_file::candidate(spec, dofs, &registry)
                 .with_context(|| format!("candidate '{spec}'"))?;
-            Ok((spec.clone(), job.regressor_of(&model)?))
+            // Its estimated exponents and the table's residual receptances (if the job
+            // estimates them) at their least-squares values.
+            job.compared(spec, &model, law.as_ref())
+                .with_context(|| format!("candidate '{spec}'"))
         })
         .collect::<anyhow::Result<Vec<_>>>()?;
-    let candidates: Vec<(&str, &Regressor)> =
-        regressors.iter().map(|(l, r)| (l.as_str(), r)).collect();
-    let ranking = dampid::analysis::compare::rank(
+    let candidates: Vec<_> = regressors.iter().map(|c| c.candidate()).collect();
+    let ranking = dampid::analysis::compare::rank_candidates(
         &candidates,
         &dampid::analysis::compare::CompareSettings {
             rank_tolerance: job.settings.fit.rank_tolerance,

@@ -150,6 +150,22 @@ impl HarmonicApproximation {
     /// The motion of `point` over one period as a record with exact velocities.
     pub fn synthesize(&self, point: &SteppedSinePoint) -> Result<Record> {
         self.validate()?;
+        self.synthesize_on(point, &self.angles())
+    }
+
+    /// (sin θ_j, cos θ_j) of the N + 1 sample angles θ_j = 2πj/N, shared by every point:
+    /// with cos(θ − φ) = cos θ cos φ + sin θ sin φ and sin(θ − φ) = sin θ cos φ −
+    /// cos θ sin φ a point then costs no trigonometric call per sample (the table
+    /// builds of variable projection synthesize thousands of points).
+    fn angles(&self) -> Vec<(f64, f64)> {
+        let per_period = self.samples_per_period;
+        (0..=per_period)
+            .map(|j| (2.0 * std::f64::consts::PI * j as f64 / per_period as f64).sin_cos())
+            .collect()
+    }
+
+    /// [`Self::synthesize`] on the sample angles `trig` of [`Self::angles`].
+    fn synthesize_on(&self, point: &SteppedSinePoint, trig: &[(f64, f64)]) -> Result<Record> {
         // A point from a table is valid; one built by hand is checked here.
         SteppedSineTable::new(vec![point.clone()])?;
         let phases = self.phase.phases(point)?;
@@ -157,15 +173,17 @@ impl HarmonicApproximation {
         let omega = point.frequency;
         let period = 2.0 * std::f64::consts::PI / omega;
         let per_period = self.samples_per_period;
-        let angle = |j: usize| 2.0 * std::f64::consts::PI * j as f64 / per_period as f64;
         let samples = per_period + 1;
+        let lag: Vec<(f64, f64)> = phases.iter().map(|p| p.sin_cos()).collect();
         let x = Mat::from_fn(samples, n, |j, i| {
-            point.amplitudes[i] * (angle(j) - phases[i]).cos()
+            let ((s, c), (sp, cp)) = (trig[j], lag[i]);
+            point.amplitudes[i] * (c * cp + s * sp)
         });
         let v = Mat::from_fn(samples, n, |j, i| {
-            -omega * point.amplitudes[i] * (angle(j) - phases[i]).sin()
+            let ((s, c), (sp, cp)) = (trig[j], lag[i]);
+            -omega * point.amplitudes[i] * (s * cp - c * sp)
         });
-        let force = Mat::from_fn(samples, 1, |j, _| point.force_amplitude * angle(j).cos());
+        let force = Mat::from_fn(samples, 1, |j, _| point.force_amplitude * trig[j].1);
         Record::new(RecordParts {
             label: point.label.clone(),
             step: period / per_period as f64,
@@ -179,10 +197,16 @@ impl HarmonicApproximation {
 
     /// The synthesized record of every point of `table`.
     pub fn records(&self, table: &SteppedSineTable) -> Result<Vec<Record>> {
-        table
-            .points()
+        self.records_of(table.points())
+    }
+
+    /// The synthesized record of each of `points`.
+    pub fn records_of(&self, points: &[SteppedSinePoint]) -> Result<Vec<Record>> {
+        self.validate()?;
+        let trig = self.angles();
+        points
             .iter()
-            .map(|point| self.synthesize(point))
+            .map(|point| self.synthesize_on(point, &trig))
             .collect()
     }
 }
