@@ -29,6 +29,8 @@ pub use settings::{
 };
 mod spec;
 mod stepped_sine;
+mod varpro;
+pub use varpro::VarProFit;
 pub use stepped_sine::SteppedSineJob;
 mod string;
 mod summary;

@@ -493,14 +493,15 @@ impl super::Job {
             .is_some_and(|t| t.residual.kind != ResidualKind::None)
     }
 
-    /// For a `[stepped_sine]` job whose residual receptance is estimated: the regressor
-    /// as a function of η = (the estimated law parameters of [`super::Job::parametric`],
-    /// if any, then the residual unknowns), the table rebuilt at each η with
-    /// Z − R a ([`build_with_residual`]). Identify it with
+    /// For a `[stepped_sine]` job whose residual receptance or law parameters are
+    /// estimated: the regressor as a function of η = (the estimated law parameters of
+    /// [`super::Job::parametric`], if any, then the residual unknowns, if any), the
+    /// weighted table rebuilt at each η with Z − R a ([`build_with_residual`]), as the
+    /// linear path builds it ([`super::Job::regressor`]). Identify it with
     /// [`crate::varpro::identify_varpro_regressor`]. `None` for other jobs.
     pub fn parametric_regressor(&self) -> Option<Result<ParametricRegressor>> {
         let table = self.stepped_sine.as_ref()?;
-        if table.residual.kind == ResidualKind::None {
+        if table.residual.kind == ResidualKind::None && self.parametric.is_none() {
             return None;
         }
         let law = self.parametric.clone();
@@ -519,13 +520,16 @@ impl super::Job {
                     Some(p) => p.model(at)?,
                     None => model.clone(),
                 };
-                let r = residual::per_point(table.residual.kind, unknowns, &table.table)?;
+                let r = match table.residual.kind {
+                    ResidualKind::None => None,
+                    kind => Some(residual::per_point(kind, unknowns, &table.table)?),
+                };
                 build_with_residual(
                     &model,
                     &table.structural,
                     &table.table,
                     &table.approximation,
-                    Some(&r),
+                    r.as_deref(),
                 )
             },
         ))
