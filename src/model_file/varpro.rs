@@ -74,14 +74,16 @@ impl super::Job {
     }
 
     /// For a one-DOF `[stepped_sine]` job: the equivalent viscous damping ratio and loss
-    /// factor versus amplitude of the variable-projection `fit` at η̂, with intervals
-    /// from its joint covariance, which include the uncertainty of the estimated law
-    /// parameters and residual receptances; the modal mass and stiffness as
+    /// factor versus amplitude of a variable-projection fit at η̂ (its `report` and
+    /// its damping `model` at η̂, [`VarProFit`]), with intervals from the joint
+    /// covariance, which include the uncertainty of the estimated law parameters and
+    /// residual receptances; the modal mass and stiffness as
     /// [`Self::equivalent_damping`] takes them. No intervals when the fit is not an
     /// estimate. `None` for other jobs.
     pub fn equivalent_damping_varpro(
         &self,
-        fit: &VarProFit,
+        model: &DampingModel,
+        report: &VarProReport,
     ) -> Option<Result<EquivalentDamping>> {
         let table = self.stepped_sine.as_ref()?;
         if table.table.table.dofs() != 1 {
@@ -91,7 +93,6 @@ impl super::Job {
             Some(system) => Modal::given(system.mass[(0, 0)], system.stiffness[(0, 0)]),
             None => Modal::from_lowest_level(&table.table),
         };
-        let report = &fit.report;
         let covariance = report
             .covariance
             .as_deref()
@@ -121,7 +122,7 @@ impl super::Job {
         };
         Some(modal.and_then(|modal| {
             equivalent_damping_estimated(
-                &fit.model,
+                model,
                 law.as_ref(),
                 &table.structural,
                 &table.approximation,

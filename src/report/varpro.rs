@@ -224,7 +224,7 @@ impl fmt::Display for VarProReport {
 
 /// A bound as the user wrote it when that is short (`0.5`, `4`), else with 5 significant
 /// digits (a bound the program derived from the data, `-1.6519e-4`, not 17 digits).
-fn bound(x: f64) -> String {
+pub(crate) fn bound(x: f64) -> String {
     let shortest = format!("{x}");
     if shortest.len() <= 8 {
         shortest

@@ -375,7 +375,7 @@ fn identify_varpro(
     let report = &fit.report;
     // Not an estimate: no equivalent damping either (the text report's rule).
     let equivalent = job
-        .equivalent_damping_varpro(fit)
+        .equivalent_damping_varpro(&fit.model, report)
         .map(|e| match e {
             Ok(_) if !report.is_estimate() => Err("the fit is not an estimate".to_string()),
             e => e.map_err(|e| e.to_string()),

@@ -18,7 +18,7 @@ use crate::analysis::equivalent::EquivalentDamping;
 use crate::error::Result;
 use crate::report::FitReport;
 use crate::report::count;
-use crate::report::varpro::VarProReport;
+use crate::report::varpro::{VarProReport, bound};
 
 impl HtmlReport<'_> {
     /// The page of a variable-projection fit (module doc); `self.report` is
@@ -162,11 +162,11 @@ impl HtmlReport<'_> {
                     format!(
                         "[{}, {}]",
                         i.lower
-                            .map_or(format!("open below {}", p.lower_bound), |v| format!(
+                            .map_or(format!("open below {}", bound(p.lower_bound)), |v| format!(
                                 "{v:.6e}"
                             )),
                         i.upper
-                            .map_or(format!("open above {}", p.upper_bound), |v| format!(
+                            .map_or(format!("open above {}", bound(p.upper_bound)), |v| format!(
                                 "{v:.6e}"
                             ))
                     ),
@@ -185,9 +185,9 @@ impl HtmlReport<'_> {
                 if p.at_bound { " class=\"flag\"" } else { "" },
                 escape(&p.name),
                 p.value,
-                p.lower_bound,
-                p.upper_bound,
-                p.initial,
+                bound(p.lower_bound),
+                bound(p.upper_bound),
+                bound(p.initial),
                 if p.at_bound { "<b>yes</b>" } else { "no" }
             );
             if let Some(truth) = self.truth {
