@@ -439,9 +439,9 @@ fn identify_file_varpro(
         let mut text = format!("{}\n{}", job.title, fit.report);
         match job.equivalent_damping_varpro(&fit.model, &fit.report) {
             Some(Ok(e)) if fit.report.is_estimate() => text.push_str(&e.to_string()),
-            Some(Ok(_)) => text.push_str(
-                "equivalent damping not computed: the fit is not an estimate\n",
-            ),
+            Some(Ok(_)) => {
+                text.push_str("equivalent damping not computed: the fit is not an estimate\n")
+            }
             Some(Err(e)) => text.push_str(&format!("equivalent damping not computed: {e}\n")),
             None => {}
         }

@@ -9,9 +9,9 @@ use dampid::prep::steady_state::SteadyStateReport;
 use dampid::record::{Record, Sensor};
 use dampid::regressor::Regressor;
 use dampid::report::FitReport;
-use dampid::report::varpro::VarProReport;
 use dampid::report::html::HtmlReport;
 use dampid::report::provenance::{ArrayDigest, COMMIT, Provenance, Setting, VERSION, now_utc};
+use dampid::report::varpro::VarProReport;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 

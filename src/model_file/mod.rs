@@ -30,8 +30,8 @@ pub use settings::{
 mod spec;
 mod stepped_sine;
 mod varpro;
-pub use varpro::VarProFit;
 pub use stepped_sine::SteppedSineJob;
+pub use varpro::VarProFit;
 mod string;
 mod summary;
 mod terms;

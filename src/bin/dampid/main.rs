@@ -231,7 +231,15 @@ fn identify(
         );
     }
     if let Some(fit) = job.identify_varpro().transpose()? {
-        return identify_varpro(path, &job, &fit, steady.as_ref(), as_json, html, accept_transient);
+        return identify_varpro(
+            path,
+            &job,
+            &fit,
+            steady.as_ref(),
+            as_json,
+            html,
+            accept_transient,
+        );
     }
     let regressor = build_regressor(&job)?;
     let mut report = dampid::identify::identify_regressor(&regressor, &job.settings.fit)?
@@ -447,7 +455,8 @@ fn identify_varpro(
 /// stays pure JSON with --json).
 fn write_page(file: &Path, overwrite: Overwrite, page: &str) -> anyhow::Result<()> {
     if let Some(folder) = file.parent() {
-        std::fs::create_dir_all(folder).with_context(|| format!("creating {}", folder.display()))?;
+        std::fs::create_dir_all(folder)
+            .with_context(|| format!("creating {}", folder.display()))?;
     }
     dampid::io::output::write_file(file, overwrite, |sink| {
         sink.write_all(page.as_bytes())

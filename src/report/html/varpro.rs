@@ -234,11 +234,7 @@ impl HtmlReport<'_> {
             out.push_str("<th>true</th><th>error</th>");
         }
         out.push_str("</tr>\n");
-        let conditional = self
-            .report
-            .coefficients
-            .iter()
-            .chain(&self.report.nuisance);
+        let conditional = self.report.coefficients.iter().chain(&self.report.nuisance);
         for (k, (c, fixed)) in varpro.coefficients.iter().zip(conditional).enumerate() {
             let _ = write!(out, "<tr><td>{}</td>", escape(&c.name));
             if with_units {
@@ -255,7 +251,10 @@ impl HtmlReport<'_> {
                 let conditional = fixed
                     .std_error
                     .map_or("–".to_string(), |s| format!("{s:.3e}"));
-                let _ = write!(out, "<td>{se}</td><td>{interval}</td><td>{conditional}</td>");
+                let _ = write!(
+                    out,
+                    "<td>{se}</td><td>{interval}</td><td>{conditional}</td>"
+                );
                 if let Some(truth) = self.truth {
                     match truth.iter().find(|(n, _)| *n == c.name) {
                         Some((_, t)) if *t != 0.0 => {
