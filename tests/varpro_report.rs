@@ -322,6 +322,7 @@ fn equivalent_damping_with_an_estimated_exponent() {
     let report = &fit.report;
     assert!(report.is_estimate(), "{report}");
     let exponent = report.parameter("d.exponent").unwrap();
+    println!("exponent {exponent}");
     assert!((exponent - P).abs() < 0.1, "exponent {exponent}");
     let joint = job
         .equivalent_damping_varpro(&fit.model, report)

@@ -296,7 +296,7 @@ fn equivalent_table(equivalent: &EquivalentDamping) -> String {
         ),
     };
     let mut out = format!(
-        "\n<h2>Equivalent damping</h2>\n<p>Equivalent viscous damping ratio ζ_eq = E_d/(2πkX²) and loss factor η = 2ζ_eq at ω_n = {:.4e}, modal mass {:.4e}, stiffness {:.4e} ({source}). Intervals ± 1.96 standard deviations from the joint covariance of the coefficients and the estimated law parameters.</p>\n<table><tr><th>amplitude</th><th>E_d per cycle</th><th>ζ_eq</th><th>ζ_eq interval</th><th>η</th><th>η interval</th></tr>\n",
+        "\n<h2>Equivalent damping</h2>\n<p>Equivalent viscous damping ratio ζ_eq = E_d/(2πkX²) and loss factor η = 2ζ_eq at ω_n = {:.4e}, modal mass {:.4e}, stiffness {:.4e} ({source}). Intervals ± 1.96 standard deviations from the joint covariance of the coefficients and the estimated nonlinear parameters (the law parameters through the change of the law, every unknown through its correlation with the coefficients).</p>\n<table><tr><th>amplitude</th><th>E_d per cycle</th><th>ζ_eq</th><th>ζ_eq interval</th><th>η</th><th>η interval</th></tr>\n",
         m.natural_frequency, m.mass, m.stiffness
     );
     for p in &equivalent.points {
