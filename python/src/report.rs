@@ -260,12 +260,32 @@ impl PyReport {
                 .map_or("-".to_string(), |c| format!("{c:.3e}")),
             self.report.relative_residual
         );
-        for c in self.report.coefficients.iter().chain(&self.report.nuisance) {
+        // With estimated nonlinear parameters: the joint standard errors (none when the
+        // fit is not an estimate), then the parameters.
+        let rows: Vec<(String, f64, Option<f64>)> = match &self.varpro {
+            Some(varpro) => varpro
+                .coefficients
+                .iter()
+                .map(|c| (c.name.clone(), c.value, c.std_error))
+                .chain(
+                    varpro
+                        .parameters
+                        .iter()
+                        .map(|p| (p.name.clone(), p.value, p.std_error)),
+                )
+                .map(|(n, v, s)| (n, v, s.filter(|_| varpro.is_estimate())))
+                .collect(),
+            None => names_to(&self.report, |c| (c.value, c.std_error))
+                .into_iter()
+                .map(|(n, (v, s))| (n, v, s))
+                .collect(),
+        };
+        for (name, value, se) in rows {
             html.push_str(&format!(
                 "<tr><td>{}</td><td>{:.6e}</td><td>{}</td></tr>",
-                escape(&c.name),
-                c.value,
-                c.std_error.map_or("-".to_string(), |s| format!("{s:.3e}"))
+                escape(&name),
+                value,
+                se.map_or("-".to_string(), |s| format!("{s:.3e}"))
             ));
         }
         html.push_str("</table>");
