@@ -142,6 +142,13 @@ impl HtmlReport<'_> {
     /// The estimated nonlinear parameters.
     fn parameter_table(&self, varpro: &VarProReport) -> String {
         let estimate = varpro.is_estimate();
+        // The true values when the simulation's truth names some parameter.
+        let truth = self.truth.filter(|truth| {
+            varpro
+                .parameters
+                .iter()
+                .any(|p| truth.iter().any(|(n, _)| *n == p.name))
+        });
         let percent = (100.0 * varpro.level * 1e6).round() / 1e6;
         let mut out = format!(
             "<h2>Estimated nonlinear parameters</h2>\n<table><tr><th>parameter</th><th>{}</th><th>joint std error</th><th>{percent}% interval</th><th>interval kind</th><th>bounds</th><th>initial</th><th>on a bound</th>",
@@ -151,7 +158,7 @@ impl HtmlReport<'_> {
                 "last trial (not an estimate)"
             }
         );
-        if self.truth.is_some() {
+        if truth.is_some() {
             out.push_str("<th>true</th>");
         }
         out.push_str("</tr>\n");
@@ -190,7 +197,7 @@ impl HtmlReport<'_> {
                 bound(p.initial),
                 if p.at_bound { "<b>yes</b>" } else { "no" }
             );
-            if let Some(truth) = self.truth {
+            if let Some(truth) = truth {
                 match truth.iter().find(|(n, _)| *n == p.name) {
                     Some((_, t)) => {
                         let _ = write!(out, "<td>{t}</td>");
