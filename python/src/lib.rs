@@ -239,6 +239,7 @@ fn identify(
     ));
     Ok(PyReport {
         report,
+        varpro: None,
         model: model.model.clone(),
         model_file: (model.file.clone(), model.text.clone()),
         regressor,
@@ -320,16 +321,6 @@ fn identify_file(py: Python<'_>, path: PathBuf, accept_transient: bool) -> PyRes
     let mut job = py
         .detach(|| timed(seconds, || dampid::model_file::load(&path)))
         .py_err()?;
-    if job.parametric.is_some() || job.estimates_residual() {
-        // The CLI identifies them by variable projection, whose report this package
-        // does not carry yet: refuse rather than fit the parameters' initial values
-        // (or a stepped-sine table without its residual receptances).
-        return Err(to_py(dampid::Error::InvalidChoice {
-            name: "estimated law parameters or residual receptances".into(),
-            given: path.display().to_string(),
-            reason: "dampid.identify_file does not estimate law parameters or residual receptances yet (the CLI's `dampid identify` does, by variable projection): fix them in the model file, or use the CLI".into(),
-        }));
-    }
     py.check_signals()?;
     job.steady_state.accept_transient |= accept_transient;
     let steady = py
@@ -346,6 +337,18 @@ fn identify_file(py: Python<'_>, path: PathBuf, accept_transient: bool) -> PyRes
         ));
     }
     py.check_signals()?;
+    // The call as the page's first setting row; the job's own rows (the model file's
+    // keys; `accept_transient` marked as set by the call when it overrides the file)
+    // follow it in the page.
+    let settings = vec![python_call(format!(
+        "dampid.identify_file({:?}, accept_transient={})",
+        path.display().to_string(),
+        if accept_transient { "True" } else { "False" }
+    ))];
+    if job.estimates_nonlinear() {
+        return identify_file_varpro(py, job, path, steady, settings, library_seconds);
+    }
+    let seconds = &mut library_seconds;
     let regressor = py
         .detach(|| {
             timed(seconds, || {
@@ -390,16 +393,69 @@ fn identify_file(py: Python<'_>, path: PathBuf, accept_transient: bool) -> PyRes
         }
         text
     });
-    // The job's own rows (the model file's keys; `accept_transient` marked as set by
-    // the call when it overrides the file) follow this one in the page.
-    let settings = vec![python_call(format!(
-        "dampid.identify_file({:?}, accept_transient={})",
-        path.display().to_string(),
-        if accept_transient { "True" } else { "False" }
-    ))];
     Ok(PyReport {
         report,
+        varpro: None,
         model: job.model.clone(),
+        model_file: (path.display().to_string(), String::new()),
+        regressor,
+        steady,
+        settings,
+        source: Source::Job(Box::new(job), path),
+        text,
+        library_seconds,
+    })
+}
+
+/// `identify_file` of a job with estimated law parameters or residual receptances: the
+/// variable-projection fit `dampid identify` runs, its text (report, then the
+/// equivalent damping of a one-mode stepped-sine job at η̂) and the report at η̂.
+fn identify_file_varpro(
+    py: Python<'_>,
+    job: dampid::model_file::Job,
+    path: PathBuf,
+    steady: Option<SteadyStateReport>,
+    settings: Vec<Setting>,
+    mut library_seconds: f64,
+) -> PyResult<PyReport> {
+    let seconds = &mut library_seconds;
+    let fit = py
+        .detach(|| {
+            timed(seconds, || {
+                job.settings.fit.validate()?;
+                job.identify_varpro().unwrap_or_else(|| {
+                    Err(dampid::Error::InvalidChoice {
+                        name: "identify_file".into(),
+                        given: path.display().to_string(),
+                        reason: "the job estimates no nonlinear parameter".into(),
+                    })
+                })
+            })
+        })
+        .py_err()?;
+    py.check_signals()?;
+    // The CLI's text: title, report, equivalent damping (none when not an estimate).
+    let text = timed(seconds, || {
+        let mut text = format!("{}\n{}", job.title, fit.report);
+        match job.equivalent_damping_varpro(&fit.model, &fit.report) {
+            Some(Ok(e)) if fit.report.is_estimate() => text.push_str(&e.to_string()),
+            Some(Ok(_)) => {
+                text.push_str("equivalent damping not computed: the fit is not an estimate\n")
+            }
+            Some(Err(e)) => text.push_str(&format!("equivalent damping not computed: {e}\n")),
+            None => {}
+        }
+        text
+    });
+    let dampid::model_file::VarProFit {
+        regressor,
+        model,
+        report,
+    } = fit;
+    Ok(PyReport {
+        report: report.fit.clone(),
+        varpro: Some(report),
+        model,
         model_file: (path.display().to_string(), String::new()),
         regressor,
         steady,
@@ -538,6 +594,7 @@ fn fit_rows(
     ));
     Ok(PyReport {
         report,
+        varpro: None,
         model: model.clone(),
         model_file: (py_model.file.clone(), py_model.text.clone()),
         regressor,

@@ -11,6 +11,7 @@ use dampid::regressor::Regressor;
 use dampid::report::FitReport;
 use dampid::report::html::HtmlReport;
 use dampid::report::provenance::{ArrayDigest, COMMIT, Provenance, Setting, VERSION, now_utc};
+use dampid::report::varpro::VarProReport;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -31,7 +32,11 @@ pub enum Source {
 /// The result of an identification.
 #[pyclass(name = "Report", module = "dampid", frozen)]
 pub struct PyReport {
+    /// The linear fit (at the estimated nonlinear parameters when `varpro` is given).
     pub report: FitReport,
+    /// The variable-projection report of a model file with estimated law parameters or
+    /// residual receptances (`identify_file`); `None` otherwise.
+    pub varpro: Option<VarProReport>,
     pub model: DampingModel,
     /// The model's file (or `<model text>`) and text, for the provenance of arrays.
     pub model_file: (String, String),
@@ -77,10 +82,19 @@ impl PyReport {
         Ok(dict)
     }
 
-    /// Coefficient name → standard error (None where the data give none).
+    /// Coefficient name → standard error (None where the data give none); with
+    /// estimated nonlinear parameters the joint one (which includes their
+    /// uncertainty; None when the fit is not an estimate).
     #[getter]
     fn std_errors<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let dict = PyDict::new(py);
+        if let Some(varpro) = &self.varpro {
+            let estimate = varpro.is_estimate();
+            for c in &varpro.coefficients {
+                dict.set_item(&c.name, c.std_error.filter(|_| estimate))?;
+            }
+            return Ok(dict);
+        }
         for (name, value) in names_to(&self.report, |c| c.std_error) {
             dict.set_item(name, value)?;
         }
@@ -89,8 +103,12 @@ impl PyReport {
 
     /// Coefficient name → (low, high): the bootstrap interval when one was run, else
     /// θ ± 1.96 se (the HTML report's 95% interval); None without a standard error.
+    /// With estimated nonlinear parameters, the joint intervals (`joint_intervals`).
     #[getter]
     fn intervals<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        if self.varpro.is_some() {
+            return Ok(self.joint_intervals(py)?.unwrap_or_else(|| PyDict::new(py)));
+        }
         let dict = PyDict::new(py);
         for (name, interval) in names_to(&self.report, |c| match (&c.interval, c.std_error) {
             (Some(i), _) => Some((i.lower, i.upper)),
@@ -100,6 +118,57 @@ impl PyReport {
             dict.set_item(name, interval)?;
         }
         Ok(dict)
+    }
+
+    /// True when the numbers are estimates: the fit is usable and every coefficient is
+    /// determined; with estimated nonlinear parameters, also the outer loop converged.
+    #[getter]
+    fn is_estimate(&self) -> bool {
+        self.varpro
+            .as_ref()
+            .map_or(self.report.is_estimate(), VarProReport::is_estimate)
+    }
+
+    /// Estimated nonlinear parameter name → (value, (low, high)) at the report's
+    /// confidence level: the profile-likelihood interval (an end the data do not bound
+    /// within the parameter's bounds is None), else the joint Wald interval; the
+    /// interval is None when the fit is not an estimate (the value is then the last
+    /// trial). None for a fit without estimated nonlinear parameters.
+    #[getter]
+    fn estimated_parameters<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(varpro) = &self.varpro else {
+            return Ok(None);
+        };
+        let estimate = varpro.is_estimate();
+        let dict = PyDict::new(py);
+        for p in &varpro.parameters {
+            let interval = match (&p.interval, p.joint_interval) {
+                _ if !estimate => None,
+                (Some(i), _) => Some((i.lower, i.upper)),
+                (None, Some([l, u])) => Some((Some(l), Some(u))),
+                (None, None) => None,
+            };
+            dict.set_item(&p.name, (p.value, interval))?;
+        }
+        Ok(Some(dict))
+    }
+
+    /// Coefficient name → (low, high) joint interval of a fit with estimated nonlinear
+    /// parameters (from the covariance of the full Jacobian, so it includes their
+    /// uncertainty); None per coefficient without one (or when the fit is not an
+    /// estimate). None for a fit without estimated nonlinear parameters.
+    #[getter]
+    fn joint_intervals<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(varpro) = &self.varpro else {
+            return Ok(None);
+        };
+        let estimate = varpro.is_estimate();
+        let dict = PyDict::new(py);
+        for c in &varpro.coefficients {
+            let interval = c.lower.zip(c.upper).filter(|_| estimate);
+            dict.set_item(&c.name, interval)?;
+        }
+        Ok(Some(dict))
     }
 
     /// Condition number of the column-scaled regressor (None when rank deficient).
@@ -141,10 +210,14 @@ impl PyReport {
         self.report.warnings.iter().map(|w| w.to_string()).collect()
     }
 
-    /// The JSON report (the CLI's `--json` "report" object) as a string.
+    /// The JSON report (the CLI's `--json` "report" object; with estimated nonlinear
+    /// parameters its "varpro" object) as a string.
     fn to_json(&self) -> PyResult<String> {
-        serde_json::to_string_pretty(&self.report)
-            .map_err(|e| crate::error::argument(format!("the report does not serialize: {e}")))
+        match &self.varpro {
+            Some(varpro) => serde_json::to_string_pretty(varpro),
+            None => serde_json::to_string_pretty(&self.report),
+        }
+        .map_err(|e| crate::error::argument(format!("the report does not serialize: {e}")))
     }
 
     /// The JSON report as a dict (`json.loads(report.to_json())`).
@@ -157,10 +230,18 @@ impl PyReport {
     }
 
     fn __repr__(&self) -> String {
-        let coefficients: Vec<String> = names_to(&self.report, |c| c.value)
+        let mut coefficients: Vec<String> = names_to(&self.report, |c| c.value)
             .into_iter()
             .map(|(n, v)| format!("{n}={v:.6e}"))
             .collect();
+        if let Some(varpro) = &self.varpro {
+            coefficients.extend(
+                varpro
+                    .parameters
+                    .iter()
+                    .map(|p| format!("{}={:.6e}", p.name, p.value)),
+            );
+        }
         format!(
             "Report(status={}, {})",
             self.status(),
@@ -179,12 +260,32 @@ impl PyReport {
                 .map_or("-".to_string(), |c| format!("{c:.3e}")),
             self.report.relative_residual
         );
-        for c in self.report.coefficients.iter().chain(&self.report.nuisance) {
+        // With estimated nonlinear parameters: the joint standard errors (none when the
+        // fit is not an estimate), then the parameters.
+        let rows: Vec<(String, f64, Option<f64>)> = match &self.varpro {
+            Some(varpro) => varpro
+                .coefficients
+                .iter()
+                .map(|c| (c.name.clone(), c.value, c.std_error))
+                .chain(
+                    varpro
+                        .parameters
+                        .iter()
+                        .map(|p| (p.name.clone(), p.value, p.std_error)),
+                )
+                .map(|(n, v, s)| (n, v, s.filter(|_| varpro.is_estimate())))
+                .collect(),
+            None => names_to(&self.report, |c| (c.value, c.std_error))
+                .into_iter()
+                .map(|(n, (v, s))| (n, v, s))
+                .collect(),
+        };
+        for (name, value, se) in rows {
             html.push_str(&format!(
                 "<tr><td>{}</td><td>{:.6e}</td><td>{}</td></tr>",
-                escape(&c.name),
-                c.value,
-                c.std_error.map_or("-".to_string(), |s| format!("{s:.3e}"))
+                escape(&name),
+                value,
+                se.map_or("-".to_string(), |s| format!("{s:.3e}"))
             ));
         }
         html.push_str("</table>");
@@ -205,6 +306,24 @@ impl PyReport {
     ) -> PyResult<()> {
         use dampid::io::output::{Overwrite, write_file};
         let page = |records: &[Record], title: &str, job: Option<&Job>, provenance| {
+            if let (Some(varpro), Some(job)) = (&self.varpro, job) {
+                let equivalent = job
+                    .equivalent_damping_varpro(&self.model, varpro)
+                    .and_then(|e| e.ok());
+                return HtmlReport {
+                    title,
+                    model: &self.model,
+                    records,
+                    regressor: &self.regressor,
+                    report: &self.report,
+                    truth: job.truth.as_deref(),
+                    pod: job.pod.as_ref(),
+                    steady: self.steady.as_ref(),
+                    provenance: Some(&provenance),
+                    units: Some(&job.units),
+                }
+                .render_varpro(varpro, equivalent.as_ref());
+            }
             let equivalent = job.and_then(|j| j.equivalent_damping(&self.report));
             HtmlReport {
                 title,

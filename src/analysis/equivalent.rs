@@ -190,6 +190,26 @@ pub fn equivalent_damping(
     covariance: Option<&[Vec<f64>]>,
     modal: Modal,
 ) -> Result<EquivalentDamping> {
+    let (grid, synthetic) = amplitude_grid(swept, &modal)?;
+    let columns = columns_of(model, structural, approximation, &synthetic)?;
+    let out = grid
+        .iter()
+        .zip(&columns)
+        .map(|(&x, g)| {
+            let std = covariance.map(|c| quadratic_form(g, c).max(0.0).sqrt());
+            point(x, g, coefficients, std, &modal)
+        })
+        .collect();
+    Ok(EquivalentDamping { modal, points: out })
+}
+
+/// The [`GRID`] amplitudes, log-spaced from the smallest to the largest measured one
+/// of the one-DOF `swept`, and a synthetic point at each (unit force at ω_n, phase
+/// lag π/2), whose columns are g(X).
+pub(crate) fn amplitude_grid(
+    swept: &SweptTable,
+    modal: &Modal,
+) -> Result<(Vec<f64>, Vec<SteppedSinePoint>)> {
     require_one_dof(swept)?;
     let points = swept.table.points();
     let (lo, hi) = points.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), p| {
@@ -198,7 +218,7 @@ pub fn equivalent_damping(
     let grid: Vec<f64> = (0..GRID)
         .map(|i| lo * (hi / lo).powf(i as f64 / (GRID - 1) as f64))
         .collect();
-    let synthetic: Vec<SteppedSinePoint> = grid
+    let synthetic = grid
         .iter()
         .map(|&x| SteppedSinePoint {
             label: format!("X = {x:e}"),
@@ -209,35 +229,40 @@ pub fn equivalent_damping(
             phases: vec![std::f64::consts::FRAC_PI_2],
         })
         .collect();
-    let columns = columns_of(model, structural, approximation, &synthetic)?;
-    let theta = coefficients;
-    let out = grid
-        .iter()
-        .zip(&columns)
-        .map(|(&x, g)| {
-            let energy: f64 = g.iter().zip(theta).map(|(g, t)| g * t).sum();
-            let factor = 2.0 * std::f64::consts::PI * modal.stiffness * x * x;
-            let std = covariance.map(|c| {
-                let mut v = 0.0;
-                for (i, gi) in g.iter().enumerate() {
-                    for (j, gj) in g.iter().enumerate() {
-                        v += gi * c[i][j] * gj;
-                    }
-                }
-                v.max(0.0).sqrt()
-            });
-            EquivalentPoint {
-                amplitude: x,
-                dissipated_energy: energy,
-                terms: g.iter().zip(theta).map(|(g, t)| g * t).collect(),
-                damping_ratio: energy / factor,
-                damping_ratio_std: std.map(|s| s / factor),
-                loss_factor: 2.0 * energy / factor,
-                loss_factor_std: std.map(|s| 2.0 * s / factor),
-            }
-        })
-        .collect();
-    Ok(EquivalentDamping { modal, points: out })
+    Ok((grid, synthetic))
+}
+
+/// uᵀ C u.
+pub(crate) fn quadratic_form(u: &[f64], c: &[Vec<f64>]) -> f64 {
+    let mut v = 0.0;
+    for (i, ui) in u.iter().enumerate() {
+        for (j, uj) in u.iter().enumerate() {
+            v += ui * c[i][j] * uj;
+        }
+    }
+    v
+}
+
+/// The point at amplitude `x` with columns `g`, coefficients `theta` and the standard
+/// deviation `std` of E_d(X).
+pub(crate) fn point(
+    x: f64,
+    g: &[f64],
+    theta: &[f64],
+    std: Option<f64>,
+    modal: &Modal,
+) -> EquivalentPoint {
+    let energy: f64 = g.iter().zip(theta).map(|(g, t)| g * t).sum();
+    let factor = 2.0 * std::f64::consts::PI * modal.stiffness * x * x;
+    EquivalentPoint {
+        amplitude: x,
+        dissipated_energy: energy,
+        terms: g.iter().zip(theta).map(|(g, t)| g * t).collect(),
+        damping_ratio: energy / factor,
+        damping_ratio_std: std.map(|s| s / factor),
+        loss_factor: 2.0 * energy / factor,
+        loss_factor_std: std.map(|s| 2.0 * s / factor),
+    }
 }
 
 impl fmt::Display for EquivalentDamping {

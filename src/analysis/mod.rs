@@ -14,6 +14,7 @@ pub mod design;
 pub mod diagnostics;
 pub mod digest;
 pub mod equivalent;
+pub mod equivalent_estimated;
 pub mod identifiability;
 pub mod solved;
 pub(crate) mod stats;

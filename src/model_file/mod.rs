@@ -31,7 +31,9 @@ pub use settings::{
 };
 mod spec;
 mod stepped_sine;
+mod varpro;
 pub use stepped_sine::SteppedSineJob;
+pub use varpro::VarProFit;
 mod string;
 mod summary;
 mod terms;

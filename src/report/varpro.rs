@@ -96,6 +96,12 @@ pub struct VarProReport {
     pub parameters: Vec<NonlinearEstimate>,
     /// The linear coefficients (and nuisance unknowns), in column order.
     pub coefficients: Vec<JointEstimate>,
+    /// The joint covariance of (θ, η) at the optimum, (p + q) × (p + q): the
+    /// coefficients in column order, then the nonlinear parameters in order
+    /// (σ²(JᵀJ)⁻¹ of [`crate::varpro`]); `None` when it is not computed (no convergence,
+    /// no degrees of freedom, a rank-deficient Jacobian).
+    #[serde(default)]
+    pub covariance: Option<Vec<Vec<f64>>>,
     /// The linear fit at the estimated parameters.
     pub fit: FitReport,
 }
@@ -218,7 +224,7 @@ impl fmt::Display for VarProReport {
 
 /// A bound as the user wrote it when that is short (`0.5`, `4`), else with 5 significant
 /// digits (a bound the program derived from the data, `-1.6519e-4`, not 17 digits).
-fn bound(x: f64) -> String {
+pub(crate) fn bound(x: f64) -> String {
     let shortest = format!("{x}");
     if shortest.len() <= 8 {
         shortest

@@ -9,7 +9,8 @@
 //! and W, with a step of 10⁻⁵ of the parameter's bound interval (one-sided at a bound).
 //! JᵀJ is never formed: J's columns are scaled to unit norm and (JᵀJ)⁻¹ = S⁻¹VΣ⁻²VᵀS⁻¹
 //! from the thin SVD J_s = UΣVᵀ; a rank below p + q (singular values under 10⁻¹⁰σ₁)
-//! leaves every standard error out. The half-width of an interval is the standard error
+//! leaves every standard error out. The covariance itself (θ then η, the report's
+//! `covariance`) is σ² S⁻¹VΣ⁻²VᵀS⁻¹ entry by entry. The half-width of an interval is the standard error
 //! times the Student t_ν quantile (σ² estimated) or the normal one (plug-in).
 
 use faer::Mat;
@@ -18,9 +19,11 @@ use statrs::distribution::{ContinuousCDF, Normal, StudentsT};
 use super::problem::{Problem, Trial, Variance, weighted_residuals};
 use crate::error::{Error, Result};
 
-/// Standard errors of θ then η, and the quantile their intervals use.
+/// Standard errors of θ then η, their covariance, and the quantile their intervals use.
 pub(super) struct Joint {
     pub std_errors: Vec<Option<f64>>,
+    /// σ² S⁻¹VΣ⁻²VᵀS⁻¹, (p + q) × (p + q), θ then η; `None` when an entry is not finite.
+    pub covariance: Option<Vec<Vec<f64>>>,
     pub quantile: f64,
 }
 
@@ -90,6 +93,23 @@ pub(super) fn covariance(
             se.is_finite().then_some(se)
         })
         .collect();
+    let covariance: Vec<Vec<f64>> = (0..p + q)
+        .map(|k| {
+            (0..p + q)
+                .map(|l| {
+                    let c: f64 = (0..p + q)
+                        .map(|i| v[(k, i)] * v[(l, i)] / (sigma[i] * sigma[i]))
+                        .sum();
+                    variance.scale * c / (norms[k] * norms[l])
+                })
+                .collect()
+        })
+        .collect();
+    let covariance = covariance
+        .iter()
+        .flatten()
+        .all(|x| x.is_finite())
+        .then_some(covariance);
     let tail = (1.0 + level) / 2.0;
     let quantile = if variance.estimated {
         StudentsT::new(0.0, 1.0, dof as f64)
@@ -106,6 +126,7 @@ pub(super) fn covariance(
     })?;
     Ok(Some(Joint {
         std_errors,
+        covariance,
         quantile,
     }))
 }

@@ -321,10 +321,25 @@ pub fn identify_varpro(
     settings: &IdentifySettings,
     varpro: &VarProSettings,
 ) -> Result<VarProReport> {
+    identify_varpro_with_regressor(model, records, settings, varpro).map(|(_, _, report)| report)
+}
+
+/// [`identify_varpro`], also returning the regressor and the damping model at the
+/// estimate η̂ (`model.model(η̂)`, the last trial when the outer loop did not converge),
+/// as [`crate::identify::identify_with_regressor`] does, for plots and the equivalent
+/// damping without a rebuild.
+pub fn identify_varpro_with_regressor(
+    model: &ParametricModel,
+    records: &[Record],
+    settings: &IdentifySettings,
+    varpro: &VarProSettings,
+) -> Result<(Regressor, DampingModel, VarProReport)> {
     settings.fit.validate()?;
     varpro.validate()?;
     let problem = problem::Problem::new(model, records, settings);
-    run(&problem, settings, varpro)
+    let (regressor, report) = run(&problem, settings, varpro)?;
+    let values: Vec<f64> = report.parameters.iter().map(|p| p.value).collect();
+    Ok((regressor, model.model(&values)?, report))
 }
 
 /// [`identify_varpro`] for a regressor built directly from η (`model`'s builder); the
@@ -334,6 +349,16 @@ pub fn identify_varpro_regressor(
     settings: &IdentifySettings,
     varpro: &VarProSettings,
 ) -> Result<VarProReport> {
+    identify_varpro_regressor_with_regressor(model, settings, varpro).map(|(_, report)| report)
+}
+
+/// [`identify_varpro_regressor`], also returning the regressor at the estimate η̂ (the
+/// last trial when the outer loop did not converge).
+pub fn identify_varpro_regressor_with_regressor(
+    model: &ParametricRegressor,
+    settings: &IdentifySettings,
+    varpro: &VarProSettings,
+) -> Result<(Regressor, VarProReport)> {
     settings.fit.validate()?;
     varpro.validate()?;
     let problem = problem::Problem::with_builder(
@@ -344,12 +369,13 @@ pub fn identify_varpro_regressor(
     run(&problem, settings, varpro)
 }
 
-/// The outer loop, the fit at its minimum and the intervals of `problem`.
+/// The outer loop, the fit at its minimum and the intervals of `problem`, with the
+/// regressor at the minimum.
 fn run(
     problem: &problem::Problem<'_>,
     settings: &IdentifySettings,
     varpro: &VarProSettings,
-) -> Result<VarProReport> {
+) -> Result<(Regressor, VarProReport)> {
     let specs = problem.parameters();
     let minimum = if specs.len() == 1 {
         outer::minimise(&|eta: &[f64]| problem.residuals(eta), specs, varpro, true)?
@@ -424,7 +450,7 @@ fn run(
             }
         })
         .collect();
-    Ok(VarProReport {
+    let report = VarProReport {
         status: OuterLoop {
             converged: minimum.converged,
             method: minimum.method.into(),
@@ -438,6 +464,8 @@ fn run(
         degrees_of_freedom: dof.unwrap_or(0),
         parameters,
         coefficients,
+        covariance: joint.and_then(|j| j.covariance),
         fit: fit_report,
-    })
+    };
+    Ok((best.regressor, report))
 }

@@ -209,3 +209,57 @@ fn residual_bounds_contradictory_name_the_line() {
         other => panic!("{other:?}"),
     }
 }
+
+/// The equivalent damping at estimated parameters refuses a joint covariance smaller
+/// than the coefficients and law parameters, and coefficients that are not the model's
+/// columns, with `DimensionMismatch` (never a panic on an index).
+#[test]
+fn equivalent_damping_estimated_checks_its_sizes() {
+    use dampid::analysis::equivalent::Modal;
+    use dampid::analysis::equivalent_estimated::{EstimatedLaw, equivalent_damping_estimated};
+    let dir = std::env::temp_dir().join(format!("dampid_errors_ss_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("equivalent_sizes.csv");
+    std::fs::write(&file, GOOD).unwrap();
+    let text = format!(
+        "dofs = 1\n[[terms]]\nkind = \"law\"\nlaw = \"linear\"\nelements = \"each_dof\"\ncoefficient = \"c\"\n[stepped_sine]\nfile = \"{}\"\nfrequency = \"w\"\nforce = \"a\"\namplitudes = [\"x\"]\nphases = [\"phi\"]\n",
+        file.display()
+    );
+    let job = dampid::model_file::parse(&text, "m.toml", Path::new(".")).unwrap();
+    let table = job.stepped_sine.as_ref().unwrap();
+    let model = job.model.clone();
+    let builder = move |_: &[f64]| Ok(model.clone());
+    let law = EstimatedLaw {
+        model: &builder,
+        values: &[1.0],
+        lower: &[0.5],
+        upper: &[2.0],
+    };
+    let run = |coefficients: &[f64], covariance: &[Vec<f64>]| {
+        equivalent_damping_estimated(
+            &job.model,
+            Some(&law),
+            &table.structural,
+            &table.approximation,
+            &table.table,
+            coefficients,
+            Some(covariance),
+            Modal::given(1.0, 1.0).unwrap(),
+        )
+        .unwrap_err()
+    };
+    // One coefficient and one law parameter need a 2 × 2 covariance.
+    match run(&[1.0], &[vec![1.0]]) {
+        Error::DimensionMismatch {
+            expected, found, ..
+        } => assert_eq!((expected, found), (2, 1)),
+        other => panic!("{other:?}"),
+    }
+    // Two coefficients for a model of one column.
+    match run(&[1.0, 2.0], &[vec![1.0; 3], vec![1.0; 3], vec![1.0; 3]]) {
+        Error::DimensionMismatch {
+            expected, found, ..
+        } => assert_eq!((expected, found), (2, 1)),
+        other => panic!("{other:?}"),
+    }
+}

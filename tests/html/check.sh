@@ -2,7 +2,8 @@
 # Renders the HTML reports of three shipped models in headless Chromium and checks them
 # as a reader sees them (tests/html/checks.js measures, check.py judges): no console
 # errors, nothing wider than the viewport, every SVG text at least 12 px as shown, a
-# legend in every plot, and "not determined" on the walkthrough's first try. Installs
+# legend in every plot, and "not determined" on the walkthrough's first try; two
+# variable-projection pages besides. Installs
 # Debian's chromium when it is missing. With SCREENSHOTS=1 it also refreshes
 # docs/screenshots/.
 #
@@ -60,6 +61,11 @@ PY
 check walkthrough_first_try models/walkthrough_first_try.toml --not-determined
 check walkthrough models/walkthrough.toml
 check four_mass_pod models/four_mass_pod.toml
+# Variable projection: a stepped-sine table with estimated residual receptances (joint
+# intervals, energy per cycle, equivalent damping) and records with an estimated exponent
+# (profile interval).
+check bolted_joint_residual models/bolted_joint_stepped_sine_residual.toml
+check four_mass_power models/four_mass_power.toml
 # The Python package's page of records from NumPy arrays (steady-state table and
 # provenance as the CLI's), when a Python with the package is at hand: $PYTHON, or the
 # virtual environment .ci/run makes.

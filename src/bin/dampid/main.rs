@@ -226,52 +226,21 @@ fn identify(
     }
     let (job, steady) = load_steady_job(path, accept_transient)?;
     job.settings.fit.validate()?;
-    if (job.parametric.is_some() || job.estimates_residual())
-        && (html.is_some() || bootstrap.is_some())
-    {
+    if (job.parametric.is_some() || job.estimates_residual()) && bootstrap.is_some() {
         anyhow::bail!(
-            "--report and --bootstrap do not take estimated law parameters or residual receptances yet: fix them, or identify without those options"
+            "--bootstrap does not take estimated law parameters or residual receptances yet: fix them, or identify without it"
         );
     }
-    let varpro = job.varpro_settings();
-    let varpro_report = match (job.parametric_regressor().transpose()?, &job.parametric) {
-        // A stepped-sine table with its residual receptances (and any law parameters).
-        (Some(regressor), _) => Some(dampid::varpro::identify_varpro_regressor(
-            &regressor,
-            &job.settings,
-            &varpro,
-        )?),
-        (None, Some(parametric)) => Some(dampid::varpro::identify_varpro(
-            parametric,
-            &job.records,
-            &job.settings,
-            &varpro,
-        )?),
-        (None, None) => None,
-    };
-    if let Some(report) = varpro_report {
-        let mut out = String::new();
-        if as_json {
-            let truth = truth_json(&job);
-            writeln!(
-                out,
-                "{}",
-                serde_json::to_string_pretty(&json!({
-                    "model": job.title,
-                    "varpro": report,
-                    "truth": truth,
-                    "steady_state": steady,
-                    "detected_periods": job.detected_periods,
-                }))?
-            )?;
-        } else {
-            writeln!(out, "{}", job.title)?;
-            write!(out, "{report}")?;
-        }
-        return Ok(Outcome {
-            text: out,
-            trusted: report.is_estimate(),
-        });
+    if let Some(fit) = job.identify_varpro().transpose()? {
+        return identify_varpro(
+            path,
+            &job,
+            &fit,
+            steady.as_ref(),
+            as_json,
+            html,
+            accept_transient,
+        );
     }
     let regressor = build_regressor(&job)?;
     let mut report = dampid::identify::identify_regressor(&regressor, &job.settings.fit)?
@@ -348,19 +317,7 @@ fn identify(
             units: Some(&job.units),
         }
         .render_with(equivalent.as_ref().and_then(|e| e.as_ref().ok()))?;
-        if let Some(folder) = file.parent() {
-            std::fs::create_dir_all(folder)
-                .with_context(|| format!("creating {}", folder.display()))?;
-        }
-        dampid::io::output::write_file(&file, overwrite, |sink| {
-            sink.write_all(page.as_bytes())
-                .map_err(|e| dampid::Error::Output {
-                    path: file.display().to_string(),
-                    message: e.to_string(),
-                })
-        })?;
-        // Keep stdout pure JSON with --json: say where the report went on stderr.
-        eprintln!("wrote {}", file.display());
+        write_page(&file, overwrite, &page)?;
     }
     if as_json {
         let truth = truth_json(&job);
@@ -410,6 +367,107 @@ fn identify(
         text: out,
         trusted: report.status.is_usable() && failures.is_empty(),
     })
+}
+
+/// `dampid identify` of a job with estimated nonlinear parameters (its variable-projection
+/// `fit`): the report, the equivalent damping of a one-mode stepped-sine job at η̂, and
+/// the HTML page where asked.
+fn identify_varpro(
+    path: &Path,
+    job: &Job,
+    fit: &dampid::model_file::VarProFit,
+    steady: Option<&SteadyStateReport>,
+    as_json: bool,
+    html: Option<(PathBuf, Overwrite)>,
+    accept_transient: bool,
+) -> anyhow::Result<Outcome> {
+    let report = &fit.report;
+    // Not an estimate: no equivalent damping either (the text report's rule).
+    let equivalent = job
+        .equivalent_damping_varpro(&fit.model, report)
+        .map(|e| match e {
+            Ok(_) if !report.is_estimate() => Err("the fit is not an estimate".to_string()),
+            e => e.map_err(|e| e.to_string()),
+        });
+    if let Some((file, overwrite)) = html {
+        let flags = vec![
+            (
+                "command line".to_string(),
+                std::env::args().collect::<Vec<_>>().join(" "),
+            ),
+            (
+                "--accept-transient".to_string(),
+                if accept_transient {
+                    "given (accept_transient = true whatever [identification] says)".to_string()
+                } else {
+                    "not given".to_string()
+                },
+            ),
+        ];
+        let page = HtmlReport {
+            title: &job.title,
+            model: &fit.model,
+            records: &job.records,
+            regressor: &fit.regressor,
+            report: &report.fit,
+            truth: job.truth.as_deref(),
+            pod: job.pod.as_ref(),
+            steady,
+            provenance: Some(&job.provenance(path, &flags)?),
+            units: Some(&job.units),
+        }
+        .render_varpro(report, equivalent.as_ref().and_then(|e| e.as_ref().ok()))?;
+        write_page(&file, overwrite, &page)?;
+    }
+    let mut out = String::new();
+    if as_json {
+        let truth = truth_json(job);
+        writeln!(
+            out,
+            "{}",
+            serde_json::to_string_pretty(&json!({
+                "model": job.title,
+                "varpro": report,
+                "truth": truth,
+                "steady_state": steady,
+                "detected_periods": job.detected_periods,
+                "equivalent_damping": equivalent.as_ref().map(|e| match e {
+                    Ok(e) => json!(e),
+                    Err(e) => json!({ "error": e }),
+                }),
+            }))?
+        )?;
+    } else {
+        writeln!(out, "{}", job.title)?;
+        write!(out, "{report}")?;
+        match &equivalent {
+            Some(Ok(e)) => write!(out, "{e}")?,
+            Some(Err(e)) => writeln!(out, "equivalent damping not computed: {e}")?,
+            None => {}
+        }
+    }
+    Ok(Outcome {
+        text: out,
+        trusted: report.is_estimate(),
+    })
+}
+
+/// Writes the HTML `page` to `file` (its folder created) and says so on stderr (stdout
+/// stays pure JSON with --json).
+fn write_page(file: &Path, overwrite: Overwrite, page: &str) -> anyhow::Result<()> {
+    if let Some(folder) = file.parent() {
+        std::fs::create_dir_all(folder)
+            .with_context(|| format!("creating {}", folder.display()))?;
+    }
+    dampid::io::output::write_file(file, overwrite, |sink| {
+        sink.write_all(page.as_bytes())
+            .map_err(|e| dampid::Error::Output {
+                path: file.display().to_string(),
+                message: e.to_string(),
+            })
+    })?;
+    eprintln!("wrote {}", file.display());
+    Ok(())
 }
 
 fn init(files: &[PathBuf], out: &Path, overwrite: Overwrite) -> anyhow::Result<Outcome> {

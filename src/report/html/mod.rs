@@ -13,6 +13,7 @@
 
 mod plots;
 mod pom;
+mod varpro;
 
 use std::fmt::Write as _;
 
