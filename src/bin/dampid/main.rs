@@ -225,29 +225,67 @@ fn identify(
     }
     let (job, steady) = load_steady_job(path, accept_transient)?;
     job.settings.fit.validate()?;
-    if (job.parametric.is_some() || job.estimates_residual())
-        && (html.is_some() || bootstrap.is_some())
-    {
+    if (job.parametric.is_some() || job.estimates_residual()) && html.is_some() {
         anyhow::bail!(
-            "--report and --bootstrap do not take estimated law parameters or residual receptances yet: fix them, or identify without those options"
+            "--report does not take estimated law parameters or residual receptances yet: fix them, or identify without it"
         );
     }
     let varpro = job.varpro_settings();
     let varpro_report = match (job.parametric_regressor().transpose()?, &job.parametric) {
         // A stepped-sine table with its residual receptances (and any law parameters).
-        (Some(regressor), _) => Some(dampid::varpro::identify_varpro_regressor(
-            &regressor,
-            &job.settings,
-            &varpro,
-        )?),
-        (None, Some(parametric)) => Some(dampid::varpro::identify_varpro(
-            parametric,
-            &job.records,
-            &job.settings,
-            &varpro,
-        )?),
+        (Some(regressor), _) => {
+            let report =
+                dampid::varpro::identify_varpro_regressor(&regressor, &job.settings, &varpro)?;
+            Some(match &bootstrap {
+                // Whole sweeps are resampled, as for the linear fit of a table.
+                Some(settings) if report.is_estimate() => {
+                    let bar = progress_bar("bootstrap");
+                    let result = dampid::varpro::bootstrap_varpro_regressor(
+                        &regressor,
+                        job.sweeps(),
+                        &job.settings,
+                        &varpro,
+                        &report,
+                        settings,
+                        &on_bar(&bar),
+                    );
+                    bar.finish_and_clear();
+                    report.with_bootstrap(result?)
+                }
+                _ => report,
+            })
+        }
+        (None, Some(parametric)) => {
+            let report =
+                dampid::varpro::identify_varpro(parametric, &job.records, &job.settings, &varpro)?;
+            Some(match &bootstrap {
+                Some(settings) if report.is_estimate() => {
+                    let bar = progress_bar("bootstrap");
+                    let result = dampid::varpro::bootstrap_varpro(
+                        parametric,
+                        &job.records,
+                        &job.settings,
+                        &varpro,
+                        &report,
+                        settings,
+                        &on_bar(&bar),
+                    );
+                    bar.finish_and_clear();
+                    report.with_bootstrap(result?)
+                }
+                _ => report,
+            })
+        }
         (None, None) => None,
     };
+    if let Some(report) = &varpro_report
+        && bootstrap.is_some()
+        && report.bootstrap.is_none()
+    {
+        eprintln!(
+            "no bootstrap: the variable projection did not reach an estimate, so there is none to resample around"
+        );
+    }
     if let Some(report) = varpro_report {
         let mut out = String::new();
         if as_json {
