@@ -322,7 +322,14 @@ impl fmt::Display for VarProBootstrap {
         writeln!(
             f,
             "bootstrap: each replicate refits the whole variable projection (η and θ) on the resampled equations, from the full data's estimate"
-        )
+        )?;
+        if self.resampled == Resampled::Sweeps {
+            writeln!(
+                f,
+                "  whole sweeps keep each sweep's points together: an unknown of one sweep (its residual receptance) varies here only through the shared parameters, so read its joint interval above"
+            )?;
+        }
+        Ok(())
     }
 }
 
