@@ -42,7 +42,7 @@ pub fn response(omega: f64, force: f64, c: f64, d: f64) -> (f64, f64) {
 }
 
 /// A small deterministic generator (splitmix64 → two uniforms → Box–Muller).
-pub struct Normal(u64);
+pub struct Normal(pub u64);
 impl Normal {
     pub fn uniform(&mut self) -> f64 {
         self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
