@@ -191,6 +191,60 @@ fn identify_with_bootstrap_prints_intervals() {
     }
 }
 
+/// `identify --bootstrap N` on a job with an estimated exponent: every replicate refits
+/// the variable projection on resampled windows; the text and the JSON carry the
+/// percentile intervals of the exponent and the coefficients, which hold the estimates.
+/// `--report` is still refused for such jobs, and says so.
+#[test]
+fn identify_with_bootstrap_of_an_estimated_exponent() {
+    let model = "tests/data/power_exponent_small.toml";
+    let json = dampid_json(&["identify", model, "--bootstrap", "50", "--json"]);
+    let varpro = &json["varpro"];
+    let bootstrap = &varpro["bootstrap"];
+    assert_eq!(bootstrap["replicates"], 50, "{bootstrap}");
+    assert_eq!(bootstrap["resampled"], "windows");
+    assert_eq!(bootstrap["groups"], 12);
+    assert!(bootstrap["used"].as_u64().unwrap() >= 25);
+    let value = varpro["parameters"][0]["value"].as_f64().unwrap();
+    let interval = &bootstrap["parameters"][0];
+    assert_eq!(interval["name"], "d.exponent");
+    let (lower, upper) = (
+        interval["lower"].as_f64().unwrap(),
+        interval["upper"].as_f64().unwrap(),
+    );
+    assert!(lower <= upper && (value - 1.7).abs() < 0.01, "{interval}");
+    for (c, i) in varpro["coefficients"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(bootstrap["coefficients"].as_array().unwrap())
+    {
+        assert_eq!(c["name"], i["name"]);
+        assert!(i["std_error"].as_f64().unwrap() > 0.0, "{i}");
+    }
+    let out = dampid_ok(&["identify", model, "--bootstrap", "50"]);
+    let printed = text(&out.stdout);
+    assert!(
+        printed.contains("bootstrap: ") && printed.contains("windows resampled (12 to draw from)"),
+        "{printed}"
+    );
+    let page = std::env::temp_dir().join(format!("dampid_cli_varpro_{}.html", std::process::id()));
+    let refused = dampid(&[
+        "identify",
+        model,
+        "--bootstrap",
+        "50",
+        "--report",
+        page.to_str().unwrap(),
+    ]);
+    assert!(!refused.status.success());
+    let said = text(&refused.stderr);
+    assert!(
+        said.contains("--report") && !said.contains("--bootstrap"),
+        "{said}"
+    );
+}
+
 /// `dampid design` sees every mode: the same simulated candidates in the non-periodic
 /// mode (windows of 10 time units, a mass per DOF and a spring per link as nuisance
 /// unknowns beside the six damping coefficients) are designed like the periodic ones,

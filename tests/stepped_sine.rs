@@ -21,6 +21,8 @@
 //! mode's X and φ back exactly, so the noise-free fit is again exact.
 
 mod support;
+#[path = "support/stepped_sine_table.rs"]
+mod table;
 
 use std::path::{Path, PathBuf};
 
@@ -33,56 +35,7 @@ use dampid::regressor::Regressor;
 use dampid::regressor::stepped_sine::{StructuralTerm, build};
 use dampid::report::Warning;
 use dampid::varpro::{VarProReport, identify_varpro_regressor};
-
-const M: f64 = 1.0;
-const K: f64 = 98_696.044_010_893_6; // (2π·50)²
-const C: f64 = 1.2566;
-const D: f64 = 5.0;
-
-/// ∫₀^{2π} |sin θ|^p dθ by the midpoint rule on 2·10⁵ points (the integrand is C²).
-fn sine_power_integral(p: f64) -> f64 {
-    let n = 200_000;
-    let h = 2.0 * std::f64::consts::PI / n as f64;
-    (0..n)
-        .map(|i| ((i as f64 + 0.5) * h).sin().abs().powf(p))
-        .sum::<f64>()
-        * h
-}
-
-/// (X, lag φ) of the oscillator driven at `omega` with amplitude `force`.
-fn response(omega: f64, force: f64, c: f64, d: f64) -> (f64, f64) {
-    let integral = sine_power_integral(2.5);
-    let c_eq = |x: f64| c + d * (omega * x).sqrt() * integral / std::f64::consts::PI;
-    let stiff = K - M * omega * omega;
-    let h = |x: f64| x * (stiff.powi(2) + (omega * c_eq(x)).powi(2)).sqrt() - force;
-    let (mut lo, mut hi) = (0.0, 1.0);
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if h(mid) > 0.0 {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
-    }
-    let x = 0.5 * (lo + hi);
-    (x, (omega * c_eq(x)).atan2(stiff))
-}
-
-/// A small deterministic generator (splitmix64 → two uniforms → Box–Muller).
-struct Normal(u64);
-impl Normal {
-    fn uniform(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn sample(&mut self) -> f64 {
-        let (u, v) = (self.uniform().max(1e-300), self.uniform());
-        (-2.0 * u.ln()).sqrt() * (2.0 * std::f64::consts::PI * v).cos()
-    }
-}
+use table::*;
 
 /// The table's columns: level, frequency (Hz), force, amplitude, phase (degrees, lag).
 /// Relative noise `noise.0` on force and amplitude, `noise.1` rad on the phase.
@@ -111,46 +64,10 @@ fn table_columns(c: f64, d: f64, noise: Option<(u64, f64, f64)>) -> Vec<Vec<f64>
     columns
 }
 
-fn headers() -> Vec<String> {
-    ["level", "f_hz", "force", "x", "phase_deg"]
-        .iter()
-        .map(|s| s.to_string())
-        .collect()
-}
-
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("dampid_stepped_sine_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     dir.join(name)
-}
-
-/// The model file of the viscous + power-law model on `file`, `extra` appended.
-fn model_text(file: &Path, extra: &str) -> String {
-    format!(
-        r#"
-dofs = 1
-[[terms]]
-kind = "law"
-law = "linear"
-elements = "each_dof"
-coefficient = "c"
-[[terms]]
-kind = "law"
-law = "power"
-exponent = 1.5
-elements = "each_dof"
-coefficient = "d"
-[stepped_sine]
-file = "{}"
-frequency = {{ column = "f_hz", scale = 6.283185307179586 }}
-force = "force"
-amplitudes = ["x"]
-phases = [{{ column = "phase_deg", scale = 0.017453292519943295 }}]
-sweep = "level"
-{extra}
-"#,
-        file.display()
-    )
 }
 
 fn job_of(name: &str, columns: &[Vec<f64>], extra: &str) -> dampid::model_file::Job {
@@ -393,50 +310,6 @@ fn negative_damping_is_a_warning() {
             .iter()
             .any(|w| matches!(w, Warning::NegativeDamping { .. }))
     );
-}
-
-/// The bolted-joint generator's levels, 21 frequencies over ±3 % of 50 Hz each.
-const LEVELS: [f64; 7] = [0.05, 0.1, 0.2, 0.5, 1.0, 2.0, 3.0];
-
-/// The truth of the residual tables: r_k (m/N) and r_m (m/N · (rad/s)²).
-const R_K: f64 = -2.0e-6;
-
-/// The table's columns (level, f_hz, force, x, phase_deg) of the oscillator with
-/// the residual R(ω) = `r_k` − `r_m`/ω² added, every force × `force_scale`
-/// (the response is the oscillator's at the unscaled force: a linear change of the
-/// force's unit). Noise as the generator: relative `noise.1` on force and amplitude,
-/// `noise.2` rad on the phase.
-fn residual_columns(
-    r_k: f64,
-    r_m: f64,
-    force_scale: f64,
-    noise: Option<(u64, f64, f64)>,
-) -> Vec<Vec<f64>> {
-    let mut columns = vec![Vec::new(); 5];
-    let mut rng = Normal(noise.map_or(0, |n| n.0));
-    for (l, &force) in LEVELS.iter().enumerate() {
-        for i in 0..21 {
-            let f_hz = 50.0 * (0.97 + 0.06 * i as f64 / 20.0);
-            let omega = 2.0 * std::f64::consts::PI * f_hz;
-            let (x, phi) = response(omega, force, C, D);
-            let r = r_k - r_m / (omega * omega);
-            // Z = X e^{−iφ} + R a
-            let (re, im) = (x * phi.cos() + r * force, -x * phi.sin());
-            let (mut a, mut x, mut phi) = (force, re.hypot(im), (-im).atan2(re));
-            if let Some((_, relative, phase)) = noise {
-                x *= 1.0 + relative * rng.sample();
-                phi += phase * rng.sample();
-                a *= 1.0 + relative * rng.sample();
-            }
-            columns[0].push(l as f64 + 1.0);
-            columns[1].push(f_hz);
-            columns[2].push(a * force_scale);
-            // the measured receptance |Z|/a is in m per scaled force unit
-            columns[3].push(x);
-            columns[4].push(phi.to_degrees());
-        }
-    }
-    columns
 }
 
 /// The variable-projection fit of a table with estimated residuals or law parameters,

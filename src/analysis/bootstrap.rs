@@ -124,7 +124,7 @@ pub struct Bootstrap {
 }
 
 /// splitmix64: a bijective 64-bit mixer (Steele, Lea, Flood 2014).
-fn splitmix64(x: u64) -> u64 {
+pub(crate) fn splitmix64(x: u64) -> u64 {
     let mut z = x.wrapping_add(0x9e37_79b9_7f4a_7c15);
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
@@ -132,12 +132,12 @@ fn splitmix64(x: u64) -> u64 {
 }
 
 /// The generator of replicate `k` under master seed `seed`.
-fn replicate_rng(seed: u64, k: usize) -> StdRng {
+pub(crate) fn replicate_rng(seed: u64, k: usize) -> StdRng {
     StdRng::seed_from_u64(splitmix64(seed ^ splitmix64(k as u64)))
 }
 
 /// The numerical rank of the column-scaled `regressor`.
-fn rank_of(regressor: &Regressor, tolerance: f64) -> usize {
+pub(crate) fn rank_of(regressor: &Regressor, tolerance: f64) -> usize {
     numerical_rank(
         &scaled_singular_values(regressor.matrix(), regressor.rhs()),
         tolerance,
@@ -163,9 +163,9 @@ pub fn bootstrap_with_progress(
     settings: &BootstrapSettings,
     progress: Progress<'_>,
 ) -> Result<Bootstrap> {
-    let m = regressor.equations();
+    let groups = Groups::rows(regressor.equations());
     resample(regressor, fit, settings, progress, |rng: &mut StdRng| {
-        (0..m).map(|_| rng.random_range(0..m)).collect()
+        groups.rows_of(&groups.draw(rng))
     })
 }
 
@@ -182,34 +182,82 @@ pub fn bootstrap_groups(
     groups: &[usize],
     progress: Progress<'_>,
 ) -> Result<Bootstrap> {
-    if groups.len() != regressor.equations() {
-        return Err(Error::mismatch(
-            "bootstrap groups vs regressor rows",
-            regressor.equations(),
-            groups.len(),
-        ));
-    }
-    let mut members: Vec<Vec<usize>> = Vec::new();
-    for (r, &g) in groups.iter().enumerate() {
-        if g >= members.len() {
-            members.resize(g + 1, Vec::new());
-        }
-        members[g].push(r);
-    }
-    members.retain(|m| !m.is_empty());
-    if members.len() < 2 {
-        return Err(Error::choice(
-            "bootstrap groups",
-            format!("{} group(s)", members.len()),
-            "resampling whole groups (sweeps) needs at least two of them",
-        ));
-    }
-    let k = members.len();
+    let groups = Groups::of(groups, regressor.equations())?;
     resample(regressor, fit, settings, progress, |rng: &mut StdRng| {
-        (0..k)
-            .flat_map(|_| members[rng.random_range(0..k)].iter().copied())
-            .collect()
+        groups.rows_of(&groups.draw(rng))
     })
+}
+
+/// The units a replicate draws with replacement: single rows (windows), or whole
+/// groups of rows (sweeps).
+#[derive(Debug, Clone)]
+pub(crate) struct Groups {
+    /// The rows of each group, in row order; `None` when every row is its own group.
+    members: Option<Vec<Vec<usize>>>,
+    /// The number of groups.
+    count: usize,
+}
+
+impl Groups {
+    /// Every one of `m` rows a group of its own.
+    pub(crate) fn rows(m: usize) -> Self {
+        Groups {
+            members: None,
+            count: m,
+        }
+    }
+
+    /// `groups[r]` the group of row r of `m`; fewer than two non-empty groups is an error.
+    pub(crate) fn of(groups: &[usize], m: usize) -> Result<Self> {
+        if groups.len() != m {
+            return Err(Error::mismatch(
+                "bootstrap groups vs regressor rows",
+                m,
+                groups.len(),
+            ));
+        }
+        let mut members: Vec<Vec<usize>> = Vec::new();
+        for (r, &g) in groups.iter().enumerate() {
+            if g >= members.len() {
+                members.resize(g + 1, Vec::new());
+            }
+            members[g].push(r);
+        }
+        members.retain(|m| !m.is_empty());
+        if members.len() < 2 {
+            return Err(Error::choice(
+                "bootstrap groups",
+                format!("{} group(s)", members.len()),
+                "resampling whole groups (sweeps) needs at least two of them",
+            ));
+        }
+        Ok(Groups {
+            count: members.len(),
+            members: Some(members),
+        })
+    }
+
+    /// The number of groups.
+    pub(crate) fn count(&self) -> usize {
+        self.count
+    }
+
+    /// As many groups as there are, drawn with replacement (indices in 0..count).
+    pub(crate) fn draw(&self, rng: &mut StdRng) -> Vec<usize> {
+        let k = self.count;
+        (0..k).map(|_| rng.random_range(0..k)).collect()
+    }
+
+    /// The rows of the groups `drawn`, group after group.
+    pub(crate) fn rows_of(&self, drawn: &[usize]) -> Vec<usize> {
+        match &self.members {
+            None => drawn.to_vec(),
+            Some(members) => drawn
+                .iter()
+                .flat_map(|&g| members[g].iter().copied())
+                .collect(),
+        }
+    }
 }
 
 /// The bootstrap with replicates whose rows `draw` picks.
@@ -255,18 +303,63 @@ fn resample(
             Err(e) => Err(e),
         }
     };
+    let outcomes = run_replicates(settings, progress, &one_replicate)?;
+    let samples: Vec<Vec<f64>> = outcomes.into_iter().flatten().collect();
+    let used = samples.len();
+    if 2 * used < settings.replicates {
+        return Err(Error::Numerical {
+            stage: "bootstrap".into(),
+            detail: format!(
+                "only {used} of {} resampled regressors kept their rank and converged; add windows (equations) before bootstrapping",
+                settings.replicates
+            ),
+        });
+    }
+    let method = if fit.constraints.is_empty() {
+        FitMethod::LeastSquares
+    } else {
+        FitMethod::Constrained
+    };
+    let intervals = regressor
+        .columns()
+        .iter()
+        .enumerate()
+        .map(|(j, name)| percentile_interval(name, samples.iter().map(|s| s[j]), settings.level))
+        .collect();
+    Ok(Bootstrap {
+        summary: BootstrapSummary {
+            replicates: settings.replicates,
+            used,
+            seed: settings.seed,
+            level: settings.level,
+            method,
+        },
+        intervals,
+        samples,
+    })
+}
+
+/// Runs replicates 0..B of `one` (`None`: dropped) and returns their outcomes in
+/// replicate order, whatever the number of threads: [`crate::cancel::check`] before
+/// each, `progress(done, total)` after each (from the worker threads, `done` counting
+/// up). The first replicates (up to 64, or 200 ms) run one by one and time the rest
+/// against the time budget ([`crate::budget::require_time`]); each replicate k has its
+/// own seeded generator ([`replicate_rng`]), so the split changes no result.
+pub(crate) fn run_replicates<T: Send>(
+    settings: &BootstrapSettings,
+    progress: Progress<'_>,
+    one: &(dyn Fn(usize) -> Result<T> + Sync),
+) -> Result<Vec<T>> {
     let total = settings.replicates as u64;
     let done = AtomicU64::new(0);
-    let replicate = |k: usize| -> Result<Option<Vec<f64>>> {
+    let replicate = |k: usize| -> Result<T> {
         crate::cancel::check("the bootstrap")?;
-        let kept = one_replicate(k)?;
+        let kept = one(k)?;
         progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
         Ok(kept)
     };
-    // The first replicates run one by one and time the rest: each replicate k has its
-    // own seeded generator, so the split changes no result.
     let started = std::time::Instant::now();
-    let mut outcomes: Vec<Option<Vec<f64>>> = Vec::new();
+    let mut outcomes: Vec<T> = Vec::new();
     while outcomes.len() < settings.replicates.min(64)
         && started.elapsed() < std::time::Duration::from_millis(200)
     {
@@ -280,58 +373,35 @@ fn resample(
             / rayon::current_num_threads().max(1) as f64,
         "reduce the replicates (--bootstrap N); 1000 to 2000 give 95% intervals",
     )?;
-    let rest: Vec<Option<Vec<f64>>> = (timed..settings.replicates)
+    let rest: Vec<T> = (timed..settings.replicates)
         .into_par_iter()
         .map(replicate)
         .collect::<Result<_>>()?;
     outcomes.extend(rest);
-    let samples: Vec<Vec<f64>> = outcomes.into_iter().flatten().collect();
-    let used = samples.len();
-    if 2 * used < settings.replicates {
-        return Err(Error::Numerical {
-            stage: "bootstrap".into(),
-            detail: format!(
-                "only {used} of {} resampled regressors kept their rank and converged; add windows (equations) before bootstrapping",
-                settings.replicates
-            ),
-        });
+    Ok(outcomes)
+}
+
+/// The percentile interval (type 7) at `level` and the standard deviation of the
+/// replicates' `values` of coefficient `name` (at least one value).
+pub(crate) fn percentile_interval(
+    name: &str,
+    values: impl Iterator<Item = f64>,
+    level: f64,
+) -> ConfidenceInterval {
+    let mut values: Vec<f64> = values.collect();
+    values.sort_by(f64::total_cmp);
+    let used = values.len();
+    let alpha = 1.0 - level;
+    let mean = values.iter().sum::<f64>() / used as f64;
+    let variance =
+        values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (used - 1).max(1) as f64;
+    ConfidenceInterval {
+        name: name.to_string(),
+        lower: quantile(&values, alpha / 2.0),
+        upper: quantile(&values, 1.0 - alpha / 2.0),
+        level,
+        std_error: variance.sqrt(),
     }
-    let alpha = 1.0 - settings.level;
-    let method = if fit.constraints.is_empty() {
-        FitMethod::LeastSquares
-    } else {
-        FitMethod::Constrained
-    };
-    let intervals = regressor
-        .columns()
-        .iter()
-        .enumerate()
-        .map(|(j, name)| {
-            let mut values: Vec<f64> = samples.iter().map(|s| s[j]).collect();
-            values.sort_by(f64::total_cmp);
-            let mean = values.iter().sum::<f64>() / used as f64;
-            let variance =
-                values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (used - 1).max(1) as f64;
-            ConfidenceInterval {
-                name: name.clone(),
-                lower: quantile(&values, alpha / 2.0),
-                upper: quantile(&values, 1.0 - alpha / 2.0),
-                level: settings.level,
-                std_error: variance.sqrt(),
-            }
-        })
-        .collect();
-    Ok(Bootstrap {
-        summary: BootstrapSummary {
-            replicates: settings.replicates,
-            used,
-            seed: settings.seed,
-            level: settings.level,
-            method,
-        },
-        intervals,
-        samples,
-    })
 }
 
 /// Quantile `q` of sorted, non-empty `values` (linear interpolation, type 7).

@@ -2,13 +2,17 @@
 //! parameters with their profile-likelihood intervals, the linear coefficients with
 //! intervals from the joint covariance (which include the uncertainty of the nonlinear
 //! parameters), the outer loop's status, and the ordinary [`FitReport`] of the linear
-//! fit at the estimated parameters (its errors conditional on them).
+//! fit at the estimated parameters (its errors conditional on them); and, when one
+//! was run, the bootstrap of the whole variable projection ([`crate::varpro::bootstrap_varpro`]):
+//! percentile intervals of every parameter and coefficient from refits of resampled
+//! windows or whole sweeps.
 
 use std::fmt;
 
 use serde::{Deserialize, Serialize};
 
 use super::FitReport;
+use crate::analysis::bootstrap::ConfidenceInterval;
 
 /// How the outer loop ended.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -104,6 +108,65 @@ pub struct VarProReport {
     pub covariance: Option<Vec<Vec<f64>>>,
     /// The linear fit at the estimated parameters.
     pub fit: FitReport,
+    /// The bootstrap of the whole variable projection, when one was run.
+    #[serde(default)]
+    pub bootstrap: Option<VarProBootstrap>,
+}
+
+/// What a replicate of a variable-projection bootstrap drew with replacement.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Resampled {
+    /// Single equations (windows of whole periods of records, or single points).
+    Windows,
+    /// Whole groups of equations: the sweeps of a stepped-sine table.
+    Sweeps,
+}
+
+impl fmt::Display for Resampled {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Resampled::Windows => "windows",
+            Resampled::Sweeps => "whole sweeps",
+        })
+    }
+}
+
+/// The bootstrap of a variable-projection fit: each replicate refits η and θ on
+/// resampled equations ([`crate::varpro::bootstrap_varpro`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct VarProBootstrap {
+    /// Replicates drawn (B).
+    pub replicates: usize,
+    /// Replicates kept: outer loop converged, linear fit usable at full rank.
+    pub used: usize,
+    /// Replicates dropped because their outer loop did not converge.
+    pub not_converged: usize,
+    /// Replicates dropped because the linear fit at their η* was not usable (solver
+    /// status, a numerical failure, or a rank below the full data's).
+    pub unusable: usize,
+    /// Master seed.
+    pub seed: u64,
+    /// Confidence level of the percentile intervals.
+    pub level: f64,
+    /// What a replicate drew.
+    pub resampled: Resampled,
+    /// Regressors built by the replicates' outer loops (all replicates).
+    pub evaluations: u64,
+    /// How many units (windows or sweeps) there are to draw from; a replicate draws as
+    /// many, with replacement.
+    pub groups: usize,
+    /// One interval per nonlinear parameter, in parameter order.
+    pub parameters: Vec<ConfidenceInterval>,
+    /// One interval per linear coefficient, in column order.
+    pub coefficients: Vec<ConfidenceInterval>,
+    /// (η*, θ*) of each kept replicate, η* first, in replicate order (not serialised).
+    #[serde(skip)]
+    pub samples: Vec<Vec<f64>>,
+    /// The units each replicate drew (indices in 0..`groups`), every replicate in
+    /// replicate order, kept or not (not serialised).
+    #[serde(skip)]
+    pub drawn: Vec<Vec<usize>>,
 }
 
 impl VarProReport {
@@ -123,6 +186,12 @@ impl VarProReport {
     /// The value of linear coefficient `name`.
     pub fn coefficient(&self, name: &str) -> Option<f64> {
         self.fit.coefficient(name)
+    }
+
+    /// This report with the bootstrap `bootstrap` (run on the same problem).
+    pub fn with_bootstrap(mut self, bootstrap: VarProBootstrap) -> Self {
+        self.bootstrap = Some(bootstrap);
+        self
     }
 }
 
@@ -214,11 +283,59 @@ impl fmt::Display for VarProReport {
             "joint errors: covariance of the full Jacobian [∂r/∂θ, ∂r/∂η] at the optimum, {} degrees of freedom",
             self.degrees_of_freedom
         )?;
+        if let Some(b) = &self.bootstrap {
+            write!(f, "{b}")?;
+        }
         writeln!(
             f,
             "linear fit at the estimated parameters (its errors hold them fixed):"
         )?;
         write!(f, "{}", self.fit)
+    }
+}
+
+impl fmt::Display for VarProBootstrap {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let percent = (100.0 * self.level * 1e6).round() / 1e6;
+        writeln!(
+            f,
+            "bootstrap: {} of {} replicates kept, {} resampled ({} to draw from), seed {}, {} regressors built",
+            self.used, self.replicates, self.resampled, self.groups, self.seed, self.evaluations
+        )?;
+        if self.used < self.replicates {
+            writeln!(
+                f,
+                "  dropped: {} whose outer loop did not converge, {} whose linear fit was not usable",
+                self.not_converged, self.unusable
+            )?;
+        }
+        writeln!(
+            f,
+            "{:<20} {:>14}  {:>34}",
+            "parameter",
+            "bootstrap se",
+            format!("{percent}% percentile interval")
+        )?;
+        for i in self.parameters.iter().chain(&self.coefficients) {
+            writeln!(
+                f,
+                "{:<20} {:>14.3e}  {:>34}",
+                i.name,
+                i.std_error,
+                format!("[{:.6e}, {:.6e}]", i.lower, i.upper)
+            )?;
+        }
+        writeln!(
+            f,
+            "bootstrap: each replicate refits the whole variable projection (η and θ) on the resampled equations, from the full data's estimate"
+        )?;
+        if self.resampled == Resampled::Sweeps {
+            writeln!(
+                f,
+                "  whole sweeps keep each sweep's points together: an unknown of one sweep (its residual receptance) varies here only through the shared parameters, so read its joint interval above"
+            )?;
+        }
+        Ok(())
     }
 }
 

@@ -43,15 +43,23 @@ use super::outer::Minimum;
 use super::problem::{Problem, weighted_residuals};
 use super::{NonlinearParameter, VarProSettings};
 
-/// Minimises the projected cost over several parameters (see the module doc).
+/// Minimises the projected cost over several parameters (see the module doc); without
+/// `multistart` the first search starts from the initial values alone (a bootstrap
+/// replicate starting from the full data's estimate, `bootstrap.rs`).
 pub(super) fn minimise(
     problem: &Problem<'_>,
     fit: &FitSettings,
     settings: &VarProSettings,
+    multistart: bool,
 ) -> Result<Minimum> {
     let parameters = problem.parameters();
     if fit.weighting == Weighting::Ordinary {
-        return levenberg_marquardt(&|eta| problem.residuals(eta), parameters, settings, true);
+        return levenberg_marquardt(
+            &|eta| problem.residuals(eta),
+            parameters,
+            settings,
+            multistart,
+        );
     }
     // the weights at η₀ and η₁ and the first residual of the search from there read
     // one regressor: the last one built is kept
@@ -86,7 +94,7 @@ pub(super) fn minimise(
                 fit.residual_std.as_deref(),
             ))
         };
-        return levenberg_marquardt(&unweighted, parameters, settings, true);
+        return levenberg_marquardt(&unweighted, parameters, settings, multistart);
     };
     let ordinary = FitSettings {
         weighting: Weighting::Ordinary,
@@ -103,7 +111,7 @@ pub(super) fn minimise(
         tolerance: settings.tolerance.sqrt(),
         ..*settings
     };
-    let first = levenberg_marquardt(&|eta| fixed(&weights, eta), parameters, &loose, true)?;
+    let first = levenberg_marquardt(&|eta| fixed(&weights, eta), parameters, &loose, multistart)?;
     if !first.converged {
         return Ok(first);
     }

@@ -35,6 +35,7 @@
 //! is: [`VarProReport::is_estimate`] is false, and the report shows the last trial as
 //! such, without intervals.
 
+mod bootstrap;
 mod fixed_weights;
 mod joint;
 mod levenberg_marquardt;
@@ -45,13 +46,16 @@ mod profile;
 use std::fmt;
 use std::sync::Arc;
 
+use crate::analysis::bootstrap::BootstrapSettings;
 use crate::error::{Error, Result};
 use crate::identify::IdentifySettings;
 use crate::model::DampingModel;
+use crate::progress::Progress;
 use crate::record::Record;
 use crate::regressor::Regressor;
 pub use crate::report::varpro::{
-    JointEstimate, NonlinearEstimate, OuterLoop, ProfileInterval, VarProReport,
+    JointEstimate, NonlinearEstimate, OuterLoop, ProfileInterval, Resampled, VarProBootstrap,
+    VarProReport,
 };
 
 /// One nonlinear parameter to estimate: its name, initial value and bounds.
@@ -178,7 +182,7 @@ impl ParametricModel {
 }
 
 /// One value per parameter.
-fn check_values(parameters: &[NonlinearParameter], values: &[f64]) -> Result<()> {
+fn check_values<T>(parameters: &[NonlinearParameter], values: &[T]) -> Result<()> {
     if values.len() == parameters.len() {
         Ok(())
     } else {
@@ -369,6 +373,78 @@ pub fn identify_varpro_regressor_with_regressor(
     run(&problem, settings, varpro)
 }
 
+/// The bootstrap of a variable-projection fit of `model` on `records`
+/// ([`identify_varpro`]'s `report` of the same inputs): every replicate draws the
+/// windows (equations) with replacement and refits the whole variable projection from
+/// the report's estimate η̂ (the method: `varpro/bootstrap.rs`). `progress(done,
+/// total)` counts replicates; [`crate::cancel::check`] runs before each. Add the result
+/// to the report with [`VarProReport::with_bootstrap`].
+pub fn bootstrap_varpro(
+    model: &ParametricModel,
+    records: &[Record],
+    settings: &IdentifySettings,
+    varpro: &VarProSettings,
+    report: &VarProReport,
+    bootstrap: &BootstrapSettings,
+    progress: Progress<'_>,
+) -> Result<VarProBootstrap> {
+    let problem = problem::Problem::new(model, records, settings);
+    let estimate = estimate_of(model.parameters(), report)?;
+    bootstrap::bootstrap(&problem, &estimate, None, varpro, bootstrap, progress)
+}
+
+/// [`bootstrap_varpro`] for a regressor built directly from η
+/// ([`identify_varpro_regressor`]'s `report` of the same inputs). With `groups`,
+/// `groups[r]` the group of equation r (a stepped-sine table's sweeps,
+/// [`crate::model_file::Job::sweeps`]), a replicate draws whole groups; without, single
+/// equations. Fewer than two groups is [`Error::InvalidChoice`]: one sweep cannot be
+/// resampled as a whole.
+pub fn bootstrap_varpro_regressor(
+    model: &ParametricRegressor,
+    groups: Option<&[usize]>,
+    settings: &IdentifySettings,
+    varpro: &VarProSettings,
+    report: &VarProReport,
+    bootstrap: &BootstrapSettings,
+    progress: Progress<'_>,
+) -> Result<VarProBootstrap> {
+    let problem = problem::Problem::with_builder(
+        model.parameters(),
+        Box::new(|eta: &[f64]| model.regressor(eta)),
+        settings,
+    );
+    let estimate = estimate_of(model.parameters(), report)?;
+    bootstrap::bootstrap(&problem, &estimate, groups, varpro, bootstrap, progress)
+}
+
+/// η̂ of `report`, whose parameters must be `specs` (by name, in order) and whose outer
+/// loop must have converged to an estimate.
+fn estimate_of(specs: &[NonlinearParameter], report: &VarProReport) -> Result<Vec<f64>> {
+    check_values(specs, &report.parameters)?;
+    if let Some((spec, found)) = specs
+        .iter()
+        .zip(&report.parameters)
+        .find(|(spec, found)| spec.name != found.name)
+    {
+        return Err(Error::choice(
+            "variable-projection report to bootstrap",
+            format!("parameter '{}'", found.name),
+            &format!(
+                "the problem's parameter there is '{}': bootstrap the report of the same problem",
+                spec.name
+            ),
+        ));
+    }
+    if !report.is_estimate() {
+        return Err(Error::choice(
+            "variable-projection report to bootstrap",
+            "a fit that is not an estimate".to_string(),
+            "its outer loop did not converge or its linear fit failed: there is no estimate to resample around",
+        ));
+    }
+    Ok(report.parameters.iter().map(|p| p.value).collect())
+}
+
 /// The outer loop, the fit at its minimum and the intervals of `problem`, with the
 /// regressor at the minimum.
 fn run(
@@ -380,7 +456,7 @@ fn run(
     let minimum = if specs.len() == 1 {
         outer::minimise(&|eta: &[f64]| problem.residuals(eta), specs, varpro, true)?
     } else {
-        fixed_weights::minimise(problem, &settings.fit, varpro)?
+        fixed_weights::minimise(problem, &settings.fit, varpro, true)?
     };
     let best = problem.trial(&minimum.values)?;
     let fit_report = crate::identify::identify_regressor(&best.regressor, &settings.fit)?;
@@ -466,6 +542,7 @@ fn run(
         coefficients,
         covariance: joint.and_then(|j| j.covariance),
         fit: fit_report,
+        bootstrap: None,
     };
     Ok((best.regressor, report))
 }

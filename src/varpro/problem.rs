@@ -70,6 +70,11 @@ impl<'a> Problem<'a> {
         self.parameters
     }
 
+    /// The settings of the inner fits.
+    pub fn settings(&self) -> &'a IdentifySettings {
+        self.settings
+    }
+
     /// Regressors built so far.
     pub fn evaluations(&self) -> u64 {
         self.evaluations.load(Ordering::Relaxed)

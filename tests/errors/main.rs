@@ -13,7 +13,7 @@
 //! | `NonFinite` | `Record::new`; model matrices and element weights; regressor columns and `Regressor::from_parts`; `simulate` (mass matrix) | record, model, regressor, simulate, regressions |
 //! | `DimensionMismatch` | `Record::new`; matrix terms and element weights; `Regressor::from_parts`; `simulate` (matrices, coefficients) | record, model, regressor, simulate, regressions, stepped_sine (`analysis::equivalent_estimated`) |
 //! | `InvalidParameter` | `Record::new` (step, period, start time); window settings and spectral velocities; elements and power laws; constraint values and fit settings; `simulate` (settings, forces, coefficients); estimated law parameters' bounds and initial values, variable-projection settings | record, prep, model, fit, simulate, regressions, model_file, varpro |
-//! | `InvalidChoice` | a setting that is a choice and does not fit: a spectral rule or velocity on non-periodic windows, noise correction without harmonic projection, propagated weights without a noise model, an expression for a law that takes none, one key or another (`time`/`step`, `coefficient`/`per_element`), element `[0, 0]`, a history term in non-periodic spans, the noise-robust rows or the simulator, a structural term in non-periodic spans or the simulator | variants, model_file (tests/), noise (tests/), nonperiodic (tests/), registry (tests/), history, structural |
+//! | `InvalidChoice` | a setting that is a choice and does not fit: a spectral rule or velocity on non-periodic windows, noise correction without harmonic projection, propagated weights without a noise model, a bootstrap of whole sweeps from a single sweep or of a variable-projection report that is not an estimate, an expression for a law that takes none, one key or another (`time`/`step`, `coefficient`/`per_element`), element `[0, 0]`, a history term in non-periodic spans, the noise-robust rows or the simulator, a structural term in non-periodic spans or the simulator | variants, model_file (tests/), noise (tests/), nonperiodic (tests/), registry (tests/), history, structural, varpro_bootstrap |
 //! | `Missing` | a law parameter the law needs; an estimated parameter's `initial`, `lower` or `upper`; a `[simulation]` coefficient; `dof` for `phase = "dof"` | model_file, variants, registry (tests/) |
 //! | `RecordTooShort` | `Record::new` (under three samples); windows that do not fit a record | record, prep, regressions |
 //! | `TooFewEquations` | the fit: fewer rows than free coefficients | fit |
@@ -24,7 +24,7 @@
 //! | `UnknownCoefficient` | constraints naming a coefficient the model lacks | fit |
 //! | `InfeasibleBounds` | bounds and fixed values that admit no value | fit, regressions |
 //! | `MissingVelocities` | measured velocities on a record without them | prep |
-//! | `Numerical` | `simulate` (singular mass, divergence, NaN forces) | simulate, regressions |
+//! | `Numerical` | `simulate` (singular mass, divergence, NaN forces); a bootstrap keeping fewer than half its replicates | simulate, regressions, varpro_bootstrap |
 //! | `Expression` | `Expression::parse` (the model-file law) | model_file |
 //! | `ModelFile` | `model_file::parse`, at the line of the block concerned, keeping the typed `cause` | model_file, regressions |
 //! | `UnknownName` | `Table::column` | data_files |
@@ -54,5 +54,8 @@ mod stepped_sine;
 mod structural;
 #[path = "../support/mod.rs"]
 mod support;
+#[path = "../support/stepped_sine_table.rs"]
+mod table;
 mod variants;
 mod varpro;
+mod varpro_bootstrap;

@@ -226,12 +226,25 @@ fn identify(
     }
     let (job, steady) = load_steady_job(path, accept_transient)?;
     job.settings.fit.validate()?;
-    if (job.parametric.is_some() || job.estimates_residual()) && bootstrap.is_some() {
-        anyhow::bail!(
-            "--bootstrap does not take estimated law parameters or residual receptances yet: fix them, or identify without it"
-        );
-    }
     if let Some(fit) = job.identify_varpro().transpose()? {
+        let fit = match &bootstrap {
+            Some(settings) if fit.report.is_estimate() => {
+                let bar = progress_bar("bootstrap");
+                let result = bootstrap_varpro(&job, &fit.report, settings, &on_bar(&bar));
+                bar.finish_and_clear();
+                dampid::model_file::VarProFit {
+                    report: fit.report.with_bootstrap(result?),
+                    ..fit
+                }
+            }
+            Some(_) => {
+                eprintln!(
+                    "no bootstrap: the variable projection did not reach an estimate, so there is none to resample around"
+                );
+                fit
+            }
+            None => fit,
+        };
         return identify_varpro(
             path,
             &job,
@@ -240,6 +253,7 @@ fn identify(
             as_json,
             html,
             accept_transient,
+            bootstrap.as_ref(),
         );
     }
     let regressor = build_regressor(&job)?;
@@ -372,6 +386,39 @@ fn identify(
 /// `dampid identify` of a job with estimated nonlinear parameters (its variable-projection
 /// `fit`): the report, the equivalent damping of a one-mode stepped-sine job at η̂, and
 /// the HTML page where asked.
+/// Percentile intervals of a variable-projection fit from refits on resampled data:
+/// whole sweeps of a stepped-sine table, windows of records.
+fn bootstrap_varpro(
+    job: &Job,
+    report: &dampid::varpro::VarProReport,
+    settings: &BootstrapSettings,
+    progress: dampid::progress::Progress<'_>,
+) -> anyhow::Result<dampid::varpro::VarProBootstrap> {
+    let varpro = job.varpro_settings();
+    Ok(match (job.parametric_regressor().transpose()?, &job.parametric) {
+        (Some(regressor), _) => dampid::varpro::bootstrap_varpro_regressor(
+            &regressor,
+            job.sweeps(),
+            &job.settings,
+            &varpro,
+            report,
+            settings,
+            progress,
+        )?,
+        (None, Some(parametric)) => dampid::varpro::bootstrap_varpro(
+            parametric,
+            &job.records,
+            &job.settings,
+            &varpro,
+            report,
+            settings,
+            progress,
+        )?,
+        (None, None) => anyhow::bail!("nothing is estimated by variable projection in this job"),
+    })
+}
+
+#[allow(clippy::too_many_arguments)]
 fn identify_varpro(
     path: &Path,
     job: &Job,
@@ -380,6 +427,7 @@ fn identify_varpro(
     as_json: bool,
     html: Option<(PathBuf, Overwrite)>,
     accept_transient: bool,
+    bootstrap: Option<&BootstrapSettings>,
 ) -> anyhow::Result<Outcome> {
     let report = &fit.report;
     // Not an estimate: no equivalent damping either (the text report's rule).
@@ -402,6 +450,17 @@ fn identify_varpro(
                 } else {
                     "not given".to_string()
                 },
+            ),
+            (
+                "--bootstrap".to_string(),
+                bootstrap.map_or("not given".to_string(), |b| {
+                    format!(
+                        "{} replicates, seed {}, {}% percentile intervals",
+                        b.replicates,
+                        b.seed,
+                        100.0 * b.level
+                    )
+                }),
             ),
         ];
         let page = HtmlReport {
