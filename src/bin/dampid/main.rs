@@ -395,27 +395,31 @@ fn bootstrap_varpro(
     progress: dampid::progress::Progress<'_>,
 ) -> anyhow::Result<dampid::varpro::VarProBootstrap> {
     let varpro = job.varpro_settings();
-    Ok(match (job.parametric_regressor().transpose()?, &job.parametric) {
-        (Some(regressor), _) => dampid::varpro::bootstrap_varpro_regressor(
-            &regressor,
-            job.sweeps(),
-            &job.settings,
-            &varpro,
-            report,
-            settings,
-            progress,
-        )?,
-        (None, Some(parametric)) => dampid::varpro::bootstrap_varpro(
-            parametric,
-            &job.records,
-            &job.settings,
-            &varpro,
-            report,
-            settings,
-            progress,
-        )?,
-        (None, None) => anyhow::bail!("nothing is estimated by variable projection in this job"),
-    })
+    Ok(
+        match (job.parametric_regressor().transpose()?, &job.parametric) {
+            (Some(regressor), _) => dampid::varpro::bootstrap_varpro_regressor(
+                &regressor,
+                job.sweeps(),
+                &job.settings,
+                &varpro,
+                report,
+                settings,
+                progress,
+            )?,
+            (None, Some(parametric)) => dampid::varpro::bootstrap_varpro(
+                parametric,
+                &job.records,
+                &job.settings,
+                &varpro,
+                report,
+                settings,
+                progress,
+            )?,
+            (None, None) => {
+                anyhow::bail!("nothing is estimated by variable projection in this job")
+            }
+        },
+    )
 }
 
 #[allow(clippy::too_many_arguments)]

@@ -78,6 +78,9 @@ impl HtmlReport<'_> {
         }
         page.push_str(&self.parameter_table(varpro));
         page.push_str(&self.joint_coefficient_table(varpro));
+        if let Some(bootstrap) = &varpro.bootstrap {
+            page.push_str(&bootstrap_table(bootstrap));
+        }
         if !estimate {
             return Ok(self.close(page, varpro));
         }
@@ -290,6 +293,43 @@ impl HtmlReport<'_> {
         }
         out
     }
+}
+
+/// The percentile intervals of `--bootstrap` (every estimated parameter, then every
+/// coefficient), with what was resampled.
+fn bootstrap_table(b: &crate::report::varpro::VarProBootstrap) -> String {
+    let percent = (100.0 * b.level * 1e6).round() / 1e6;
+    let mut out = format!(
+        "\n<h2>Bootstrap</h2>\n<p>{} of {} replicates kept ({} not converged, {} with an unusable linear fit), seed {}; each drew {} {} with replacement from the {} there are and refitted the whole variable projection from the estimate. Percentile intervals at {percent}%.{}</p>\n<table><tr><th>quantity</th><th>bootstrap std error</th><th>{percent}% percentile interval</th></tr>\n",
+        b.used,
+        b.replicates,
+        b.not_converged,
+        b.unusable,
+        b.seed,
+        b.groups,
+        match b.resampled {
+            crate::report::varpro::Resampled::Windows => "windows",
+            crate::report::varpro::Resampled::Sweeps => "whole sweeps",
+        },
+        b.groups,
+        match b.resampled {
+            crate::report::varpro::Resampled::Sweeps =>
+                " A sweep's own unknown (its residual receptance) sees the same points in every replicate that draws its sweep: its interval understates its uncertainty, read its joint interval above.",
+            crate::report::varpro::Resampled::Windows => "",
+        }
+    );
+    for i in b.parameters.iter().chain(&b.coefficients) {
+        let _ = writeln!(
+            out,
+            "<tr><td>{}</td><td>{:.3e}</td><td>[{:.6e}, {:.6e}]</td></tr>",
+            escape(&i.name),
+            i.std_error,
+            i.lower,
+            i.upper
+        );
+    }
+    out.push_str("</table>\n");
+    out
 }
 
 /// The equivalent damping table (±1.96 standard deviations, joint).
