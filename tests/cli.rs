@@ -551,3 +551,36 @@ fn check_names_the_parameters_it_holds_at_their_initial_values() {
         "{text}"
     );
 }
+
+/// `--strict` on a variable projection: an exponent whose bounds exclude the truth
+/// (1.7, bounds [2, 4]) ends on its lower bound, which is a warning flag without
+/// `--strict` (exit 0) and a failure with it (exit 1, the reason on stderr).
+#[test]
+fn strict_refuses_an_estimated_parameter_on_its_bound() {
+    let text = std::fs::read_to_string("tests/data/power_exponent_small.toml")
+        .unwrap()
+        .replace(
+            "initial = 1.0, lower = 0.5, upper = 4.0 }",
+            "initial = 2.5, lower = 2.0, upper = 4.0 }",
+        );
+    let file =
+        std::env::temp_dir().join(format!("dampid_strict_bound_{}.toml", std::process::id()));
+    std::fs::write(&file, text).unwrap();
+    let path = file.to_str().unwrap();
+    let plain = dampid(&["identify", path]);
+    assert_eq!(
+        plain.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&plain.stderr)
+    );
+    assert!(String::from_utf8_lossy(&plain.stdout).contains("(on a bound)"));
+    let strict = dampid(&["identify", path, "--strict"]);
+    assert_eq!(strict.status.code(), Some(1));
+    let said = String::from_utf8_lossy(&strict.stderr);
+    assert!(
+        said.contains("strict: estimated parameter d.exponent = 2"),
+        "{said}"
+    );
+    let _ = std::fs::remove_file(&file);
+}

@@ -175,6 +175,30 @@ impl VarProReport {
         self.status.converged && self.fit.is_estimate()
     }
 
+    /// What `dampid identify --strict` refuses in this fit: the linear fit's own
+    /// failures at η̂ ([`FitReport::strict_failures`]), an outer loop that did not
+    /// converge, and an estimated parameter on one of its bounds (not an interior
+    /// estimate).
+    pub fn strict_failures(&self) -> Vec<String> {
+        let mut failures = self.fit.strict_failures();
+        if !self.status.converged {
+            failures.push(format!(
+                "the outer loop did not converge: {}",
+                self.status.reason
+            ));
+        }
+        for p in self.parameters.iter().filter(|p| p.at_bound) {
+            failures.push(format!(
+                "estimated parameter {} = {} sits on a bound of [{}, {}]",
+                p.name,
+                p.value,
+                bound(p.lower_bound),
+                bound(p.upper_bound)
+            ));
+        }
+        failures
+    }
+
     /// The value of nonlinear parameter `name`.
     pub fn parameter(&self, name: &str) -> Option<f64> {
         self.parameters

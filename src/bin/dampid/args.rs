@@ -28,8 +28,8 @@ const EXAMPLES: &str = "Examples:
 
 Exit codes: 0 success; 1 a fit that did not converge, a missed reference target, or a
 design that does not reach its target, and with `identify --strict` also a coefficient
-that is not determined, a window accepted although not in steady state, or a failed
-model check (χ²); 2 bad input (model file, data, settings), or a window that is not in
+that is not determined, a window accepted although not in steady state, a failed
+model check (χ²), or an estimated law parameter on one of its bounds; 2 bad input (model file, data, settings), or a window that is not in
 steady state (--accept-transient accepts it).
 
 Progress bars are drawn on stderr only when it is a terminal. From CSV files to a report,
@@ -116,9 +116,10 @@ pub(crate) enum Command {
         #[arg(long, value_name = "SEED", default_value_t = 0, requires = "bootstrap")]
         seed: u64,
         /// Exit with 1 (after printing the report) when a coefficient is not
-        /// determined, a window was accepted although not in steady state, or the
-        /// model check (χ² of the weighted fit) fails; without it these are warnings
-        /// and the exit code is 0.
+        /// determined, a window was accepted although not in steady state, the
+        /// model check (χ² of the weighted fit) fails, or an estimated law parameter
+        /// sits on one of its bounds; without it these are warnings and the exit code
+        /// is 0.
         #[arg(long)]
         strict: bool,
     },

@@ -254,6 +254,7 @@ fn identify(
             html,
             accept_transient,
             bootstrap.as_ref(),
+            strict,
         );
     }
     let regressor = build_regressor(&job)?;
@@ -432,6 +433,7 @@ fn identify_varpro(
     html: Option<(PathBuf, Overwrite)>,
     accept_transient: bool,
     bootstrap: Option<&BootstrapSettings>,
+    strict: bool,
 ) -> anyhow::Result<Outcome> {
     let report = &fit.report;
     // Not an estimate: no equivalent damping either (the text report's rule).
@@ -509,9 +511,17 @@ fn identify_varpro(
             None => {}
         }
     }
+    let failures = if strict {
+        report.strict_failures()
+    } else {
+        Vec::new()
+    };
+    for failure in &failures {
+        eprintln!("strict: {failure}");
+    }
     Ok(Outcome {
         text: out,
-        trusted: report.is_estimate(),
+        trusted: report.is_estimate() && failures.is_empty(),
     })
 }
 
