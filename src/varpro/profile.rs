@@ -96,7 +96,9 @@ pub(super) fn interval(
     let span = spec.upper - spec.lower;
     let threshold = minimum + delta;
     let end = |bound: f64| -> Result<Option<f64>> {
-        if (bound - optimum[j]).abs() <= 1e-9 * span {
+        // On the bound as the report's `at_bound` flag counts it (within 10⁻⁶ of the
+        // interval): that side closes at the bound.
+        if (bound - optimum[j]).abs() <= 1e-6 * span {
             return Ok(Some(bound));
         }
         if profile(&[bound])? < threshold {
