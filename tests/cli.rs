@@ -584,3 +584,31 @@ fn strict_refuses_an_estimated_parameter_on_its_bound() {
     );
     let _ = std::fs::remove_file(&file);
 }
+
+/// Windows accepted although not in steady state are warnings of a variable projection
+/// too: with `--accept-transient --strict` the estimated-exponent job started without
+/// its transient exits 1 and names them.
+#[test]
+fn strict_variable_projection_names_accepted_transient_windows() {
+    let text = std::fs::read_to_string("tests/data/power_exponent_small.toml")
+        .unwrap()
+        .replace("transient_steps = 5000", "transient_steps = 0");
+    let file = std::env::temp_dir().join(format!(
+        "dampid_strict_transient_{}.toml",
+        std::process::id()
+    ));
+    std::fs::write(&file, text).unwrap();
+    let out = dampid(&[
+        "identify",
+        file.to_str().unwrap(),
+        "--accept-transient",
+        "--strict",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let said = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        said.contains("window(s) accepted although not in steady state"),
+        "{said}"
+    );
+    let _ = std::fs::remove_file(&file);
+}

@@ -226,7 +226,10 @@ fn identify(
     }
     let (job, steady) = load_steady_job(path, accept_transient)?;
     job.settings.fit.validate()?;
-    if let Some(fit) = job.identify_varpro().transpose()? {
+    if let Some(mut fit) = job.identify_varpro().transpose()? {
+        // Windows accepted although not in steady state are warnings of the linear fit
+        // at η̂ too (and failures under --strict), as on the linear path.
+        fit.report.fit = fit.report.fit.with_steady_state(steady.as_ref());
         let fit = match &bootstrap {
             Some(settings) if fit.report.is_estimate() => {
                 let bar = progress_bar("bootstrap");
