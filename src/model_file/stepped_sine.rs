@@ -460,15 +460,9 @@ impl super::Job {
         &self,
         report: &crate::report::FitReport,
     ) -> Option<Result<crate::analysis::equivalent::EquivalentDamping>> {
-        use crate::analysis::equivalent::{Modal, equivalent_damping};
+        use crate::analysis::equivalent::equivalent_damping;
         let table = self.stepped_sine.as_ref()?;
-        if table.table.table.dofs() != 1 {
-            return None;
-        }
-        let modal = match &self.stored_energy {
-            Some(system) => Modal::given(system.mass[(0, 0)], system.stiffness[(0, 0)]),
-            None => Modal::from_lowest_level(&table.table),
-        };
+        let modal = self.modal()?;
         Some(modal.and_then(|modal| {
             equivalent_damping(
                 &self.model,
@@ -484,6 +478,21 @@ impl super::Job {
                 modal,
             )
         }))
+    }
+
+    /// The modal mass and stiffness of a one-DOF `[stepped_sine]` job: `[system]`'s, or
+    /// estimated from the frequency response of the lowest level. `None` for other jobs
+    /// and for tables of several DOFs.
+    pub(super) fn modal(&self) -> Option<Result<crate::analysis::equivalent::Modal>> {
+        use crate::analysis::equivalent::Modal;
+        let table = self.stepped_sine.as_ref()?;
+        if table.table.table.dofs() != 1 {
+            return None;
+        }
+        Some(match &self.stored_energy {
+            Some(system) => Modal::given(system.mass[(0, 0)], system.stiffness[(0, 0)]),
+            None => Modal::from_lowest_level(&table.table),
+        })
     }
 
     /// True for a `[stepped_sine]` job whose residual receptance is estimated.

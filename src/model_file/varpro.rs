@@ -5,7 +5,7 @@
 //! damping of a one-mode stepped-sine table at η̂ with the joint intervals
 //! ([`crate::analysis::equivalent_estimated`]).
 
-use crate::analysis::equivalent::{EquivalentDamping, Modal};
+use crate::analysis::equivalent::EquivalentDamping;
 use crate::analysis::equivalent_estimated::{EstimatedLaw, equivalent_damping_estimated};
 use crate::error::Result;
 use crate::model::DampingModel;
@@ -86,13 +86,7 @@ impl super::Job {
         report: &VarProReport,
     ) -> Option<Result<EquivalentDamping>> {
         let table = self.stepped_sine.as_ref()?;
-        if table.table.table.dofs() != 1 {
-            return None;
-        }
-        let modal = match &self.stored_energy {
-            Some(system) => Modal::given(system.mass[(0, 0)], system.stiffness[(0, 0)]),
-            None => Modal::from_lowest_level(&table.table),
-        };
+        let modal = self.modal()?;
         let covariance = report
             .covariance
             .as_deref()

@@ -373,18 +373,21 @@ fn identify(
             None => {}
         }
     }
-    let failures = if strict {
-        report.strict_failures()
-    } else {
-        Vec::new()
-    };
+    let passes = passes_strict(strict, || report.strict_failures());
+    Ok(Outcome {
+        text: out,
+        trusted: report.status.is_usable() && passes,
+    })
+}
+
+/// With `--strict`, prints each of `failures` on stderr; true when there are none (or
+/// without `--strict`).
+fn passes_strict(strict: bool, failures: impl FnOnce() -> Vec<String>) -> bool {
+    let failures = if strict { failures() } else { Vec::new() };
     for failure in &failures {
         eprintln!("strict: {failure}");
     }
-    Ok(Outcome {
-        text: out,
-        trusted: report.status.is_usable() && failures.is_empty(),
-    })
+    failures.is_empty()
 }
 
 /// `dampid identify` of a job with estimated nonlinear parameters (its variable-projection
@@ -514,17 +517,10 @@ fn identify_varpro(
             None => {}
         }
     }
-    let failures = if strict {
-        report.strict_failures()
-    } else {
-        Vec::new()
-    };
-    for failure in &failures {
-        eprintln!("strict: {failure}");
-    }
+    let passes = passes_strict(strict, || report.strict_failures());
     Ok(Outcome {
         text: out,
-        trusted: report.is_estimate() && failures.is_empty(),
+        trusted: report.is_estimate() && passes,
     })
 }
 
