@@ -269,36 +269,7 @@ fn identify(
             &regressor,
         ))
         .with_steady_state(steady.as_ref());
-    // The command line's own settings, for the provenance.
-    let flags = vec![
-        (
-            "command line".to_string(),
-            std::env::args().collect::<Vec<_>>().join(" "),
-        ),
-        (
-            "--accept-transient".to_string(),
-            if accept_transient {
-                "given (accept_transient = true whatever [identification] says)".to_string()
-            } else {
-                "not given".to_string()
-            },
-        ),
-        (
-            "--bootstrap".to_string(),
-            bootstrap.as_ref().map_or("not given".to_string(), |b| {
-                format!(
-                    "{} replicates, seed {}, {}% percentile intervals",
-                    b.replicates,
-                    b.seed,
-                    100.0 * b.level
-                )
-            }),
-        ),
-        (
-            "--strict".to_string(),
-            if strict { "given" } else { "not given" }.to_string(),
-        ),
-    ];
+    let flags = identify_flags(accept_transient, bootstrap.as_ref(), strict);
     if let Some(settings) = bootstrap {
         // Stepped-sine tables: errors are correlated within a sweep, so whole sweeps
         // are resampled.
@@ -380,6 +351,43 @@ fn identify(
     })
 }
 
+/// The command line's own settings of `dampid identify`, for the provenance.
+fn identify_flags(
+    accept_transient: bool,
+    bootstrap: Option<&BootstrapSettings>,
+    strict: bool,
+) -> Vec<(String, String)> {
+    vec![
+        (
+            "command line".to_string(),
+            std::env::args().collect::<Vec<_>>().join(" "),
+        ),
+        (
+            "--accept-transient".to_string(),
+            if accept_transient {
+                "given (accept_transient = true whatever [identification] says)".to_string()
+            } else {
+                "not given".to_string()
+            },
+        ),
+        (
+            "--bootstrap".to_string(),
+            bootstrap.map_or("not given".to_string(), |b| {
+                format!(
+                    "{} replicates, seed {}, {}% percentile intervals",
+                    b.replicates,
+                    b.seed,
+                    100.0 * b.level
+                )
+            }),
+        ),
+        (
+            "--strict".to_string(),
+            if strict { "given" } else { "not given" }.to_string(),
+        ),
+    ]
+}
+
 /// With `--strict`, prints each of `failures` on stderr; true when there are none (or
 /// without `--strict`).
 fn passes_strict(strict: bool, failures: impl FnOnce() -> Vec<String>) -> bool {
@@ -450,31 +458,7 @@ fn identify_varpro(
             e => e.map_err(|e| e.to_string()),
         });
     if let Some((file, overwrite)) = html {
-        let flags = vec![
-            (
-                "command line".to_string(),
-                std::env::args().collect::<Vec<_>>().join(" "),
-            ),
-            (
-                "--accept-transient".to_string(),
-                if accept_transient {
-                    "given (accept_transient = true whatever [identification] says)".to_string()
-                } else {
-                    "not given".to_string()
-                },
-            ),
-            (
-                "--bootstrap".to_string(),
-                bootstrap.map_or("not given".to_string(), |b| {
-                    format!(
-                        "{} replicates, seed {}, {}% percentile intervals",
-                        b.replicates,
-                        b.seed,
-                        100.0 * b.level
-                    )
-                }),
-            ),
-        ];
+        let flags = identify_flags(accept_transient, bootstrap, strict);
         let page = HtmlReport {
             title: &job.title,
             model: &fit.model,

@@ -45,6 +45,7 @@
 //! Without noise (σ = 0 to round-off) the corrections vanish and the weights only
 //! rebalance equations that are all exact.
 
+mod gradients;
 mod projected;
 mod row;
 mod sensitivity;

@@ -54,8 +54,8 @@
 use faer::Mat;
 
 use crate::record::Sensor;
+use crate::regressor::robust::gradients::Gradients;
 use crate::regressor::robust::projected::ProjectedWindow;
-use crate::regressor::robust::row::Gradients;
 use crate::terms::StructuralDamping;
 
 /// N = −(Σ_i w_i d_i b_iᵀ) H of the window (module doc): p × p.
