@@ -39,7 +39,7 @@ use crate::fit::{FitSettings, Weighting, inverse_std};
 use crate::regressor::Regressor;
 
 use super::levenberg_marquardt::levenberg_marquardt;
-use super::outer::Minimum;
+use super::minimum::Minimum;
 use super::problem::{Problem, weighted_residuals};
 use super::{NonlinearParameter, VarProSettings};
 

@@ -28,7 +28,7 @@ use faer::prelude::Solve;
 
 use crate::error::{Error, Result};
 
-use super::outer::{Minimum, Residuals};
+use super::minimum::{Minimum, Residuals};
 use super::{NonlinearParameter, VarProSettings};
 
 /// Forward-difference step in the unit box.

@@ -39,6 +39,7 @@ mod bootstrap;
 mod fixed_weights;
 mod joint;
 mod levenberg_marquardt;
+mod minimum;
 mod outer;
 mod problem;
 mod profile;

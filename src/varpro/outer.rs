@@ -17,22 +17,8 @@ use argmin::solver::brent::BrentOpt;
 use crate::error::{Error, Result};
 
 use super::levenberg_marquardt::levenberg_marquardt;
+use super::minimum::{Minimum, Residuals};
 use super::{NonlinearParameter, VarProSettings};
-
-/// The cost of one trial.
-pub(super) type Cost<'a> = &'a dyn Fn(&[f64]) -> Result<f64>;
-
-/// The projected residual r(η) of one trial (its squared norm is the cost).
-pub(super) type Residuals<'a> = &'a dyn Fn(&[f64]) -> Result<Vec<f64>>;
-
-/// Where the outer loop ended.
-pub(super) struct Minimum {
-    pub values: Vec<f64>,
-    pub converged: bool,
-    pub iterations: u64,
-    pub method: &'static str,
-    pub reason: String,
-}
 
 struct Scalar<'a>(Residuals<'a>);
 

@@ -18,7 +18,8 @@ use argmin::core::{CostFunction, Error as ArgminError, Executor, State};
 use argmin::solver::brent::BrentRoot;
 use statrs::distribution::{ChiSquared, ContinuousCDF, FisherSnedecor};
 
-use super::outer::{Cost, minimise};
+use super::minimum::Cost;
+use super::outer::minimise;
 use super::problem::{Problem, Variance};
 use super::{NonlinearParameter, ProfileInterval, VarProSettings};
 use crate::error::{Error, Result};
