@@ -60,6 +60,7 @@ fn problem(p: usize, active: bool) -> (Regressor, Vec<f64>) {
     let columns = (0..p).map(|j| format!("theta[{j}]")).collect();
     let rows = (0..e)
         .map(|i| RowLabel {
+            frequency: None,
             record: "synthetic".into(),
             record_index: 0,
             window: i,

@@ -118,7 +118,11 @@ fn cases() -> Vec<Case> {
             .with(structural_on(vec![Element::between(0, 1)], 400.0)),
         without: viscous,
     };
-    let job = dampid::model_file::load(std::path::Path::new("models/chain100.toml")).unwrap();
+    let job = dampid::model_file::load(
+        std::path::Path::new("models/chain100.toml"),
+        Default::default(),
+    )
+    .unwrap();
     let links = job
         .model
         .terms()

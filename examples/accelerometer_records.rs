@@ -143,7 +143,12 @@ fn main() -> Result<()> {
             })
         })
         .collect::<Result<Vec<_>>>()?;
-    let report = identify(&four_mass_model(), &records, &IdentifySettings::default())?;
+    let report = identify(
+        &ParametricRegressor::linear(&four_mass_model(), &records),
+        &IdentifySettings::default(),
+        &silent,
+    )?
+    .report;
     println!("four-mass chain from accelerometers (truth c = {FOUR_MASS_C}, d = {FOUR_MASS_D})");
     for c in &report.coefficients {
         println!(

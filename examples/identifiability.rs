@@ -22,7 +22,7 @@ use std::f64::consts::PI;
 
 use dampid::analysis::bootstrap::BootstrapSettings;
 use dampid::analysis::design::{DesignSettings, design, simulate_candidates};
-use dampid::identify::identify_with_bootstrap;
+use dampid::identify::{IdentifySettings, identify};
 use dampid::prelude::*;
 use dampid::report::Warning;
 use dampid::simulate::chain_stiffness;
@@ -106,7 +106,12 @@ fn main() -> Result<()> {
         &first.iter().map(|&k| candidates[k]).collect::<Vec<_>>(),
         &simulation,
     )?;
-    let resonance_only = identify(&model(), &records, &settings)?;
+    let resonance_only = identify(
+        &ParametricRegressor::linear(&model(), &records),
+        &settings,
+        &silent,
+    )?
+    .report;
     let flagged = resonance_only.warnings.iter().any(|w| {
         matches!(w, Warning::Unidentifiable { coefficients, .. }
             if coefficients.iter().any(|c| c == "c0") && coefficients.iter().any(|c| c == "c1"))
@@ -147,15 +152,18 @@ fn main() -> Result<()> {
     // Case 2: the real (true-damping) records of the designed set.
     let selected: Vec<HarmonicForce> = plan.selected().iter().map(|&k| candidates[k]).collect();
     let records = simulate_candidates(&truth, &selected, &simulation)?;
-    let designed = identify_with_bootstrap(
-        &model(),
-        &records,
-        &settings,
-        &BootstrapSettings {
-            seed: 1,
-            ..BootstrapSettings::default()
+    let designed = identify(
+        &ParametricRegressor::linear(&model(), &records),
+        &IdentifySettings {
+            bootstrap: Some(BootstrapSettings {
+                seed: 1,
+                ..BootstrapSettings::default()
+            }),
+            ..(settings).clone()
         },
-    )?;
+        &silent,
+    )
+    .map(|i| i.report)?;
     let errors: Vec<f64> = [("c0", C0), ("c1", C1)]
         .iter()
         .map(|(name, t)| (designed.coefficient(name).unwrap_or(f64::NAN) - t).abs() / t)

@@ -75,7 +75,12 @@ fn main() -> Result<()> {
         }),
         ..IdentifySettings::default()
     };
-    let report = identify(&model, std::slice::from_ref(&record), &balance)?;
+    let report = identify(
+        &dampid::regressor::ParametricRegressor::linear(&model, std::slice::from_ref(&record)),
+        &balance,
+        &dampid::progress::silent,
+    )?
+    .report;
     println!("{report}");
     println!("against the simulation:");
     for (name, truth) in settings.truth() {

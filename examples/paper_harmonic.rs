@@ -94,19 +94,21 @@ fn run(table_path: &Path) -> Result<Vec<Case>> {
             name: "eq. 4 from the time series (first whole period, arithmetic mean lag)".into(),
             target: true,
             report: identify(
-                &model,
-                &paper_reading.records(&table)?,
+                &ParametricRegressor::linear(&model, &paper_reading.records(&table)?),
                 &IdentifySettings::harmonic_approximation(fit.clone()),
-            )?,
+                &silent,
+            )?
+            .report,
         },
         Case {
             name: "eq. 4 from the amplitude/phase table (CSV written and read back)".into(),
             target: true,
             report: identify(
-                &model,
-                &paper_reading.records(&read_back)?,
+                &ParametricRegressor::linear(&model, &paper_reading.records(&read_back)?),
                 &IdentifySettings::harmonic_approximation(fit.clone()),
-            )?,
+                &silent,
+            )?
+            .report,
         },
     ];
     let with = |phase| HarmonicApproximation {
@@ -130,10 +132,11 @@ fn run(table_path: &Path) -> Result<Vec<Case>> {
             name: name.into(),
             target: false,
             report: identify(
-                &model,
-                &with(phase).records(&table)?,
+                &ParametricRegressor::linear(&model, &with(phase).records(&table)?),
                 &IdentifySettings::harmonic_approximation(fit.clone()),
-            )?,
+                &silent,
+            )?
+            .report,
         });
     }
     // The last whole period of the 200 recorded steps (101.7 samples per period).
@@ -146,10 +149,11 @@ fn run(table_path: &Path) -> Result<Vec<Case>> {
         name: "reading: last whole period of the record, arithmetic mean lag".into(),
         target: false,
         report: identify(
-            &model,
-            &paper_reading.records(&late)?,
+            &ParametricRegressor::linear(&model, &paper_reading.records(&late)?),
             &IdentifySettings::harmonic_approximation(fit.clone()),
-        )?,
+            &silent,
+        )?
+        .report,
     });
     // The transient fully gone: the reading's own answer, free of the paper's transient.
     let steady = SteppedSineTable::from_records(&simulated(8000)?, &first_period)?;
@@ -157,10 +161,11 @@ fn run(table_path: &Path) -> Result<Vec<Case>> {
         name: "reading: 8000 transient steps instead of 1000, arithmetic mean lag".into(),
         target: false,
         report: identify(
-            &model,
-            &paper_reading.records(&steady)?,
+            &ParametricRegressor::linear(&model, &paper_reading.records(&steady)?),
             &IdentifySettings::harmonic_approximation(fit.clone()),
-        )?,
+            &silent,
+        )?
+        .report,
     });
     Ok(cases)
 }

@@ -98,7 +98,12 @@ fn main() -> Result<()> {
     // Case 1: the paper's experiments only.
     let paper: Vec<HarmonicForce> = start.iter().map(|&k| candidates[k]).collect();
     let records = simulate_candidates(&system(&TRUTH), &paper, &simulation)?;
-    let resonance_only = identify(&model(), &records, &settings)?;
+    let resonance_only = identify(
+        &ParametricRegressor::linear(&model(), &records),
+        &settings,
+        &silent,
+    )?
+    .report;
     let flagged_dashpots: Vec<String> = resonance_only
         .warnings
         .iter()
@@ -135,7 +140,12 @@ fn main() -> Result<()> {
     // Case 2: the true records of the designed set.
     let selected: Vec<HarmonicForce> = plan.selected().iter().map(|&k| candidates[k]).collect();
     let records = simulate_candidates(&system(&TRUTH), &selected, &simulation)?;
-    let designed = identify(&model(), &records, &settings)?;
+    let designed = identify(
+        &ParametricRegressor::linear(&model(), &records),
+        &settings,
+        &silent,
+    )?
+    .report;
     let errors: Vec<f64> = names
         .iter()
         .zip(TRUTH)

@@ -88,18 +88,12 @@ fn main() -> Result<(), dampid::Error> {
             // What Python's `dampid.identify` runs: the steady-state check of the
             // windows (as `dampid identify`), then the library's `identify`.
             let run = |records: &[Record]| -> Result<FitReport, dampid::Error> {
-                let regressor = &settings.settings.regressor;
-                if let Some(windows) = regressor.windows.cycles() {
-                    dampid::prep::steady_state::check(
-                        records,
-                        windows,
-                        regressor.quadrature,
-                        None,
-                        &settings.steady_state,
-                    )?
-                    .enforce()?;
-                }
-                identify(&model, records, &settings.settings)
+                identify(
+                    &ParametricRegressor::linear(&model, records),
+                    &settings,
+                    &silent,
+                )
+                .map(|i| i.report)
             };
             let records = [Record::new(parts.clone())?];
             let (seconds, cpu, report) = best(repeats, || run(&records));
@@ -117,36 +111,22 @@ fn main() -> Result<(), dampid::Error> {
         _ => {
             let repeats = number(1, 5);
             let (seconds, cpu, report) = best(repeats, || -> Result<FitReport, dampid::Error> {
-                let job = dampid::model_file::load(Path::new("models/four_mass.toml"))?;
-                let steady = job.steady_state()?;
-                if let Some(steady) = &steady {
-                    steady.enforce()?;
-                }
-                job.settings.fit.validate()?;
-                let regressor = job.regressor()?;
-                let noise = dampid::analysis::velocity_noise::assess_or_none(
-                    &job.model,
-                    &job.records,
-                    &job.settings.regressor,
-                    &regressor,
-                );
-                let report = identify_regressor(&regressor, &job.settings.fit)?
-                    .with_velocity_noise(noise)
-                    .with_steady_state(steady.as_ref());
+                let job = dampid::model_file::load(
+                    Path::new("models/four_mass.toml"),
+                    Default::default(),
+                )?;
+                let options = dampid::command::identify::IdentifyOptions::default();
+                let found = dampid::command::identify::run(&job, &options, &silent)?;
                 // The text report, as `dampid identify` prints it and Python's
                 // `identify_file` keeps it.
-                let mut text = format!(
-                    "{}\n{}, {}\n{}{report}",
-                    job.title,
-                    dampid::report::count(job.records.len(), "record"),
-                    dampid::report::count(report.residuals.len(), "equation"),
-                    job.preamble(steady.as_ref())
-                );
-                if let Some(truth) = &job.truth {
-                    text.push_str(&report.against(truth).to_string());
+                let text = dampid::command::identify::Identified {
+                    job: &job,
+                    options: &options,
+                    identification: &found,
                 }
+                .to_string();
                 std::hint::black_box(text);
-                Ok(report)
+                Ok(found.report)
             });
             let report = report?;
             println!(

@@ -132,7 +132,12 @@ fn main() -> Result<()> {
                 let records = noisy(&clean, level, &mut rng)?;
                 let (e, n) = velocity_error(&records, velocity, quadrature)?;
                 sums.velocity += e / n;
-                let report = identify(&model, &records, &settings)?;
+                let report = identify(
+                    &ParametricRegressor::linear(&model, &records),
+                    &settings,
+                    &silent,
+                )?
+                .report;
                 let c = report.coefficient("c").unwrap_or(f64::NAN);
                 let d = report.coefficient("d").unwrap_or(f64::NAN);
                 sums.c += ((c - FOUR_MASS_C) / FOUR_MASS_C).powi(2);

@@ -123,6 +123,7 @@
 pub mod analysis;
 pub mod budget;
 pub mod cancel;
+pub mod command;
 pub mod error;
 pub mod fit;
 pub mod format;
@@ -159,10 +160,7 @@ pub mod prelude {
     pub use crate::fit::{
         Bound, Constraints, Fit, FitSettings, FitStatus, Fixed, LinearConstraint, Relation,
     };
-    pub use crate::identify::{
-        IdentifySettings, identify, identify_regressor, identify_with_bootstrap,
-        identify_with_regressor,
-    };
+    pub use crate::identify::{Identification, IdentifySettings, identify};
     pub use crate::model::DampingModel;
     pub use crate::prep::harmonic::{
         HarmonicApproximation, PhaseReading, SteppedSinePoint, SteppedSineTable,
@@ -172,8 +170,12 @@ pub mod prelude {
     pub use crate::prep::quadrature::Quadrature;
     pub use crate::prep::velocity::VelocitySource;
     pub use crate::prep::window::WindowSpec;
+    pub use crate::progress::silent;
     pub use crate::record::{Forcing, MeasuredMotion, Record, RecordParts, Sensor};
-    pub use crate::regressor::{Regressor, RegressorSettings};
+    pub use crate::regressor::{
+        NonlinearParameter, ParametricModel, ParametricRegressor, Regressor, RegressorSettings,
+        Source, SteppedSineSource,
+    };
     pub use crate::report::FitReport;
     pub use crate::terms::laws::{
         Coulomb, Custom, LawParameters, LawRegistration, Linear, PowerLaw, Quadratic, Registry,

@@ -3,7 +3,7 @@
 
 use dampid::analysis::bootstrap::{BootstrapSettings, bootstrap};
 use dampid::fit::{FitMethod, FitSettings};
-use dampid::identify::identify_with_bootstrap;
+use dampid::identify::{IdentifySettings, identify};
 use dampid::prelude::*;
 use dampid::simulate::{HarmonicForce, SimSettings, System, simulate};
 use faer::Mat;
@@ -56,7 +56,7 @@ fn clean_records() -> Vec<Record> {
                 transient_steps: 4000,
                 recorded_steps: (PERIODS * period / 0.1).ceil() as usize + 3,
             };
-            simulate(&system, &settings).unwrap()
+            simulate(&system, &settings, &dampid::progress::silent).unwrap()
         })
         .collect()
 }
@@ -110,7 +110,13 @@ fn settings() -> IdentifySettings {
 fn window_bootstrap_intervals_cover_the_truth() {
     let start = std::time::Instant::now();
     let clean = clean_records();
-    let exact = identify(&model(), &clean, &settings()).unwrap();
+    let exact = identify(
+        &ParametricRegressor::linear(&model(), &clean),
+        &settings(),
+        &silent,
+    )
+    .unwrap()
+    .report;
     for (name, truth) in [("c0", C0), ("c1", C1)] {
         let e = exact.coefficient(name).unwrap();
         assert!((e - truth).abs() < 1e-5 * truth, "noise-free {name} = {e}");
@@ -130,11 +136,13 @@ fn window_bootstrap_intervals_cover_the_truth() {
                 seed: rep as u64,
                 level: 0.95,
             },
+            None,
+            &silent,
         )
         .unwrap();
         assert_eq!(b.summary.used, 1000);
         for (k, truth) in [C0, C1].iter().enumerate() {
-            let interval = &b.intervals[k];
+            let interval = &b.coefficients[k];
             if interval.contains(*truth) {
                 covered[k] += 1;
             }
@@ -170,7 +178,16 @@ fn results_do_not_depend_on_the_thread_count() {
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| bootstrap(&regressor, &FitSettings::default(), &settings).unwrap())
+            .install(|| {
+                bootstrap(
+                    &regressor,
+                    &FitSettings::default(),
+                    &settings,
+                    None,
+                    &silent,
+                )
+                .unwrap()
+            })
     };
     let (one, three) = (run(1), run(3));
     assert_eq!(one, three);
@@ -181,6 +198,8 @@ fn results_do_not_depend_on_the_thread_count() {
             seed: 43,
             ..settings
         },
+        None,
+        &silent,
     )
     .unwrap();
     assert_ne!(one.samples, other_seed.samples);
@@ -195,11 +214,18 @@ fn consistent_rows_give_a_point_interval() {
     let b = rows.iter().map(|r| 2.0 * r[0] + 3.0 * r[1]).collect();
     let labels = row_labels(5);
     let r = Regressor::from_parts(a, b, vec!["a".into(), "b".into()], labels).unwrap();
-    let boot = bootstrap(&r, &FitSettings::default(), &BootstrapSettings::default()).unwrap();
+    let boot = bootstrap(
+        &r,
+        &FitSettings::default(),
+        &BootstrapSettings::default(),
+        None,
+        &silent,
+    )
+    .unwrap();
     // No two rows are proportional, so only a replicate that draws one row five times
     // (probability 5·0.2⁵ = 0.0016) loses rank and is dropped.
     assert!(boot.summary.used >= 990, "{}", boot.summary.used);
-    for (interval, truth) in boot.intervals.iter().zip([2.0, 3.0]) {
+    for (interval, truth) in boot.coefficients.iter().zip([2.0, 3.0]) {
         assert!((interval.lower - truth).abs() < 1e-12 && (interval.upper - truth).abs() < 1e-12);
     }
 }
@@ -218,16 +244,19 @@ fn constrained_fits_are_bootstrapped_with_their_constraints() {
         }],
         ..Constraints::default()
     };
-    let report = identify_with_bootstrap(
-        &model(),
-        &records,
-        &s,
-        &BootstrapSettings {
-            replicates: 200,
-            seed: 3,
-            level: 0.95,
+    let report = identify(
+        &ParametricRegressor::linear(&model(), &records),
+        &IdentifySettings {
+            bootstrap: Some(BootstrapSettings {
+                replicates: 200,
+                seed: 3,
+                level: 0.95,
+            }),
+            ..(s).clone()
         },
+        &silent,
     )
+    .map(|i| i.report)
     .unwrap();
     let summary = report.bootstrap.unwrap();
     assert_eq!(summary.method, FitMethod::Constrained);
@@ -267,7 +296,13 @@ fn bad_bootstrap_settings_are_typed_errors() {
             1.0,
         ),
     ] {
-        match bootstrap(&regressor, &FitSettings::default(), &settings) {
+        match bootstrap(
+            &regressor,
+            &FitSettings::default(),
+            &settings,
+            None,
+            &silent,
+        ) {
             Err(Error::InvalidParameter {
                 name: n, value: v, ..
             }) => {
@@ -292,7 +327,9 @@ fn a_regressor_without_rows_is_too_few_equations() {
         bootstrap(
             &empty,
             &FitSettings::default(),
-            &BootstrapSettings::default()
+            &BootstrapSettings::default(),
+            None,
+            &silent
         ),
         Err(Error::TooFewEquations {
             equations: 0,

@@ -11,8 +11,8 @@
 use std::path::Path;
 use std::sync::Mutex;
 
-use dampid::analysis::bootstrap::{BootstrapSettings, bootstrap_with_progress};
-use dampid::analysis::design::select_with_progress;
+use dampid::analysis::bootstrap::{BootstrapSettings, bootstrap};
+use dampid::analysis::design::select;
 use dampid::io::output::{Overwrite, Staged};
 use dampid::io::run::write_run;
 use dampid::model_file::load;
@@ -52,24 +52,33 @@ fn long_work_stops_at_a_check_and_leaves_no_state() {
     dampid::cancel::clear();
 
     // Simulation: stopped after 3 checks (192 steps), then run in full.
-    let job = load(Path::new("models/four_mass.toml")).unwrap();
+    let job = load(Path::new("models/four_mass.toml"), Default::default()).unwrap();
     let system = four_mass_system(0.25, false);
     let settings = SimSettings::default();
-    let before = simulate(&system, &settings).unwrap();
+    let before = simulate(&system, &settings, &dampid::progress::silent).unwrap();
     dampid::cancel::request_after(3);
-    cancelled(simulate(&system, &settings), "the simulation");
-    let after = simulate(&system, &settings).unwrap();
+    cancelled(
+        simulate(&system, &settings, &dampid::progress::silent),
+        "the simulation",
+    );
+    let after = simulate(&system, &settings, &dampid::progress::silent).unwrap();
     assert_eq!(before.displacements(), after.displacements());
 
     // The records of a model file (simulated there).
     dampid::cancel::request_after(5);
-    cancelled(load(Path::new("models/four_mass.toml")), "simulation");
+    cancelled(
+        load(Path::new("models/four_mass.toml"), Default::default()),
+        "simulation",
+    );
 
     // The regressor, before its first window.
-    let regressor = job.regressor().unwrap();
+    let regressor = job.initial_regressor().unwrap();
     dampid::cancel::request();
-    cancelled(job.regressor(), "building the regressor");
-    assert_eq!(job.regressor().unwrap().matrix(), regressor.matrix());
+    cancelled(job.initial_regressor(), "building the regressor");
+    assert_eq!(
+        job.initial_regressor().unwrap().matrix(),
+        regressor.matrix()
+    );
 
     // The bootstrap: progress reaches every count once; cancelled after 5 replicates;
     // the rerun gives the same intervals.
@@ -78,28 +87,29 @@ fn long_work_stops_at_a_check_and_leaves_no_state() {
         ..Default::default()
     };
     let calls = Calls::default();
-    let first =
-        bootstrap_with_progress(&regressor, &job.settings.fit, &boot, &calls.record()).unwrap();
+    let first = bootstrap(&regressor, &job.settings.fit, &boot, None, &calls.record()).unwrap();
     calls.assert_complete();
     assert_eq!(calls.0.lock().unwrap().last().unwrap().1, 200);
     dampid::cancel::request_after(5);
     cancelled(
-        bootstrap_with_progress(
+        bootstrap(
             &regressor,
             &job.settings.fit,
             &boot,
+            None,
             &dampid::progress::silent,
         ),
         "the bootstrap",
     );
-    let again = bootstrap_with_progress(
+    let again = bootstrap(
         &regressor,
         &job.settings.fit,
         &boot,
+        None,
         &dampid::progress::silent,
     )
     .unwrap();
-    assert_eq!(first.intervals, again.intervals);
+    assert_eq!(first.coefficients, again.coefficients);
 
     // The design: 4 candidates, 2 picks = 4 blocks + 4 + 3 evaluations.
     let design = dampid::analysis::design::DesignSettings {
@@ -108,7 +118,7 @@ fn long_work_stops_at_a_check_and_leaves_no_state() {
     };
     let model = four_mass_model();
     let calls = Calls::default();
-    let chosen = select_with_progress(
+    let chosen = select(
         &model,
         &job.records,
         &job.settings.regressor,
@@ -121,7 +131,7 @@ fn long_work_stops_at_a_check_and_leaves_no_state() {
     assert_eq!(last, (11, 11));
     dampid::cancel::request_after(6);
     cancelled(
-        select_with_progress(
+        select(
             &model,
             &job.records,
             &job.settings.regressor,
@@ -130,7 +140,7 @@ fn long_work_stops_at_a_check_and_leaves_no_state() {
         ),
         "the design",
     );
-    let again = select_with_progress(
+    let again = select(
         &model,
         &job.records,
         &job.settings.regressor,

@@ -61,7 +61,7 @@ fn record(mode: usize, amplitude: f64, cycles: usize) -> Record {
         transient_steps: (transient / step).ceil() as usize,
         recorded_steps: 128 * cycles + 1,
     };
-    simulate(&system, &settings).unwrap()
+    simulate(&system, &settings, &dampid::progress::silent).unwrap()
 }
 
 /// The noise-robust pipeline: harmonic projection, bias-corrected columns, propagated
@@ -102,7 +102,16 @@ fn check_and_identify_agree_on_noisy_data() {
                 let mut settings = robust();
                 settings.fit.weighting = weighting;
                 let regressor = Regressor::build(&model, &noisy, &settings.regressor).unwrap();
-                let report = identify_regressor(&regressor, &settings.fit).unwrap();
+                let report = identify(
+                    &ParametricRegressor::rows(&regressor),
+                    &IdentifySettings {
+                        fit: (settings.fit).clone(),
+                        ..Default::default()
+                    },
+                    &silent,
+                )
+                .map(|i| i.report)
+                .unwrap();
                 let check = RegressorCheck::new(&regressor, &settings.fit).unwrap();
                 let case = format!("{name}, noise {level}, {weighting:?}");
                 assert_eq!(check.condition_number, report.condition_number, "{case}");

@@ -36,7 +36,7 @@ fn pod_of_a_file_is_the_pod_of_its_displacements() {
     .unwrap();
     assert_eq!(pods.len(), 1);
     assert_eq!(pods[0].columns, ["x1", "x2", "x3"]);
-    let job = load(Path::new("models/measured_chain.toml")).unwrap();
+    let job = load(Path::new("models/measured_chain.toml"), Default::default()).unwrap();
     let direct = Pod::from_record(&job.source_records[0], &settings(PodBasis::PerRecord)).unwrap();
     for (mode, share) in pods[0].report.modes.iter().zip(direct.energy_shares()) {
         assert!((mode.energy_share - share).abs() < 1e-12);

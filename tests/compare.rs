@@ -156,7 +156,9 @@ fn noisy_records(friction: f64, seed: u64) -> Vec<Record> {
                 transient_steps: 8000,
                 recorded_steps: (8.0 * period / 0.1).ceil() as usize + 3,
             };
-            let mut parts = simulate(&system, &settings).unwrap().into_parts();
+            let mut parts = simulate(&system, &settings, &dampid::progress::silent)
+                .unwrap()
+                .into_parts();
             let x = &mut parts.displacements;
             for j in 0..2 {
                 let rms = (x.col(j).iter().map(|v| v * v).sum::<f64>() / x.nrows() as f64).sqrt();
@@ -370,15 +372,24 @@ fn ranking_flags_a_negative_winner_and_names_the_best_physical_one() {
 /// its BIC by ln m.
 #[test]
 fn estimated_exponent_counts_in_k_and_sits_at_its_least_squares_value() {
-    let job =
-        dampid::model_file::load(std::path::Path::new("models/four_mass_power.toml")).unwrap();
-    let law = job.parametric.as_ref().expect("an estimated exponent");
-    let estimated = job.compared("estimated", &job.model, Some(law)).unwrap();
+    let job = dampid::model_file::load(
+        std::path::Path::new("models/four_mass_power.toml"),
+        Default::default(),
+    )
+    .unwrap();
+    let law = &job.law;
+    assert!(!law.is_fixed(), "an estimated exponent");
+    let estimated = job.compared("estimated", law).unwrap();
     let (name, exponent) = &estimated.estimated[0];
     assert_eq!(name, "d.exponent");
     assert!((exponent - 1.7).abs() < 0.017, "exponent {exponent}");
-    let fixed_model = law.model(&[*exponent]).unwrap();
-    let fixed = job.compared("fixed", &fixed_model, None).unwrap();
+    let fixed_model = law.at(&[*exponent]).unwrap();
+    let fixed = job
+        .compared(
+            "fixed",
+            &dampid::regressor::ParametricModel::fixed(fixed_model),
+        )
+        .unwrap();
     assert!(fixed.estimated.is_empty());
     let c = dampid::analysis::compare::compare_candidates(
         estimated.candidate(),

@@ -173,7 +173,13 @@ frequency = 1.7320508
 /// the wall ones; the simulated truth satisfies both, so the fit returns it.
 #[test]
 fn constraints_in_a_model_file() {
-    let job = parse(MODEL, "constraints.toml", Path::new(".")).unwrap();
+    let job = parse(
+        MODEL,
+        "constraints.toml",
+        Path::new("."),
+        Default::default(),
+    )
+    .unwrap();
     let linear = &job.settings.fit.constraints.linear;
     assert_eq!(linear.len(), 2);
     assert_eq!(linear[0].relation, Relation::Equal);
@@ -181,7 +187,7 @@ fn constraints_in_a_model_file() {
     assert_eq!(linear[1].value, 0.0);
     let mut settings = job.settings.clone();
     settings.regressor.windows.cycles_mut().unwrap().count = None;
-    let report = identify(&job.model, &job.records, &settings).unwrap();
+    let report = identify(&job.problem(), &settings, &silent).unwrap().report;
     assert_eq!(report.status, FitStatus::Solved);
     let (d01, d23) = (
         report.coefficient("dashpot[0-1]").unwrap(),
@@ -194,7 +200,7 @@ fn constraints_in_a_model_file() {
     }
 
     let bad = MODEL.replace(r#"relation = "=""#, r#"relation = "==""#);
-    match parse(&bad, "constraints.toml", Path::new(".")).unwrap_err() {
+    match parse(&bad, "constraints.toml", Path::new("."), Default::default()).unwrap_err() {
         Error::ModelFile { line, .. } => assert_eq!(line, 10, "the first constraint"),
         other => panic!("{other:?}"),
     }

@@ -121,7 +121,13 @@ fn dof_that_never_moves_is_flagged_and_the_other_coefficient_is_right() {
         .iter()
         .map(|&(a, w)| balanced([a, 0.0], w))
         .collect();
-    let report = identify(&with_quadratic(per_dof_linear()), &records, &exact()).unwrap();
+    let report = identify(
+        &ParametricRegressor::linear(&with_quadratic(per_dof_linear()), &records),
+        &exact(),
+        &silent,
+    )
+    .unwrap()
+    .report;
     no_nan(&report);
     assert_eq!(rank_deficient(&report), Some((2, 3)), "{report}");
     assert_eq!(report.condition_number, None);
@@ -146,7 +152,13 @@ fn dof_that_never_moves_is_flagged_in_a_nonnegative_fit() {
         .collect();
     let mut settings = exact();
     settings.fit.constraints = Constraints::nonnegative();
-    let report = identify(&with_quadratic(per_dof_linear()), &records, &settings).unwrap();
+    let report = identify(
+        &ParametricRegressor::linear(&with_quadratic(per_dof_linear()), &records),
+        &settings,
+        &silent,
+    )
+    .unwrap()
+    .report;
     no_nan(&report);
     assert_eq!(report.status, FitStatus::Solved);
     assert_eq!(rank_deficient(&report), Some((2, 3)), "{report}");
@@ -183,7 +195,13 @@ fn dof_that_never_moves_at_an_offset_is_flagged_with_estimated_velocities() {
     ] {
         let mut settings = exact();
         settings.regressor.velocity = velocity;
-        let report = identify(&with_quadratic(per_dof_linear()), &records, &settings).unwrap();
+        let report = identify(
+            &ParametricRegressor::linear(&with_quadratic(per_dof_linear()), &records),
+            &settings,
+            &silent,
+        )
+        .unwrap()
+        .report;
         no_nan(&report);
         assert_eq!(
             rank_deficient(&report),
@@ -227,8 +245,12 @@ fn constant_signal_is_no_input_work() {
         // As many one-period windows as fit: 2 equations.
         let settings =
             support::identify_settings(WindowSpec::cycles(1), Quadrature::Trapezoid, velocity);
-        let err =
-            identify(&per_dof_linear(), std::slice::from_ref(&record), &settings).unwrap_err();
+        let err = identify(
+            &ParametricRegressor::linear(&per_dof_linear(), std::slice::from_ref(&record)),
+            &settings,
+            &silent,
+        )
+        .unwrap_err();
         match &err {
             Error::NoInputWork {
                 record,
@@ -302,7 +324,12 @@ fn dead_force_sensor_is_no_input_work() {
         for (signals, dofs, channels, reason) in &cases {
             let mut dead = records.clone();
             dead[1] = with_forcing(&records[1], signals.clone(), dofs.clone());
-            let err = identify(&per_dof_linear(), &dead, &settings).unwrap_err();
+            let err = identify(
+                &ParametricRegressor::linear(&per_dof_linear(), &dead),
+                &settings,
+                &silent,
+            )
+            .unwrap_err();
             let Error::NoInputWork {
                 record,
                 window,
@@ -339,7 +366,12 @@ fn force_in_phase_with_the_displacement_is_no_input_work() {
         force_dof: 0,
     }
     .record();
-    let err = identify(&per_dof_linear(), &[record], &exact()).unwrap_err();
+    let err = identify(
+        &ParametricRegressor::linear(&per_dof_linear(), &[record]),
+        &exact(),
+        &silent,
+    )
+    .unwrap_err();
     match &err {
         Error::NoInputWork { window, reason, .. } => {
             assert_eq!(*window, Some(0));
@@ -371,7 +403,12 @@ fn underflowing_input_work_is_no_input_work() {
             .unwrap()
         })
         .collect();
-    let err = identify(&per_dof_linear(), &records, &exact()).unwrap_err();
+    let err = identify(
+        &ParametricRegressor::linear(&per_dof_linear(), &records),
+        &exact(),
+        &silent,
+    )
+    .unwrap_err();
     match &err {
         Error::NoInputWork { window, reason, .. } => {
             assert_eq!(*window, Some(0));
@@ -403,7 +440,12 @@ fn zero_regressor_is_no_information() {
     ));
     let zero_matrix = DampingModel::new().with(Term::viscous("zero", Mat::zeros(2, 2)));
     for (model, names) in [(zero_weights, "c[1] and c[2]"), (zero_matrix, "zero")] {
-        let err = identify(&model, &records, &exact()).unwrap_err();
+        let err = identify(
+            &ParametricRegressor::linear(&model, &records),
+            &exact(),
+            &silent,
+        )
+        .unwrap_err();
         match &err {
             Error::NoInformation {
                 coefficients,
@@ -448,7 +490,12 @@ fn underflowing_damping_work_is_no_information() {
             .unwrap()
         })
         .collect();
-    let err = identify(&per_dof_linear(), &records, &exact()).unwrap_err();
+    let err = identify(
+        &ParametricRegressor::linear(&per_dof_linear(), &records),
+        &exact(),
+        &silent,
+    )
+    .unwrap_err();
     assert!(
         matches!(&err, Error::NoInformation { coefficients, .. } if coefficients == "c[1] and c[2]"),
         "{err:?}"
@@ -471,7 +518,13 @@ fn all_zero_regressor_column_is_flagged_and_the_others_are_right() {
     let model = with_quadratic(per_dof_linear()).with(Term::viscous("zero", Mat::zeros(2, 2)));
     let mut records = records;
     records.push(balanced([0.7, 0.3], 1.6));
-    let report = identify(&model, &records, &exact()).unwrap();
+    let report = identify(
+        &ParametricRegressor::linear(&model, &records),
+        &exact(),
+        &silent,
+    )
+    .unwrap()
+    .report;
     no_nan(&report);
     assert_eq!(rank_deficient(&report), Some((3, 4)), "{report}");
     assert_eq!(report.coefficient("zero"), Some(0.0));
@@ -515,7 +568,13 @@ fn zero_element_weight_is_not_determined() {
         vec![1.0, 0.0],
         Coefficients::PerElement("c".into()),
     )));
-    let report = identify(&model, &records, &exact()).unwrap();
+    let report = identify(
+        &ParametricRegressor::linear(&model, &records),
+        &exact(),
+        &silent,
+    )
+    .unwrap()
+    .report;
     no_nan(&report);
     assert_eq!(rank_deficient(&report), Some((2, 3)), "{report}");
     assert_not_determined(&report, "c[2]");
@@ -535,7 +594,13 @@ fn zero_element_weight_is_not_determined() {
 #[test]
 fn duplicated_experiments_are_rank_deficient() {
     let record = balanced([1.0, 0.5], 1.0);
-    let report = identify(&per_dof_linear(), &[record.clone(), record], &exact()).unwrap();
+    let report = identify(
+        &ParametricRegressor::linear(&per_dof_linear(), &[record.clone(), record]),
+        &exact(),
+        &silent,
+    )
+    .unwrap()
+    .report;
     no_nan(&report);
     assert_eq!(rank_deficient(&report), Some((1, 2)), "{report}");
     assert!(
@@ -556,7 +621,13 @@ fn duplicated_experiments_at_another_amplitude_are_rank_deficient() {
         balanced([2.0, 1.0], 1.0),
         balanced([0.5, 0.25], 1.0),
     ];
-    let report = identify(&per_dof_linear(), &records, &exact()).unwrap();
+    let report = identify(
+        &ParametricRegressor::linear(&per_dof_linear(), &records),
+        &exact(),
+        &silent,
+    )
+    .unwrap()
+    .report;
     no_nan(&report);
     assert_eq!(rank_deficient(&report), Some((1, 2)), "{report}");
     assert!(report.coefficients.iter().all(|c| c.std_error.is_none()));
@@ -585,7 +656,8 @@ forces = [{forces}]
 frequency = 0.765367
 "#
     );
-    dampid::model_file::parse(&text, "force.toml", Path::new("models")).unwrap_err()
+    dampid::model_file::parse(&text, "force.toml", Path::new("models"), Default::default())
+        .unwrap_err()
 }
 
 /// Model files number DOFs from 1 (0 is ground): a force column on DOF 3 of a 2-DOF

@@ -116,6 +116,7 @@ fn the_search_stops_at_the_target_condition() {
             target_condition: Some(1e3),
             ..DesignSettings::default()
         },
+        &dampid::progress::silent,
     )
     .unwrap();
     assert!(met.chosen.is_empty());
@@ -130,6 +131,7 @@ fn the_search_stops_at_the_target_condition() {
             target_condition: Some(1.0 + 1e-9),
             ..DesignSettings::default()
         },
+        &dampid::progress::silent,
     )
     .unwrap();
     assert_eq!(missed.chosen.len(), 2, "runs out of candidates");
@@ -141,7 +143,14 @@ fn the_search_stops_at_the_target_condition() {
 fn bad_design_settings_are_typed_errors() {
     let records = simulate_candidates(&nominal(), &candidates(), &simulation()).unwrap();
     let run = |settings: DesignSettings| {
-        select(&model(), &records, &regressor_settings(), &settings).unwrap_err()
+        select(
+            &model(),
+            &records,
+            &regressor_settings(),
+            &settings,
+            &dampid::progress::silent,
+        )
+        .unwrap_err()
     };
     for (settings, name, value) in [
         (
@@ -181,7 +190,8 @@ fn bad_design_settings_are_typed_errors() {
             &model(),
             &[],
             &regressor_settings(),
-            &DesignSettings::default()
+            &DesignSettings::default(),
+            &dampid::progress::silent
         ),
         Err(Error::Empty { .. })
     ));
@@ -223,14 +233,21 @@ fn design_section_in_a_model_file() {
     let text = format!(
         "{HEAD}{SIMULATION}[design]\ncriterion = \"condition\"\nstart = [1]\npicks = 1\ntarget_condition = 50.0\n"
     );
-    let job = parse(&text, "design.toml", Path::new(".")).unwrap();
+    let job = parse(&text, "design.toml", Path::new("."), Default::default()).unwrap();
     let settings = job.design.unwrap();
     assert_eq!(settings.criterion, Criterion::Condition);
     assert_eq!((settings.start.clone(), settings.picks), (vec![0], 1));
     assert_eq!(settings.target_condition, Some(50.0));
 
     let bad_start = format!("{HEAD}{SIMULATION}[design]\nstart = [3]\n");
-    match parse(&bad_start, "design.toml", Path::new(".")).unwrap_err() {
+    match parse(
+        &bad_start,
+        "design.toml",
+        Path::new("."),
+        Default::default(),
+    )
+    .unwrap_err()
+    {
         Error::ModelFile { line, message, .. } => {
             assert!(
                 line > 0 && message.contains("experiments are numbered 1..2"),
@@ -241,7 +258,13 @@ fn design_section_in_a_model_file() {
     }
     let unknown_key = format!("{HEAD}{SIMULATION}[design]\npick = 1\n");
     assert!(matches!(
-        parse(&unknown_key, "design.toml", Path::new(".")).unwrap_err(),
+        parse(
+            &unknown_key,
+            "design.toml",
+            Path::new("."),
+            Default::default()
+        )
+        .unwrap_err(),
         Error::ModelFile { .. }
     ));
 }

@@ -91,6 +91,7 @@ frequency = 0.765367
         ),
         "m.toml",
         Path::new("."),
+        Default::default(),
     )
     .unwrap();
     let csv = std::env::temp_dir().join(format!("dampid-formats-{}.csv", std::process::id()));
@@ -106,6 +107,7 @@ frequency = 0.765367
         &model(csv.to_str().unwrap(), ["x1", "x2", "x3"], "f1"),
         "m.toml",
         Path::new("."),
+        Default::default(),
     )
     .unwrap();
     let x_mat = job_mat.records[0].displacements();
@@ -193,7 +195,7 @@ frequency = 0.765367
 }
 
 fn parse_model(text: &str) -> dampid::Result<dampid::model_file::Job> {
-    dampid::model_file::parse(text, "m.toml", Path::new("."))
+    dampid::model_file::parse(text, "m.toml", Path::new("."), Default::default())
 }
 
 /// Only the arrays a record names are read: an `.npz` with a 0-d text description, a

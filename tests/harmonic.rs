@@ -435,18 +435,29 @@ fn table_csv_round_trip_is_exact() {
 fn papers_harmonic_estimates_from_the_table() {
     let records: Vec<Record> = FOUR_MASS_AMPLITUDES
         .iter()
-        .map(|&a| simulate(&four_mass_system(a, false), &SimSettings::default()).unwrap())
+        .map(|&a| {
+            simulate(
+                &four_mass_system(a, false),
+                &SimSettings::default(),
+                &dampid::progress::silent,
+            )
+            .unwrap()
+        })
         .collect();
     let table = SteppedSineTable::from_records(&records, &WindowSpec::default()).unwrap();
     let mut csv = Vec::new();
     table.write_csv(&mut csv, "memory").unwrap();
     let table = SteppedSineTable::read_csv(csv.as_slice(), "memory").unwrap();
     let report = identify(
-        &four_mass_model(),
-        &HarmonicApproximation::default().records(&table).unwrap(),
+        &ParametricRegressor::linear(
+            &four_mass_model(),
+            &HarmonicApproximation::default().records(&table).unwrap(),
+        ),
         &IdentifySettings::harmonic_approximation(FitSettings::default()),
+        &silent,
     )
-    .unwrap();
+    .unwrap()
+    .report;
     let c = report.coefficient("c").unwrap();
     let d = report.coefficient("d").unwrap();
     assert!(rel(c, 0.1341) < 0.02, "c_h = {c}");
@@ -639,10 +650,21 @@ fn too_few_samples_per_window_are_typed_errors() {
     settings.regressor.velocity = projection;
     let model =
         DampingModel::new().with(Term::per_dof(Linear, 1, Coefficients::Shared("c".into())));
-    assert!(identify(&model, &[coarse.clone(), coarse], &settings).is_ok());
+    assert!(
+        identify(
+            &ParametricRegressor::linear(&model, &[coarse.clone(), coarse]),
+            &settings,
+            &silent
+        )
+        .is_ok()
+    );
     let coarser = Harmonic::one_dof(1.0, 1.0, 1.6).record();
     assert!(matches!(
-        identify(&model, &[coarser], &settings),
+        identify(
+            &ParametricRegressor::linear(&model, &[coarser]),
+            &settings,
+            &silent
+        ),
         Err(Error::InvalidParameter { .. })
     ));
     // The fundamentals of a window longer than the record.

@@ -140,7 +140,7 @@ fn a_zero_regressor_determines_nothing() {
     );
     assert!(!id.to_string().contains("every coefficient is determined"));
     assert!(matches!(
-        dampid::identify::identify_regressor(&r, &fit::FitSettings::default()),
+        identify(&ParametricRegressor::rows(&r), &IdentifySettings { fit: (fit::FitSettings::default()).clone(), ..Default::default() }, &silent).map(|i| i.report),
         Err(Error::NoInformation { ref coefficients, .. }) if coefficients == "t0 and t1"
     ));
 }
@@ -158,7 +158,16 @@ fn a_zero_column_beside_a_nonzero_one_is_not_determined() {
         id.null_directions[0].text,
         "t1 is not determined: changing it leaves the fit unchanged"
     );
-    let report = dampid::identify::identify_regressor(&r, &fit::FitSettings::default()).unwrap();
+    let report = identify(
+        &ParametricRegressor::rows(&r),
+        &IdentifySettings {
+            fit: (fit::FitSettings::default()).clone(),
+            ..Default::default()
+        },
+        &silent,
+    )
+    .map(|i| i.report)
+    .unwrap();
     assert!(!report.coefficients[1].determined, "{report}");
     assert!(report.coefficients[0].determined, "{report}");
     assert!((report.coefficient("t0").unwrap() - 2.0).abs() < 1e-12);
@@ -244,14 +253,20 @@ fn first_resonance_of_a_rayleigh_chain_determines_c0_plus_lambda1_c1() {
             transient_steps: 12_000,
             recorded_steps: 300,
         };
-        simulate(&system, &settings).unwrap()
+        simulate(&system, &settings, &dampid::progress::silent).unwrap()
     };
     let settings = support::identify_settings(
         WindowSpec::cycles(1),
         Quadrature::Trapezoid,
         VelocitySource::Measured,
     );
-    let first = identify(&model, &[record(1.0)], &settings).unwrap();
+    let first = identify(
+        &ParametricRegressor::linear(&model, &[record(1.0)]),
+        &settings,
+        &silent,
+    )
+    .unwrap()
+    .report;
     assert!(!first.is_estimate());
     let terms = &first.identifiability.determined[0].combination.terms;
     let found = terms[1].weight / terms[0].weight;
@@ -261,7 +276,13 @@ fn first_resonance_of_a_rayleigh_chain_determines_c0_plus_lambda1_c1() {
         "{found} vs {lambda1}"
     );
 
-    let both = identify(&model, &[record(1.0), record(2.0)], &settings).unwrap();
+    let both = identify(
+        &ParametricRegressor::linear(&model, &[record(1.0), record(2.0)]),
+        &settings,
+        &silent,
+    )
+    .unwrap()
+    .report;
     assert!(both.is_estimate(), "{both}");
     for (name, truth) in [("c0", 0.02), ("c1", 0.03)] {
         let value = both.coefficient(name).unwrap();

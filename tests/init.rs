@@ -30,7 +30,7 @@ fn the_template_from_nothing_parses_runs_and_identifies_its_truth() {
     let out_arg = out.to_str().unwrap();
     let printed = text(&dampid_ok(&["init", "--out", out_arg]).stdout);
     assert!(printed.contains("wrote"), "{printed}");
-    let job = dampid::model_file::load(&out).unwrap();
+    let job = dampid::model_file::load(&out, Default::default()).unwrap();
     assert_eq!(
         job.model.coefficient_names(),
         ["dashpot[0-1]", "dashpot[1-2]", "dashpot[2-3]"]
@@ -69,7 +69,7 @@ fn init_never_replaces_a_file_without_force() {
     assert!(error.contains("--force"), "{error}");
     assert_eq!(std::fs::read_to_string(&out).unwrap(), "mine");
     dampid_ok(&["init", "--out", out_arg, "--force"]);
-    assert!(dampid::model_file::load(&out).is_ok());
+    assert!(dampid::model_file::load(&out, Default::default()).is_ok());
     let names: Vec<String> = std::fs::read_dir(&folder)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
@@ -112,7 +112,7 @@ fn from_csv_files_the_columns_time_and_periods_are_found() {
     ] {
         assert!(written.contains(needle), "'{needle}' not in\n{written}");
     }
-    let job = dampid::model_file::load(&out).unwrap();
+    let job = dampid::model_file::load(&out, Default::default()).unwrap();
     assert_eq!(job.records.len(), 2);
     let simulated = 2.0 * std::f64::consts::PI / 0.618;
     for record in job.records.iter() {
@@ -157,7 +157,9 @@ fn from_npz_and_mat_files_the_arrays_are_columns() {
             "{written}"
         );
         // The guesses are TOML the parser accepts up to the missing period.
-        let error = dampid::model_file::load(&out).unwrap_err().to_string();
+        let error = dampid::model_file::load(&out, Default::default())
+            .unwrap_err()
+            .to_string();
         assert!(error.contains("period"), "{error}");
     }
     std::fs::remove_dir_all(&folder).ok();

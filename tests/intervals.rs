@@ -16,7 +16,7 @@ use std::sync::OnceLock;
 use dampid::analysis::diagnostics::StandardErrorBasis;
 use dampid::analysis::velocity_noise::VelocityNoise;
 use dampid::fit::Weighting;
-use dampid::identify::identify_regressor;
+use dampid::identify::{IdentifySettings, identify};
 use dampid::prelude::*;
 use dampid::reference::{
     FOUR_MASS_AMPLITUDES, FOUR_MASS_C, FOUR_MASS_D, FOUR_MASS_OMEGA, four_mass_model,
@@ -45,14 +45,23 @@ const REFERENCE_CASES: [&str; 7] = [
 /// A model file's clean simulated records identified by the default noise-robust
 /// pipeline on the file's windows, with the file's truth.
 fn default_pipeline(path: &str) -> (FitReport, Vec<(String, f64)>, Regressor) {
-    let mut job = dampid::model_file::load(Path::new(path)).unwrap();
+    let mut job = dampid::model_file::load(Path::new(path), Default::default()).unwrap();
     let defaults = RegressorSettings::default();
     job.settings.regressor.velocity = defaults.velocity;
     job.settings.regressor.noise = NoiseTreatment::Auto;
     job.settings.regressor.quadrature = defaults.quadrature;
     job.settings.fit.weighting = Weighting::Auto;
-    let regressor = job.regressor().unwrap();
-    let report = identify_regressor(&regressor, &job.settings.fit).unwrap();
+    let regressor = job.initial_regressor().unwrap();
+    let report = identify(
+        &ParametricRegressor::rows(&regressor),
+        &IdentifySettings {
+            fit: (job.settings.fit).clone(),
+            ..Default::default()
+        },
+        &silent,
+    )
+    .map(|i| i.report)
+    .unwrap();
     (report, job.truth.expect("simulated truth"), regressor)
 }
 
@@ -172,10 +181,10 @@ fn the_report_says_the_errors_are_scaled_and_why() {
             <= 1e-12 * chi_square_per_dof
     );
     assert!(json["coefficients"][0]["plug_in_std_error"].is_f64());
-    let records = dampid::model_file::load(Path::new("models/four_mass.toml"))
+    let records = dampid::model_file::load(Path::new("models/four_mass.toml"), Default::default())
         .unwrap()
         .records;
-    let model = dampid::model_file::load(Path::new("models/four_mass.toml"))
+    let model = dampid::model_file::load(Path::new("models/four_mass.toml"), Default::default())
         .unwrap()
         .model;
     let page = dampid::report::html::HtmlReport {
@@ -208,8 +217,13 @@ fn noisy_fits_that_pass_the_check_keep_the_plug_in_intervals() {
     let mut passed = 0;
     for seed in 0..12 {
         let noisy = with_displacement_noise(clean, 0.01, 100 + seed).unwrap();
-        let report =
-            identify(&noisy_chain_model(), &noisy, &noise_study_settings(2, true)).unwrap();
+        let report = identify(
+            &ParametricRegressor::linear(&noisy_chain_model(), &noisy),
+            &noise_study_settings(2, true),
+            &silent,
+        )
+        .unwrap()
+        .report;
         let p = report.noise.as_ref().unwrap().p_value.unwrap();
         for (c, t) in report.coefficients.iter().zip(&truth) {
             let (se, plug) = (c.std_error.unwrap(), c.plug_in_std_error.unwrap());
@@ -244,7 +258,14 @@ fn four_mass_clean() -> &'static [Record] {
         };
         FOUR_MASS_AMPLITUDES
             .iter()
-            .map(|&a| simulate(&four_mass_system(a, false), &settings).unwrap())
+            .map(|&a| {
+                simulate(
+                    &four_mass_system(a, false),
+                    &settings,
+                    &dampid::progress::silent,
+                )
+                .unwrap()
+            })
             .collect()
     })
 }
@@ -280,8 +301,9 @@ fn central_differences_on_noisy_data_are_named_as_the_problem() {
     let noisy = with_displacement_noise(clean, 0.01, 16).unwrap();
     let model = four_mass_model();
     let cd = four_mass_settings(Some(VelocitySource::CentralDifference));
-    let (regressor, report) =
-        dampid::identify::identify_with_regressor(&model, &noisy, &cd).unwrap();
+    let (regressor, report) = identify(&ParametricRegressor::linear(&model, &noisy), &cd, &silent)
+        .map(|i| (i.regressor, i.report))
+        .unwrap();
     let truth = [FOUR_MASS_C, FOUR_MASS_D];
     let text = report.to_string();
     let warning = velocity_warning(&report).unwrap_or_else(|| panic!("{text}"));
@@ -352,7 +374,13 @@ fn central_differences_on_noisy_data_are_named_as_the_problem() {
     assert_eq!(json["velocity_noise"]["recommended"], "harmonic_projection");
 
     // the default estimator: no warning, no assessment, estimates within 2%
-    let robust = identify(&model, &noisy, &four_mass_settings(None)).unwrap();
+    let robust = identify(
+        &ParametricRegressor::linear(&model, &noisy),
+        &four_mass_settings(None),
+        &silent,
+    )
+    .unwrap()
+    .report;
     assert!(robust.noise.is_some());
     assert!(velocity_warning(&robust).is_none(), "{robust}");
     assert!(robust.velocity_noise.is_none());
@@ -372,7 +400,13 @@ fn central_differences_on_noisy_data_are_named_as_the_problem() {
 fn central_differences_on_clean_data_are_not_flagged() {
     let model = four_mass_model();
     let cd = four_mass_settings(Some(VelocitySource::CentralDifference));
-    let report = identify(&model, four_mass_clean(), &cd).unwrap();
+    let report = identify(
+        &ParametricRegressor::linear(&model, four_mass_clean()),
+        &cd,
+        &silent,
+    )
+    .unwrap()
+    .report;
     let assessment = report.velocity_noise.as_ref().expect("assessed");
     assert!(!assessment.material, "{assessment:?}");
     assert!(assessment.columns.iter().all(|c| c.share.abs() < 1e-6));

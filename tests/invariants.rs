@@ -24,7 +24,14 @@ fn records(cubic_spring: bool, transient: usize, cycles: usize) -> Vec<Record> {
     };
     [0.25, 0.5, 0.75, 1.0]
         .iter()
-        .map(|&a| simulate(&four_mass_system(a, cubic_spring), &settings).unwrap())
+        .map(|&a| {
+            simulate(
+                &four_mass_system(a, cubic_spring),
+                &settings,
+                &dampid::progress::silent,
+            )
+            .unwrap()
+        })
         .collect()
 }
 
@@ -76,8 +83,24 @@ fn scaling_the_force_by_k_scales_every_coefficient_by_k() {
         Quadrature::Trapezoid,
         VelocitySource::CentralDifference,
     );
-    let (c0, d0) = estimates(&identify(&four_mass_model(), &base, &s).unwrap());
-    let (c1, d1) = estimates(&identify(&four_mass_model(), &scaled, &s).unwrap());
+    let (c0, d0) = estimates(
+        &identify(
+            &ParametricRegressor::linear(&four_mass_model(), &base),
+            &s,
+            &silent,
+        )
+        .unwrap()
+        .report,
+    );
+    let (c1, d1) = estimates(
+        &identify(
+            &ParametricRegressor::linear(&four_mass_model(), &scaled),
+            &s,
+            &silent,
+        )
+        .unwrap()
+        .report,
+    );
     assert!((c1 / c0 - k).abs() < 1e-12 * k);
     assert!((d1 / d0 - k).abs() < 1e-12 * k);
 }
@@ -94,7 +117,13 @@ fn extreme_force_scales_change_no_reported_figure() {
         Quadrature::Trapezoid,
         VelocitySource::CentralDifference,
     );
-    let reference = identify(&four_mass_model(), &base, &s).unwrap();
+    let reference = identify(
+        &ParametricRegressor::linear(&four_mass_model(), &base),
+        &s,
+        &silent,
+    )
+    .unwrap()
+    .report;
     for k in [1e-160, 1e160, 1e-250, 1e250] {
         let scaled = with_forces(&base, |p| Forcing {
             signals: Mat::from_fn(
@@ -104,7 +133,13 @@ fn extreme_force_scales_change_no_reported_figure() {
             ),
             distribution: p.forcing.distribution.clone(),
         });
-        let report = identify(&four_mass_model(), &scaled, &s).unwrap();
+        let report = identify(
+            &ParametricRegressor::linear(&four_mass_model(), &scaled),
+            &s,
+            &silent,
+        )
+        .unwrap()
+        .report;
         for (a, b) in reference.coefficients.iter().zip(&report.coefficients) {
             assert!((b.value / k / a.value - 1.0).abs() < 1e-12, "{k}: {b:?}");
             let (sa, sb) = (a.std_error.unwrap(), b.std_error.unwrap() / k);
@@ -146,8 +181,24 @@ fn adding_a_conservative_force_to_the_data_changes_nothing() {
         Forcing::generalized(&dense + &kx)
     });
     let s = spectral(WindowSpec::cycles(1).first(1));
-    let (c0, d0) = estimates(&identify(&four_mass_model(), &base, &s).unwrap());
-    let (c1, d1) = estimates(&identify(&four_mass_model(), &with_spring, &s).unwrap());
+    let (c0, d0) = estimates(
+        &identify(
+            &ParametricRegressor::linear(&four_mass_model(), &base),
+            &s,
+            &silent,
+        )
+        .unwrap()
+        .report,
+    );
+    let (c1, d1) = estimates(
+        &identify(
+            &ParametricRegressor::linear(&four_mass_model(), &with_spring),
+            &s,
+            &silent,
+        )
+        .unwrap()
+        .report,
+    );
     assert!((c1 - c0).abs() < 1e-6 * c0, "c {c0} -> {c1}");
     assert!((d1 - d0).abs() < 1e-6 * d0, "d {d0} -> {d1}");
 }
@@ -157,8 +208,24 @@ fn adding_a_conservative_force_to_the_data_changes_nothing() {
 #[test]
 fn adding_a_conservative_force_to_the_system_changes_nothing() {
     let s = spectral(WindowSpec::cycles(1).first(1));
-    let (c0, d0) = estimates(&identify(&four_mass_model(), &records(false, 8000, 1), &s).unwrap());
-    let (c1, d1) = estimates(&identify(&four_mass_model(), &records(true, 8000, 1), &s).unwrap());
+    let (c0, d0) = estimates(
+        &identify(
+            &ParametricRegressor::linear(&four_mass_model(), &records(false, 8000, 1)),
+            &s,
+            &silent,
+        )
+        .unwrap()
+        .report,
+    );
+    let (c1, d1) = estimates(
+        &identify(
+            &ParametricRegressor::linear(&four_mass_model(), &records(true, 8000, 1)),
+            &s,
+            &silent,
+        )
+        .unwrap()
+        .report,
+    );
     for (label, value, truth) in [
         ("c", c0, FOUR_MASS_C),
         ("d", d0, FOUR_MASS_D),
@@ -175,7 +242,15 @@ fn adding_a_conservative_force_to_the_system_changes_nothing() {
 #[test]
 fn long_transient_and_spectral_velocities_converge_to_truth() {
     let s = spectral(WindowSpec::cycles(1).first(1));
-    let (c, d) = estimates(&identify(&four_mass_model(), &records(false, 8000, 1), &s).unwrap());
+    let (c, d) = estimates(
+        &identify(
+            &ParametricRegressor::linear(&four_mass_model(), &records(false, 8000, 1)),
+            &s,
+            &silent,
+        )
+        .unwrap()
+        .report,
+    );
     assert!((c - FOUR_MASS_C).abs() < 1e-4 * FOUR_MASS_C, "c = {c}");
     assert!((d - FOUR_MASS_D).abs() < 1e-4 * FOUR_MASS_D, "d = {d}");
 }
@@ -186,17 +261,19 @@ fn long_transient_and_spectral_velocities_converge_to_truth() {
 fn splitting_records_into_cycles_gives_the_same_answer() {
     let data = records(true, 8000, 4);
     let whole = identify(
-        &four_mass_model(),
-        &data,
+        &ParametricRegressor::linear(&four_mass_model(), &data),
         &spectral(WindowSpec::cycles(4).first(1)),
+        &silent,
     )
-    .unwrap();
+    .unwrap()
+    .report;
     let split = identify(
-        &four_mass_model(),
-        &data,
+        &ParametricRegressor::linear(&four_mass_model(), &data),
         &spectral(WindowSpec::cycles(1).first(4)),
+        &silent,
     )
-    .unwrap();
+    .unwrap()
+    .report;
     assert_eq!(split.residuals.len(), 16);
     let (c0, d0) = estimates(&whole);
     let (c1, d1) = estimates(&split);

@@ -8,11 +8,15 @@ use dampid::identify;
 use dampid::model_file::{load, parse};
 use dampid::prep::quadrature::Quadrature;
 use dampid::prep::velocity::VelocitySource;
+use dampid::progress::silent;
 use dampid::reference::{FourMassPodStudy, StringStudy, four_mass_cases, run_four_mass_case};
+use dampid::regressor::ParametricRegressor;
 
 fn run(path: &str) -> dampid::report::FitReport {
-    let job = load(Path::new(path)).unwrap();
-    dampid::identify(&job.model, &job.records, &job.settings).unwrap()
+    let job = load(Path::new(path), Default::default()).unwrap();
+    dampid::identify(&job.problem(), &job.settings, &silent)
+        .unwrap()
+        .report
 }
 
 /// A model file's report equals the example case's, to round-off.
@@ -73,7 +77,7 @@ fn measured_csv_model_file_identifies_the_chain() {
 }
 
 fn error_of(text: &str) -> Error {
-    parse(text, "test.toml", Path::new("models")).unwrap_err()
+    parse(text, "test.toml", Path::new("models"), Default::default()).unwrap_err()
 }
 
 fn assert_at(error: Error, line: usize, needle: &str) {
@@ -163,7 +167,7 @@ fn data_errors_name_file_row_and_column() {
             "{HEAD}[[data.records]]\nfile = \"{file}\"\ntime = \"t\"\ndisplacements = [\"x1\", \"{x}\"]\nforces = [{{ column = \"f\", dof = 2 }}]\nperiod = 6.283185307179586\n"
         )
     };
-    let parse_in = |text: String| parse(&text, "test.toml", &folder);
+    let parse_in = |text: String| parse(&text, "test.toml", &folder, Default::default());
 
     assert!(parse_in(model("good.csv", "x2")).is_ok());
     match parse_in(model("good.csv", "x3")).unwrap_err() {
@@ -198,7 +202,7 @@ fn data_errors_name_file_row_and_column() {
 #[test]
 fn missing_model_file_is_a_model_file_error() {
     assert!(matches!(
-        load(Path::new("models/does_not_exist.toml")),
+        load(Path::new("models/does_not_exist.toml"), Default::default()),
         Err(Error::ModelFile { line: 0, .. })
     ));
 }
@@ -227,8 +231,10 @@ fn assert_same_estimates(
 #[test]
 fn four_mass_pod_model_file_matches_the_example() {
     let path = "models/four_mass_pod.toml";
-    let job = load(Path::new(path)).unwrap();
-    let from_file = dampid::identify(&job.model, &job.records, &job.settings).unwrap();
+    let job = load(Path::new(path), Default::default()).unwrap();
+    let from_file = dampid::identify(&job.problem(), &job.settings, &silent)
+        .unwrap()
+        .report;
     let study = FourMassPodStudy::run().unwrap();
     let case = study.cases.iter().find(|c| c.name == "two POMs").unwrap();
     assert_same_estimates(path, &from_file, &case.report);
@@ -245,7 +251,7 @@ fn four_mass_pod_model_file_matches_the_example() {
 #[test]
 fn string_model_file_matches_the_example() {
     let path = "models/string.toml";
-    let job = load(Path::new(path)).unwrap();
+    let job = load(Path::new(path), Default::default()).unwrap();
     assert!(
         job.steady_state()
             .unwrap()
@@ -253,7 +259,9 @@ fn string_model_file_matches_the_example() {
             .enforce()
             .is_ok()
     );
-    let from_file = dampid::identify(&job.model, &job.records, &job.settings).unwrap();
+    let from_file = dampid::identify(&job.problem(), &job.settings, &silent)
+        .unwrap()
+        .report;
     let study = StringStudy::run(1, false).unwrap();
     let case = study
         .cases
@@ -278,21 +286,34 @@ fn harmonic_model_file_matches_the_example() {
     use dampid::simulate::{SimSettings, simulate};
 
     let path = "models/four_mass_harmonic.toml";
-    let job = load(Path::new(path)).unwrap();
-    let from_file = dampid::identify(&job.model, &job.records, &job.settings).unwrap();
+    let job = load(Path::new(path), Default::default()).unwrap();
+    let from_file = dampid::identify(&job.problem(), &job.settings, &silent)
+        .unwrap()
+        .report;
 
     let records: Vec<Record> = FOUR_MASS_AMPLITUDES
         .iter()
-        .map(|&a| simulate(&four_mass_system(a, false), &SimSettings::default()).unwrap())
+        .map(|&a| {
+            simulate(
+                &four_mass_system(a, false),
+                &SimSettings::default(),
+                &dampid::progress::silent,
+            )
+            .unwrap()
+        })
         .collect();
     let first_period = WindowSpec::cycles(1).first(1);
     let table = SteppedSineTable::from_records(&records, &first_period).unwrap();
     let from_example = identify(
-        &four_mass_model(),
-        &HarmonicApproximation::default().records(&table).unwrap(),
+        &ParametricRegressor::linear(
+            &four_mass_model(),
+            &HarmonicApproximation::default().records(&table).unwrap(),
+        ),
         &IdentifySettings::harmonic_approximation(FitSettings::default()),
+        &silent,
     )
-    .unwrap();
+    .unwrap()
+    .report;
     assert_same_estimates(path, &from_file, &from_example);
     // The same stepped-sine points (labels aside).
     for (a, b) in job
@@ -320,7 +341,7 @@ fn every_shipped_model_file_is_steady() {
     for entry in std::fs::read_dir("models").unwrap() {
         let path = entry.unwrap().path();
         if path.extension().is_some_and(|e| e == "toml") {
-            let job = load(&path).unwrap();
+            let job = load(&path, Default::default()).unwrap();
             // The non-periodic mode has no steady state to check.
             if let Some(report) = job.steady_state().unwrap() {
                 assert!(report.enforce().is_ok(), "{}:\n{report}", path.display());
@@ -342,7 +363,7 @@ fn pod_and_harmonic_sections_are_checked() {
     let four = std::fs::read_to_string("models/four_mass.toml").unwrap();
     let with = |section: &str| {
         let text = format!("{four}\n{section}");
-        parse(&text, "test.toml", Path::new("models")).unwrap_err()
+        parse(&text, "test.toml", Path::new("models"), Default::default()).unwrap_err()
     };
     match with("[pod]\nmodes = 5\n") {
         Error::ModelFile { message, line, .. } => {
@@ -377,14 +398,20 @@ fn identification_selects_the_noise_pipeline() {
             identification,
         );
         assert_ne!(text, four);
-        parse(&text, "test.toml", Path::new("models")).unwrap()
+        parse(&text, "test.toml", Path::new("models"), Default::default()).unwrap()
     };
     let robust = with("");
     assert_eq!(
         robust.settings.regressor.velocity,
         VelocitySource::HarmonicProjection { harmonics: None }
     );
-    let report = identify(&robust.model, &robust.records, &robust.settings).unwrap();
+    let report = identify(
+        &ParametricRegressor::linear(&robust.model, &robust.records),
+        &robust.settings,
+        &silent,
+    )
+    .unwrap()
+    .report;
     assert!(report.noise.is_some());
     let plain = with(
         "velocity = \"harmonic_projection\"\nharmonics = 3\nnoise = \"ignore\"\nweighting = \"ordinary\"\nwork_form = \"derivative_free\"",
@@ -393,10 +420,21 @@ fn identification_selects_the_noise_pipeline() {
         plain.settings.regressor.velocity,
         VelocitySource::HarmonicProjection { harmonics: Some(3) }
     );
-    let report = identify(&plain.model, &plain.records, &plain.settings).unwrap();
+    let report = identify(
+        &ParametricRegressor::linear(&plain.model, &plain.records),
+        &plain.settings,
+        &silent,
+    )
+    .unwrap()
+    .report;
     assert!(report.noise.is_none());
     let wrong = with("noise = \"correct\"\nvelocity = \"central_difference\"");
-    let error = identify(&wrong.model, &wrong.records, &wrong.settings).unwrap_err();
+    let error = identify(
+        &ParametricRegressor::linear(&wrong.model, &wrong.records),
+        &wrong.settings,
+        &silent,
+    )
+    .unwrap_err();
     assert!(
         matches!(&error, Error::InvalidChoice { name, given, .. } if name == "noise" && given == "correct"),
         "{error}"
@@ -405,6 +443,7 @@ fn identification_selects_the_noise_pipeline() {
         &four.replace("windows = 1 ", "noise = \"sometimes\"\nwindows = 1 "),
         "test.toml",
         Path::new("models"),
+        Default::default(),
     ) {
         Err(Error::ModelFile { message, .. }) => assert!(
             message.contains("sometimes") || message.contains("variant"),

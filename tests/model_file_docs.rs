@@ -109,9 +109,14 @@ fn probes() -> Vec<(&'static str, String)> {
 
 /// The keys the parser's error for `document` says its table accepts.
 fn accepted_keys(document: &str) -> Vec<String> {
-    let error = dampid::model_file::parse(document, "probe.toml", std::path::Path::new("."))
-        .expect_err("a document with an unknown key is refused")
-        .to_string();
+    let error = dampid::model_file::parse(
+        document,
+        "probe.toml",
+        std::path::Path::new("."),
+        Default::default(),
+    )
+    .expect_err("a document with an unknown key is refused")
+    .to_string();
     assert!(
         error.contains(&format!("unknown field `{UNKNOWN}`")),
         "the probe did not reach the table's key check:\n{document}\n{error}"

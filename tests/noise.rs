@@ -97,7 +97,14 @@ fn clean_data_give_the_plain_estimates() {
     };
     let four_mass: Vec<Record> = FOUR_MASS_AMPLITUDES
         .iter()
-        .map(|&a| simulate(&four_mass_system(a, false), &steady).unwrap())
+        .map(|&a| {
+            simulate(
+                &four_mass_system(a, false),
+                &steady,
+                &dampid::progress::silent,
+            )
+            .unwrap()
+        })
         .collect();
     let chain = clean();
     let mut chain_settings = (plain_projection(), robust_projection());
@@ -112,8 +119,20 @@ fn clean_data_give_the_plain_estimates() {
         (four_mass_model(), &four_mass[..], four_mass_settings),
         (noisy_chain_model(), chain, chain_settings),
     ] {
-        let a = identify(&model, records, &plain).unwrap();
-        let b = identify(&model, records, &robust).unwrap();
+        let a = identify(
+            &ParametricRegressor::linear(&model, records),
+            &plain,
+            &silent,
+        )
+        .unwrap()
+        .report;
+        let b = identify(
+            &ParametricRegressor::linear(&model, records),
+            &robust,
+            &silent,
+        )
+        .unwrap()
+        .report;
         assert!(b.noise.is_some() && a.noise.is_none());
         for (x, y) in a.coefficients.iter().zip(&b.coefficients) {
             assert!(
@@ -141,8 +160,20 @@ fn scaling_the_forces_scales_the_robust_estimates() {
         })
         .collect();
     let settings = noise_study_settings(2, true);
-    let a = identify(&noisy_chain_model(), &noisy, &settings).unwrap();
-    let b = identify(&noisy_chain_model(), &scaled, &settings).unwrap();
+    let a = identify(
+        &ParametricRegressor::linear(&noisy_chain_model(), &noisy),
+        &settings,
+        &silent,
+    )
+    .unwrap()
+    .report;
+    let b = identify(
+        &ParametricRegressor::linear(&noisy_chain_model(), &scaled),
+        &settings,
+        &silent,
+    )
+    .unwrap()
+    .report;
     for (x, y) in a.coefficients.iter().zip(&b.coefficients) {
         assert!(
             (3.0 * x.value - y.value).abs() <= 1e-9 * y.value.abs(),
@@ -166,8 +197,20 @@ fn nonnegative_fit_on_the_weighted_system_equals_the_free_fit_when_inactive() {
         nonnegative: true,
         ..Constraints::default()
     };
-    let a = identify(&noisy_chain_model(), &noisy, &free).unwrap();
-    let b = identify(&noisy_chain_model(), &noisy, &nonnegative).unwrap();
+    let a = identify(
+        &ParametricRegressor::linear(&noisy_chain_model(), &noisy),
+        &free,
+        &silent,
+    )
+    .unwrap()
+    .report;
+    let b = identify(
+        &ParametricRegressor::linear(&noisy_chain_model(), &noisy),
+        &nonnegative,
+        &silent,
+    )
+    .unwrap()
+    .report;
     assert!(b.active_constraints.is_empty());
     assert!(b.noise.is_some());
     for (x, y) in a.coefficients.iter().zip(&b.coefficients) {
@@ -186,7 +229,13 @@ fn nonnegative_fit_on_the_weighted_system_equals_the_free_fit_when_inactive() {
 #[test]
 fn report_carries_the_noise_estimates_and_the_model_check() {
     let noisy = with_displacement_noise(clean(), 0.01, 11).unwrap();
-    let report = identify(&noisy_chain_model(), &noisy, &noise_study_settings(2, true)).unwrap();
+    let report = identify(
+        &ParametricRegressor::linear(&noisy_chain_model(), &noisy),
+        &noise_study_settings(2, true),
+        &silent,
+    )
+    .unwrap()
+    .report;
     let noise = report.noise.as_ref().expect("noise summary");
     assert_eq!(noise.windows.len(), 24);
     for (window, record) in noise.windows.iter().zip(clean()) {
@@ -229,7 +278,13 @@ fn missing_friction_fails_the_model_check() {
         Element::chain_fixed_both_ends(6),
         Coefficients::PerElement("c".into()),
     ));
-    let report = identify(&viscous_only, &noisy, &noise_study_settings(2, true)).unwrap();
+    let report = identify(
+        &ParametricRegressor::linear(&viscous_only, &noisy),
+        &noise_study_settings(2, true),
+        &silent,
+    )
+    .unwrap()
+    .report;
     assert!(
         report
             .warnings
@@ -245,14 +300,24 @@ fn noise_correction_needs_projected_velocities_and_weights_need_a_noise_model() 
     let noisy = with_displacement_noise(clean(), 0.01, 1).unwrap();
     let mut settings = noise_study_settings(2, true);
     settings.regressor.velocity = VelocitySource::CentralDifference;
-    let error = identify(&noisy_chain_model(), &noisy, &settings).unwrap_err();
+    let error = identify(
+        &ParametricRegressor::linear(&noisy_chain_model(), &noisy),
+        &settings,
+        &silent,
+    )
+    .unwrap_err();
     assert!(
         matches!(&error, Error::InvalidChoice { name, given, .. } if name == "noise" && given == "correct"),
         "{error}"
     );
     settings.regressor.noise = NoiseTreatment::Ignore;
     settings.fit.weighting = Weighting::Propagated;
-    let error = identify(&noisy_chain_model(), &noisy, &settings).unwrap_err();
+    let error = identify(
+        &ParametricRegressor::linear(&noisy_chain_model(), &noisy),
+        &settings,
+        &silent,
+    )
+    .unwrap_err();
     assert!(
         matches!(&error, Error::InvalidChoice { name, .. } if name == "weighting"),
         "{error}"

@@ -4,11 +4,13 @@
 //! chain (masses and springs unknown, or known), the invariants (force scaling, an
 //! added spring), and a typed error for each kind of bad input.
 
+use dampid::progress::silent;
+use dampid::regressor::ParametricRegressor;
 use std::path::{Path, PathBuf};
 
 use dampid::error::Error;
 use dampid::fit::{Constraints, FitSettings};
-use dampid::identify::identify_regressor;
+use dampid::identify::{IdentifySettings, identify};
 use dampid::model::DampingModel;
 use dampid::model_file::parse;
 use dampid::prep::velocity::VelocitySource;
@@ -59,7 +61,16 @@ fn build(
 }
 
 fn fit(regressor: &Regressor, fit: &FitSettings) -> FitReport {
-    identify_regressor(regressor, fit).unwrap()
+    identify(
+        &ParametricRegressor::rows(regressor),
+        &IdentifySettings {
+            fit: (*fit).clone(),
+            ..Default::default()
+        },
+        &silent,
+    )
+    .map(|i| i.report)
+    .unwrap()
 }
 
 fn relative_error(report: &FitReport, name: &str, truth: f64) -> f64 {
@@ -131,9 +142,9 @@ time = "t"
 displacements = ["x"]
 forces = [{ column = "force", dof = 1 }]
 "#;
-    let job = parse(text, "drive.toml", &folder).unwrap();
+    let job = parse(text, "drive.toml", &folder, Default::default()).unwrap();
     assert!(job.steady_state().unwrap().is_none());
-    let regressor = job.regressor().unwrap();
+    let regressor = job.initial_regressor().unwrap();
     assert_eq!(regressor.nuisance_count(), 2);
     let report = fit(&regressor, &job.settings.fit);
     let damping: Vec<&str> = report
@@ -337,6 +348,7 @@ fn start_up_transient_of_a_two_mass_chain() {
             transient_steps: 0,
             recorded_steps: 6_001,
         },
+        &dampid::progress::silent,
     )
     .unwrap();
     let unknown = RegressorSettings {
@@ -508,7 +520,8 @@ forces = [{{ column = "force", dof = 1 }}]
 "#
         )
     };
-    let error = |section: &str| parse(&file(section), "m.toml", &folder).unwrap_err();
+    let error =
+        |section: &str| parse(&file(section), "m.toml", &folder, Default::default()).unwrap_err();
     match error("[non_periodic]\nwindow = 0.5\nmass_per_dof = true") {
         Error::ModelFile { line, message, .. } => {
             assert_eq!(line, 9, "{message}");
@@ -536,7 +549,7 @@ forces = [{{ column = "force", dof = 1 }}]
     }
     // Without [non_periodic] the same record needs a period: a constant force has none.
     assert!(matches!(
-        parse(&file(""), "m.toml", &folder).unwrap_err(),
+        parse(&file(""), "m.toml", &folder, Default::default()).unwrap_err(),
         Error::ModelFile { .. } | Error::NoPeriod { .. }
     ));
     std::fs::remove_dir_all(folder).ok();

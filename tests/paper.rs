@@ -49,9 +49,21 @@ fn nonnegative_fit_holds_a_spurious_friction_term_at_zero() {
         .with(Term::per_dof(Coulomb, 4, Coefficients::Shared("mu".into())));
     let mut settings = IdentifySettings::default();
     settings.regressor.windows = WindowSpec::cycles(1).first(4).into();
-    let ls = identify(&model, &records, &settings).unwrap();
+    let ls = identify(
+        &ParametricRegressor::linear(&model, &records),
+        &settings,
+        &silent,
+    )
+    .unwrap()
+    .report;
     settings.fit.constraints = Constraints::nonnegative();
-    let nn = identify(&model, &records, &settings).unwrap();
+    let nn = identify(
+        &ParametricRegressor::linear(&model, &records),
+        &settings,
+        &silent,
+    )
+    .unwrap()
+    .report;
     let mu_ls = ls.coefficient("mu").unwrap();
     let mu_nn = nn.coefficient("mu").unwrap();
     assert!(mu_ls < 0.0 && mu_ls > -1e-3, "least squares mu = {mu_ls}");

@@ -187,7 +187,7 @@ displacements = ["x1"]
 forces = [{{ column = "f", dof = 1 }}]
 "#
             );
-            let job = dampid::model_file::parse(&text, "m.toml", &dir).unwrap();
+            let job = dampid::model_file::parse(&text, "m.toml", &dir, Default::default()).unwrap();
             let detected = job.detected_periods[0].unwrap();
             assert_eq!(detected.whole_periods, Some(2), "{detected:?}");
             assert!((detected.period - 2.0 * PI).abs() < 1e-12, "{detected:?}");
@@ -196,7 +196,9 @@ forces = [{{ column = "f", dof = 1 }}]
                     .to_string()
                     .contains("exactly 2 whole periods")
             );
-            let report = dampid::identify(&job.model, &job.records, &job.settings).unwrap();
+            let report = dampid::identify(&job.problem(), &job.settings, &dampid::progress::silent)
+                .unwrap()
+                .report;
             let c = report.coefficient("c").unwrap();
             let truth = 0.3f64.sin();
             assert!(

@@ -267,7 +267,13 @@ fn reduced_identification_with_all_modes_equals_full_order() {
     ] {
         let mut settings = IdentifySettings::default();
         settings.regressor.velocity = velocity;
-        let full = identify(&model, &records, &settings).unwrap();
+        let full = identify(
+            &ParametricRegressor::linear(&model, &records),
+            &settings,
+            &silent,
+        )
+        .unwrap()
+        .report;
         for basis in [PodBasis::PerRecord, PodBasis::Shared] {
             let pod_settings = PodSettings {
                 retain: Retain::Count(4),
@@ -275,7 +281,13 @@ fn reduced_identification_with_all_modes_equals_full_order() {
                 ..PodSettings::default()
             };
             let reduced = reduce(&records, &pod_settings).unwrap();
-            let report = identify(&model, &reduced.records, &settings).unwrap();
+            let report = identify(
+                &ParametricRegressor::linear(&model, &reduced.records),
+                &settings,
+                &silent,
+            )
+            .unwrap()
+            .report;
             for name in ["c", "d"] {
                 let (a, b) = (
                     report.coefficient(name).unwrap(),
@@ -512,11 +524,12 @@ fn distributed_model_balances_the_energy_on_the_simulators_grid() {
         ..StringSystem::paper(4.0)
     });
     let report = identify(
-        &model,
-        &records,
+        &ParametricRegressor::linear(&model, &records),
         &string_identify_settings(VelocitySource::Measured),
+        &silent,
     )
-    .unwrap();
+    .unwrap()
+    .report;
     let (c, d) = (
         report.coefficient("c").unwrap(),
         report.coefficient("d").unwrap(),

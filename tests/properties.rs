@@ -165,9 +165,9 @@ proptest! {
     ) {
         let model = per_dof_model(2);
         let records: Vec<Record> = data.iter().map(Motion::record).collect();
-        let base = identify(&model, &records, &least_squares()).unwrap();
+        let base = identify(&ParametricRegressor::linear(&model, &records), &least_squares(), &silent).unwrap().report;
         prop_assume!(kappa(&base) < 1e8);
-        let scaled = identify(&model, &scaled_forces(&records, k), &least_squares()).unwrap();
+        let scaled = identify(&ParametricRegressor::linear(&model, &scaled_forces(&records, k)), &least_squares(), &silent).unwrap().report;
         let expected: Vec<f64> = values(&base).iter().map(|v| k * v).collect();
         let error = relative_difference(&values(&scaled), &expected);
         prop_assert!(error < 1e-12 * kappa(&base).max(1.0), "error {error:e}, κ {:e}", kappa(&base));
@@ -183,9 +183,9 @@ proptest! {
         let model = per_dof_model(2);
         let records: Vec<Record> = data.iter().map(Motion::record).collect();
         let nonnegative = settings(Quadrature::Trapezoid, 1, 1, Constraints::nonnegative());
-        let base = identify(&model, &records, &nonnegative).unwrap();
+        let base = identify(&ParametricRegressor::linear(&model, &records), &nonnegative, &silent).unwrap().report;
         prop_assume!(base.status == FitStatus::Solved && kappa(&base) < 1e6);
-        let scaled = identify(&model, &scaled_forces(&records, k), &nonnegative).unwrap();
+        let scaled = identify(&ParametricRegressor::linear(&model, &scaled_forces(&records, k)), &nonnegative, &silent).unwrap().report;
         prop_assert_eq!(scaled.status, FitStatus::Solved);
         let expected: Vec<f64> = values(&base).iter().map(|v| k * v).collect();
         let error = relative_difference(&values(&scaled), &expected);
@@ -263,9 +263,9 @@ proptest! {
                 .unwrap()
             })
             .collect();
-        let base = identify(&model(&identity, matrix), &records, &least_squares()).unwrap();
+        let base = identify(&ParametricRegressor::linear(&model(&identity, matrix), &records), &least_squares(), &silent).unwrap().report;
         prop_assume!(kappa(&base) < 1e8);
-        let other = identify(&model(&moved, permuted_matrix), &permuted, &least_squares()).unwrap();
+        let other = identify(&ParametricRegressor::linear(&model(&moved, permuted_matrix), &permuted), &least_squares(), &silent).unwrap().report;
         let names: Vec<&str> = base.coefficients.iter().map(|c| c.name.as_str()).collect();
         let by_name: Vec<f64> = names.iter().map(|name| other.coefficient(name).unwrap()).collect();
         let error = relative_difference(&by_name, &values(&base));
@@ -315,9 +315,9 @@ proptest! {
                 .unwrap()
             })
             .collect();
-        let base = identify(&model, &records, &spectral).unwrap();
+        let base = identify(&ParametricRegressor::linear(&model, &records), &spectral, &silent).unwrap().report;
         prop_assume!(kappa(&base) < 1e8);
-        let other = identify(&model, &with_spring, &spectral).unwrap();
+        let other = identify(&ParametricRegressor::linear(&model, &with_spring), &spectral, &silent).unwrap().report;
         // The added work cancels to round-off of the spring's own work, which can be
         // larger than the damping work: measure against both.
         let error = relative_difference(&values(&other), &values(&base));
@@ -337,21 +337,13 @@ proptest! {
             .iter()
             .map(|m| m.harmonic(cycles as f64).record())
             .collect();
-        let whole = identify(
-            &model,
-            &whole_records,
-            &settings(Quadrature::Trapezoid, cycles, 1, Constraints::default()),
-        )
-        .unwrap();
+        let whole = identify(&ParametricRegressor::linear(&model, &whole_records), &settings(Quadrature::Trapezoid, cycles, 1, Constraints::default()), &silent)
+        .unwrap().report;
         prop_assume!(kappa(&whole) < 1e8);
         let tolerance = 1e-11 * kappa(&whole).max(1.0);
 
-        let windows = identify(
-            &model,
-            &whole_records,
-            &settings(Quadrature::Trapezoid, 1, cycles, Constraints::default()),
-        )
-        .unwrap();
+        let windows = identify(&ParametricRegressor::linear(&model, &whole_records), &settings(Quadrature::Trapezoid, 1, cycles, Constraints::default()), &silent)
+        .unwrap().report;
         prop_assert_eq!(windows.residuals.len(), 4 * cycles);
         let error = relative_difference(&values(&windows), &values(&whole));
         prop_assert!(error < tolerance, "windows: error {error:e}, κ {:e}", kappa(&whole));
@@ -381,7 +373,7 @@ proptest! {
                 })
             })
             .collect();
-        let split = identify(&model, &pieces, &least_squares()).unwrap();
+        let split = identify(&ParametricRegressor::linear(&model, &pieces), &least_squares(), &silent).unwrap().report;
         prop_assert_eq!(split.residuals.len(), 4 * cycles);
         let error = relative_difference(&values(&split), &values(&whole));
         prop_assert!(error < tolerance, "records: error {error:e}, κ {:e}", kappa(&whole));

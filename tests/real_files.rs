@@ -7,8 +7,9 @@ use std::path::{Path, PathBuf};
 
 mod support;
 
+use dampid::command::check;
 use dampid::error::Error;
-use dampid::model_file::{CheckReport, PERIODIC_ONLY, parse};
+use dampid::model_file::{PERIODIC_ONLY, parse};
 use dampid::record::Record;
 use dampid::reference::drive::{DriveSettings, closed_loop_drive};
 
@@ -80,26 +81,26 @@ fn a_jittery_time_column_is_read_at_its_mean_step() {
     let h = record.step();
     let wobble = |size: f64| move |i: usize| if i % 3 == 1 { size } else { 0.0 };
     write_csv(&record, &dir.join("drive.csv"), wobble(2.4e-5));
-    let job = parse(&model_file("", 0.25), "m.toml", &dir).unwrap();
+    let job = parse(&model_file("", 0.25), "m.toml", &dir, Default::default()).unwrap();
     let jitter = job.time_jitter[0].unwrap();
     assert!((jitter - 2.4e-5).abs() < 1e-7, "{jitter}");
     assert!((job.records[0].step() - h).abs() < 1e-9 * h);
     let preamble = job.preamble(None).to_string();
     assert!(preamble.contains("time column of 'drive'"), "{preamble}");
     assert!(preamble.contains("2.40e-5"), "{preamble}");
-    let regressor = job.regressor().unwrap();
-    let check = CheckReport::new(&job, None, &regressor).unwrap();
+    let regressor = job.initial_regressor().unwrap();
+    let check = check::run(&job, false).unwrap();
     assert_eq!(check.time_jitter.len(), 1);
     assert!(check.to_string().contains("2.40e-5"), "{check}");
 
     // Clean times carry no jitter worth a line.
     write_csv(&record, &dir.join("drive.csv"), |_| 0.0);
-    let job = parse(&model_file("", 0.25), "m.toml", &dir).unwrap();
+    let job = parse(&model_file("", 0.25), "m.toml", &dir, Default::default()).unwrap();
     assert!(job.jittered().is_empty());
     assert!(!job.preamble(None).to_string().contains("time column"));
 
     write_csv(&record, &dir.join("drive.csv"), wobble(2e-3));
-    let error = parse(&model_file("", 0.25), "m.toml", &dir).unwrap_err();
+    let error = parse(&model_file("", 0.25), "m.toml", &dir, Default::default()).unwrap_err();
     match &error {
         Error::ModelFile {
             line,
@@ -147,7 +148,7 @@ fn the_non_periodic_mode_refuses_keys_it_does_not_read() {
     assert_eq!(values.len(), PERIODIC_ONLY.len());
     for (key, value) in values {
         let text = model_file(&format!("{key} = {value}"), 0.25);
-        let error = parse(&text, "m.toml", &dir).unwrap_err();
+        let error = parse(&text, "m.toml", &dir, Default::default()).unwrap_err();
         match &error {
             Error::ModelFile {
                 line,
@@ -167,7 +168,7 @@ fn the_non_periodic_mode_refuses_keys_it_does_not_read() {
     }
     // The keys both modes read are accepted.
     let text = model_file("skip = 10\nquadrature = \"trapezoid\"", 0.25);
-    parse(&text, "m.toml", &dir).unwrap();
+    parse(&text, "m.toml", &dir, Default::default()).unwrap();
     std::fs::remove_dir_all(dir).ok();
 }
 
@@ -177,7 +178,7 @@ fn the_non_periodic_mode_refuses_keys_it_does_not_read() {
 fn the_window_length_used_is_reported() {
     let dir = scratch("window");
     write_csv(&drive(), &dir.join("drive.csv"), |_| 0.0);
-    let job = parse(&model_file("", 0.25025), "m.toml", &dir).unwrap();
+    let job = parse(&model_file("", 0.25025), "m.toml", &dir, Default::default()).unwrap();
     let preamble = job.preamble(None).to_string();
     assert!(
         preamble.contains(
@@ -185,23 +186,23 @@ fn the_window_length_used_is_reported() {
         ),
         "{preamble}"
     );
-    let regressor = job.regressor().unwrap();
+    let regressor = job.initial_regressor().unwrap();
     let windows = dampid::prep::window::span_windows(&job.records[0], 0, 0.25025, 0).unwrap();
     assert!((windows[0].span - 0.25).abs() < 1e-12, "{:?}", windows[0]);
-    let check = CheckReport::new(&job, None, &regressor).unwrap();
+    let check = check::run(&job, false).unwrap();
     assert_eq!(check.non_periodic_window, Some(0.25025));
     assert_eq!(check.non_periodic_window_used.len(), 1);
     assert!((check.non_periodic_window_used[0] - 0.25).abs() < 1e-12);
     assert!(check.to_string().contains("0.25025 requested"), "{check}");
 
-    let job = parse(&model_file("", 0.25), "m.toml", &dir).unwrap();
+    let job = parse(&model_file("", 0.25), "m.toml", &dir, Default::default()).unwrap();
     let preamble = job.preamble(None).to_string();
     assert!(
         preamble.contains("windows of 0.25 time units,"),
         "{preamble}"
     );
-    let regressor = job.regressor().unwrap();
-    let check = CheckReport::new(&job, None, &regressor).unwrap();
+    let regressor = job.initial_regressor().unwrap();
+    let check = check::run(&job, false).unwrap();
     assert!(check.non_periodic_window_used.is_empty());
     std::fs::remove_dir_all(dir).ok();
 }

@@ -1,6 +1,8 @@
 //! `dampid identify --report DIR` writes a self-contained HTML report with the plots.
 
 mod support;
+use dampid::progress::silent;
+use dampid::regressor::ParametricRegressor;
 use support::cli::{dampid_json, dampid_ok};
 
 #[test]
@@ -107,7 +109,7 @@ fn pod_report_shows_the_proper_orthogonal_modes() {
 /// the harmonics kept and the estimated noise.
 #[test]
 fn noise_robust_report_shows_the_noise_and_the_model_check() {
-    use dampid::identify::identify_with_regressor;
+    use dampid::identify::{IdentifySettings, identify};
     use dampid::report::html::HtmlReport;
     let text = std::fs::read_to_string("models/measured_chain.toml")
         .unwrap()
@@ -115,10 +117,16 @@ fn noise_robust_report_shows_the_noise_and_the_model_check() {
             "velocity = \"spectral\"       # derivative of a Fourier series in harmonics of the drive",
             "velocity = \"harmonic_projection\"",
         );
-    let job =
-        dampid::model_file::parse(&text, "test.toml", std::path::Path::new("models")).unwrap();
-    let (regressor, report) =
-        identify_with_regressor(&job.model, &job.records, &job.settings).unwrap();
+    let job = dampid::model_file::parse(
+        &text,
+        "test.toml",
+        std::path::Path::new("models"),
+        Default::default(),
+    )
+    .unwrap();
+    let (regressor, report) = identify(&job.problem(), &job.settings, &silent)
+        .map(|i| (i.regressor, i.report))
+        .unwrap();
     assert!(report.noise.is_some());
     let page = HtmlReport {
         title: &job.title,

@@ -115,12 +115,18 @@ fn values(report: &FitReport) -> Vec<f64> {
 #[test]
 fn gains_and_offsets_give_back_the_physical_record() {
     let dir = scratch("gains");
-    let plain =
-        dampid::model_file::parse(&chain3_model(plain_block), "m.toml", Path::new(".")).unwrap();
+    let plain = dampid::model_file::parse(
+        &chain3_model(plain_block),
+        "m.toml",
+        Path::new("."),
+        Default::default(),
+    )
+    .unwrap();
     let lab = dampid::model_file::parse(
         &chain3_model(|k, dof| lab_block(&dir, k, dof, 35.15)),
         "m.toml",
         Path::new("."),
+        Default::default(),
     )
     .unwrap();
     let (a, b) = (&plain.records[0], &lab.records[0]);
@@ -128,9 +134,24 @@ fn gains_and_offsets_give_back_the_physical_record() {
     assert!((a.start_time() - b.start_time()).abs() < 1e-9);
     let diff = (a.displacements() - b.displacements()).norm_max();
     assert!(diff < 1e-9, "{diff}"); // the CSV writer keeps 11 significant digits
-    let expected =
-        values(&dampid::identify(&plain.model, &plain.records, &plain.settings).unwrap());
-    let found = values(&dampid::identify(&lab.model, &lab.records, &lab.settings).unwrap());
+    let expected = values(
+        &dampid::identify(
+            &ParametricRegressor::linear(&plain.model, &plain.records),
+            &plain.settings,
+            &silent,
+        )
+        .unwrap()
+        .report,
+    );
+    let found = values(
+        &dampid::identify(
+            &ParametricRegressor::linear(&lab.model, &lab.records),
+            &lab.settings,
+            &silent,
+        )
+        .unwrap()
+        .report,
+    );
     for (e, f) in expected.iter().zip(&found) {
         // the files keep 11 significant digits; the friction coefficient is the most sensitive
         assert!((e - f).abs() <= 1e-5 * e.abs().max(1e-3), "{e} vs {f}");
@@ -162,9 +183,14 @@ fn force_scale_k_scales_every_coefficient_by_k() {
             &chain3_model(|k, dof| lab_block(&dir, k, dof, scale)),
             "m.toml",
             Path::new("."),
+            Default::default(),
         )
         .unwrap();
-        values(&dampid::identify(&job.model, &job.records, &job.settings).unwrap())
+        values(
+            &dampid::identify(&job.problem(), &job.settings, &silent)
+                .unwrap()
+                .report,
+        )
     };
     let base = identify_with(35.15);
     for k in [2.5, -0.4, 1e3] {
@@ -211,7 +237,7 @@ fn zero_or_non_finite_gains_are_errors_at_their_line() {
                 "dofs = 3\n[[terms]]\nkind = \"law\"\nlaw = \"linear\"\nelements = \"chain\"\ncoefficient = \"c\"\n\n[[data.records]]\nfile = \"{}\"\ntime = \"t\"\n{displacements}\n{forces}\nfrequency = 0.765367\n",
                 file.display(),
             );
-            match dampid::model_file::parse(&text, "m.toml", Path::new(".")) {
+            match dampid::model_file::parse(&text, "m.toml", Path::new("."), Default::default()) {
                 Err(Error::ModelFile {
                     line,
                     cause: Some(cause),
@@ -235,7 +261,8 @@ fn zero_or_non_finite_gains_are_errors_at_their_line() {
         "dofs = 3\n[[terms]]\nkind = \"law\"\nlaw = \"linear\"\nelements = \"chain\"\ncoefficient = \"c\"\n\n[[data.records]]\nfile = \"{}\"\ntime = \"t\"\ntime_scale = 0.0\ndisplacements = [\"x1\", \"x2\", \"x3\"]\nforces = [{{ column = \"f1\", dof = 1 }}]\nfrequency = 0.765367\n",
         file.display()
     );
-    let err = dampid::model_file::parse(&text, "m.toml", Path::new(".")).unwrap_err();
+    let err =
+        dampid::model_file::parse(&text, "m.toml", Path::new("."), Default::default()).unwrap_err();
     assert!(matches!(&err, Error::ModelFile { line: 11, .. }), "{err}");
     assert!(
         matches!(err.innermost(), Error::InvalidParameter { .. }),
@@ -371,9 +398,13 @@ fn study(sensors: [Sensor; 4], level: f64, seeds: u64) -> Vec<[(f64, f64); 2]> {
     (0..seeds)
         .map(|seed| {
             let records = sensed(sensors, level, seed);
-            let report =
-                dampid::identify(&four_mass_model(), &records, &IdentifySettings::default())
-                    .unwrap();
+            let report = dampid::identify(
+                &ParametricRegressor::linear(&four_mass_model(), &records),
+                &IdentifySettings::default(),
+                &silent,
+            )
+            .unwrap()
+            .report;
             let mut out = [(0.0, 0.0); 2];
             for (k, c) in report.coefficients.iter().enumerate() {
                 let se = c.std_error.expect("a standard error");
@@ -517,8 +548,11 @@ fn the_drive_from_accelerations_with_a_high_pass() {
     let dir = scratch("drive");
     let text =
         drive_as_accelerometer(&dir).replace("offsets = [1]", "offsets = [1]\nhigh_pass = 0.05");
-    let job = dampid::model_file::parse(&text, "drive.toml", Path::new(".")).unwrap();
-    let report = dampid::identify(&job.model, &job.records, &job.settings).unwrap();
+    let job =
+        dampid::model_file::parse(&text, "drive.toml", Path::new("."), Default::default()).unwrap();
+    let report = dampid::identify(&job.problem(), &job.settings, &silent)
+        .unwrap()
+        .report;
     let truth = [("viscous", 8.0), ("coulomb", 3.0)];
     for (c, (name, value)) in report.coefficients.iter().zip(truth) {
         assert_eq!(c.name, name);
@@ -542,9 +576,13 @@ fn the_drive_from_accelerations_with_a_high_pass() {
         "{preamble}"
     );
     // Without the drift setting: an error that says what to add.
-    let err =
-        dampid::model_file::parse(&drive_as_accelerometer(&dir), "drive.toml", Path::new("."))
-            .unwrap_err();
+    let err = dampid::model_file::parse(
+        &drive_as_accelerometer(&dir),
+        "drive.toml",
+        Path::new("."),
+        Default::default(),
+    )
+    .unwrap_err();
     match err.innermost() {
         Error::Missing { name, reason } => {
             assert!(name.contains("high_pass"), "{err}");
@@ -554,7 +592,8 @@ fn the_drive_from_accelerations_with_a_high_pass() {
     }
     // A cut-off above the Nyquist frequency (250 Hz) is an error at its line.
     let bad = text.replace("high_pass = 0.05", "high_pass = 300.0");
-    let err = dampid::model_file::parse(&bad, "drive.toml", Path::new(".")).unwrap_err();
+    let err = dampid::model_file::parse(&bad, "drive.toml", Path::new("."), Default::default())
+        .unwrap_err();
     let line = bad
         .lines()
         .position(|l| l.starts_with("high_pass"))
@@ -575,9 +614,15 @@ fn the_drive_from_accelerations_with_a_high_pass() {
 /// d within 0.5 % of the truth and within 3 reported standard errors.
 #[test]
 fn bundled_accelerometer_model_identifies_the_chain() {
-    let job = dampid::model_file::load(Path::new("models/four_mass_accelerometers.toml")).unwrap();
+    let job = dampid::model_file::load(
+        Path::new("models/four_mass_accelerometers.toml"),
+        Default::default(),
+    )
+    .unwrap();
     assert!(job.records.iter().all(|r| r.measured_motion().is_some()));
-    let report = dampid::identify(&job.model, &job.records, &job.settings).unwrap();
+    let report = dampid::identify(&job.problem(), &job.settings, &silent)
+        .unwrap()
+        .report;
     for (c, truth) in report.coefficients.iter().zip([FOUR_MASS_C, FOUR_MASS_D]) {
         let se = c.std_error.unwrap();
         assert!(

@@ -185,7 +185,13 @@ fn four_mass_with(noise: &str) -> dampid::model_file::Job {
     let text = std::fs::read_to_string("models/four_mass.toml")
         .unwrap()
         .replace("[simulation]\n", &format!("[simulation]\n{noise}\n"));
-    dampid::model_file::parse(&text, "four_mass.toml", Path::new("models")).unwrap()
+    dampid::model_file::parse(
+        &text,
+        "four_mass.toml",
+        Path::new("models"),
+        Default::default(),
+    )
+    .unwrap()
 }
 
 /// `noise = ε` adds Gaussian noise of ε × each channel's RMS to every recorded

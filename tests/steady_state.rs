@@ -124,7 +124,13 @@ frequency = 1.0
 /// window, start time and mismatch in the error; skipping the transient passes.
 #[test]
 fn transient_from_rest_is_rejected_and_skipping_it_passes() {
-    let job = parse(&from_rest(0, false), "rest.toml", Path::new(".")).unwrap();
+    let job = parse(
+        &from_rest(0, false),
+        "rest.toml",
+        Path::new("."),
+        Default::default(),
+    )
+    .unwrap();
     let report = job.steady_state().unwrap().expect("a periodic model file");
     assert!(report.energy_known);
     let window = &report.windows[0];
@@ -156,7 +162,13 @@ fn transient_from_rest_is_rejected_and_skipping_it_passes() {
         other => panic!("{other:?}"),
     }
     // Accepted: reported, not rejected, and the fit runs.
-    let accepted = parse(&from_rest(0, true), "rest.toml", Path::new(".")).unwrap();
+    let accepted = parse(
+        &from_rest(0, true),
+        "rest.toml",
+        Path::new("."),
+        Default::default(),
+    )
+    .unwrap();
     assert!(
         accepted
             .steady_state()
@@ -167,7 +179,13 @@ fn transient_from_rest_is_rejected_and_skipping_it_passes() {
     );
 
     // 2500 samples in, the transient (decaying at c/2 = 0.025) is down to e^-6.25.
-    let steady = parse(&from_rest(2500, false), "rest.toml", Path::new(".")).unwrap();
+    let steady = parse(
+        &from_rest(2500, false),
+        "rest.toml",
+        Path::new("."),
+        Default::default(),
+    )
+    .unwrap();
     let report = steady
         .steady_state()
         .unwrap()
@@ -178,20 +196,32 @@ fn transient_from_rest_is_rejected_and_skipping_it_passes() {
         late < 0.01 && late < mismatch / 100.0,
         "{late} vs {mismatch}"
     );
-    let fit = dampid::identify(&steady.model, &steady.records, &steady.settings).unwrap();
+    let fit = dampid::identify(
+        &ParametricRegressor::linear(&steady.model, &steady.records),
+        &steady.settings,
+        &silent,
+    )
+    .unwrap()
+    .report;
     assert!((fit.coefficient("c").unwrap() - 0.05).abs() < 0.05 * 0.01);
 }
 
 /// The state criterion (M and K unknown) sees the same transient.
 #[test]
 fn state_criterion_sees_the_transient_too() {
-    let job = parse(&from_rest(0, false), "rest.toml", Path::new(".")).unwrap();
+    let job = parse(
+        &from_rest(0, false),
+        "rest.toml",
+        Path::new("."),
+        Default::default(),
+    )
+    .unwrap();
     let without_energy = dampid::prep::steady_state::check(
         &job.source_records,
         job.source_windows.windows.cycles().unwrap(),
         job.source_windows.quadrature,
         None,
-        &job.steady_state,
+        job.settings.steady_state.as_ref().unwrap(),
     )
     .unwrap();
     assert!(!without_energy.energy_known);
@@ -206,7 +236,7 @@ fn state_criterion_sees_the_transient_too() {
 /// 1% of its input work.
 #[test]
 fn four_mass_default_passes() {
-    let job = load(Path::new("models/four_mass.toml")).unwrap();
+    let job = load(Path::new("models/four_mass.toml"), Default::default()).unwrap();
     let report = job.steady_state().unwrap().expect("a periodic model file");
     assert!(report.enforce().is_ok(), "{report}");
     assert_eq!(report.windows.len(), 4);
@@ -241,7 +271,7 @@ time = "t"
 displacements = ["x1", "x2", "x3"]
 forces = [{ column = "f1", dof = 1 }]
 "#;
-    let job = parse(text, "detect.toml", Path::new("models")).unwrap();
+    let job = parse(text, "detect.toml", Path::new("models"), Default::default()).unwrap();
     let detected = job.detected_periods[0].unwrap();
     let truth = 2.0 * PI / 0.765367;
     assert!(
@@ -411,7 +441,7 @@ fn chain3(cycles: usize) -> Vec<Record> {
         recorded_steps: (cycles as f64 * 2.0 * PI / omega / 0.1).ceil() as usize + 4,
         ..SimSettings::default()
     };
-    vec![simulate(&system, &settings).unwrap()]
+    vec![simulate(&system, &settings, &dampid::progress::silent).unwrap()]
 }
 
 /// Steady responses with 1% displacement noise and 1% force noise: at most 5% of the

@@ -24,17 +24,20 @@ mod support;
 #[path = "support/stepped_sine_table.rs"]
 mod table;
 
+use dampid::progress::silent;
+use dampid::regressor::ParametricRegressor;
 use std::path::{Path, PathBuf};
 
-use dampid::analysis::bootstrap::{BootstrapSettings, bootstrap_groups};
-use dampid::identify::identify_regressor;
+use dampid::analysis::bootstrap::{BootstrapSettings, bootstrap};
+use dampid::identify::Equivalent;
+use dampid::identify::{IdentifySettings, identify};
 use dampid::model::DampingModel;
 use dampid::prep::harmonic::sweeps::{PointNoise, SweptTable};
 use dampid::prep::harmonic::{HarmonicApproximation, SteppedSinePoint, SteppedSineTable};
 use dampid::regressor::Regressor;
-use dampid::regressor::stepped_sine::{StructuralTerm, build};
-use dampid::report::Warning;
-use dampid::varpro::{VarProReport, identify_varpro_regressor};
+use dampid::regressor::SteppedSineSource;
+use dampid::regressor::stepped_sine::StructuralTerm;
+use dampid::report::{FitReport, Warning};
 use table::*;
 
 /// The table's columns: level, frequency (Hz), force, amplitude, phase (degrees, lag).
@@ -73,7 +76,13 @@ fn scratch(name: &str) -> PathBuf {
 fn job_of(name: &str, columns: &[Vec<f64>], extra: &str) -> dampid::model_file::Job {
     let file = scratch(name);
     support::write_scratch_csv(&file, &headers(), columns);
-    dampid::model_file::parse(&model_text(&file, extra), "test.toml", Path::new(".")).unwrap()
+    dampid::model_file::parse(
+        &model_text(&file, extra),
+        "test.toml",
+        Path::new("."),
+        Default::default(),
+    )
+    .unwrap()
 }
 
 /// Noise-free: the energy equations are exact under the approximation, so c and d come
@@ -81,13 +90,22 @@ fn job_of(name: &str, columns: &[Vec<f64>], extra: &str) -> dampid::model_file::
 #[test]
 fn viscous_and_power_law_come_back_noise_free() {
     let job = job_of("clean.csv", &table_columns(C, D, None), "");
-    let regressor = job.regressor().unwrap();
+    let regressor = job.initial_regressor().unwrap();
     assert_eq!(regressor.equations(), 75);
     assert!(
         regressor.noise().is_some(),
         "the equations carry a noise model"
     );
-    let report = identify_regressor(&regressor, &job.settings.fit).unwrap();
+    let report = identify(
+        &ParametricRegressor::rows(&regressor),
+        &IdentifySettings {
+            fit: (job.settings.fit).clone(),
+            ..Default::default()
+        },
+        &silent,
+    )
+    .map(|i| i.report)
+    .unwrap();
     let c = report.coefficient("c").unwrap();
     let d = report.coefficient("d").unwrap();
     assert!((c - C).abs() < 1e-4 * C, "c = {c}");
@@ -104,8 +122,17 @@ fn noisy_table_is_weighted_and_calibrated() {
         &table_columns(C, D, Some((7, 0.005, 0.005))),
         "",
     );
-    let regressor = job.regressor().unwrap();
-    let report = identify_regressor(&regressor, &job.settings.fit).unwrap();
+    let regressor = job.initial_regressor().unwrap();
+    let report = identify(
+        &ParametricRegressor::rows(&regressor),
+        &IdentifySettings {
+            fit: (job.settings.fit).clone(),
+            ..Default::default()
+        },
+        &silent,
+    )
+    .map(|i| i.report)
+    .unwrap();
     let noise = report.noise.as_ref().expect("weighted fit");
     assert!(
         noise.p_value.unwrap() > 1e-3,
@@ -127,20 +154,21 @@ fn noisy_table_is_weighted_and_calibrated() {
         );
     }
     // Whole sweeps resampled: five groups, intervals that contain the estimate.
-    let sweeps = job.sweeps().unwrap();
-    let boot = bootstrap_groups(
+    let problem = job.problem();
+    let sweeps = problem.groups().unwrap();
+    let boot = bootstrap(
         &regressor,
         &job.settings.fit,
         &BootstrapSettings {
             replicates: 200,
             ..Default::default()
         },
-        sweeps,
+        Some(sweeps),
         &dampid::progress::silent,
     )
     .unwrap();
     assert!(boot.summary.used >= 100);
-    for (interval, c) in boot.intervals.iter().zip(&report.coefficients) {
+    for (interval, c) in boot.coefficients.iter().zip(&report.coefficients) {
         assert!(interval.lower < interval.upper);
         assert!(interval.std_error > 0.0);
         assert_eq!(interval.name, c.name);
@@ -151,12 +179,12 @@ fn noisy_table_is_weighted_and_calibrated() {
 #[test]
 fn one_sweep_cannot_be_resampled() {
     let job = job_of("one_sweep.csv", &table_columns(C, D, None), "");
-    let regressor = job.regressor().unwrap();
-    let e = bootstrap_groups(
+    let regressor = job.initial_regressor().unwrap();
+    let e = bootstrap(
         &regressor,
         &job.settings.fit,
         &BootstrapSettings::default(),
-        &vec![0; regressor.equations()],
+        Some(&vec![0; regressor.equations()]),
         &dampid::progress::silent,
     )
     .unwrap_err();
@@ -175,9 +203,10 @@ fn equivalent_damping_of_a_viscous_oscillator() {
         "",
     ] {
         let job = job_of("viscous.csv", &columns, extra);
-        let regressor = job.regressor().unwrap();
-        let report = identify_regressor(&regressor, &job.settings.fit).unwrap();
-        let equivalent = job.equivalent_damping(&report).unwrap().unwrap();
+        let found = identify(&job.problem(), &job.settings, &silent).unwrap();
+        let Some(Equivalent::Computed(equivalent)) = found.equivalent else {
+            panic!("no equivalent damping: {:?}", found.equivalent)
+        };
         assert!(
             (equivalent.modal.mass - M).abs() < 1e-6,
             "{:?}",
@@ -247,11 +276,12 @@ fn structural_damping_closed_form() {
         from: Some(0),
         to: None,
     }];
-    let regressor = build(
+    let mut table = SteppedSineSource::new(swept, HarmonicApproximation::default());
+    table.structural = structural.to_vec();
+    let regressor = Regressor::build(
         &DampingModel::new(),
-        &structural,
-        &swept,
-        &HarmonicApproximation::default(),
+        &table,
+        &dampid::regressor::RegressorSettings::default(),
     )
     .unwrap();
     for (r, p) in points.iter().enumerate() {
@@ -259,7 +289,13 @@ fn structural_damping_closed_form() {
         let expected = std::f64::consts::PI * k * x * x;
         assert!((regressor.matrix()[(r, 0)] - expected).abs() < 1e-12 * expected);
     }
-    let report = identify_regressor(&regressor, &Default::default()).unwrap();
+    let report = identify(
+        &ParametricRegressor::rows(&regressor),
+        &IdentifySettings::default(),
+        &silent,
+    )
+    .map(|i| i.report)
+    .unwrap();
     let estimate = report.coefficient("eta").unwrap();
     assert!((estimate - eta).abs() < 1e-12, "η = {estimate}");
 }
@@ -278,6 +314,7 @@ fn negative_damping_is_a_warning() {
             window: 0,
             start_time: 0.0,
             cycles: 1,
+            frequency: None,
         })
         .collect();
     let regressor = Regressor::from_parts(
@@ -287,7 +324,16 @@ fn negative_damping_is_a_warning() {
         labels,
     )
     .unwrap();
-    let report = identify_regressor(&regressor, &FitSettings::default()).unwrap();
+    let report = identify(
+        &ParametricRegressor::rows(&regressor),
+        &IdentifySettings {
+            fit: (FitSettings::default()).clone(),
+            ..Default::default()
+        },
+        &silent,
+    )
+    .map(|i| i.report)
+    .unwrap();
     let warning = report
         .warnings
         .iter()
@@ -303,7 +349,16 @@ fn negative_damping_is_a_warning() {
         constraints: Constraints::nonnegative(),
         ..FitSettings::default()
     };
-    let report = identify_regressor(&regressor, &bounded).unwrap();
+    let report = identify(
+        &ParametricRegressor::rows(&regressor),
+        &IdentifySettings {
+            fit: (bounded).clone(),
+            ..Default::default()
+        },
+        &silent,
+    )
+    .map(|i| i.report)
+    .unwrap();
     assert!(
         !report
             .warnings
@@ -314,24 +369,31 @@ fn negative_damping_is_a_warning() {
 
 /// The variable-projection fit of a table with estimated residuals or law parameters,
 /// as `dampid identify` runs it.
-fn fit_residual(job: &dampid::model_file::Job) -> VarProReport {
-    let regressor = job
-        .parametric_regressor()
-        .expect("something estimated")
-        .unwrap();
-    let report =
-        identify_varpro_regressor(&regressor, &job.settings, &job.varpro_settings()).unwrap();
+fn fit_residual(job: &dampid::model_file::Job) -> FitReport {
+    let problem = job.problem();
+    assert!(!problem.is_linear(), "something estimated");
+    let report = identify(&problem, &job.settings, &silent).unwrap().report;
     assert!(report.is_estimate(), "{report}");
     report
 }
 
-fn coefficient(report: &VarProReport, name: &str) -> f64 {
-    report
+fn coefficient(report: &FitReport, name: &str) -> f64 {
+    report.coefficient(name).unwrap()
+}
+
+/// The estimated parameters of a report.
+fn parameters(report: &FitReport) -> &[dampid::varpro::NonlinearEstimate] {
+    &report.estimation.as_ref().expect("estimated").parameters
+}
+
+/// Coefficient `name` of a report with estimated parameters, with its joint interval.
+fn joint<'a>(report: &'a FitReport, name: &str) -> &'a dampid::varpro::JointEstimate {
+    let estimation = report.estimation.as_ref().expect("estimated");
+    estimation
         .coefficients
         .iter()
         .find(|c| c.name == name)
         .unwrap()
-        .value
 }
 
 /// Noise-free, R = −2e-6 m/N in every sweep: with `residual = "stiffness"` the fit
@@ -346,12 +408,12 @@ fn residual_stiffness_comes_back_noise_free_and_its_neglect_biases() {
     let (c, d) = (coefficient(&report, "c"), coefficient(&report, "d"));
     println!(
         "with the residual: c = {c}, d = {d}, relative residual {:.3e}",
-        report.fit.relative_residual
+        report.relative_residual
     );
     assert!((c - C).abs() < 0.01 * C, "c = {c}");
     assert!((d - D).abs() < 0.01 * D, "d = {d}");
-    assert_eq!(report.parameters.len(), LEVELS.len());
-    for p in &report.parameters {
+    assert_eq!(parameters(&report).len(), LEVELS.len());
+    for p in parameters(&report) {
         println!("{} = {:e}", p.name, p.value);
         assert!(p.name.starts_with("r_k (level = "), "{}", p.name);
         assert!(
@@ -363,8 +425,17 @@ fn residual_stiffness_comes_back_noise_free_and_its_neglect_biases() {
     }
     // The residual ignored: the same table, the ordinary weighted fit.
     let plain = job_of("residual_ignored.csv", &columns, "");
-    assert!(plain.parametric_regressor().is_none());
-    let biased = identify_regressor(&plain.regressor().unwrap(), &plain.settings.fit).unwrap();
+    assert!(plain.problem().is_linear());
+    let biased = identify(
+        &ParametricRegressor::rows(&plain.initial_regressor().unwrap()),
+        &IdentifySettings {
+            fit: (plain.settings.fit).clone(),
+            ..Default::default()
+        },
+        &silent,
+    )
+    .map(|i| i.report)
+    .unwrap();
     let (cb, db) = (
         biased.coefficient("c").unwrap(),
         biased.coefficient("d").unwrap(),
@@ -383,10 +454,10 @@ fn residual_stiffness_comes_back_noise_free_and_its_neglect_biases() {
         error(c, d)
     );
     assert!(
-        biased.relative_residual > 10.0 * report.fit.relative_residual,
+        biased.relative_residual > 10.0 * report.relative_residual,
         "relative residual {} neglected vs {} estimated",
         biased.relative_residual,
-        report.fit.relative_residual
+        report.relative_residual
     );
 }
 
@@ -408,8 +479,8 @@ fn residual_mass_and_stiffness_noise_free() {
     let (c, d) = (coefficient(&report, "c"), coefficient(&report, "d"));
     assert!((c - C).abs() < 0.01 * C, "c = {c}");
     assert!((d - D).abs() < 0.01 * D, "d = {d}");
-    assert_eq!(report.parameters.len(), 2 * LEVELS.len());
-    for pair in report.parameters.chunks(2) {
+    assert_eq!(parameters(&report).len(), 2 * LEVELS.len());
+    for pair in parameters(&report).chunks(2) {
         assert!(pair[0].name.starts_with("r_k") && pair[1].name.starts_with("r_m"));
         for f in [0.97, 1.03] {
             let w = f * w0;
@@ -433,7 +504,7 @@ fn residual_intervals_cover_the_truth_with_noise() {
     let job = job_of("residual_noisy.csv", &columns, "residual = \"stiffness\"");
     let report = fit_residual(&job);
     for (name, truth) in [("c", C), ("d", D)] {
-        let e = report.coefficients.iter().find(|c| c.name == name).unwrap();
+        let e = joint(&report, name);
         let (lower, upper) = (e.lower.unwrap(), e.upper.unwrap());
         println!("{name} = {} [{lower}, {upper}]", e.value);
         assert!(
@@ -446,7 +517,7 @@ fn residual_intervals_cover_the_truth_with_noise() {
         );
     }
     let mut covered = 0;
-    for p in &report.parameters {
+    for p in parameters(&report) {
         let [lower, upper] = p.joint_interval.expect("joint interval");
         println!("{} = {:e} [{lower:e}, {upper:e}]", p.name, p.value);
         assert!(
@@ -487,7 +558,7 @@ fn force_scale_scales_coefficients_and_residuals() {
     }
     // The outer loop stops at a relative change of its cost of 10⁻⁸, not at round-off:
     // the residuals agree to a thousandth of their standard error.
-    for (pa, pb) in a.parameters.iter().zip(&b.parameters) {
+    for (pa, pb) in parameters(&a).iter().zip(parameters(&b)) {
         let se = pa.std_error.unwrap() / k;
         assert!(
             (pb.value - pa.value / k).abs() < 1e-3 * se,
@@ -511,15 +582,16 @@ fn estimated_exponent_and_residual_together() {
         "exponent = 1.5",
         "exponent = { estimate = true, initial = 1.0, lower = 0.2, upper = 3.0 }",
     );
-    let job = dampid::model_file::parse(&text, "test.toml", Path::new(".")).unwrap();
+    let job =
+        dampid::model_file::parse(&text, "test.toml", Path::new("."), Default::default()).unwrap();
     let report = fit_residual(&job);
-    assert_eq!(report.parameters[0].name, "d.exponent");
-    let exponent = report.parameters[0].value;
+    assert_eq!(parameters(&report)[0].name, "d.exponent");
+    let exponent = parameters(&report)[0].value;
     assert!((exponent - 1.5).abs() < 0.015, "exponent {exponent}");
     let (c, d) = (coefficient(&report, "c"), coefficient(&report, "d"));
     assert!((c - C).abs() < 0.01 * C, "c = {c}");
     assert!((d - D).abs() < 0.01 * D, "d = {d}");
-    for p in &report.parameters[1..] {
+    for p in &parameters(&report)[1..] {
         assert!(
             (p.value - R_K).abs() < 0.05 * R_K.abs(),
             "{} = {}",
@@ -542,9 +614,10 @@ fn exponent_profile_with_residuals_as_nuisance() {
         "exponent = 1.5",
         "exponent = { estimate = true, initial = 1.0, lower = 0.2, upper = 3.0 }",
     );
-    let job = dampid::model_file::parse(&text, "test.toml", Path::new(".")).unwrap();
+    let job =
+        dampid::model_file::parse(&text, "test.toml", Path::new("."), Default::default()).unwrap();
     let report = fit_residual(&job);
-    let exponent = &report.parameters[0];
+    let exponent = &parameters(&report)[0];
     let profile = exponent.interval.as_ref().expect("a profile interval");
     let (lower, upper) = (profile.lower.unwrap(), profile.upper.unwrap());
     let [wald_lower, wald_upper] = exponent.joint_interval.unwrap();
@@ -556,7 +629,7 @@ fn exponent_profile_with_residuals_as_nuisance() {
     assert!(lower < exponent.value && exponent.value < upper);
     let ratio = (upper - lower) / (wald_upper - wald_lower);
     assert!((1.0 / 1.5..1.5).contains(&ratio), "width ratio {ratio}");
-    for p in &report.parameters[1..] {
+    for p in &parameters(&report)[1..] {
         assert!(
             p.interval.is_none() && p.joint_interval.is_some(),
             "{}",
@@ -582,15 +655,19 @@ fn estimated_exponent_on_a_table_is_weighted() {
         "exponent = 1.5",
         "exponent = { estimate = true, initial = 1.0, lower = 0.2, upper = 3.0 }",
     );
-    let job = dampid::model_file::parse(&text, "test.toml", Path::new(".")).unwrap();
+    let job =
+        dampid::model_file::parse(&text, "test.toml", Path::new("."), Default::default()).unwrap();
     let report = fit_residual(&job);
-    assert!(report.weighted, "the table's noise model weights the fit");
-    let exponent = &report.parameters[0];
+    assert!(
+        report.estimation.as_ref().unwrap().weighted,
+        "the table's noise model weights the fit"
+    );
+    let exponent = &parameters(&report)[0];
     let profile = exponent.interval.as_ref().expect("a profile interval");
     let (lower, upper) = (profile.lower.unwrap(), profile.upper.unwrap());
     assert!(lower <= 1.5 && 1.5 <= upper, "exponent [{lower}, {upper}]");
     for (name, truth) in [("c", C), ("d", D)] {
-        let e = report.coefficients.iter().find(|c| c.name == name).unwrap();
+        let e = joint(&report, name);
         let (l, u) = (e.lower.unwrap(), e.upper.unwrap());
         assert!(
             l <= truth && truth <= u,

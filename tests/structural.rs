@@ -21,7 +21,7 @@ use std::f64::consts::PI;
 use dampid::prelude::*;
 use dampid::prep::harmonic::sweeps::{PointNoise, SweptTable};
 use dampid::regressor::NoiseTreatment;
-use dampid::regressor::stepped_sine::{StructuralTerm, build};
+use dampid::regressor::stepped_sine::StructuralTerm;
 
 mod support;
 use support::complex_chain::{Chain, PERIODS, Spring};
@@ -84,7 +84,13 @@ fn sdof_loss_factor_from_two_harmonics() {
     let omega = 0.55 * (K / M).sqrt();
     let record = chain.record(omega, &[(1, 2.0), (2, 1.0)], 1.0, &no_extra);
     let model = DampingModel::new().with(structural(K, Element::to_ground(0)));
-    let report = identify(&model, &[record], &settings()).unwrap();
+    let report = identify(
+        &ParametricRegressor::linear(&model, &[record]),
+        &settings(),
+        &silent,
+    )
+    .unwrap()
+    .report;
     let eta = report.coefficient("eta").unwrap();
     assert!(rel(eta, ETA) < 1e-8, "η = {eta}");
 }
@@ -93,7 +99,13 @@ fn viscous_and_structural(records: &[Record]) -> (f64, f64) {
     let model = DampingModel::new()
         .with(viscous_to_ground(1))
         .with(structural(K, Element::to_ground(0)));
-    let report = identify(&model, records, &settings()).unwrap();
+    let report = identify(
+        &ParametricRegressor::linear(&model, records),
+        &settings(),
+        &silent,
+    )
+    .unwrap()
+    .report;
     (
         report.coefficient("c").unwrap(),
         report.coefficient("eta").unwrap(),
@@ -202,7 +214,13 @@ fn two_dof_chain_with_the_loss_factor_on_one_element() {
     let model = DampingModel::new()
         .with(viscous_to_ground(2))
         .with(structural(k2, Element::between(0, 1)));
-    let report = identify(&model, &records, &settings()).unwrap();
+    let report = identify(
+        &ParametricRegressor::linear(&model, &records),
+        &settings(),
+        &silent,
+    )
+    .unwrap()
+    .report;
     let (c, found) = (
         report.coefficient("c").unwrap(),
         report.coefficient("eta").unwrap(),
@@ -254,23 +272,19 @@ fn stepped_sine_closed_form_and_time_domain_agree() {
         (Some(0), None, Element::to_ground(0)),
         (Some(0), Some(1), Element::between(0, 1)),
     ] {
-        let closed = build(
-            &DampingModel::new(),
-            &[StructuralTerm {
-                coefficient: "eta".into(),
-                stiffness: k,
-                from,
-                to,
-            }],
-            &swept,
-            &approximation,
-        )
-        .unwrap();
-        let time_domain = build(
+        let mut table = SteppedSineSource::new(swept.clone(), approximation.clone());
+        table.structural = vec![StructuralTerm {
+            coefficient: "eta".into(),
+            stiffness: k,
+            from,
+            to,
+        }];
+        let closed = Regressor::build(&DampingModel::new(), &table, &settings().regressor).unwrap();
+        let plain = SteppedSineSource::new(swept.clone(), approximation.clone());
+        let time_domain = Regressor::build(
             &DampingModel::new().with(structural(k, element)),
-            &[],
-            &swept,
-            &approximation,
+            &plain,
+            &settings().regressor,
         )
         .unwrap();
         for r in 0..n {

@@ -121,10 +121,15 @@ fn clean_robust_rows_give_the_plain_estimates() {
         let column = regressor.matrix()[(r, 0)];
         assert!(rel(column, expected) < 1e-10, "{column} vs {expected}");
     }
-    let eta = identify(&only, &[record], &robust())
-        .unwrap()
-        .coefficient("eta")
-        .unwrap();
+    let eta = identify(
+        &ParametricRegressor::linear(&only, &[record]),
+        &robust(),
+        &silent,
+    )
+    .unwrap()
+    .report
+    .coefficient("eta")
+    .unwrap();
     assert!(rel(eta, ETA) < 1e-8, "η = {eta}");
 
     let damped = Chain::sdof(M, K, ETA, C);
@@ -163,8 +168,20 @@ fn clean_robust_rows_give_the_plain_estimates() {
         (viscous_and_structural(), sdof_records(200, 2), [C, ETA]),
         (chain_model, chain_records, [0.3, 0.05]),
     ] {
-        let a = identify(&model, &records, &plain()).unwrap();
-        let b = identify(&model, &records, &robust()).unwrap();
+        let a = identify(
+            &ParametricRegressor::linear(&model, &records),
+            &plain(),
+            &silent,
+        )
+        .unwrap()
+        .report;
+        let b = identify(
+            &ParametricRegressor::linear(&model, &records),
+            &robust(),
+            &silent,
+        )
+        .unwrap()
+        .report;
         assert!(b.noise.is_some() && a.noise.is_none());
         for ((x, y), truth) in a.coefficients.iter().zip(&b.coefficients).zip(truth) {
             assert!(
@@ -250,7 +267,13 @@ fn loss_factor_is_unbiased_and_its_standard_error_matches_the_scatter() {
                 noisy(r, &[0.03 * x], 0.01 * 2.0, &mut rng)
             })
             .collect();
-        let report = identify(&model, &records, &robust()).unwrap();
+        let report = identify(
+            &ParametricRegressor::linear(&model, &records),
+            &robust(),
+            &silent,
+        )
+        .unwrap()
+        .report;
         for (k, c) in report.coefficients.iter().enumerate() {
             estimates[k].push(c.value);
             errors[k].push(c.std_error.unwrap());
@@ -299,8 +322,20 @@ fn force_scale_scales_the_robust_estimates() {
             .map(|r| noisy(r, &[2e-4], force_sigma, &mut rng))
             .collect()
     };
-    let a = identify(&model, &draw(&clean, 0.02), &robust()).unwrap();
-    let b = identify(&model, &draw(&scaled, 0.02 * lambda), &robust()).unwrap();
+    let a = identify(
+        &ParametricRegressor::linear(&model, &draw(&clean, 0.02)),
+        &robust(),
+        &silent,
+    )
+    .unwrap()
+    .report;
+    let b = identify(
+        &ParametricRegressor::linear(&model, &draw(&scaled, 0.02 * lambda)),
+        &robust(),
+        &silent,
+    )
+    .unwrap()
+    .report;
     for (x, y) in a.coefficients.iter().zip(&b.coefficients) {
         assert!(
             rel(y.value, lambda * x.value) < 1e-8,
@@ -330,10 +365,15 @@ fn force_scale_scales_the_robust_estimates() {
 /// standard errors (found: c 0.3013 ± 0.0036, η 0.04986 ± 0.00028).
 #[test]
 fn the_structural_model_file_runs_the_default_pipeline() {
-    let job =
-        dampid::model_file::load(std::path::Path::new("models/structural_chain.toml")).unwrap();
+    let job = dampid::model_file::load(
+        std::path::Path::new("models/structural_chain.toml"),
+        Default::default(),
+    )
+    .unwrap();
     assert!(job.settings.regressor.noise_robust().unwrap());
-    let report = identify(&job.model, &job.records, &job.settings).unwrap();
+    let report = identify(&job.problem(), &job.settings, &silent)
+        .unwrap()
+        .report;
     assert!(report.noise.is_some(), "{report}");
     for (name, truth) in [("c", 0.3), ("eta", 0.05)] {
         let c = report.coefficients.iter().find(|c| c.name == name).unwrap();

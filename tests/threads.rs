@@ -9,6 +9,8 @@
 //! rounding. The library-level bootstrap check is `results_do_not_depend_on_the_thread_count`
 //! in tests/bootstrap.rs.
 
+use dampid::progress::silent;
+use dampid::regressor::ParametricRegressor;
 use std::path::PathBuf;
 use std::process::Command;
 
@@ -109,7 +111,7 @@ fn first_difference(a: &[u8], b: &[u8]) -> String {
 #[test]
 fn library_results_do_not_depend_on_the_rayon_pool() {
     use dampid::analysis::bootstrap::BootstrapSettings;
-    use dampid::identify::{identify, identify_with_bootstrap};
+    use dampid::identify::{IdentifySettings, identify};
 
     faer::set_global_parallelism(faer::Par::Seq);
     let models = [
@@ -131,13 +133,24 @@ fn library_results_do_not_depend_on_the_rayon_pool() {
             .build()
             .expect("a rayon pool")
             .install(|| {
-                let job = dampid::model_file::load(&PathBuf::from("models").join(model))
+                let job = dampid::model_file::load(
+                    &PathBuf::from("models").join(model),
+                    Default::default(),
+                )
+                .unwrap_or_else(|e| panic!("{model}: {e}"));
+                let plain = identify(&job.problem(), &job.settings, &dampid::progress::silent)
+                    .map(|i| i.report)
                     .unwrap_or_else(|e| panic!("{model}: {e}"));
-                let plain = identify(&job.model, &job.records, &job.settings)
-                    .unwrap_or_else(|e| panic!("{model}: {e}"));
-                let booted =
-                    identify_with_bootstrap(&job.model, &job.records, &job.settings, &boot)
-                        .unwrap_or_else(|e| panic!("{model}: {e}"));
+                let booted = identify(
+                    &job.problem(),
+                    &IdentifySettings {
+                        bootstrap: Some(boot),
+                        ..job.settings.clone()
+                    },
+                    &silent,
+                )
+                .map(|i| i.report)
+                .unwrap_or_else(|e| panic!("{model}: {e}"));
                 (
                     serde_json::to_string_pretty(&plain).expect("JSON"),
                     serde_json::to_string_pretty(&booted).expect("JSON"),

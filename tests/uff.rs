@@ -94,8 +94,10 @@ frequency = 0.765367
 "#
         )
     };
-    let parse =
-        |file: &str| dampid::model_file::parse(&model(file), "m.toml", Path::new(".")).unwrap();
+    let parse = |file: &str| {
+        dampid::model_file::parse(&model(file), "m.toml", Path::new("."), Default::default())
+            .unwrap()
+    };
     let csv = std::env::temp_dir().join(format!("dampid-uff-{}.csv", std::process::id()));
     let table = csv_rows();
     dampid::io::csv::write(

@@ -11,10 +11,35 @@ use std::sync::OnceLock;
 use dampid::prelude::*;
 use dampid::reference::{FOUR_MASS_C, four_mass_system, with_displacement_noise};
 use dampid::regressor::Regressor;
+use dampid::report::{Estimation, FitReport};
 use dampid::simulate::{SimSettings, chain_stiffness, simulate};
 use dampid::terms::laws::PowerLaw;
 use dampid::terms::{Coefficients, Element, Law, Term};
-use dampid::varpro::{NonlinearParameter, ParametricModel, VarProSettings, identify_varpro};
+use dampid::varpro::{NonlinearParameter, ParametricModel, VarProSettings};
+
+/// `law` identified on `records` by the one `identify`, its outer loop under `varpro`.
+fn identify_varpro(
+    law: &ParametricModel,
+    records: &[Record],
+    settings: &IdentifySettings,
+    varpro: &VarProSettings,
+) -> dampid::Result<FitReport> {
+    let settings = IdentifySettings {
+        estimation: *varpro,
+        ..settings.clone()
+    };
+    identify(
+        &ParametricRegressor::new(law.clone(), records),
+        &settings,
+        &silent,
+    )
+    .map(|i| i.report)
+}
+
+/// The estimation of a report with estimated parameters.
+fn estimation(report: &FitReport) -> &Estimation {
+    report.estimation.as_ref().expect("estimated parameters")
+}
 
 const D: f64 = 0.10;
 const EXPONENT: f64 = 1.7;
@@ -57,7 +82,7 @@ fn clean() -> &'static [Record] {
                 let mut system = four_mass_system(a, false);
                 system.damping = model(EXPONENT).unwrap();
                 system.damping_coefficients = vec![FOUR_MASS_C, D];
-                simulate(&system, &settings).unwrap()
+                simulate(&system, &settings, &dampid::progress::silent).unwrap()
             })
             .collect()
     })
@@ -112,13 +137,17 @@ fn exponent_and_coefficients_come_back_at_one_percent_noise() {
     assert!(relative(c, FOUR_MASS_C) < 0.01, "c {c}");
     assert!(relative(d, D) < 0.01, "d {d}");
     // the profile interval and the joint intervals are finite and hold the truth
-    let interval = report.parameters[0].interval.as_ref().unwrap();
+    let interval = estimation(&report).parameters[0].interval.as_ref().unwrap();
     let (lo, hi) = (interval.lower.unwrap(), interval.upper.unwrap());
     assert!(
         lo < p && p < hi && lo < EXPONENT && EXPONENT < hi,
         "[{lo}, {hi}]"
     );
-    for (estimate, truth) in report.coefficients.iter().zip([FOUR_MASS_C, D]) {
+    for (estimate, truth) in estimation(&report)
+        .coefficients
+        .iter()
+        .zip([FOUR_MASS_C, D])
+    {
         let (lo, hi) = (estimate.lower.unwrap(), estimate.upper.unwrap());
         assert!(lo < truth && truth < hi, "{}: [{lo}, {hi}]", estimate.name);
     }
@@ -133,23 +162,31 @@ fn an_outer_loop_that_does_not_converge_says_so() {
         ..VarProSettings::default()
     };
     let report = identify_varpro(&parametric(), clean(), &settings(), &limited).unwrap();
-    assert!(!report.status.converged && !report.is_estimate());
-    assert!(report.parameters[0].interval.is_none());
-    assert!(report.coefficients.iter().all(|c| c.std_error.is_none()));
+    assert!(!estimation(&report).status.converged && !report.is_estimate());
+    assert!(estimation(&report).parameters[0].interval.is_none());
+    assert!(
+        estimation(&report)
+            .coefficients
+            .iter()
+            .all(|c| c.std_error.is_none())
+    );
     let text = report.to_string();
     assert!(text.contains("NOT AN ESTIMATE"), "{text}");
     assert!(text.contains("iterations"), "{text}");
     let json = serde_json::to_value(&report).unwrap();
-    assert_eq!(json["status"]["converged"], false);
+    assert_eq!(json["estimation"]["status"]["converged"], false);
 }
 
 /// The shipped model file estimates the exponent: `[simulation] parameters` simulates
 /// p = 1.7, and the job's parametric model brings it back within 1% with c and d.
 #[test]
 fn the_model_file_estimates_the_exponent() {
-    let job =
-        dampid::model_file::load(std::path::Path::new("models/four_mass_power.toml")).unwrap();
-    let parametric = job.parametric.as_ref().expect("an estimated parameter");
+    let job = dampid::model_file::load(
+        std::path::Path::new("models/four_mass_power.toml"),
+        Default::default(),
+    )
+    .unwrap();
+    let parametric = &job.law;
     assert_eq!(parametric.parameters()[0].name, "d.exponent");
     let report = identify_varpro(
         parametric,
@@ -286,8 +323,13 @@ fn cost_grid(
             let row = grid
                 .iter()
                 .map(|&p2| {
-                    let (regressor, report) =
-                        identify_with_regressor(&model(p1, p2), records, &ordinary).unwrap();
+                    let (regressor, report) = identify(
+                        &ParametricRegressor::linear(&model(p1, p2), records),
+                        &ordinary,
+                        &silent,
+                    )
+                    .map(|i| (i.regressor, i.report))
+                    .unwrap();
                     let b: f64 = regressor.rhs().iter().map(|x| x * x).sum();
                     let phi = report.residuals.iter().map(|e| e * e).sum::<f64>() / b;
                     let negative = report.coefficients.iter().any(|c| c.value < 0.0);
@@ -335,7 +377,7 @@ fn two_resonances_identify_two_exponents_where_one_does_not() {
             let mut system = four_mass_system(a, false);
             system.damping = model(1.7).unwrap();
             system.damping_coefficients = vec![FOUR_MASS_C, 0.1];
-            simulate(&system, &sim).unwrap()
+            simulate(&system, &sim, &dampid::progress::silent).unwrap()
         })
         .collect();
     let single =
@@ -415,7 +457,7 @@ fn two_exponents_at_one_percent_noise_lie_within_their_intervals() {
     .unwrap();
     eprintln!("{report}");
     assert!(report.is_estimate(), "{report}");
-    for (estimate, truth) in report
+    for (estimate, truth) in estimation(&report)
         .parameters
         .iter()
         .zip([two_exponents::P1, two_exponents::P2])
@@ -424,12 +466,11 @@ fn two_exponents_at_one_percent_noise_lie_within_their_intervals() {
         let (lo, hi) = (interval.lower.unwrap(), interval.upper.unwrap());
         assert!(lo < truth && truth < hi, "{}: [{lo}, {hi}]", estimate.name);
     }
-    for (estimate, truth) in
-        report
-            .coefficients
-            .iter()
-            .zip([two_exponents::C, two_exponents::D, two_exponents::D])
-    {
+    for (estimate, truth) in estimation(&report).coefficients.iter().zip([
+        two_exponents::C,
+        two_exponents::D,
+        two_exponents::D,
+    ]) {
         let (lo, hi) = (estimate.lower.unwrap(), estimate.upper.unwrap());
         assert!(lo < truth && truth < hi, "{}: [{lo}, {hi}]", estimate.name);
     }

@@ -16,15 +16,14 @@ mod table;
 use std::sync::OnceLock;
 
 use dampid::analysis::bootstrap::BootstrapSettings;
+use dampid::analysis::bootstrap::{Bootstrap, Resampled};
 use dampid::prelude::*;
 use dampid::reference::{FOUR_MASS_C, four_mass_system, with_displacement_noise};
+use dampid::report::{Estimation, FitReport};
 use dampid::simulate::{SimSettings, chain_stiffness, simulate};
 use dampid::terms::laws::PowerLaw;
 use dampid::terms::{Coefficients, Term};
-use dampid::varpro::{
-    NonlinearParameter, ParametricModel, Resampled, VarProBootstrap, VarProReport, VarProSettings,
-    bootstrap_varpro, bootstrap_varpro_regressor, identify_varpro, identify_varpro_regressor,
-};
+use dampid::varpro::{NonlinearParameter, ParametricModel, VarProSettings};
 use faer::Mat;
 
 const D: f64 = 0.10;
@@ -68,7 +67,7 @@ fn noisy() -> &'static [Record] {
                 let mut system = four_mass_system(a, false);
                 system.damping = model(EXPONENT).unwrap();
                 system.damping_coefficients = vec![FOUR_MASS_C, D];
-                simulate(&system, &settings).unwrap()
+                simulate(&system, &settings, &dampid::progress::silent).unwrap()
             })
             .collect();
         with_displacement_noise(&clean, 0.01, 20).unwrap()
@@ -92,32 +91,32 @@ fn boot(replicates: usize, seed: u64) -> BootstrapSettings {
 
 /// The fit on `records` (without the profile intervals, which the bootstrap does not
 /// read) and its bootstrap.
-fn fit_and_boot(
-    records: &[Record],
-    settings: &BootstrapSettings,
-) -> (VarProReport, VarProBootstrap) {
-    let model = parametric();
-    let varpro = VarProSettings {
-        profile: false,
-        ..VarProSettings::default()
+fn fit_and_boot(records: &[Record], settings: &BootstrapSettings) -> (FitReport, Bootstrap) {
+    let identify_settings = IdentifySettings {
+        estimation: VarProSettings {
+            profile: false,
+            ..VarProSettings::default()
+        },
+        bootstrap: Some(*settings),
+        ..self::settings()
     };
-    let report = identify_varpro(&model, records, &self::settings(), &varpro).unwrap();
-    assert!(report.is_estimate(), "{report}");
-    let bootstrap = bootstrap_varpro(
-        &model,
-        records,
-        &self::settings(),
-        &varpro,
-        &report,
-        settings,
-        &dampid::progress::silent,
+    let found = identify(
+        &ParametricRegressor::new(parametric(), records),
+        &identify_settings,
+        &silent,
     )
     .unwrap();
-    (report, bootstrap)
+    assert!(found.report.is_estimate(), "{}", found.report);
+    (found.report, found.bootstrap.expect("a bootstrap"))
 }
 
-fn records_bootstrap() -> &'static (VarProReport, VarProBootstrap) {
-    static RESULT: OnceLock<(VarProReport, VarProBootstrap)> = OnceLock::new();
+/// The estimation of a report with estimated parameters.
+fn estimation(report: &FitReport) -> &Estimation {
+    report.estimation.as_ref().expect("estimated parameters")
+}
+
+fn records_bootstrap() -> &'static (FitReport, Bootstrap) {
+    static RESULT: OnceLock<(FitReport, Bootstrap)> = OnceLock::new();
     RESULT.get_or_init(|| fit_and_boot(noisy(), &boot(100, 0)))
 }
 
@@ -126,27 +125,27 @@ fn records_bootstrap() -> &'static (VarProReport, VarProBootstrap) {
 #[test]
 fn records_intervals_cover_the_truth_and_match_the_joint_ones() {
     let (report, bootstrap) = records_bootstrap();
-    println!("{}", report.clone().with_bootstrap(bootstrap.clone()));
-    assert_eq!(bootstrap.resampled, Resampled::Windows);
-    assert_eq!(bootstrap.groups, AMPLITUDES.len() * CYCLES);
-    assert_eq!(bootstrap.replicates, 100);
-    assert_eq!(
-        bootstrap.used + bootstrap.not_converged + bootstrap.unusable,
-        100
-    );
-    assert_eq!(bootstrap.samples.len(), bootstrap.used);
+    println!("{report}");
+    let summary = &bootstrap.summary;
+    assert_eq!(summary.resampled, Resampled::Windows);
+    assert_eq!(summary.groups, AMPLITUDES.len() * CYCLES);
+    assert_eq!(summary.replicates, 100);
+    assert_eq!(summary.used + summary.not_converged + summary.unusable, 100);
+    assert_eq!(bootstrap.samples.len(), summary.used);
     let exponent = &bootstrap.parameters[0];
     assert_eq!(exponent.name, "exponent");
-    let [wald_lo, wald_hi] = report.parameters[0].joint_interval.unwrap();
+    let [wald_lo, wald_hi] = estimation(report).parameters[0].joint_interval.unwrap();
     let mut ratios = vec![(
         "exponent",
         (exponent.upper - exponent.lower) / (wald_hi - wald_lo),
     )];
     assert!(exponent.contains(EXPONENT), "{exponent:?}");
-    for (truth, (interval, joint)) in [FOUR_MASS_C, D]
-        .into_iter()
-        .zip(bootstrap.coefficients.iter().zip(&report.coefficients))
-    {
+    for (truth, (interval, joint)) in [FOUR_MASS_C, D].into_iter().zip(
+        bootstrap
+            .coefficients
+            .iter()
+            .zip(&estimation(report).coefficients),
+    ) {
         assert_eq!(interval.name, joint.name);
         assert!(interval.contains(truth), "{interval:?} truth {truth}");
         let width = joint.upper.unwrap() - joint.lower.unwrap();
@@ -169,14 +168,22 @@ fn records_intervals_cover_the_truth_and_match_the_joint_ones() {
         (values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (values.len() - 1) as f64).sqrt();
     assert!((sd - exponent.std_error).abs() <= 1e-12 * sd);
     // the text and the JSON carry it
-    let text = report.clone().with_bootstrap(bootstrap.clone()).to_string();
+    let text = report.to_string();
     assert!(text.contains("windows resampled"), "{text}");
     assert!(text.contains("95% percentile interval"), "{text}");
-    let json = serde_json::to_value(report.clone().with_bootstrap(bootstrap.clone())).unwrap();
+    let json = serde_json::to_value(report).unwrap();
     assert_eq!(json["bootstrap"]["resampled"], "windows");
-    assert_eq!(json["bootstrap"]["parameters"][0]["name"], "exponent");
-    let back: VarProReport = serde_json::from_value(json).unwrap();
-    assert_eq!(back.bootstrap.unwrap().coefficients, bootstrap.coefficients);
+    assert_eq!(
+        json["estimation"]["parameters"][0]["bootstrap"]["name"],
+        "exponent"
+    );
+    let back: FitReport = serde_json::from_value(json).unwrap();
+    let intervals: Vec<_> = back
+        .coefficients
+        .iter()
+        .map(|c| c.interval.clone().unwrap())
+        .collect();
+    assert_eq!(intervals, bootstrap.coefficients);
 }
 
 /// The same bits on 1 and 3 threads; the same seed twice gives the same result and
@@ -190,7 +197,7 @@ fn results_do_not_depend_on_the_thread_count_and_follow_the_seed() {
             .unwrap()
             .install(|| fit_and_boot(noisy(), &boot(12, seed)).1)
     };
-    let bits = |b: &VarProBootstrap| -> Vec<Vec<u64>> {
+    let bits = |b: &Bootstrap| -> Vec<Vec<u64>> {
         b.samples
             .iter()
             .map(|s| s.iter().map(|v| v.to_bits()).collect())
@@ -230,7 +237,7 @@ fn force_scale_scales_the_coefficients_intervals_and_leaves_the_exponent() {
     let (_, base) = fit_and_boot(noisy(), &boot(16, 3));
     let (_, other) = fit_and_boot(&scaled, &boot(16, 3));
     assert_eq!(base.drawn, other.drawn);
-    assert_eq!(base.used, other.used);
+    assert_eq!(base.summary.used, other.summary.used);
     let close = |a: f64, b: f64, scale: f64| (a - b).abs() <= 1e-4 * scale;
     for (a, b) in base.parameters.iter().zip(&other.parameters) {
         for (x, y) in [
@@ -281,30 +288,26 @@ fn whole_sweeps_are_resampled_and_cover_the_truth() {
         &table::model_text(&file, "residual = \"stiffness\""),
         "test.toml",
         std::path::Path::new("."),
+        Default::default(),
     )
     .unwrap();
-    let model = job.parametric_regressor().unwrap().unwrap();
-    let varpro = job.varpro_settings();
-    let report = identify_varpro_regressor(&model, &job.settings, &varpro).unwrap();
-    assert!(report.is_estimate(), "{report}");
-    let sweeps = job.sweeps().unwrap();
+    let problem = job.problem();
+    let sweeps = problem.groups().unwrap();
     assert_eq!(sweeps.len(), levels.len() * 11);
-    let bootstrap = bootstrap_varpro_regressor(
-        &model,
-        Some(sweeps),
-        &job.settings,
-        &varpro,
-        &report,
-        &boot(40, 1),
-        &dampid::progress::silent,
-    )
-    .unwrap();
-    let text = report.clone().with_bootstrap(bootstrap.clone()).to_string();
+    let settings = IdentifySettings {
+        bootstrap: Some(boot(40, 1)),
+        ..job.settings.clone()
+    };
+    let found = identify(&problem, &settings, &silent).unwrap();
+    let report = &found.report;
+    assert!(report.is_estimate(), "{report}");
+    let bootstrap = found.bootstrap.clone().expect("a bootstrap");
+    let text = report.to_string();
     println!("{text}");
     assert!(text.contains("whole sweeps resampled"), "{text}");
     assert!(text.contains("read its joint interval"), "{text}");
-    assert_eq!(bootstrap.resampled, Resampled::Sweeps);
-    assert_eq!(bootstrap.groups, levels.len());
+    assert_eq!(bootstrap.summary.resampled, Resampled::Sweeps);
+    assert_eq!(bootstrap.summary.groups, levels.len());
     assert_eq!(bootstrap.drawn.len(), 40);
     for drawn in &bootstrap.drawn {
         assert_eq!(drawn.len(), levels.len());
@@ -317,7 +320,7 @@ fn whole_sweeps_are_resampled_and_cover_the_truth() {
         d.dedup();
         d.len() < levels.len()
     }));
-    assert!(bootstrap.used * 2 >= 40);
+    assert!(bootstrap.summary.used * 2 >= 40);
     assert_eq!(bootstrap.parameters.len(), levels.len());
     for (name, truth) in [("c", table::C), ("d", table::D)] {
         let interval = bootstrap
@@ -325,7 +328,11 @@ fn whole_sweeps_are_resampled_and_cover_the_truth() {
             .iter()
             .find(|i| i.name == name)
             .unwrap();
-        let joint = report.coefficients.iter().find(|c| c.name == name).unwrap();
+        let joint = estimation(report)
+            .coefficients
+            .iter()
+            .find(|c| c.name == name)
+            .unwrap();
         println!(
             "{name}: bootstrap [{}, {}], joint [{}, {}]",
             interval.lower,

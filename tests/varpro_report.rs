@@ -5,12 +5,15 @@
 
 mod support;
 
+use dampid::progress::silent;
+use dampid::regressor::ParametricRegressor;
 use std::path::Path;
 
 use dampid::analysis::equivalent::equivalent_damping;
-use dampid::identify::identify_regressor;
+use dampid::identify::Equivalent;
+use dampid::identify::{IdentifySettings, identify};
 use dampid::report::html::HtmlReport;
-use dampid::varpro::{VarProSettings, identify_varpro_with_regressor};
+use dampid::varpro::VarProSettings;
 use support::cli::{dampid_json, dampid_ok};
 
 fn scratch(name: &str) -> std::path::PathBuf {
@@ -123,28 +126,32 @@ fn report_of_an_estimated_exponent() {
 /// error.
 #[test]
 fn a_fit_that_is_not_an_estimate_shows_no_estimates() {
-    let job = dampid::model_file::load(Path::new("models/four_mass_power.toml")).unwrap();
-    let parametric = job.parametric.as_ref().unwrap();
-    let varpro = VarProSettings {
-        max_iterations: 1,
-        ..job.varpro_settings()
+    let job =
+        dampid::model_file::load(Path::new("models/four_mass_power.toml"), Default::default())
+            .unwrap();
+    let settings = IdentifySettings {
+        estimation: VarProSettings {
+            max_iterations: 1,
+            ..job.settings.estimation
+        },
+        ..job.settings.clone()
     };
-    let (regressor, model, report) =
-        identify_varpro_with_regressor(parametric, &job.records, &job.settings, &varpro).unwrap();
+    let found = identify(&job.problem(), &settings, &silent).unwrap();
+    let report = &found.report;
     assert!(!report.is_estimate(), "{report}");
     let page = HtmlReport {
         title: &job.title,
-        model: &model,
+        model: &found.model,
         records: &job.records,
-        regressor: &regressor,
-        report: &report.fit,
+        regressor: &found.regressor,
+        report,
         truth: job.truth.as_deref(),
         pod: None,
         steady: None,
         provenance: None,
         units: None,
     }
-    .render_varpro(&report, None)
+    .render()
     .unwrap();
     assert!(page.contains("<b>Not an estimate</b>"));
     assert!(page.contains("last trial (not an estimate)"));
@@ -317,26 +324,28 @@ fn equivalent_damping_with_an_estimated_exponent() {
         &file,
         "{ estimate = true, initial = 1.0, lower = 0.5, upper = 3.0 }",
     );
-    let job = dampid::model_file::parse(&estimated, "test.toml", Path::new(".")).unwrap();
-    let fit = job.identify_varpro().expect("a varpro job").unwrap();
+    let job =
+        dampid::model_file::parse(&estimated, "test.toml", Path::new("."), Default::default())
+            .unwrap();
+    let fit = identify(&job.problem(), &job.settings, &silent).unwrap();
     let report = &fit.report;
     assert!(report.is_estimate(), "{report}");
     let exponent = report.parameter("d.exponent").unwrap();
     println!("exponent {exponent}");
     assert!((exponent - P).abs() < 0.1, "exponent {exponent}");
-    let joint = job
-        .equivalent_damping_varpro(&fit.model, report)
-        .unwrap()
-        .unwrap();
+    let Some(Equivalent::Computed(joint)) = fit.equivalent.clone() else {
+        panic!("no equivalent damping: {:?}", fit.equivalent)
+    };
     // The same table with the exponent fixed at its estimate: the conditional fit.
     let fixed_text = model_text(&file, &format!("{exponent:?}"));
-    let fixed_job = dampid::model_file::parse(&fixed_text, "test.toml", Path::new(".")).unwrap();
-    let fixed_report =
-        identify_regressor(&fixed_job.regressor().unwrap(), &fixed_job.settings.fit).unwrap();
-    let fixed = fixed_job
-        .equivalent_damping(&fixed_report)
-        .unwrap()
-        .unwrap();
+    let fixed_job =
+        dampid::model_file::parse(&fixed_text, "test.toml", Path::new("."), Default::default())
+            .unwrap();
+    let fixed_found = identify(&fixed_job.problem(), &fixed_job.settings, &silent).unwrap();
+    let fixed_report = &fixed_found.report;
+    let Some(Equivalent::Computed(fixed)) = fixed_found.equivalent.clone() else {
+        panic!("no equivalent damping: {:?}", fixed_found.equivalent)
+    };
     // The fixed fit at η̂ is the varpro fit's inner fit: the same coefficients.
     for (a, b) in fixed_report.coefficients.iter().zip(&report.coefficients) {
         assert!(
@@ -372,22 +381,20 @@ fn equivalent_damping_with_an_estimated_exponent() {
             j.amplitude
         );
     }
-    // η fixed at η̂ in the varpro model: the formula with u = g alone and the
-    // conditional covariance is the linear path's, bit for bit.
-    let table = job.stepped_sine.as_ref().unwrap();
+    // η fixed at η̂ in the varpro model: the formula with u = g alone is the linear
+    // path's, bit for bit.
+    let fixed_model = ParametricRegressor::linear(&fit.model, job.stepped_sine.as_ref().unwrap());
     let conditional = equivalent_damping(
-        &fit.model,
-        &table.structural,
-        &table.approximation,
-        &table.table,
+        &fixed_model,
+        &[],
         &report
             .coefficients
             .iter()
             .map(|c| c.value)
             .collect::<Vec<_>>(),
         None,
-        joint.modal.clone(),
     )
+    .unwrap()
     .unwrap();
     for (a, b) in conditional.points.iter().zip(&joint.points) {
         assert_eq!(a.dissipated_energy, b.dissipated_energy);

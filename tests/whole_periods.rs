@@ -115,7 +115,9 @@ fn windows_of(job: &dampid::model_file::Job) -> Vec<Window> {
 /// The steady-state check passes, then identify: the report.
 fn identify_job(job: &dampid::model_file::Job) -> FitReport {
     job.steady_state().unwrap().unwrap().enforce().unwrap();
-    dampid::identify(&job.model, &job.records, &job.settings).unwrap()
+    dampid::identify(&job.problem(), &job.settings, &silent)
+        .unwrap()
+        .report
 }
 
 /// The rules and velocity sources valid for periodic windows, with the c each gives on
@@ -162,7 +164,7 @@ fn a_two_period_record_is_one_equation_under_every_rule_and_source() {
     let dir = folder("two");
     write_record(&dir, 2 * PER_PERIOD);
     for (lines, expected) in combinations() {
-        let job = parse(&model_file(2, &lines), "m.toml", &dir).unwrap();
+        let job = parse(&model_file(2, &lines), "m.toml", &dir, Default::default()).unwrap();
         let windows = windows_of(&job);
         assert_eq!(windows.len(), 1, "{lines}");
         let w = windows[0];
@@ -200,7 +202,7 @@ fn central_differences_carry_only_their_velocity_error() {
     write_record(&dir, 2 * PER_PERIOD);
     for rule in ["rectangular", "trapezoid", "spectral"] {
         let lines = format!("quadrature = \"{rule}\"\nvelocity = \"central_difference\"");
-        let job = parse(&model_file(2, &lines), "m.toml", &dir).unwrap();
+        let job = parse(&model_file(2, &lines), "m.toml", &dir, Default::default()).unwrap();
         let c = identify_job(&job).coefficient("c").unwrap();
         let bias = c / PHI.sin() - 1.0;
         assert!(
@@ -218,7 +220,7 @@ fn one_period_windows_use_both_periods() {
     let dir = folder("one");
     write_record(&dir, 2 * PER_PERIOD);
     for (lines, expected) in combinations() {
-        let job = parse(&model_file(1, &lines), "m.toml", &dir).unwrap();
+        let job = parse(&model_file(1, &lines), "m.toml", &dir, Default::default()).unwrap();
         let windows = windows_of(&job);
         assert_eq!(windows.len(), 2, "{lines}");
         assert!(!windows[0].closed && windows[1].closed, "{lines}");
@@ -388,7 +390,7 @@ fn steady_state_of_a_closed_window_is_checked_without_the_closure() {
     let dir = folder("steady");
     write_record(&dir, 2 * PER_PERIOD);
     for cycles in [1, 2] {
-        let job = parse(&model_file(cycles, ""), "m.toml", &dir).unwrap();
+        let job = parse(&model_file(cycles, ""), "m.toml", &dir, Default::default()).unwrap();
         let report = job.steady_state().unwrap().unwrap();
         assert!(report.windows.iter().all(|w| w.steady), "{report}");
         let closed = report.windows.last().unwrap();
@@ -409,7 +411,7 @@ fn steady_state_of_a_closed_window_is_checked_without_the_closure() {
     }
     std::fs::write(dir.join("rec00.csv"), csv).unwrap();
     for cycles in [1, 2] {
-        let job = parse(&model_file(cycles, ""), "m.toml", &dir).unwrap();
+        let job = parse(&model_file(cycles, ""), "m.toml", &dir, Default::default()).unwrap();
         let report = job.steady_state().unwrap().unwrap();
         let closed = report.windows.last().unwrap();
         assert!(!closed.steady, "cycles = {cycles}: {report}");
@@ -506,6 +508,7 @@ fn four_mass_chain_cut_to_exactly_two_periods() {
             &four_mass_file(recorded, cycles),
             "four_mass.toml",
             Path::new("."),
+            Default::default(),
         )
         .unwrap();
         let windows = windows_of(&job);

@@ -21,7 +21,11 @@ const TRUTH: [(&str, f64); 5] = [
 /// dashpots as not separable.
 #[test]
 fn first_try_is_flagged_as_not_identifiable() {
-    let job = load(Path::new("models/walkthrough_first_try.toml")).unwrap();
+    let job = load(
+        Path::new("models/walkthrough_first_try.toml"),
+        Default::default(),
+    )
+    .unwrap();
     let period = 2.0 * std::f64::consts::PI / 0.765367;
     for detected in &job.detected_periods {
         let detected = detected.expect("no period in the file: detected");
@@ -34,7 +38,9 @@ fn first_try_is_flagged_as_not_identifiable() {
             .enforce()
             .is_ok()
     );
-    let report = dampid::identify(&job.model, &job.records, &job.settings).unwrap();
+    let report = dampid::identify(&job.problem(), &job.settings, &dampid::progress::silent)
+        .unwrap()
+        .report;
     let identifiability = &report.identifiability;
     assert!(!identifiability.separable());
     assert!(identifiability.practical_rank < 5);
@@ -63,9 +69,11 @@ fn first_try_is_flagged_as_not_identifiable() {
 /// with standard errors, and `--report` writes the HTML report.
 #[test]
 fn walkthrough_model_file_identifies_the_chain() {
-    let job = load(Path::new("models/walkthrough.toml")).unwrap();
+    let job = load(Path::new("models/walkthrough.toml"), Default::default()).unwrap();
     assert_eq!(job.records.len(), 12);
-    let report = dampid::identify(&job.model, &job.records, &job.settings).unwrap();
+    let report = dampid::identify(&job.problem(), &job.settings, &dampid::progress::silent)
+        .unwrap()
+        .report;
     assert!(report.identifiability.separable());
     for (name, value) in TRUTH {
         let estimate = report.coefficient(name).unwrap();

@@ -19,6 +19,8 @@
 
 #![no_main]
 
+use dampid::progress::silent;
+use dampid::regressor::ParametricRegressor;
 use std::path::{Component, Path};
 use std::time::Duration;
 
@@ -68,13 +70,13 @@ fuzz_target!(
             return;
         }
         let base = Path::new(env!("CARGO_MANIFEST_DIR")).join("../models");
-        let Ok(job) = parse(text, "fuzz.toml", &base) else {
+        let Ok(job) = parse(text, "fuzz.toml", &base, Default::default()) else {
             return;
         };
-        let Ok(regressor) = job.regressor() else {
+        let Ok(regressor) = job.initial_regressor() else {
             return;
         };
-        if let Ok(report) = dampid::identify::identify_regressor(&regressor, &job.settings.fit) {
+        if let Ok(report) = identify(&ParametricRegressor::rows(&regressor), &IdentifySettings { fit: (job.settings.fit).clone(), ..Default::default() }, &silent).map(|i| i.report) {
             support::check(&report);
         }
         // `dampid check` reads the same solve: any outcome but a panic.

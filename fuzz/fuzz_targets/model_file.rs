@@ -13,6 +13,8 @@
 
 #![no_main]
 
+use dampid::progress::silent;
+use dampid::regressor::ParametricRegressor;
 use std::path::{Component, Path};
 
 use dampid::model_file::{ModelFileSpec, parse};
@@ -75,12 +77,12 @@ fuzz_target!(|bytes: &[u8]| {
         return;
     }
     let base = Path::new(env!("CARGO_MANIFEST_DIR")).join("data");
-    let Ok(job) = parse(text, "fuzz.toml", &base) else {
+    let Ok(job) = parse(text, "fuzz.toml", &base, Default::default()) else {
         return;
     };
     // As `dampid identify` does: periodic windows or the non-periodic balance.
-    if let Ok(regressor) = job.regressor()
-        && let Ok(report) = dampid::identify::identify_regressor(&regressor, &job.settings.fit)
+    if let Ok(regressor) = job.initial_regressor()
+        && let Ok(report) = identify(&ParametricRegressor::rows(&regressor), &IdentifySettings { fit: (job.settings.fit).clone(), ..Default::default() }, &silent).map(|i| i.report)
     {
         support::check(&report);
     }

@@ -1,17 +1,15 @@
-//! `dampid.Report`: the library's [`FitReport`] with the context its text and HTML
-//! forms need (title, model, regressor, and the records for the HTML plots).
+//! `dampid.Report`: the library's [`Identification`] with the context its text and HTML
+//! forms need (the job, or the records for the HTML plots, and the provenance).
 
 use std::path::PathBuf;
 
-use dampid::model::DampingModel;
+use dampid::command::identify::{Identified, IdentifyOptions};
+use dampid::identify::{Equivalent, Identification};
 use dampid::model_file::Job;
-use dampid::prep::steady_state::SteadyStateReport;
 use dampid::record::{Record, Sensor};
-use dampid::regressor::Regressor;
-use dampid::report::FitReport;
 use dampid::report::html::HtmlReport;
 use dampid::report::provenance::{ArrayDigest, COMMIT, Provenance, Setting, VERSION, now_utc};
-use dampid::report::varpro::VarProReport;
+use dampid::report::{Estimation, FitReport};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -20,9 +18,9 @@ use crate::record::{Lent, PyRecord};
 
 /// Where the records of a report are, for its HTML plots and provenance.
 pub enum Source {
-    /// A model file's job (`identify_file`) and the file's path: records, title, truth
-    /// and POD.
-    Job(Box<Job>, PathBuf),
+    /// A model file's job (`identify_file`), the file's path and the options it ran
+    /// with: records, title, truth and POD.
+    Job(Box<Job>, PathBuf, IdentifyOptions),
     /// The `Record` objects of `identify`.
     Records(Vec<Py<PyRecord>>),
     /// Rows alone (`fit_rows`): no records.
@@ -32,17 +30,11 @@ pub enum Source {
 /// The result of an identification.
 #[pyclass(name = "Report", module = "dampid", frozen)]
 pub struct PyReport {
-    /// The linear fit (at the estimated nonlinear parameters when `varpro` is given).
-    pub report: FitReport,
-    /// The variable-projection report of a model file with estimated law parameters or
-    /// residual receptances (`identify_file`); `None` otherwise.
-    pub varpro: Option<VarProReport>,
-    pub model: DampingModel,
+    /// What the identification found: the report (with its estimated parameters, when
+    /// there are any), the regressor and model at the estimate, the steady state.
+    pub identification: Identification,
     /// The model's file (or `<model text>`) and text, for the provenance of arrays.
     pub model_file: (String, String),
-    pub regressor: Regressor,
-    /// The steady-state check of the windows (`None`: not run, or non-periodic).
-    pub steady: Option<SteadyStateReport>,
     /// The settings of the call and every setting in effect, for the provenance.
     pub settings: Vec<Setting>,
     pub source: Source,
@@ -64,19 +56,31 @@ fn names_to<T>(
         .collect()
 }
 
+impl PyReport {
+    /// The report.
+    fn report(&self) -> &FitReport {
+        &self.identification.report
+    }
+
+    /// Its estimation, when it estimated nonlinear parameters.
+    fn estimation(&self) -> Option<&Estimation> {
+        self.report().estimation.as_ref()
+    }
+}
+
 #[pymethods]
 impl PyReport {
     /// How the fit ended ("Solved", ...).
     #[getter]
     fn status(&self) -> String {
-        format!("{:?}", self.report.status)
+        format!("{:?}", self.report().status)
     }
 
     /// Coefficient name → value (nuisance unknowns of a non-periodic fit included).
     #[getter]
     fn coefficients<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let dict = PyDict::new(py);
-        for (name, value) in names_to(&self.report, |c| c.value) {
+        for (name, value) in names_to(self.report(), |c| c.value) {
             dict.set_item(name, value)?;
         }
         Ok(dict)
@@ -88,14 +92,14 @@ impl PyReport {
     #[getter]
     fn std_errors<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let dict = PyDict::new(py);
-        if let Some(varpro) = &self.varpro {
-            let estimate = varpro.is_estimate();
-            for c in &varpro.coefficients {
+        if let Some(estimation) = self.estimation() {
+            let estimate = self.report().is_estimate();
+            for c in &estimation.coefficients {
                 dict.set_item(&c.name, c.std_error.filter(|_| estimate))?;
             }
             return Ok(dict);
         }
-        for (name, value) in names_to(&self.report, |c| c.std_error) {
+        for (name, value) in names_to(self.report(), |c| c.std_error) {
             dict.set_item(name, value)?;
         }
         Ok(dict)
@@ -106,11 +110,11 @@ impl PyReport {
     /// With estimated nonlinear parameters, the joint intervals (`joint_intervals`).
     #[getter]
     fn intervals<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        if self.varpro.is_some() {
+        if self.estimation().is_some() {
             return Ok(self.joint_intervals(py)?.unwrap_or_else(|| PyDict::new(py)));
         }
         let dict = PyDict::new(py);
-        for (name, interval) in names_to(&self.report, |c| match (&c.interval, c.std_error) {
+        for (name, interval) in names_to(self.report(), |c| match (&c.interval, c.std_error) {
             (Some(i), _) => Some((i.lower, i.upper)),
             (None, Some(se)) => Some((c.value - 1.96 * se, c.value + 1.96 * se)),
             (None, None) => None,
@@ -124,9 +128,7 @@ impl PyReport {
     /// determined; with estimated nonlinear parameters, also the outer loop converged.
     #[getter]
     fn is_estimate(&self) -> bool {
-        self.varpro
-            .as_ref()
-            .map_or(self.report.is_estimate(), VarProReport::is_estimate)
+        self.report().is_estimate()
     }
 
     /// Estimated nonlinear parameter name → (value, (low, high)) at the report's
@@ -136,10 +138,10 @@ impl PyReport {
     /// trial). None for a fit without estimated nonlinear parameters.
     #[getter]
     fn estimated_parameters<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
-        let Some(varpro) = &self.varpro else {
+        let Some(varpro) = self.estimation() else {
             return Ok(None);
         };
-        let estimate = varpro.is_estimate();
+        let estimate = self.report().is_estimate();
         let dict = PyDict::new(py);
         for p in &varpro.parameters {
             let interval = match (&p.interval, p.joint_interval) {
@@ -159,10 +161,10 @@ impl PyReport {
     /// estimate). None for a fit without estimated nonlinear parameters.
     #[getter]
     fn joint_intervals<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
-        let Some(varpro) = &self.varpro else {
+        let Some(varpro) = self.estimation() else {
             return Ok(None);
         };
-        let estimate = varpro.is_estimate();
+        let estimate = self.report().is_estimate();
         let dict = PyDict::new(py);
         for c in &varpro.coefficients {
             let interval = c.lower.zip(c.upper).filter(|_| estimate);
@@ -174,25 +176,25 @@ impl PyReport {
     /// Condition number of the column-scaled regressor (None when rank deficient).
     #[getter]
     fn condition_number(&self) -> Option<f64> {
-        self.report.condition_number
+        self.report().condition_number
     }
 
     /// Numerical rank.
     #[getter]
     fn rank(&self) -> usize {
-        self.report.rank
+        self.report().rank
     }
 
     /// ‖b − Aθ‖ / ‖b‖.
     #[getter]
     fn relative_residual(&self) -> f64 {
-        self.report.relative_residual
+        self.report().relative_residual
     }
 
     /// Mean residual relative to the mean |input work|.
     #[getter]
     fn residual_bias(&self) -> f64 {
-        self.report.residual_bias.relative_mean
+        self.report().residual_bias.relative_mean
     }
 
     /// Wall seconds the call that made this report spent inside the library's stages
@@ -207,17 +209,18 @@ impl PyReport {
     /// The warnings in words.
     #[getter]
     fn warnings(&self) -> Vec<String> {
-        self.report.warnings.iter().map(|w| w.to_string()).collect()
+        self.report()
+            .warnings
+            .iter()
+            .map(|w| w.to_string())
+            .collect()
     }
 
-    /// The JSON report (the CLI's `--json` "report" object; with estimated nonlinear
-    /// parameters its "varpro" object) as a string.
+    /// The JSON report (the CLI's `--json` "report" object, with its "estimation" when
+    /// nonlinear parameters were estimated) as a string.
     fn to_json(&self) -> PyResult<String> {
-        match &self.varpro {
-            Some(varpro) => serde_json::to_string_pretty(varpro),
-            None => serde_json::to_string_pretty(&self.report),
-        }
-        .map_err(|e| crate::error::argument(format!("the report does not serialize: {e}")))
+        serde_json::to_string_pretty(self.report())
+            .map_err(|e| crate::error::argument(format!("the report does not serialize: {e}")))
     }
 
     /// The JSON report as a dict (`json.loads(report.to_json())`).
@@ -230,11 +233,11 @@ impl PyReport {
     }
 
     fn __repr__(&self) -> String {
-        let mut coefficients: Vec<String> = names_to(&self.report, |c| c.value)
+        let mut coefficients: Vec<String> = names_to(self.report(), |c| c.value)
             .into_iter()
             .map(|(n, v)| format!("{n}={v:.6e}"))
             .collect();
-        if let Some(varpro) = &self.varpro {
+        if let Some(varpro) = self.estimation() {
             coefficients.extend(
                 varpro
                     .parameters
@@ -254,15 +257,16 @@ impl PyReport {
         let mut html = format!(
             "<table><caption>dampid: {} (rank {}, condition {}, relative residual {:.3e})</caption><tr><th>coefficient</th><th>value</th><th>std. error</th></tr>",
             self.status(),
-            self.report.rank,
-            self.report
+            self.report().rank,
+            self.report()
                 .condition_number
                 .map_or("-".to_string(), |c| format!("{c:.3e}")),
-            self.report.relative_residual
+            self.report().relative_residual
         );
         // With estimated nonlinear parameters: the joint standard errors (none when the
         // fit is not an estimate), then the parameters.
-        let rows: Vec<(String, f64, Option<f64>)> = match &self.varpro {
+        let estimate = self.report().is_estimate();
+        let rows: Vec<(String, f64, Option<f64>)> = match self.estimation() {
             Some(varpro) => varpro
                 .coefficients
                 .iter()
@@ -273,9 +277,9 @@ impl PyReport {
                         .iter()
                         .map(|p| (p.name.clone(), p.value, p.std_error)),
                 )
-                .map(|(n, v, s)| (n, v, s.filter(|_| varpro.is_estimate())))
+                .map(|(n, v, s)| (n, v, s.filter(|_| estimate)))
                 .collect(),
-            None => names_to(&self.report, |c| (c.value, c.std_error))
+            None => names_to(self.report(), |c| (c.value, c.std_error))
                 .into_iter()
                 .map(|(n, (v, s))| (n, v, s))
                 .collect(),
@@ -289,7 +293,7 @@ impl PyReport {
             ));
         }
         html.push_str("</table>");
-        for w in &self.report.warnings {
+        for w in &self.report().warnings {
             html.push_str(&format!("<p>⚠ {}</p>", escape(&w.to_string())));
         }
         html
@@ -305,68 +309,55 @@ impl PyReport {
         overwrite: bool,
     ) -> PyResult<()> {
         use dampid::io::output::{Overwrite, write_file};
-        let page = |records: &[Record], title: &str, job: Option<&Job>, provenance| {
-            if let (Some(varpro), Some(job)) = (&self.varpro, job) {
-                let equivalent = job
-                    .equivalent_damping_varpro(&self.model, varpro)
-                    .and_then(|e| e.ok());
-                return HtmlReport {
-                    title,
-                    model: &self.model,
-                    records,
-                    regressor: &self.regressor,
-                    report: &self.report,
-                    truth: job.truth.as_deref(),
-                    pod: job.pod.as_ref(),
-                    steady: self.steady.as_ref(),
-                    provenance: Some(&provenance),
-                    units: Some(&job.units),
-                }
-                .render_varpro(varpro, equivalent.as_ref());
-            }
-            let equivalent = job.and_then(|j| j.equivalent_damping(&self.report));
+        let found = &self.identification;
+        let equivalent = match &found.equivalent {
+            Some(Equivalent::Computed(e)) => Some(e),
+            _ => None,
+        };
+        let page = |records: &[Record], provenance| {
             HtmlReport {
-                title,
-                model: &self.model,
+                title: "dampid",
+                model: &found.model,
                 records,
-                regressor: &self.regressor,
-                report: &self.report,
-                truth: job.and_then(|j| j.truth.as_deref()),
-                pod: job.and_then(|j| j.pod.as_ref()),
-                steady: self.steady.as_ref(),
+                regressor: &found.regressor,
+                report: &found.report,
+                truth: None,
+                pod: None,
+                steady: found.steady_state.as_ref(),
                 provenance: Some(&provenance),
-                units: job.map(|j| &j.units),
+                units: None,
             }
-            .render_with(equivalent.as_ref().and_then(|e| e.as_ref().ok()))
+            .render_with(equivalent)
         };
         let page = match &self.source {
-            Source::Job(job, file) => {
+            Source::Job(job, file, options) => {
                 let mut provenance = job.provenance(file, &[]).py_err()?;
                 provenance
                     .settings
                     .splice(0..0, self.settings.iter().cloned());
-                page(&job.records, &job.title, Some(job), provenance)
+                let outcome = Identified {
+                    job,
+                    options,
+                    identification: found,
+                };
+                outcome.html_with(Some(&provenance))
             }
             Source::Rows => {
                 // The rows came as arrays: A and b are what the fit read.
-                let rhs = faer::ColRef::from_slice(self.regressor.rhs());
+                let regressor = &found.regressor;
+                let rhs = faer::ColRef::from_slice(regressor.rhs());
                 let arrays = vec![
-                    ArrayDigest::of("rows", "A", self.regressor.matrix().as_ref(), false),
+                    ArrayDigest::of("rows", "A", regressor.matrix().as_ref(), false),
                     ArrayDigest::of("rows", "b", rhs.as_mat(), true),
                 ];
-                page(&[], "dampid", None, self.arrays_provenance(arrays))
+                page(&[], self.arrays_provenance(arrays))
             }
             Source::Records(list) => {
                 let bound: Vec<Bound<'_, PyRecord>> =
                     list.iter().map(|r| r.bind(py).clone()).collect();
                 let lent = Lent::take(&bound)?;
                 let arrays = lent.records.iter().flat_map(digests).collect();
-                let page = page(
-                    &lent.records,
-                    "dampid",
-                    None,
-                    self.arrays_provenance(arrays),
-                );
+                let page = page(&lent.records, self.arrays_provenance(arrays));
                 lent.restore();
                 page
             }

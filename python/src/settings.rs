@@ -5,9 +5,9 @@
 //! [`dampid::model_file::non_periodic_identification`] against the model's text (its
 //! `dofs` and `[matrices]`).
 
+use dampid::identify::IdentifySettings;
 use dampid::model_file::{
-    IDENTIFICATION_KEYS, Identification, identification, non_periodic_identification,
-    settings_in_effect,
+    IDENTIFICATION_KEYS, identification, non_periodic_identification, settings_in_effect,
 };
 use dampid::report::provenance::{Setting, SettingSource};
 use dampid::report::units::Units;
@@ -18,8 +18,9 @@ use crate::error::{IntoPy, argument, to_py};
 
 /// The settings of one call.
 pub struct Settings {
-    /// `[identification]` (and `[non_periodic]`) as the library reads them.
-    pub identification: Identification,
+    /// `[identification]` (and `[non_periodic]`) as the library reads them, with the
+    /// steady-state check of the windows.
+    pub identification: IdentifySettings,
     /// `[non_periodic]`: windows of fixed spans with stored-energy unknowns.
     pub non_periodic: bool,
     /// `[non_periodic] high_pass`: the cut-off of the integration of velocity or
@@ -38,8 +39,7 @@ impl Settings {
     pub fn provenance(&self, call: String) -> Vec<Setting> {
         let mut rows = vec![crate::python_call(call)];
         rows.extend(settings_in_effect(
-            &self.identification.settings,
-            &self.identification.steady_state,
+            &self.identification,
             None,
             &Units::default(),
             (&self.given_table, SettingSource::Keyword),

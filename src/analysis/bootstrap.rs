@@ -25,6 +25,7 @@ use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
+use std::fmt;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use crate::error::{Error, Result};
@@ -97,6 +98,26 @@ impl ConfidenceInterval {
     }
 }
 
+/// What a replicate draws with replacement.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Resampled {
+    /// Single equations (windows of whole periods of records, or single points).
+    #[default]
+    Windows,
+    /// Whole groups of equations: the sweeps of a stepped-sine table.
+    Sweeps,
+}
+
+impl fmt::Display for Resampled {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Resampled::Windows => "windows",
+            Resampled::Sweeps => "whole sweeps",
+        })
+    }
+}
+
 /// How a bootstrap was run.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct BootstrapSummary {
@@ -110,6 +131,25 @@ pub struct BootstrapSummary {
     pub level: f64,
     /// The fit each replicate used.
     pub method: FitMethod,
+    /// What a replicate drew: windows, or whole sweeps.
+    #[serde(default)]
+    pub resampled: Resampled,
+    /// How many units (windows or sweeps) there are to draw from; a replicate draws as
+    /// many, with replacement.
+    #[serde(default)]
+    pub groups: usize,
+    /// Replicates dropped because their outer loop (estimated parameters) did not
+    /// converge.
+    #[serde(default)]
+    pub not_converged: usize,
+    /// Replicates dropped because their fit was not usable (solver status, a numerical
+    /// failure, or a rank below the full data's).
+    #[serde(default)]
+    pub unusable: usize,
+    /// Regressors built by the replicates (estimated parameters: each trial of each
+    /// outer loop rebuilds one; 0 when the rows of one regressor are resampled).
+    #[serde(default)]
+    pub evaluations: u64,
 }
 
 /// The result of a bootstrap.
@@ -117,10 +157,16 @@ pub struct BootstrapSummary {
 pub struct Bootstrap {
     /// How it was run.
     pub summary: BootstrapSummary,
-    /// One interval per coefficient, in model order.
-    pub intervals: Vec<ConfidenceInterval>,
-    /// θ* of each kept replicate (replicate × coefficient), in replicate order.
+    /// One interval per estimated nonlinear parameter, in parameter order (empty when
+    /// nothing nonlinear is estimated).
+    pub parameters: Vec<ConfidenceInterval>,
+    /// One interval per coefficient, in column order.
+    pub coefficients: Vec<ConfidenceInterval>,
+    /// (η*, θ*) of each kept replicate (η* first, when estimated), in replicate order.
     pub samples: Vec<Vec<f64>>,
+    /// The units each replicate drew (indices in 0..`summary.groups`), every replicate
+    /// in replicate order, kept or not.
+    pub drawn: Vec<Vec<usize>>,
 }
 
 /// splitmix64: a bijective 64-bit mixer (Steele, Lea, Flood 2014).
@@ -144,48 +190,32 @@ pub(crate) fn rank_of(regressor: &Regressor, tolerance: f64) -> usize {
     )
 }
 
-/// Resamples the windows (rows) of `regressor`, refits each replicate with `fit`, and
-/// returns percentile intervals.
+/// The bootstrap of the rows of `regressor`: each replicate draws, with replacement,
+/// as many units as there are, single rows (`groups` `None`: windows) or whole groups
+/// of rows (`groups[r]` the group of row r, the sweep of a stepped-sine point: the
+/// cluster bootstrap, so that errors correlated within a group, a drift of the sensor
+/// over one sweep or the residual compliance of one level, are resampled as they
+/// occur; fewer than two groups is an error), refits them with `fit` and returns
+/// percentile intervals. `progress(done, total)` counts replicates as they finish
+/// (from the worker threads, in any order; `done` counts up);
+/// [`crate::cancel::check`] runs before each. `dampid identify --bootstrap` runs it
+/// through [`crate::identify::identify`], which resamples a table's sweeps and, with
+/// estimated parameters, refits the whole variable projection per replicate.
 pub fn bootstrap(
     regressor: &Regressor,
     fit: &FitSettings,
     settings: &BootstrapSettings,
-) -> Result<Bootstrap> {
-    bootstrap_with_progress(regressor, fit, settings, &crate::progress::silent)
-}
-
-/// [`bootstrap`], calling `progress(done, total)` in replicates as they finish (from
-/// the worker threads, in any order; `done` counts up). It checks
-/// [`crate::cancel::check`] before each replicate.
-pub fn bootstrap_with_progress(
-    regressor: &Regressor,
-    fit: &FitSettings,
-    settings: &BootstrapSettings,
+    groups: Option<&[usize]>,
     progress: Progress<'_>,
 ) -> Result<Bootstrap> {
-    let groups = Groups::rows(regressor.equations());
-    resample(regressor, fit, settings, progress, |rng: &mut StdRng| {
-        groups.rows_of(&groups.draw(rng))
-    })
-}
-
-/// The cluster (block) bootstrap: resamples whole groups of rows, `groups[r]` the group
-/// of row r (the sweep of a stepped-sine point), so that errors correlated within a
-/// group (a drift of the sensor over one sweep, the residual compliance of one level)
-/// are resampled as they occur. A replicate draws as many groups as there are, with
-/// replacement, and keeps all rows of each; fewer than two groups is an error. Progress
-/// and cancellation as in [`bootstrap_with_progress`].
-pub fn bootstrap_groups(
-    regressor: &Regressor,
-    fit: &FitSettings,
-    settings: &BootstrapSettings,
-    groups: &[usize],
-    progress: Progress<'_>,
-) -> Result<Bootstrap> {
-    let groups = Groups::of(groups, regressor.equations())?;
-    resample(regressor, fit, settings, progress, |rng: &mut StdRng| {
-        groups.rows_of(&groups.draw(rng))
-    })
+    let (units, resampled) = match groups {
+        None => (Groups::rows(regressor.equations()), Resampled::Windows),
+        Some(groups) => (
+            Groups::of(groups, regressor.equations())?,
+            Resampled::Sweeps,
+        ),
+    };
+    resample(regressor, fit, settings, progress, &units, resampled)
 }
 
 /// The units a replicate draws with replacement: single rows (windows), or whole
@@ -260,13 +290,14 @@ impl Groups {
     }
 }
 
-/// The bootstrap with replicates whose rows `draw` picks.
+/// The bootstrap with replicates that draw `units`.
 fn resample(
     regressor: &Regressor,
     fit: &FitSettings,
     settings: &BootstrapSettings,
     progress: Progress<'_>,
-    draw: impl Fn(&mut StdRng) -> Vec<usize> + Sync,
+    units: &Groups,
+    resampled: Resampled,
 ) -> Result<Bootstrap> {
     settings.validate()?;
     fit.validate()?;
@@ -289,22 +320,24 @@ fn resample(
         "reduce the replicates (--bootstrap N); 1000 to 2000 give 95% intervals",
     )?;
     let full_rank = rank_of(regressor, fit.rank_tolerance);
-    let one_replicate = |k: usize| -> Result<Option<Vec<f64>>> {
+    let one_replicate = |k: usize| -> Result<(Vec<usize>, Option<Vec<f64>>)> {
         let mut rng = replicate_rng(settings.seed, k);
-        let rows = draw(&mut rng);
+        let drawn = units.draw(&mut rng);
+        let rows = units.rows_of(&drawn);
         // The rows keep their noise model, so a weighted fit stays weighted.
         let resampled = regressor.select_rows(&rows)?;
         if rank_of(&resampled, fit.rank_tolerance) < full_rank {
-            return Ok(None);
+            return Ok((drawn, None));
         }
         match solve(&resampled, fit) {
-            Ok(f) if f.status.is_usable() => Ok(Some(f.coefficients)),
-            Ok(_) | Err(Error::Numerical { .. }) => Ok(None),
+            Ok(f) if f.status.is_usable() => Ok((drawn, Some(f.coefficients))),
+            Ok(_) | Err(Error::Numerical { .. }) => Ok((drawn, None)),
             Err(e) => Err(e),
         }
     };
     let outcomes = run_replicates(settings, progress, &one_replicate)?;
-    let samples: Vec<Vec<f64>> = outcomes.into_iter().flatten().collect();
+    let (drawn, kept): (Vec<Vec<usize>>, Vec<Option<Vec<f64>>>) = outcomes.into_iter().unzip();
+    let samples: Vec<Vec<f64>> = kept.into_iter().flatten().collect();
     let used = samples.len();
     if 2 * used < settings.replicates {
         return Err(Error::Numerical {
@@ -320,7 +353,7 @@ fn resample(
     } else {
         FitMethod::Constrained
     };
-    let intervals = regressor
+    let coefficients = regressor
         .columns()
         .iter()
         .enumerate()
@@ -333,9 +366,16 @@ fn resample(
             seed: settings.seed,
             level: settings.level,
             method,
+            resampled,
+            groups: units.count(),
+            not_converged: 0,
+            unusable: settings.replicates - used,
+            evaluations: 0,
         },
-        intervals,
+        parameters: Vec::new(),
+        coefficients,
         samples,
+        drawn,
     })
 }
 

@@ -232,7 +232,7 @@ pub fn simulate_candidates(
             crate::cancel::check("simulating the design candidates")?;
             let mut one = system.clone();
             one.forcing = vec![*force];
-            let simulated = simulate(&one, simulation);
+            let simulated = simulate(&one, simulation, &crate::progress::silent);
             let mut parts =
                 crate::cancel::within("simulating the design candidates", simulated)?.into_parts();
             parts.label = candidate_label(force);
@@ -252,19 +252,9 @@ pub fn design(
 ) -> Result<DesignReport> {
     settings.validate(candidates.len())?;
     let records = simulate_candidates(nominal, candidates, simulation)?;
-    select(model, &records, regressor, settings)
-}
-
-/// Greedy selection among candidates already simulated (or measured): one record each.
-pub fn select(
-    model: &DampingModel,
-    records: &[Record],
-    regressor: &RegressorSettings,
-    settings: &DesignSettings,
-) -> Result<DesignReport> {
-    select_with_progress(
+    select(
         model,
-        records,
+        &records,
         regressor,
         settings,
         &crate::progress::silent,
@@ -280,11 +270,11 @@ fn work_units(candidates: usize, started: usize, picks: usize) -> u64 {
     (0..steps).map(|i| (left - i) as u64).sum::<u64>() + candidates as u64
 }
 
-/// [`select`], calling `progress(done, total)` in units of `work_units` (blocks
-/// built, then candidate evaluations; the count jumps to the end when the target
-/// condition number stops the selection early). It checks [`crate::cancel::check`]
-/// before each unit.
-pub fn select_with_progress(
+/// Greedy selection among candidates already simulated (or measured): one record each.
+/// `progress(done, total)` counts in units of `work_units` (blocks built, then
+/// candidate evaluations; the count jumps to the end when the target condition number
+/// stops the selection early); [`crate::cancel::check`] runs before each unit.
+pub fn select(
     model: &DampingModel,
     records: &[Record],
     regressor: &RegressorSettings,

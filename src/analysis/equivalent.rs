@@ -12,9 +12,23 @@
 //! ```
 //!
 //! the loss factor being E_d over 2π times the peak stored energy ½kX². Both are linear
-//! in θ, so their standard deviations are √(gᵀΣg) over the same factors, Σ the
-//! coefficient covariance of the report (its standard errors and correlation; the
-//! modal mass is taken as exact). Intervals are ± 1.96 standard deviations.
+//! in θ; when law parameters η were estimated with θ (variable projection), g depends on
+//! them too, and to first order about (θ̂, η̂)
+//!
+//! ```text
+//!   δE_d = g(X; η̂)ᵀ δθ + θ̂ᵀ ∂g/∂η(X; η̂) δη = uᵀ (δθ, δη),
+//!   u = [g(X; η̂),  (∂g/∂η_j)ᵀ θ̂ for each law parameter j,  0 for the other unknowns],
+//!   Var E_d(X) = uᵀ Σ u,
+//! ```
+//!
+//! with Σ the covariance of the report ([`crate::report::FitReport::covariance`]: the
+//! joint covariance of (θ, η), σ²(JᵀJ)⁻¹, when parameters were estimated, else the
+//! coefficients' own; the modal mass is taken as exact). ∂g/∂η_j by central differences
+//! of the columns at η̂ ± h e_j, h = 10⁻⁵ of the parameter's bound interval (one-sided at
+//! a bound), as the joint Jacobian is differenced. Unknowns that change the table but
+//! not the law (a table's residual receptances, which correct the measured response)
+//! do not enter g: their entries of u are 0, though their covariance with θ still
+//! reaches E_d through g(X; η̂)ᵀδθ. Intervals are ± 1.96 standard deviations.
 //!
 //! **Modal mass and stiffness.** From `[system]` (1 × 1 mass and stiffness), or
 //! estimated from the frequency response of the lowest level (the sweep with the
@@ -29,9 +43,10 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 use crate::model::DampingModel;
+use crate::prep::harmonic::SteppedSinePoint;
 use crate::prep::harmonic::sweeps::SweptTable;
-use crate::prep::harmonic::{HarmonicApproximation, SteppedSinePoint};
-use crate::regressor::stepped_sine::{StructuralTerm, columns_of};
+use crate::regressor::stepped_sine::columns_of;
+use crate::regressor::{NonlinearParameter, ParametricRegressor, SteppedSineSource};
 
 /// Amplitudes the curves are evaluated at.
 const GRID: usize = 12;
@@ -178,38 +193,126 @@ pub struct EquivalentDamping {
     pub points: Vec<EquivalentPoint>,
 }
 
-/// ζ_eq(X) and η(X) of `model` (plus `structural` terms) with the fitted `coefficients`
-/// (in column order) over the amplitude range of `swept`; with their `covariance`
-/// (p × p, when every coefficient has a standard error), intervals too.
+/// ζ_eq(X) and η(X) of a one-DOF stepped-sine `problem` at the estimate `values` (every
+/// nonlinear parameter, in the problem's order; empty for a linear problem) with the
+/// fitted `coefficients` (in column order) over the table's amplitude range, the modal
+/// mass and stiffness from the table's `[system]` or its lowest level (module doc);
+/// with `covariance` ((p + q) × (p + q) when parameters were estimated, else p × p),
+/// intervals too. `None` when the problem is not a one-DOF table.
 pub fn equivalent_damping(
-    model: &DampingModel,
-    structural: &[StructuralTerm],
-    approximation: &HarmonicApproximation,
-    swept: &SweptTable,
+    problem: &ParametricRegressor<'_>,
+    values: &[f64],
+    coefficients: &[f64],
+    covariance: Option<&[Vec<f64>]>,
+) -> Option<Result<EquivalentDamping>> {
+    let table = problem.source().stepped_sine()?;
+    if table.table.table.dofs() != 1 {
+        return None;
+    }
+    let modal = match table.system {
+        Some(system) => Modal::given(system.mass, system.stiffness),
+        None => Modal::from_lowest_level(&table.table),
+    };
+    Some(modal.and_then(|modal| {
+        let law = problem.law();
+        let q_law = law.parameters().len();
+        if values.len() < q_law {
+            return Err(Error::mismatch(
+                "estimated values vs the law's parameters",
+                q_law,
+                values.len(),
+            ));
+        }
+        of_table(
+            &|eta| law.at(eta),
+            &values[..q_law],
+            law.parameters(),
+            table,
+            coefficients,
+            covariance,
+            modal,
+        )
+    }))
+}
+
+/// [`equivalent_damping`] of the model `law(η)` at the law parameters `eta` (bounds in
+/// `specs`, for the difference step) on `table`.
+fn of_table(
+    law: &(dyn Fn(&[f64]) -> Result<DampingModel> + Sync),
+    eta: &[f64],
+    specs: &[NonlinearParameter],
+    table: &SteppedSineSource,
     coefficients: &[f64],
     covariance: Option<&[Vec<f64>]>,
     modal: Modal,
 ) -> Result<EquivalentDamping> {
-    let (grid, synthetic) = amplitude_grid(swept, &modal)?;
-    let columns = columns_of(model, structural, approximation, &synthetic)?;
-    let out = grid
+    let (structural, approximation) = (&table.structural, &table.approximation);
+    let p = coefficients.len();
+    let q_law = eta.len();
+    if let Some(c) = covariance
+        && (c.len() < p + q_law || c.iter().any(|row| row.len() != c.len()))
+    {
+        return Err(Error::mismatch(
+            "covariance rows vs coefficients and law parameters",
+            p + q_law,
+            c.len(),
+        ));
+    }
+    let (grid, synthetic) = amplitude_grid(&table.table, &modal)?;
+    let columns = columns_of(&law(eta)?, structural, approximation, &synthetic)?;
+    if columns.first().is_some_and(|g| g.len() != p) {
+        return Err(Error::mismatch(
+            "columns of the model vs coefficients",
+            p,
+            columns[0].len(),
+        ));
+    }
+    // (∂g/∂η_j)ᵀ θ̂ at each grid amplitude, per law parameter j.
+    let mut sensitivities: Vec<Vec<f64>> = Vec::with_capacity(q_law);
+    if covariance.is_some() {
+        for (j, spec) in specs.iter().enumerate() {
+            let h = 1e-5 * (spec.upper - spec.lower);
+            let (lo, hi) = ((eta[j] - h).max(spec.lower), (eta[j] + h).min(spec.upper));
+            let energies = |t: f64| -> Result<Vec<f64>> {
+                let mut at = eta.to_vec();
+                at[j] = t;
+                let g = columns_of(&law(&at)?, structural, approximation, &synthetic)?;
+                Ok(g.iter()
+                    .map(|g| g.iter().zip(coefficients).map(|(g, t)| g * t).sum())
+                    .collect())
+            };
+            let (e_lo, e_hi) = (energies(lo)?, energies(hi)?);
+            sensitivities.push(
+                e_lo.iter()
+                    .zip(&e_hi)
+                    .map(|(l, h)| (h - l) / (hi - lo))
+                    .collect(),
+            );
+        }
+    }
+    let points = grid
         .iter()
         .zip(&columns)
-        .map(|(&x, g)| {
-            let std = covariance.map(|c| quadratic_form(g, c).max(0.0).sqrt());
+        .enumerate()
+        .map(|(i, (&x, g))| {
+            let std = covariance.map(|c| {
+                let mut u = vec![0.0; c.len()];
+                u[..p].copy_from_slice(g);
+                for (j, s) in sensitivities.iter().enumerate() {
+                    u[p + j] = s[i];
+                }
+                quadratic_form(&u, c).max(0.0).sqrt()
+            });
             point(x, g, coefficients, std, &modal)
         })
         .collect();
-    Ok(EquivalentDamping { modal, points: out })
+    Ok(EquivalentDamping { modal, points })
 }
 
 /// The [`GRID`] amplitudes, log-spaced from the smallest to the largest measured one
 /// of the one-DOF `swept`, and a synthetic point at each (unit force at ω_n, phase
 /// lag π/2), whose columns are g(X).
-pub(crate) fn amplitude_grid(
-    swept: &SweptTable,
-    modal: &Modal,
-) -> Result<(Vec<f64>, Vec<SteppedSinePoint>)> {
+fn amplitude_grid(swept: &SweptTable, modal: &Modal) -> Result<(Vec<f64>, Vec<SteppedSinePoint>)> {
     require_one_dof(swept)?;
     let points = swept.table.points();
     let (lo, hi) = points.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), p| {
@@ -233,7 +336,7 @@ pub(crate) fn amplitude_grid(
 }
 
 /// uᵀ C u.
-pub(crate) fn quadratic_form(u: &[f64], c: &[Vec<f64>]) -> f64 {
+fn quadratic_form(u: &[f64], c: &[Vec<f64>]) -> f64 {
     let mut v = 0.0;
     for (i, ui) in u.iter().enumerate() {
         for (j, uj) in u.iter().enumerate() {
@@ -245,13 +348,7 @@ pub(crate) fn quadratic_form(u: &[f64], c: &[Vec<f64>]) -> f64 {
 
 /// The point at amplitude `x` with columns `g`, coefficients `theta` and the standard
 /// deviation `std` of E_d(X).
-pub(crate) fn point(
-    x: f64,
-    g: &[f64],
-    theta: &[f64],
-    std: Option<f64>,
-    modal: &Modal,
-) -> EquivalentPoint {
+fn point(x: f64, g: &[f64], theta: &[f64], std: Option<f64>, modal: &Modal) -> EquivalentPoint {
     let energy: f64 = g.iter().zip(theta).map(|(g, t)| g * t).sum();
     let factor = 2.0 * std::f64::consts::PI * modal.stiffness * x * x;
     EquivalentPoint {

@@ -14,7 +14,6 @@ pub mod design;
 pub mod diagnostics;
 pub mod digest;
 pub mod equivalent;
-pub mod equivalent_estimated;
 pub mod identifiability;
 pub mod solved;
 pub(crate) mod stats;

@@ -8,9 +8,9 @@
 
 use crate::error::{Error, Result};
 use crate::model::DampingModel;
+use crate::regressor::{NonlinearParameter, ParametricModel};
 use crate::terms::laws::{LawParameters, Registry};
 use crate::terms::{Coefficients, Element, ElementTerm, Term};
-use crate::varpro::{NonlinearParameter, ParametricModel};
 
 /// The bounds of an exponent a candidate estimates (`power:est`): from nearly Coulomb
 /// (0.1) to beyond quadratic (5), which covers what joints and dampers show.
@@ -31,12 +31,13 @@ pub fn candidate_model(spec: &str, dofs: usize, laws: &Registry) -> Result<Dampi
 }
 
 /// The model of candidate `spec` with its estimated exponents, if it has any (`law:est`),
-/// as a [`ParametricModel`] (the model at exponent 1 beside it).
+/// as a [`ParametricModel`] (fixed when none is estimated; the model at exponent 1
+/// beside it).
 pub fn candidate(
     spec: &str,
     dofs: usize,
     laws: &Registry,
-) -> Result<(DampingModel, Option<ParametricModel>)> {
+) -> Result<(DampingModel, ParametricModel)> {
     let parts = parse(spec)?;
     let estimated: Vec<NonlinearParameter> = parts
         .iter()
@@ -48,13 +49,13 @@ pub fn candidate(
         .collect();
     let model = build(&parts, dofs, laws, &vec![1.0; estimated.len()])?;
     if estimated.is_empty() {
-        return Ok((model, None));
+        return Ok((model.clone(), ParametricModel::fixed(model)));
     }
     let registry = laws.clone();
     let parametric = ParametricModel::new(estimated, move |values: &[f64]| {
         build(&parts, dofs, &registry, values)
     })?;
-    Ok((model, Some(parametric)))
+    Ok((model, parametric))
 }
 
 /// The laws of `spec` with their exponents.

@@ -9,19 +9,18 @@
 //!   η̂ = argmin_η min_θ ‖A(η) θ − b‖²
 //! ```
 //!
-//! by variable projection ([`crate::varpro`]) with an unweighted, unconstrained inner
-//! fit and no profile intervals, whatever the job's own fit settings are: the estimate
-//! `dampid identify` reports (weighted by the propagated noise, under constraints) can
-//! differ from it, and the comparison says which values it used.
+//! by [`crate::identify::identify`] with an unweighted, unconstrained inner fit and no
+//! profile intervals, whatever the job's own fit settings are: the estimate `dampid
+//! identify` reports (weighted by the propagated noise, under constraints) can differ
+//! from it, and the comparison says which values it used.
 
 use super::Job;
 use crate::analysis::compare::Candidate;
 use crate::error::{Error, Result};
 use crate::fit::{Constraints, FitSettings, Weighting};
-use crate::identify::IdentifySettings;
-use crate::model::DampingModel;
-use crate::regressor::Regressor;
-use crate::varpro::{ParametricModel, VarProReport, VarProSettings};
+use crate::identify::{IdentifySettings, identify};
+use crate::regressor::{ParametricModel, Regressor};
+use crate::varpro::VarProSettings;
 
 /// A model ready for [`crate::analysis::compare::compare_candidates`].
 #[derive(Debug, Clone)]
@@ -49,15 +48,19 @@ impl ComparedModel {
 }
 
 impl Job {
-    /// `model` (with its estimated law parameters `law`, if any, and the job's residual
+    /// `law` (with its estimated parameters, if any, and the job's residual
     /// receptances, if it estimates them) on this job's equations, labelled `label`
     /// (module doc). An outer loop that does not converge is an error naming the model.
-    pub fn compared(
-        &self,
-        label: &str,
-        model: &DampingModel,
-        law: Option<&ParametricModel>,
-    ) -> Result<ComparedModel> {
+    pub fn compared(&self, label: &str, law: &ParametricModel) -> Result<ComparedModel> {
+        let problem = self.problem_of(law);
+        if problem.is_linear() {
+            return Ok(ComparedModel {
+                label: label.to_string(),
+                regressor: problem.regressor(&[], &self.settings.regressor)?,
+                estimated: Vec::new(),
+                nuisance: Vec::new(),
+            });
+        }
         let settings = IdentifySettings {
             regressor: self.settings.regressor.clone(),
             fit: FitSettings {
@@ -65,60 +68,43 @@ impl Job {
                 weighting: Weighting::Ordinary,
                 ..self.settings.fit.clone()
             },
+            estimation: VarProSettings {
+                profile: false,
+                ..VarProSettings::default()
+            },
+            steady_state: None,
+            bootstrap: None,
         };
-        let varpro = VarProSettings {
-            profile: false,
-            ..VarProSettings::default()
+        let found = identify(&problem, &settings, &crate::progress::silent)?;
+        let estimation = found
+            .report
+            .estimation
+            .as_ref()
+            .filter(|_| found.report.is_estimate());
+        let Some(estimation) = estimation else {
+            return Err(Error::Numerical {
+                stage: format!("the least-squares fit of {label}'s estimated parameters"),
+                detail: format!(
+                    "variable projection did not converge ({}); fix them or widen their bounds",
+                    found
+                        .report
+                        .estimation
+                        .as_ref()
+                        .map_or("no estimate", |e| e.status.reason.as_str())
+                ),
+            });
         };
-        let converged = |report: VarProReport| -> Result<Vec<f64>> {
-            if report.is_estimate() {
-                Ok(report.parameters.iter().map(|p| p.value).collect())
-            } else {
-                Err(Error::Numerical {
-                    stage: format!("the least-squares fit of {label}'s estimated parameters"),
-                    detail: format!(
-                        "variable projection did not converge ({}); fix them or widen their bounds",
-                        report.status.reason
-                    ),
-                })
-            }
-        };
-        let (regressor, specs, values) = match (self.parametric_regressor_of(model, law), law) {
-            (Some(parametric), _) => {
-                let parametric = parametric?;
-                let values = converged(crate::varpro::identify_varpro_regressor(
-                    &parametric,
-                    &settings,
-                    &varpro,
-                )?)?;
-                let specs = parametric.parameters().to_vec();
-                (parametric.regressor(&values)?, specs, values)
-            }
-            (None, Some(law)) => {
-                let values = converged(crate::varpro::identify_varpro(
-                    law,
-                    &self.records,
-                    &settings,
-                    &varpro,
-                )?)?;
-                (
-                    self.regressor_of(&law.model(&values)?)?,
-                    law.parameters().to_vec(),
-                    values,
-                )
-            }
-            (None, None) => (self.regressor_of(model)?, Vec::new(), Vec::new()),
-        };
-        let (nuisance, estimated): (Vec<_>, Vec<_>) = specs
+        let (nuisance, estimated): (Vec<_>, Vec<_>) = problem
+            .parameters()
             .into_iter()
-            .zip(values)
+            .zip(estimation.values())
             .partition(|(spec, _)| spec.nuisance);
-        let named = |list: Vec<(crate::varpro::NonlinearParameter, f64)>| {
+        let named = |list: Vec<(crate::regressor::NonlinearParameter, f64)>| {
             list.into_iter().map(|(spec, v)| (spec.name, v)).collect()
         };
         Ok(ComparedModel {
             label: label.to_string(),
-            regressor,
+            regressor: found.regressor,
             estimated: named(estimated),
             nuisance: named(nuisance),
         })

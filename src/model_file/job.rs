@@ -15,7 +15,6 @@ use super::settings::{
     steady_state_settings, stored_energy,
 };
 use super::spec::{MatrixRef, ModelFileSpec};
-use super::stepped_sine::SteppedSineJob;
 use super::terms::{build_term, resolve_matrix};
 use super::{reduction, string};
 use crate::analysis::design::DesignSettings;
@@ -26,26 +25,30 @@ use crate::model::DampingModel;
 use crate::prep::harmonic::SteppedSineTable;
 use crate::prep::period::PeriodEstimate;
 use crate::prep::pod::Reduction;
-use crate::prep::steady_state::{SteadyStateReport, SteadyStateSettings, StoredEnergy};
+use crate::prep::steady_state::{SteadyStateReport, StoredEnergy};
 use crate::progress::Progress;
 use crate::record::Record;
-use crate::regressor::{Regressor, RegressorSettings};
+use crate::regressor::{
+    KnownModal, ParametricModel, ParametricRegressor, Regressor, RegressorSettings,
+    SteppedSineSource,
+};
 use crate::report::units::Units;
 use crate::terms::laws::Registry;
-use crate::varpro::ParametricModel;
 
-/// Everything a model file asks for, ready to run.
+/// Everything a model file asks for, ready to run: a problem ([`Job::problem`]: the
+/// damping law on the records or the stepped-sine table) and its settings.
 #[derive(Debug)]
 pub struct Job {
     /// Title for reports.
     pub title: String,
     /// The damping model (at the initial values of any estimated law parameters).
     pub model: DampingModel,
-    /// The model with its estimated law parameters, when the file estimates any
-    /// (`{ estimate = true, … }`): identify it with [`crate::varpro::identify_varpro`].
-    pub parametric: Option<ParametricModel>,
+    /// The damping model as a function of its estimated law parameters
+    /// (`{ estimate = true, … }`; none: the fixed `model`).
+    pub law: ParametricModel,
     /// The records identification runs on: the source records, reduced by `[pod]` and
-    /// synthesized by `[harmonic_approximation]` when asked. Shared with
+    /// synthesized by `[harmonic_approximation]` when asked (none for a
+    /// `[stepped_sine]` table, whose equations are its points). Shared with
     /// `source_records` when neither applies (a record of 100 DOFs × 2·10⁵ samples
     /// is 160 MB per signal: kept once, not twice).
     pub records: Arc<[Record]>,
@@ -61,10 +64,11 @@ pub struct Job {
     /// step (`None`: no time column).
     pub time_jitter: Vec<Option<f64>>,
     /// Identification settings (for a harmonic approximation, those of the synthesized
-    /// records; for `[non_periodic]`, fixed spans with the stored-energy unknowns).
+    /// records; for `[non_periodic]`, fixed spans with the stored-energy unknowns), with
+    /// the steady-state thresholds of `[identification]`.
     pub settings: IdentifySettings,
     /// How windows are cut from the source records (`[identification]`, and
-    /// `[non_periodic]`).
+    /// `[non_periodic]`): the steady-state check reads them.
     pub source_windows: RegressorSettings,
     /// True coefficients, in model order, when the records were simulated.
     pub truth: Option<Vec<(String, f64)>>,
@@ -72,15 +76,12 @@ pub struct Job {
     pub design: Option<DesignSettings>,
     /// Mass, stiffness and cubic springs, when known (`[simulation]` or `[system]`).
     pub stored_energy: Option<StoredEnergy>,
-    /// Steady-state thresholds and whether transients are accepted.
-    pub steady_state: SteadyStateSettings,
     /// The POD reduction, when `[pod]` asks for one.
     pub pod: Option<Reduction>,
     /// The stepped-sine table of a harmonic approximation.
     pub harmonic: Option<SteppedSineTable>,
-    /// The measured stepped-sine table of `[stepped_sine]`: the regressor is built from
-    /// it (`records` are its points' synthesized periods).
-    pub stepped_sine: Option<SteppedSineJob>,
+    /// The measured stepped-sine table of `[stepped_sine]`: the job's equations.
+    pub stepped_sine: Option<SteppedSineSource>,
     /// The `[[simulation.experiments]]`, one per simulated record (DOFs 0-based); empty
     /// without a `[simulation]`.
     pub experiments: Vec<crate::simulate::HarmonicForce>,
@@ -91,74 +92,49 @@ pub struct Job {
 }
 
 impl Job {
-    /// How far each window of the source records is from periodic motion
-    /// ([`crate::prep::steady_state`]); `None` in the non-periodic mode, whose balance holds
-    /// over any window.
-    pub fn steady_state(&self) -> Result<Option<SteadyStateReport>> {
-        if self.stepped_sine.is_some() {
-            // A table of amplitudes and phases: no time records to check.
-            return Ok(None);
+    /// The problem the job identifies: its law on its equations (the table, or the
+    /// records with their steady-state check on the source records and the stored
+    /// energy when known).
+    pub fn problem(&self) -> ParametricRegressor<'_> {
+        self.problem_of(&self.law)
+    }
+
+    /// Another `law` on this job's equations (to compare models on the same data).
+    pub fn problem_of(&self, law: &ParametricModel) -> ParametricRegressor<'_> {
+        match &self.stepped_sine {
+            Some(table) => ParametricRegressor::new(law.clone(), table),
+            None => ParametricRegressor::new(law.clone(), &self.records).with_steady_state_of(
+                &self.source_records,
+                &self.source_windows,
+                self.stored_energy.as_ref(),
+            ),
         }
-        let Some(windows) = self.source_windows.windows.cycles() else {
-            return Ok(None);
-        };
-        crate::prep::steady_state::check(
-            &self.source_records,
-            windows,
-            self.source_windows.quadrature,
-            self.stored_energy.as_ref(),
-            &self.steady_state,
-        )
-        .map(Some)
     }
 
-    /// The regressor the job identifies from ([`Regressor::build`] with its settings).
-    pub fn regressor(&self) -> Result<Regressor> {
-        self.regressor_of(&self.model)
-    }
-
-    /// Every nonlinear parameter the job estimates: its law parameters, then a
-    /// stepped-sine table's residual receptances (empty for a linear job).
-    pub fn estimated_parameters(&self) -> Vec<crate::varpro::NonlinearParameter> {
-        let mut all = self
-            .parametric
-            .as_ref()
-            .map_or_else(Vec::new, |p| p.parameters().to_vec());
-        if let Some(table) = &self.stepped_sine {
-            all.extend(table.residual.parameters.iter().cloned());
-        }
-        all
-    }
-
-    /// The regressor at the initial values of every estimated parameter
-    /// ([`Self::estimated_parameters`]; [`Self::regressor`] for a linear job), as
-    /// `dampid check` examines it.
+    /// The regressor at the initial values of every estimated parameter, as `dampid
+    /// check` examines it.
     pub fn initial_regressor(&self) -> Result<Regressor> {
-        match self.parametric_regressor() {
-            Some(parametric) => {
-                let initial: Vec<f64> = self
-                    .estimated_parameters()
-                    .iter()
-                    .map(|p| p.initial)
-                    .collect();
-                parametric?.regressor(&initial)
-            }
-            None => self.regressor(),
+        let problem = self.problem();
+        problem.regressor(&problem.initial_values(), &self.settings.regressor)
+    }
+
+    /// The steady-state report of the job's windows (`None` where there is none to
+    /// check: a table, fixed spans), with the thresholds of its settings.
+    pub fn steady_state(&self) -> Result<Option<SteadyStateReport>> {
+        match &self.settings.steady_state {
+            Some(thresholds) => self
+                .problem()
+                .steady_state(&self.settings.regressor, thresholds),
+            None => Ok(None),
         }
     }
 
-    /// The regressor of another damping `model` on this job's records, windows and
-    /// mode (to compare models on the same equations).
-    pub fn regressor_of(&self, model: &DampingModel) -> Result<Regressor> {
-        if let Some(table) = &self.stepped_sine {
-            return crate::regressor::stepped_sine::build(
-                model,
-                &table.structural,
-                &table.table,
-                &table.approximation,
-            );
+    /// Whether windows that are not in steady state are accepted (a warning) rather
+    /// than refused.
+    pub fn accept_transient(&mut self, accept: bool) {
+        if let Some(steady) = &mut self.settings.steady_state {
+            steady.accept_transient |= accept;
         }
-        Regressor::build(model, &self.records, &self.settings.regressor)
     }
 }
 
@@ -170,7 +146,7 @@ struct Sources {
     detected_periods: Vec<Option<PeriodEstimate>>,
     time_jitter: Vec<Option<f64>>,
     stored_energy: Option<StoredEnergy>,
-    stepped_sine: Option<SteppedSineJob>,
+    stepped_sine: Option<SteppedSineSource>,
 }
 
 impl Context<'_> {
@@ -181,15 +157,13 @@ impl Context<'_> {
         &self,
         spec: &ModelFileSpec,
         model: &DampingModel,
-        parametric: Option<&ParametricModel>,
+        law: &ParametricModel,
     ) -> Result<DampingModel> {
         let Some(simulation) = &spec.simulation else {
             return Ok(model.clone());
         };
         self.at(simulation, |s| {
-            let known: Vec<&str> = parametric
-                .map(|p| p.parameters().iter().map(|q| q.name.as_str()).collect())
-                .unwrap_or_default();
+            let known: Vec<&str> = law.parameters().iter().map(|q| q.name.as_str()).collect();
             if let Some(name) = s.parameters.keys().find(|n| !known.contains(&n.as_str())) {
                 return Err(Error::UnknownName {
                     what: "estimated law parameter".into(),
@@ -201,17 +175,15 @@ impl Context<'_> {
                     },
                 });
             }
-            match parametric {
-                None => Ok(model.clone()),
-                Some(p) => {
-                    let values: Vec<f64> = p
-                        .parameters()
-                        .iter()
-                        .map(|q| s.parameters.get(&q.name).copied().unwrap_or(q.initial))
-                        .collect();
-                    p.model(&values)
-                }
+            if law.is_fixed() {
+                return Ok(model.clone());
             }
+            let values: Vec<f64> = law
+                .parameters()
+                .iter()
+                .map(|q| s.parameters.get(&q.name).copied().unwrap_or(q.initial))
+                .collect();
+            law.at(&values)
         })
     }
 
@@ -223,7 +195,7 @@ impl Context<'_> {
         progress: Progress<'_>,
     ) -> Result<Job> {
         let n = spec.dofs;
-        let (model, parametric) = self.damping_model(spec, laws)?;
+        let (model, law) = self.damping_model(spec, laws)?;
         let matrix = |r: &MatrixRef| resolve_matrix(r, spec, n);
         let mut units = Units::default();
         for (dimension, unit) in &spec.units {
@@ -240,7 +212,8 @@ impl Context<'_> {
         steady_state
             .validate()
             .map_err(|e| self.whole_file_typed_error("[identification]", e))?;
-        let simulated = self.simulated_model(spec, &model, parametric.as_ref())?;
+        settings.steady_state = Some(steady_state);
+        let simulated = self.simulated_model(spec, &model, &law)?;
         let sources = self.sources(spec, &simulated, n, base, &matrix, progress)?;
         if let Some(np) = &spec.non_periodic {
             if spec.pod.is_some() || spec.harmonic_approximation.is_some() {
@@ -267,7 +240,12 @@ impl Context<'_> {
         }
         let source_windows = settings.regressor.clone();
         let source_records: Arc<[Record]> = sources.records.into();
-        let mut records = Arc::clone(&source_records);
+        // A table's equations are its points: no records to identify from.
+        let mut records = if sources.stepped_sine.is_some() {
+            Arc::from(Vec::new())
+        } else {
+            Arc::clone(&source_records)
+        };
         let pod = spec
             .pod
             .as_ref()
@@ -310,16 +288,22 @@ impl Context<'_> {
                 self.at(d, |d| design_settings(d, experiments))
             })
             .transpose()?;
+        // The data files read: each record's of `[data]`, or the table of `[stepped_sine]`.
         let data_files = spec
             .data
             .iter()
             .flat_map(|d| d.get_ref().records.iter())
             .map(|r| base.join(&r.get_ref().file))
+            .chain(
+                spec.stepped_sine
+                    .iter()
+                    .map(|t| base.join(&t.get_ref().file)),
+            )
             .collect();
         Ok(Job {
             title: spec.title.clone().unwrap_or_else(|| self.file.to_string()),
             model,
-            parametric,
+            law,
             records,
             source_records,
             inputs: sources.inputs,
@@ -330,7 +314,6 @@ impl Context<'_> {
             truth: sources.truth,
             design,
             stored_energy: sources.stored_energy,
-            steady_state,
             pod,
             harmonic,
             stepped_sine: sources.stepped_sine,
@@ -361,7 +344,7 @@ impl Context<'_> {
         &self,
         spec: &ModelFileSpec,
         laws: &Registry,
-    ) -> Result<(DampingModel, Option<ParametricModel>)> {
+    ) -> Result<(DampingModel, ParametricModel)> {
         let n = spec.dofs;
         if n == 0 {
             return Err(self.whole_file_error("dofs must be at least 1"));
@@ -405,16 +388,16 @@ impl Context<'_> {
             })?;
             model = model.with(built);
         }
-        let parametric = if estimated.is_empty() {
-            None
+        let law = if estimated.is_empty() {
+            ParametricModel::fixed(model.clone())
         } else {
-            Some(ParametricModel::new(estimated, move |eta| {
+            ParametricModel::new(estimated, move |eta| {
                 recipes
                     .iter()
                     .try_fold(DampingModel::new(), |m, r| Ok(m.with(r.build(eta)?)))
-            })?)
+            })?
         };
-        Ok((model, parametric))
+        Ok((model, law))
     }
 
     /// The records from `[simulation]`, `[string_simulation]` or `[data]` (exactly one),
@@ -485,16 +468,22 @@ impl Context<'_> {
             });
         }
         if let Some(table) = &spec.stepped_sine {
-            let job = self.at(table, |t| self.stepped_sine(t, n, base))?;
-            let records = job.approximation.records(&job.table.table)?;
+            let mut source = self.at(table, |t| self.stepped_sine(t, n, base))?;
+            source.system = system
+                .as_ref()
+                .filter(|s| s.mass.nrows() == 1)
+                .map(|s| KnownModal {
+                    mass: s.mass[(0, 0)],
+                    stiffness: s.stiffness[(0, 0)],
+                });
             return Ok(Sources {
-                detected_periods: vec![None; records.len()],
-                time_jitter: vec![None; records.len()],
+                detected_periods: Vec::new(),
+                time_jitter: Vec::new(),
                 inputs: Vec::new(),
-                records,
+                records: Vec::new(),
                 truth: None,
                 stored_energy: system,
-                stepped_sine: Some(job),
+                stepped_sine: Some(source),
             });
         }
         let data = spec

@@ -5,8 +5,8 @@
 //! fresh machine) or a `[data]` section that reads measured CSV files.
 //!
 //! A law term names its law, `law = "power"`, in a law registry
-//! ([`crate::terms::laws::Registry`]): the built-in laws for [`load`] and [`parse`],
-//! or a registry extended with a program's own laws for [`parse_with_laws`].
+//! ([`crate::terms::laws::Registry`]): the built-in laws, or a registry extended with a
+//! program's own laws ([`Options::laws`] of [`load`] and [`parse`]).
 //!
 //! Errors carry the file and the line and column of the offending table or key.
 //!
@@ -27,15 +27,12 @@ mod records;
 mod reduction;
 mod settings;
 pub use settings::{
-    IDENTIFICATION_KEYS, Identification, PERIODIC_ONLY, identification, non_periodic_identification,
+    IDENTIFICATION_KEYS, PERIODIC_ONLY, identification, non_periodic_identification,
 };
 mod spec;
 mod stepped_sine;
-mod varpro;
-pub use stepped_sine::SteppedSineJob;
-pub use varpro::VarProFit;
 mod string;
-mod summary;
+pub(crate) mod summary;
 mod terms;
 
 use std::path::Path;
@@ -46,49 +43,66 @@ pub use measured::{ChannelGain, RecordInputs};
 pub use provenance::settings_in_effect;
 pub use spec::*;
 pub use summary::{
-    CheckReport, DetectedPeriod, JitteredTime, NOTED_JITTER, Periods, Preamble, SelectedExperiment,
-    SteppedSineSummary, selected_experiments, selected_experiments_toml,
+    DetectedPeriod, JitteredTime, NOTED_JITTER, Periods, Preamble, SteppedSineSummary,
 };
 
 use crate::error::{Error, Result};
 use crate::model::DampingModel;
 use crate::progress::Progress;
+use crate::regressor::ParametricModel;
 use crate::terms::laws::Registry;
-use crate::varpro::ParametricModel;
 use context::Context;
 
-/// Reads and builds the model file at `path` (data paths are relative to its folder).
-pub fn load(path: &Path) -> Result<Job> {
-    load_with_progress(path, &crate::progress::silent)
+/// How a model file is read: with the built-in laws or a program's own registry, and a
+/// progress callback over simulating or reading its records.
+#[derive(Clone, Copy)]
+pub struct Options<'a> {
+    /// The laws `law = "..."` may name (`None`: the built-in ones,
+    /// [`Registry::builtin`]); a program adds its own with
+    /// `Registry::builtin().with(MY_LAW)`.
+    pub laws: Option<&'a Registry>,
+    /// `progress(done, total)` in records simulated or read.
+    pub progress: Progress<'a>,
 }
 
-/// [`load`], reporting the progress of simulating or reading the records.
-pub fn load_with_progress(path: &Path, progress: Progress<'_>) -> Result<Job> {
+impl Default for Options<'_> {
+    fn default() -> Self {
+        Options {
+            laws: None,
+            progress: &crate::progress::silent,
+        }
+    }
+}
+
+impl std::fmt::Debug for Options<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Options")
+            .field("laws", &self.laws.map(|_| "custom"))
+            .finish_non_exhaustive()
+    }
+}
+
+/// Reads and builds the model file at `path` (data paths are relative to its folder).
+pub fn load(path: &Path, options: Options<'_>) -> Result<Job> {
     let text = read(path)?;
     let base = path.parent().unwrap_or(Path::new("."));
-    parse_with_progress(&text, &path.display().to_string(), base, progress)
+    parse(&text, &path.display().to_string(), base, options)
 }
 
-/// Parses model-file `text` (named `file` in errors) and builds the job.
-pub fn parse(text: &str, file: &str, base: &Path) -> Result<Job> {
-    parse_with_progress(text, file, base, &crate::progress::silent)
-}
-
-/// [`parse`] with the laws of `laws` instead of the built-in ones, so that
-/// `law = "..."` may name a law the program registered
-/// (`Registry::builtin().with(MY_LAW)`).
-pub fn parse_with_laws(text: &str, file: &str, base: &Path, laws: &Registry) -> Result<Job> {
-    parse_with(text, file, base, laws, &crate::progress::silent)
-}
-
-/// [`parse`], reporting the progress of simulating or reading the records.
-pub fn parse_with_progress(
-    text: &str,
-    file: &str,
-    base: &Path,
-    progress: Progress<'_>,
-) -> Result<Job> {
-    parse_with(text, file, base, &Registry::builtin(), progress)
+/// Parses model-file `text` (named `file` in errors, data paths relative to `base`) and
+/// builds the job.
+pub fn parse(text: &str, file: &str, base: &Path, options: Options<'_>) -> Result<Job> {
+    let context = Context { file, text };
+    let spec = parse_spec(text, file)?;
+    let builtin;
+    let laws = match options.laws {
+        Some(laws) => laws,
+        None => {
+            builtin = Registry::builtin();
+            &builtin
+        }
+    };
+    context.build(&spec, base, laws, options.progress)
 }
 
 /// The damping model of the model file at `path` alone (`dofs`, `[matrices]` and
@@ -108,16 +122,13 @@ pub fn parse_model(text: &str, file: &str) -> Result<DampingModel> {
 /// [`load_model`] with the file's estimated law parameters, if it has any: the model
 /// at their initial values and the [`ParametricModel`] that builds it at others
 /// (`dampid compare` estimates them on the first file's records).
-pub fn load_parametric_model(path: &Path) -> Result<(DampingModel, Option<ParametricModel>)> {
+pub fn load_parametric_model(path: &Path) -> Result<(DampingModel, ParametricModel)> {
     let text = read(path)?;
     parse_parametric_model(&text, &path.display().to_string())
 }
 
 /// [`load_parametric_model`] of model-file `text` (named `file` in errors).
-pub fn parse_parametric_model(
-    text: &str,
-    file: &str,
-) -> Result<(DampingModel, Option<ParametricModel>)> {
+pub fn parse_parametric_model(text: &str, file: &str) -> Result<(DampingModel, ParametricModel)> {
     let context = Context { file, text };
     let spec = parse_spec(text, file)?;
     context.damping_model(&spec, &Registry::builtin())
@@ -131,18 +142,6 @@ fn read(path: &Path) -> Result<String> {
         message: e.to_string(),
         cause: None,
     })
-}
-
-fn parse_with(
-    text: &str,
-    file: &str,
-    base: &Path,
-    laws: &Registry,
-    progress: Progress<'_>,
-) -> Result<Job> {
-    let context = Context { file, text };
-    let spec = parse_spec(text, file)?;
-    context.build(&spec, base, laws, progress)
 }
 
 /// The serde form of `text`; a TOML or schema error carries its line and column.

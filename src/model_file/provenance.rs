@@ -12,7 +12,6 @@ use super::settings::IDENTIFICATION_KEYS;
 use crate::analysis::design::DesignSettings;
 use crate::error::{Error, Result};
 use crate::identify::IdentifySettings;
-use crate::prep::steady_state::SteadyStateSettings;
 use crate::prep::velocity::VelocitySource;
 use crate::regressor::Windows;
 use crate::report::provenance::{
@@ -80,7 +79,6 @@ impl Job {
     fn settings_in_effect(&self, file: &toml::Table) -> Vec<Setting> {
         settings_in_effect(
             &self.settings,
-            &self.steady_state,
             self.design.as_ref(),
             &self.units,
             (file, SettingSource::ModelFile),
@@ -96,12 +94,12 @@ impl Job {
 /// defaults. The values are those in effect (the settings'), as TOML writes them.
 pub fn settings_in_effect(
     settings: &IdentifySettings,
-    steady_state: &SteadyStateSettings,
     design: Option<&DesignSettings>,
     units: &Units,
     given: (&toml::Table, SettingSource),
 ) -> Vec<Setting> {
     let (file, set) = given;
+    let steady_state = &settings.steady_state.clone().unwrap_or_default();
     let mut rows = Vec::new();
     let section = |rows: &mut Vec<Setting>, name: &str, keys: Vec<(&str, String)>| {
         let written = file.get(name).and_then(toml::Value::as_table);

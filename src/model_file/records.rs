@@ -17,9 +17,7 @@ use crate::error::{Error, Result};
 use crate::model::DampingModel;
 use crate::progress::Progress;
 use crate::record::Record;
-use crate::simulate::{
-    ConservativeForce, HarmonicForce, SimSettings, System, simulate_with_progress,
-};
+use crate::simulate::{ConservativeForce, HarmonicForce, SimSettings, System, simulate};
 
 pub(super) type Truth = Vec<(String, f64)>;
 
@@ -103,7 +101,7 @@ pub(super) fn simulate_records(
                 }],
             };
             let offset = k as u64 * steps;
-            let mut parts = simulate_with_progress(&system, &settings, &|done, _| {
+            let mut parts = simulate(&system, &settings, &|done, _| {
                 progress(offset + done, total)
             })?
             .into_parts();

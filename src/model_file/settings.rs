@@ -106,22 +106,13 @@ pub const IDENTIFICATION_KEYS: &[&str] = &[
     "accept_transient",
 ];
 
-/// What `[identification]` sets: the identification and the steady-state check of its
-/// windows of whole periods.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Identification {
-    /// Windows, quadrature, velocity source, noise treatment, constraints.
-    pub settings: IdentifySettings,
-    /// Thresholds of the steady-state check and whether transients are accepted.
-    pub steady_state: SteadyStateSettings,
-}
-
 /// `[identification]` given as keys and values rather than in a model file (the Python
 /// package's `identify(model, records, cycles=2, ...)`), read by the same translation
 /// as model files (windows of whole periods: `[non_periodic]` is a model-file section).
 /// An unknown key is [`Error::UnknownName`] listing [`IDENTIFICATION_KEYS`]; a bad
-/// value is [`Error::InvalidChoice`] naming its key.
-pub fn identification(table: &toml::Table) -> Result<Identification> {
+/// value is [`Error::InvalidChoice`] naming its key. The settings hold the steady-state
+/// check of the windows (its thresholds, and whether transients are accepted).
+pub fn identification(table: &toml::Table) -> Result<IdentifySettings> {
     for (key, value) in table {
         if !IDENTIFICATION_KEYS.contains(&key.as_str()) {
             return Err(Error::UnknownName {
@@ -144,9 +135,9 @@ pub fn identification(table: &toml::Table) -> Result<Identification> {
         .map_err(|e| Error::choice("[identification]", table, e.message()))?;
     let steady_state = steady_state_settings(&spec);
     steady_state.validate()?;
-    Ok(Identification {
-        settings: identification_settings(&spec, false),
-        steady_state,
+    Ok(IdentifySettings {
+        steady_state: Some(steady_state),
+        ..identification_settings(&spec, false)
     })
 }
 
@@ -163,7 +154,7 @@ pub fn non_periodic_identification(
     non_periodic: &toml::Table,
     model_text: &str,
     file: &str,
-) -> Result<(Identification, Option<f64>)> {
+) -> Result<(IdentifySettings, Option<f64>)> {
     // Keys and values checked one at a time, as for the periodic mode.
     identification(identification_table)?;
     if let Some((key, reason)) = PERIODIC_ONLY
@@ -199,14 +190,8 @@ pub fn non_periodic_identification(
     let matrix = |r: &MatrixRef| super::terms::resolve_matrix(r, &model, n);
     let mut settings = identification_settings(&spec, true);
     settings.regressor = span_settings(&np, &settings.regressor, n, &matrix)?;
-    let steady_state = steady_state_settings(&spec);
-    Ok((
-        Identification {
-            settings,
-            steady_state,
-        },
-        np.high_pass.map(|h| *h.get_ref()),
-    ))
+    settings.steady_state = Some(steady_state_settings(&spec));
+    Ok((settings, np.high_pass.map(|h| *h.get_ref())))
 }
 
 /// The steady-state check `[identification]` asks for.
@@ -467,15 +452,25 @@ mod tests {
             accept_transient: true,
             ..IdentificationSpec::default()
         };
-        assert_eq!(given.settings, identification_settings(&spec, false));
-        assert!(given.steady_state.accept_transient);
-        assert_eq!(given.settings.regressor.windows.cycles().unwrap().cycles, 2);
+        let steady = given.steady_state.clone().unwrap();
+        assert!(steady.accept_transient);
+        assert_eq!(
+            IdentifySettings {
+                steady_state: None,
+                ..given.clone()
+            },
+            identification_settings(&spec, false)
+        );
+        assert_eq!(given.regressor.windows.cycles().unwrap().cycles, 2);
         let none = identification(&toml::Table::new()).unwrap();
         assert_eq!(
-            none.settings,
+            IdentifySettings {
+                steady_state: None,
+                ..none.clone()
+            },
             identification_settings(&IdentificationSpec::default(), false)
         );
-        assert_eq!(none.steady_state, SteadyStateSettings::default());
+        assert_eq!(none.steady_state, Some(SteadyStateSettings::default()));
     }
 
     #[test]

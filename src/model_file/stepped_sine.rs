@@ -1,5 +1,6 @@
 //! `[stepped_sine]`: a measured stepped-sine table read from a data file into a
-//! [`SweptTable`], and the structural damping terms beside the model's.
+//! [`SteppedSineSource`] (the points in their sweeps, the structural damping terms beside
+//! the model's, the residual receptance unknowns), the equation source of the job.
 //!
 //! Each row is one point. A response column measured as velocity or acceleration is
 //! mapped to displacement by its harmonic: v = V cos(ωt − φ_v) is the derivative of
@@ -15,7 +16,7 @@
 //!
 //! `residual` makes each sweep's residual receptance of the out-of-band modes
 //! ([`crate::prep::harmonic::residual`]) nonlinear unknowns estimated with the damping
-//! by variable projection ([`super::Job::parametric_regressor`]): r_k (and r_m) per
+//! by variable projection ([`crate::regressor::ParametricRegressor`]): r_k (and r_m) per
 //! sweep, named `r_k (<sweep>)`, initial 0 (the middle of the bounds when they exclude
 //! 0), bounds given once for every sweep or by default ±B_s (r_k) and ±B_s ω²_min,s
 //! (r_m), B_s the sweep's smallest measured receptance X/a
@@ -31,38 +32,11 @@ use super::spec::{
 use crate::error::{Error, Result};
 use crate::io::Table;
 use crate::prep::fourier::wrap_phase;
-use crate::prep::harmonic::HarmonicApproximation;
 use crate::prep::harmonic::residual::{self, ResidualKind};
 use crate::prep::harmonic::sweeps::{PointNoise, SweptTable};
 use crate::prep::harmonic::{SteppedSinePoint, SteppedSineTable};
-use crate::regressor::Regressor;
-use crate::regressor::stepped_sine::{StructuralTerm, build_with_residual};
-use crate::varpro::{NonlinearParameter, ParametricRegressor};
-
-/// What `[stepped_sine]` describes, ready to build the regressor from.
-#[derive(Debug, Clone)]
-pub struct SteppedSineJob {
-    /// The points, their sweeps and noise.
-    pub table: SweptTable,
-    /// Structural damping terms (their columns follow the model's).
-    pub structural: Vec<StructuralTerm>,
-    /// How the synthesized motion's phases are read.
-    pub approximation: HarmonicApproximation,
-    /// The data file.
-    pub file: String,
-    /// The residual receptance unknowns (empty parameters when `residual = "none"`).
-    pub residual: Residual,
-}
-
-/// The residual receptance estimated per sweep: its kind and its unknowns (per sweep in
-/// sweep order: r_k, then r_m for `mass_and_stiffness`).
-#[derive(Debug, Clone, Default)]
-pub struct Residual {
-    /// Which unknowns each sweep carries.
-    pub kind: ResidualKind,
-    /// The unknowns with their bounds.
-    pub parameters: Vec<NonlinearParameter>,
-}
+use crate::regressor::stepped_sine::StructuralTerm;
+use crate::regressor::{NonlinearParameter, SteppedSineSource};
 
 /// A data error in `file`.
 fn data_error(file: &str, row: usize, column: &str, message: impl Into<String>) -> Error {
@@ -108,7 +82,7 @@ impl Context<'_> {
         spec: &SteppedSineSpec,
         n: usize,
         base: &Path,
-    ) -> Result<SteppedSineJob> {
+    ) -> Result<SteppedSineSource> {
         let path = base.join(&spec.file);
         let table = crate::io::read_table(&path)?;
         let file = table.file.clone();
@@ -322,18 +296,26 @@ impl Context<'_> {
             .iter()
             .map(|s| self.at(s, |s| structural_term(s, n)))
             .collect::<Result<Vec<_>>>()?;
-        let residual = self.residual(spec, n, &swept)?;
-        Ok(SteppedSineJob {
+        let (residual, residual_parameters) = self.residual(spec, n, &swept)?;
+        Ok(SteppedSineSource {
             table: swept,
             structural,
             approximation,
-            file,
             residual,
+            residual_parameters,
+            file: Some(file),
+            system: None,
         })
     }
 
-    /// The residual unknowns of `spec` on `swept` (module doc).
-    fn residual(&self, spec: &SteppedSineSpec, n: usize, swept: &SweptTable) -> Result<Residual> {
+    /// The residual unknowns of `spec` on `swept` (module doc): their kind and the
+    /// unknowns with their bounds.
+    fn residual(
+        &self,
+        spec: &SteppedSineSpec,
+        n: usize,
+        swept: &SweptTable,
+    ) -> Result<(ResidualKind, Vec<NonlinearParameter>)> {
         let kind = spec.residual;
         let given = |bounds: &Option<toml::Spanned<[f64; 2]>>, key: &str| -> Result<()> {
             match bounds {
@@ -352,7 +334,7 @@ impl Context<'_> {
             ResidualKind::None => {
                 given(&spec.residual_stiffness, "residual_stiffness")?;
                 given(&spec.residual_mass, "residual_mass")?;
-                return Ok(Residual::default());
+                return Ok((ResidualKind::None, Vec::new()));
             }
             ResidualKind::Stiffness => given(&spec.residual_mass, "residual_mass")?,
             ResidualKind::MassAndStiffness => {}
@@ -423,7 +405,7 @@ impl Context<'_> {
                 parameters.push(parameter(format!("r_m ({name})"), &spec.residual_mass, bm)?);
             }
         }
-        Ok(Residual { kind, parameters })
+        Ok((kind, parameters))
     }
 }
 
@@ -448,153 +430,4 @@ fn structural_term(spec: &StructuralSpec, n: usize) -> Result<StructuralTerm> {
     };
     term.validate(n)?;
     Ok(term)
-}
-
-impl super::Job {
-    /// For a one-DOF `[stepped_sine]` job: the equivalent viscous damping ratio and loss
-    /// factor versus amplitude of `report` ([`crate::analysis::equivalent`]), with the
-    /// modal mass and stiffness of `[system]` or, without it, estimated from the
-    /// frequency response of the lowest level. `None` for other jobs and for tables of
-    /// several DOFs.
-    pub fn equivalent_damping(
-        &self,
-        report: &crate::report::FitReport,
-    ) -> Option<Result<crate::analysis::equivalent::EquivalentDamping>> {
-        use crate::analysis::equivalent::equivalent_damping;
-        let table = self.stepped_sine.as_ref()?;
-        let modal = self.modal()?;
-        Some(modal.and_then(|modal| {
-            equivalent_damping(
-                &self.model,
-                &table.structural,
-                &table.approximation,
-                &table.table,
-                &report
-                    .coefficients
-                    .iter()
-                    .map(|c| c.value)
-                    .collect::<Vec<_>>(),
-                covariance(report).as_deref(),
-                modal,
-            )
-        }))
-    }
-
-    /// The modal mass and stiffness of a one-DOF `[stepped_sine]` job: `[system]`'s, or
-    /// estimated from the frequency response of the lowest level. `None` for other jobs
-    /// and for tables of several DOFs.
-    pub(super) fn modal(&self) -> Option<Result<crate::analysis::equivalent::Modal>> {
-        use crate::analysis::equivalent::Modal;
-        let table = self.stepped_sine.as_ref()?;
-        if table.table.table.dofs() != 1 {
-            return None;
-        }
-        Some(match &self.stored_energy {
-            Some(system) => Modal::given(system.mass[(0, 0)], system.stiffness[(0, 0)]),
-            None => Modal::from_lowest_level(&table.table),
-        })
-    }
-
-    /// True for a `[stepped_sine]` job whose residual receptance is estimated.
-    pub fn estimates_residual(&self) -> bool {
-        self.stepped_sine
-            .as_ref()
-            .is_some_and(|t| t.residual.kind != ResidualKind::None)
-    }
-
-    /// For a `[stepped_sine]` job with estimated residual receptances or law parameters:
-    /// the regressor as a function of η = (the estimated law parameters of
-    /// [`super::Job::parametric`], if any, then the residual unknowns, if any), the
-    /// table rebuilt at each η with Z − R a ([`build_with_residual`]) and its noise
-    /// model, so the fit stays weighted by each point's propagated variance. Identify it
-    /// with [`crate::varpro::identify_varpro_regressor`]. `None` for other jobs.
-    pub fn parametric_regressor(&self) -> Option<Result<ParametricRegressor>> {
-        self.parametric_regressor_of(&self.model, self.parametric.as_ref())
-    }
-
-    /// [`Self::parametric_regressor`] for another damping `model` (with its estimated
-    /// law parameters `law`) on this job's table: `None` unless the job is a
-    /// `[stepped_sine]` one and something is estimated.
-    pub fn parametric_regressor_of(
-        &self,
-        model: &crate::model::DampingModel,
-        law: Option<&crate::varpro::ParametricModel>,
-    ) -> Option<Result<ParametricRegressor>> {
-        let table = self.stepped_sine.as_ref()?;
-        if table.residual.kind == ResidualKind::None && law.is_none() {
-            return None;
-        }
-        let law = law.cloned();
-        let q_law = law.as_ref().map_or(0, |p| p.parameters().len());
-        let mut parameters: Vec<NonlinearParameter> = law
-            .as_ref()
-            .map_or_else(Vec::new, |p| p.parameters().to_vec());
-        parameters.extend(table.residual.parameters.iter().cloned());
-        let model = model.clone();
-        let table = table.clone();
-        Some(ParametricRegressor::new(
-            parameters,
-            move |eta: &[f64]| -> Result<Regressor> {
-                let (at, unknowns) = eta.split_at(q_law);
-                let model = match &law {
-                    Some(p) => p.model(at)?,
-                    None => model.clone(),
-                };
-                let r = match table.residual.kind {
-                    ResidualKind::None => None,
-                    kind => Some(residual::per_point(kind, unknowns, &table.table)?),
-                };
-                build_with_residual(
-                    &model,
-                    &table.structural,
-                    &table.table,
-                    &table.approximation,
-                    r.as_deref(),
-                )
-            },
-        ))
-    }
-
-    /// The settings of [`crate::varpro::identify_varpro`] (or `_regressor`) for this job:
-    /// the defaults. Residual receptances are nuisance parameters
-    /// ([`NonlinearParameter::as_nuisance`]): their joint Wald intervals are reported,
-    /// and only the law parameters get profile intervals (each end a nested
-    /// optimisation over the residuals).
-    pub fn varpro_settings(&self) -> crate::varpro::VarProSettings {
-        crate::varpro::VarProSettings::default()
-    }
-
-    /// The sweep of each equation of a `[stepped_sine]` job (for resampling whole
-    /// sweeps); `None` for other jobs.
-    pub fn sweeps(&self) -> Option<&[usize]> {
-        self.stepped_sine
-            .as_ref()
-            .map(|t| t.table.sweeps.as_slice())
-    }
-}
-
-/// Σ_ij = se_i se_j ρ_ij in coefficient order, when every coefficient has a standard
-/// error.
-fn covariance(report: &crate::report::FitReport) -> Option<Vec<Vec<f64>>> {
-    let p = report.coefficients.len();
-    let se: Vec<f64> = report
-        .coefficients
-        .iter()
-        .map(|c| c.std_error)
-        .collect::<Option<_>>()?;
-    let mut c = vec![vec![0.0; p]; p];
-    for (i, row) in c.iter_mut().enumerate() {
-        row[i] = se[i] * se[i];
-    }
-    if let Some(corr) = &report.correlation {
-        let index = |name: &str| report.coefficients.iter().position(|c| c.name == name);
-        for (a, na) in corr.names.iter().enumerate() {
-            for (b, nb) in corr.names.iter().enumerate() {
-                if let (Some(i), Some(j)) = (index(na), index(nb)) {
-                    c[i][j] = se[i] * se[j] * corr.matrix[a][b];
-                }
-            }
-        }
-    }
-    Some(c)
 }

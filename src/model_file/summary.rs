@@ -1,20 +1,16 @@
 //! What is printed about a job around its fit: the periods detected from the force, the
 //! time columns read with jitter (above [`NOTED_JITTER`]), the
-//! preamble of `dampid identify` (the mode, the
-//! POD reduction, the harmonic approximation), and the report of `dampid check`
-//! (periods, steady state, and the regressor's conditioning and identifiability before
-//! any fit). Each is a `Display`; the check report is also `Serialize`.
+//! preamble of `dampid identify` (the mode, the stepped-sine table, the gains, the POD
+//! reduction, the harmonic approximation). Each is a `Display`; the commands
+//! ([`crate::command`]) print them.
 
 use std::fmt;
 
 use serde::Serialize;
 
 use super::Job;
-use crate::analysis::check::RegressorCheck;
-use crate::error::Result;
 use crate::prep::period::PeriodEstimate;
 use crate::prep::steady_state::SteadyStateReport;
-use crate::regressor::Regressor;
 use crate::report::count;
 
 /// Time-column jitter below this (round-off of printed times) goes unmentioned; above
@@ -204,73 +200,6 @@ impl fmt::Display for JitteredTime {
     }
 }
 
-/// The report of `dampid check`: a model file and its data, before any fit.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct CheckReport {
-    /// The job's title.
-    pub model: String,
-    /// Periods detected from the force, for records that gave none.
-    pub detected_periods: Vec<DetectedPeriod>,
-    /// Records whose time column was read with jitter above [`NOTED_JITTER`].
-    #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub time_jitter: Vec<JitteredTime>,
-    /// How far each window is from steady state (`None` in the non-periodic mode).
-    pub steady_state: Option<SteadyStateReport>,
-    /// The window length the non-periodic mode was asked for (`None` for whole periods).
-    pub non_periodic_window: Option<f64>,
-    /// The lengths the windows have where they differ from the one asked for: L h with
-    /// L = round(length/h) whole steps of each record's step h (absent when equal).
-    #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub non_periodic_window_used: Vec<f64>,
-    /// Number of records the equations come from.
-    pub records: usize,
-    /// What a `[stepped_sine]` table holds (its records are the points' synthesized
-    /// periods).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub stepped_sine: Option<SteppedSineSummary>,
-    /// The estimated nonlinear parameters (law parameters, a table's residual
-    /// receptances), held at their initial values for the check: (name, value).
-    #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub held_at_initial: Vec<(String, f64)>,
-    /// The regressor's size, conditioning and identifiability.
-    #[serde(flatten)]
-    pub regressor: RegressorCheck,
-}
-
-impl CheckReport {
-    /// The check of `job` with its steady-state report `steady` and its `regressor`
-    /// (built at the initial values of any estimated parameters,
-    /// [`Job::initial_regressor`]).
-    pub fn new(
-        job: &Job,
-        steady: Option<SteadyStateReport>,
-        regressor: &Regressor,
-    ) -> Result<Self> {
-        Ok(CheckReport {
-            model: job.title.clone(),
-            detected_periods: job.detected(),
-            time_jitter: job.jittered(),
-            steady_state: steady,
-            non_periodic_window: job.settings.regressor.windows.spans().map(|s| s.length),
-            non_periodic_window_used: job
-                .settings
-                .regressor
-                .windows
-                .spans()
-                .map(|s| WindowLengths::of(job, s.length).rounded())
-                .unwrap_or_default(),
-            records: job.records.len(),
-            stepped_sine: job.stepped_sine.as_ref().map(SteppedSineSummary::of),
-            held_at_initial: job
-                .estimated_parameters()
-                .into_iter()
-                .map(|p| (p.name, p.initial))
-                .collect(),
-            regressor: RegressorCheck::new(regressor, &job.settings.fit)?,
-        })
-    }
-}
-
 /// The table of a `[stepped_sine]` job in a line.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SteppedSineSummary {
@@ -285,12 +214,13 @@ pub struct SteppedSineSummary {
 }
 
 impl SteppedSineSummary {
-    fn of(job: &super::SteppedSineJob) -> Self {
+    /// The summary of `table`.
+    pub fn of(table: &crate::regressor::SteppedSineSource) -> Self {
         SteppedSineSummary {
-            file: job.file.clone(),
-            points: job.table.table.points().len(),
-            sweeps: job.table.sweep_names.len(),
-            noise: job.table.noise_origin,
+            file: table.file.clone().unwrap_or_default(),
+            points: table.table.table.points().len(),
+            sweeps: table.table.sweep_names.len(),
+            noise: table.table.noise_origin,
         }
     }
 }
@@ -313,82 +243,17 @@ impl fmt::Display for SteppedSineSummary {
     }
 }
 
-impl fmt::Display for CheckReport {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        writeln!(f, "{}: model and data are valid", self.model)?;
-        if let Some(table) = &self.stepped_sine {
-            write!(f, "{table}")?;
-        }
-        for detected in &self.detected_periods {
-            writeln!(f, "{detected}")?;
-        }
-        for jittered in &self.time_jitter {
-            writeln!(f, "{jittered}")?;
-        }
-        match (&self.steady_state, self.non_periodic_window) {
-            (Some(steady), _) => write!(f, "{steady}")?,
-            (None, None) if self.stepped_sine.is_some() => {}
-            (None, window) => {
-                let requested = window.unwrap_or(0.0);
-                let lengths = WindowLengths {
-                    requested,
-                    used: self
-                        .non_periodic_window_used
-                        .iter()
-                        .map(|&length| (length, None))
-                        .collect(),
-                };
-                writeln!(
-                    f,
-                    "non-periodic mode: windows of {lengths}, no steady state needed"
-                )?
-            }
-        }
-        if !self.held_at_initial.is_empty() {
-            let held: Vec<String> = self
-                .held_at_initial
-                .iter()
-                .map(|(n, v)| format!("{n} = {v}"))
-                .collect();
-            writeln!(
-                f,
-                "estimated parameters held at their initial values for this check: {} (`dampid identify` estimates them; its report gives the conditioning at the estimate)",
-                held.join(", ")
-            )?;
-        }
-        let check = &self.regressor;
-        writeln!(
-            f,
-            "{}, {}, {}: {}",
-            count(self.records, "record"),
-            count(check.equations, "equation"),
-            count(check.coefficients.len(), "coefficient"),
-            if check.coefficients.len() > crate::analysis::digest::FULL_LISTING {
-                format!(
-                    "by term {}",
-                    crate::analysis::digest::by_term_text(
-                        check.coefficients.iter().map(String::as_str)
-                    )
-                )
-            } else {
-                check.coefficients.join(", ")
-            }
-        )?;
-        write!(f, "{check}")
-    }
-}
-
 /// The window length of the non-periodic mode: the one asked for and, where a record's
 /// step does not divide it, the length used, L h with L = round(length/h)
 /// ([`crate::prep::window::span_windows`]).
-struct WindowLengths {
-    requested: f64,
+pub(crate) struct WindowLengths {
+    pub(crate) requested: f64,
     /// Each distinct length used that differs from `requested`, with its steps and step.
-    used: Vec<(f64, Option<(usize, f64)>)>,
+    pub(crate) used: Vec<(f64, Option<(usize, f64)>)>,
 }
 
 impl WindowLengths {
-    fn of(job: &Job, requested: f64) -> Self {
+    pub(crate) fn of(job: &Job, requested: f64) -> Self {
         let mut used: Vec<(f64, Option<(usize, f64)>)> = Vec::new();
         for record in job.records.iter() {
             let h = record.step();
@@ -405,7 +270,7 @@ impl WindowLengths {
         WindowLengths { requested, used }
     }
 
-    fn rounded(&self) -> Vec<f64> {
+    pub(crate) fn rounded(&self) -> Vec<f64> {
         self.used.iter().map(|(length, _)| *length).collect()
     }
 }
@@ -430,73 +295,4 @@ impl fmt::Display for WindowLengths {
             self.requested
         )
     }
-}
-
-/// One experiment a design selected, as a model file writes it (DOF 1-based).
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct SelectedExperiment {
-    /// Its number among the candidates, `[[simulation.experiments]]` order, from 1.
-    pub candidate: usize,
-    /// `"start"` (in the design's start set) or `"added"` (chosen by the design).
-    pub selected_as: &'static str,
-    /// The candidate's description in the design report.
-    pub description: String,
-    /// `force_dof`, 1-based.
-    pub force_dof: usize,
-    /// `amplitude`.
-    pub amplitude: f64,
-    /// `frequency` (rad per time unit).
-    pub frequency: f64,
-    /// `phase` (rad).
-    pub phase: f64,
-}
-
-/// The experiments `report` selected (its start set, then the ones it added);
-/// `experiments` are the job's ([`Job::experiments`]), in candidate order. `dampid
-/// design --json` gives them beside the report, so the JSON stands alone.
-pub fn selected_experiments(
-    report: &crate::analysis::design::DesignReport,
-    experiments: &[crate::simulate::HarmonicForce],
-) -> Vec<SelectedExperiment> {
-    report
-        .selected()
-        .into_iter()
-        .filter_map(|k| {
-            let e = experiments.get(k)?;
-            Some(SelectedExperiment {
-                candidate: k + 1,
-                selected_as: if report.start.contains(&k) {
-                    "start"
-                } else {
-                    "added"
-                },
-                description: report.candidates.get(k).cloned().unwrap_or_default(),
-                force_dof: e.dof + 1,
-                amplitude: e.amplitude,
-                frequency: e.frequency,
-                phase: e.phase,
-            })
-        })
-        .collect()
-}
-
-/// The experiments `report` selected ([`selected_experiments`]) as
-/// `[[simulation.experiments]]` blocks to paste into a model file.
-pub fn selected_experiments_toml(
-    report: &crate::analysis::design::DesignReport,
-    experiments: &[crate::simulate::HarmonicForce],
-) -> String {
-    let mut text = String::from(
-        "# The selected experiments as [[simulation.experiments]], to paste into a model file:\n",
-    );
-    for e in selected_experiments(report, experiments) {
-        text.push_str(&format!(
-            "\n[[simulation.experiments]]   # candidate {} ({}): {}\nforce_dof = {}\namplitude = {:?}\nfrequency = {:?}\n",
-            e.candidate, e.selected_as, e.description, e.force_dof, e.amplitude, e.frequency
-        ));
-        if e.phase != 0.0 {
-            text.push_str(&format!("phase = {:?}\n", e.phase));
-        }
-    }
-    text
 }

@@ -91,6 +91,34 @@ pub struct SensorParts {
     pub integration: Integration,
 }
 
+/// `records` integrated again as `integration` says, where they were built from velocity
+/// or acceleration sensors ([`Record::measured_motion`]); `None` when none was (every
+/// record is then as it is). A program that built its records for whole periods
+/// identifies them over fixed spans this way (the zero-phase high-pass of the
+/// non-periodic mode; a model file's `[non_periodic] high_pass`).
+pub fn reintegrated(records: &[Record], integration: Integration) -> Result<Option<Vec<Record>>> {
+    if records.iter().all(|r| r.measured_motion().is_none()) {
+        return Ok(None);
+    }
+    records
+        .iter()
+        .map(|r| match r.measured_motion() {
+            None => Ok(r.clone()),
+            Some(motion) => record_from_sensors(SensorParts {
+                label: r.label().to_string(),
+                step: r.step(),
+                start_time: r.start_time(),
+                motion: motion.signals.clone(),
+                sensors: motion.sensors.clone(),
+                forcing: r.forcing().clone(),
+                period: r.period(),
+                integration,
+            }),
+        })
+        .collect::<Result<Vec<_>>>()
+        .map(Some)
+}
+
 /// A record from any sensors: a plain [`Record::new`] when every sensor is a
 /// displacement (bit for bit), else displacements and velocities reconstructed by
 /// [`integrate`] with the measured signals kept ([`Record::measured_motion`]).

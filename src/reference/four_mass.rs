@@ -92,7 +92,11 @@ pub fn four_mass_records_with(cubic_spring: bool, settings: &SimSettings) -> Res
     FOUR_MASS_AMPLITUDES
         .iter()
         .map(|&a| {
-            let record = simulate(&four_mass_system(a, cubic_spring), settings)?;
+            let record = simulate(
+                &four_mass_system(a, cubic_spring),
+                settings,
+                &crate::progress::silent,
+            )?;
             let mut parts = record.into_parts();
             parts.label = format!("a={a}");
             Record::new(parts)
@@ -185,7 +189,12 @@ pub fn run_four_mass_case(case: &FourMassCase, quadrature: Quadrature) -> Result
         },
         ..IdentifySettings::default()
     };
-    let report = identify(&four_mass_model(), &records, &settings)?;
+    let report = identify(
+        &crate::regressor::ParametricRegressor::linear(&four_mass_model(), &records),
+        &settings,
+        &crate::progress::silent,
+    )?
+    .report;
     let c = report.coefficient("c").unwrap_or(f64::NAN);
     let d = report.coefficient("d").unwrap_or(f64::NAN);
     Ok(CaseOutcome {

@@ -269,7 +269,12 @@ impl FourMassPodStudy {
         ];
         for (name, retained, velocity, basis, checked) in variants {
             let reduction = reduce(&records, &pod_settings(retained, basis))?;
-            let report = identify(&model, &reduction.records, &identify_settings(velocity))?;
+            let report = identify(
+                &crate::regressor::ParametricRegressor::linear(&model, &reduction.records),
+                &identify_settings(velocity),
+                &crate::progress::silent,
+            )?
+            .report;
             let checks = if checked {
                 coefficient_checks(&report, retained)
             } else {
@@ -301,10 +306,11 @@ impl FourMassPodStudy {
                 projected.push(pod.project(record)?);
             }
             let report = identify(
-                &model,
-                &projected,
+                &crate::regressor::ParametricRegressor::linear(&model, &projected),
                 &identify_settings(VelocitySource::Measured),
-            )?;
+                &crate::progress::silent,
+            )?
+            .report;
             sensitivity.push((
                 n,
                 report.coefficient("c").unwrap_or(f64::NAN),

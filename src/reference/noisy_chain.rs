@@ -95,7 +95,8 @@ pub fn noisy_chain_records(cycles: usize) -> Result<Vec<Record>> {
                         phase: 0.0,
                     }],
                 };
-                let mut parts = simulate(&system, &settings)?.into_parts();
+                let mut parts =
+                    simulate(&system, &settings, &crate::progress::silent)?.into_parts();
                 parts.label = format!("mode {mode}, mass {}, F = {amplitude}", dof + 1);
                 records.push(Record::new(parts)?);
             }
@@ -198,7 +199,12 @@ pub fn noise_study(
     let (mut covered, mut intervals) = (0usize, 0usize);
     for seed in 0..seeds {
         let noisy = with_displacement_noise(clean, level, seed)?;
-        let report = crate::identify::identify(&model, &noisy, settings)?;
+        let report = crate::identify::identify(
+            &crate::regressor::ParametricRegressor::linear(&model, &noisy),
+            settings,
+            &crate::progress::silent,
+        )?
+        .report;
         for (k, c) in report.coefficients.iter().enumerate() {
             let error = (c.value - truth[k]) / truth[k];
             squares[k] += error * error;

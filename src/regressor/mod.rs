@@ -26,12 +26,18 @@ pub(crate) mod history;
 pub mod input_work;
 mod kernel;
 pub mod nonperiodic;
+pub mod parametric;
 mod periodic;
 pub mod robust;
 mod settings;
+pub mod source;
 pub mod stepped_sine;
+pub mod velocity_bias;
 
+pub use parametric::{NonlinearParameter, Parametric, ParametricModel, ParametricRegressor};
 pub use settings::{NoiseTreatment, RegressorSettings, SpanWindows, Windows, WorkForm};
+pub use source::{KnownModal, Source, SteppedSineSource};
+use velocity_bias::VelocityBias;
 
 use faer::Mat;
 use rayon::prelude::*;
@@ -77,6 +83,10 @@ pub struct RowLabel {
     pub start_time: f64,
     /// Whole periods in the window.
     pub cycles: usize,
+    /// The driving frequency ω of a stepped-sine point (rad per unit time; `None` for
+    /// windows of records).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frequency: Option<f64>,
 }
 
 impl RowLabel {
@@ -88,6 +98,23 @@ impl RowLabel {
             window: window.index,
             start_time: record.start_time() + window.start as f64 * record.step(),
             cycles: window.cycles,
+            frequency: None,
+        }
+    }
+}
+
+impl std::fmt::Display for RowLabel {
+    /// "sweep RC3, 80.15 Hz" for a stepped-sine point (ω/2π), "record 2, window 3" for
+    /// a window (numbered from 1).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.frequency {
+            Some(omega) => write!(
+                f,
+                "sweep {}, {:.2} Hz",
+                self.record,
+                omega / (2.0 * std::f64::consts::PI)
+            ),
+            None => write!(f, "{}, window {}", self.record, self.window + 1),
         }
     }
 }
@@ -103,16 +130,28 @@ pub struct Regressor {
     /// The last `nuisance` columns are stored-energy and offset unknowns
     /// ([`crate::regressor::nonperiodic`]), not damping coefficients.
     nuisance: usize,
+    /// The expected velocity-noise bias of each entry, for a differencing velocity
+    /// estimator ([`velocity_bias`]).
+    velocity_bias: Option<VelocityBias>,
 }
 
 impl Regressor {
-    /// Builds one row per window of every record: windows of whole periods (plain
-    /// or noise-robust rows) or fixed spans of non-periodic records, as `settings` say.
-    pub fn build(
+    /// Builds the equations of `source` ([`Source`]): one row per window of every
+    /// record (windows of whole periods, plain or noise-robust rows, or fixed spans of
+    /// non-periodic records, as `settings` say), or one per point of a stepped-sine
+    /// table (`settings` do not apply to a table).
+    pub fn build<'a>(
         model: &DampingModel,
-        records: &[Record],
+        source: impl Into<Source<'a>>,
         settings: &RegressorSettings,
     ) -> Result<Self> {
+        let records = match source.into() {
+            Source::Records(records) => records,
+            Source::Table { table, residual } => {
+                return stepped_sine::build(model, table, residual);
+            }
+            Source::Rows(rows) => return Ok(rows.clone()),
+        };
         let spec = match &settings.windows {
             Windows::Spans(spans) => {
                 settings.validate()?;
@@ -177,8 +216,9 @@ impl Regressor {
             input_work::require_periodic_work(records, &windows, &regressor)?;
             return Ok(regressor);
         }
-        let rows = periodic::rows(model, records, &windows, spec, settings, columns.len())?;
-        let regressor = Self::assemble(records, &windows, rows, columns)?;
+        let (rows, bias) = periodic::rows(model, records, &windows, spec, settings, columns.len())?;
+        let mut regressor = Self::assemble(records, &windows, rows, columns)?;
+        regressor.velocity_bias = bias;
         input_work::require_periodic_work(records, &windows, &regressor)?;
         Ok(regressor)
     }
@@ -258,6 +298,7 @@ impl Regressor {
             rows,
             noise: None,
             nuisance: 0,
+            velocity_bias: None,
         })
     }
 
@@ -298,6 +339,12 @@ impl Regressor {
         let mut selected = Self::from_parts(matrix, rhs, self.columns.clone(), rows)?;
         selected.noise = self.noise.as_ref().map(|n| n.select(indices));
         selected.nuisance = self.nuisance;
+        selected.velocity_bias = self.velocity_bias.as_ref().map(|b| VelocityBias {
+            matrix: Mat::from_fn(indices.len(), b.matrix.ncols(), |r, k| {
+                b.matrix[(indices[r], k)]
+            }),
+            ..b.clone()
+        });
         Ok(selected)
     }
 
@@ -346,5 +393,10 @@ impl Regressor {
     /// How many trailing columns are nuisance unknowns (0 for periodic regressors).
     pub fn nuisance_count(&self) -> usize {
         self.nuisance
+    }
+    /// The expected velocity-noise bias of each entry, when the velocity estimator is
+    /// one whose bias is assessed ([`velocity_bias`]).
+    pub fn velocity_bias(&self) -> Option<&VelocityBias> {
+        self.velocity_bias.as_ref()
     }
 }

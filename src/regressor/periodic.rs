@@ -21,10 +21,13 @@ use crate::prep::window::{Window, WindowSpec};
 use crate::record::Record;
 use crate::regressor::kernel::{Plan, WindowSamples, build_in_parallel};
 use crate::regressor::settings::{RegressorSettings, WorkForm};
+use crate::regressor::velocity_bias::{self, Harmonics, VelocityBias, WindowBias};
 use crate::regressor::{Row, map_windows};
 use crate::regressor::{derivative_free, history};
 
-/// The rows of `windows` (cut by `spec` from `records`) under `settings`.
+/// The rows of `windows` (cut by `spec` from `records`) under `settings`, with each
+/// window's velocity-noise bias when the velocity estimator is one whose bias is
+/// assessed ([`velocity_bias`]).
 pub(super) fn rows(
     model: &DampingModel,
     records: &[Record],
@@ -32,7 +35,7 @@ pub(super) fn rows(
     spec: &WindowSpec,
     settings: &RegressorSettings,
     coefficients: usize,
-) -> Result<Vec<Row>> {
+) -> Result<(Vec<Row>, Option<VelocityBias>)> {
     let weights = record_weights(records, windows, spec, settings)?;
     // Small builds stay on the calling thread: every parallel call below would
     // otherwise be a hand-off to the pool costing more than its work.
@@ -46,9 +49,24 @@ pub(super) fn rows(
     } else {
         records.iter().zip(weights).map(share).collect()
     };
-    map_windows(parallel, windows, |w| {
-        window_row(&shared[w.record], model, &records[w.record], w, settings)
-    })
+    let assessed = Harmonics::assessed(settings);
+    let rows = map_windows(parallel, windows, |w| {
+        window_row(
+            &shared[w.record],
+            model,
+            &records[w.record],
+            w,
+            settings,
+            assessed,
+        )
+    })?;
+    let (rows, bias): (Vec<Row>, Vec<Option<WindowBias>>) = rows.into_iter().unzip();
+    let bias = bias
+        .into_iter()
+        .collect::<Option<Vec<_>>>()
+        .filter(|_| assessed.is_some())
+        .map(|windows| VelocityBias::of(settings, windows, model.coefficient_count()));
+    Ok((rows, bias))
 }
 
 /// What the windows of one record share: the kernel's plan and the quadrature weights
@@ -127,14 +145,17 @@ fn record_weights(
 }
 
 /// One row: every term's columns and the input work for window `w`, in one fused pass
-/// over the window's samples (`src/regressor/kernel/`).
+/// over the window's samples (`src/regressor/kernel/`); with `assessed`, the window's
+/// velocity-noise bias from the same weights and velocities. A window too short for the
+/// noise floor gets no bias (the assessment adds to a report and never stops a build).
 fn window_row(
     shared: &RecordShared<'_>,
     model: &DampingModel,
     record: &Record,
     w: &Window,
     settings: &RegressorSettings,
-) -> Result<Row> {
+    assessed: Option<Harmonics>,
+) -> Result<(Row, Option<WindowBias>)> {
     // A window that closes periodically reads its L samples, each weighted h.
     let closed;
     let weights = if w.closed {
@@ -158,5 +179,8 @@ fn window_row(
     if settings.work_form == WorkForm::DerivativeFree {
         input = derivative_free::replace_with_raw(model, record, w, &mut row)?;
     }
-    Ok((row, input))
+    let bias = assessed.and_then(|harmonics| {
+        velocity_bias::window(model, record, w, harmonics, &weights.to_vec(), v.as_ref()).ok()
+    });
+    Ok(((row, input), bias))
 }

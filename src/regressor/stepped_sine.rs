@@ -29,7 +29,7 @@
 //! and 10⁻⁶ a: the columns are smooth in X and φ, so their relative error is about
 //! 10⁻⁶, negligible in a variance; b is exactly linear in a.
 //!
-//! **Residual receptance** ([`build_with_residual`]): each point's response, and each
+//! **Residual receptance** ([`build`]): each point's response, and each
 //! perturbed copy of it, is first corrected by its residual R_p of the out-of-band
 //! modes, Z_mode = Z − R_p a ([`crate::prep::harmonic::residual`]); the derivatives
 //! are still taken with respect to the measured a, X and φ, so the noise model
@@ -42,9 +42,9 @@ use serde::{Deserialize, Serialize};
 use crate::error::{Error, Result};
 use crate::model::DampingModel;
 use crate::prep::harmonic::residual;
-use crate::prep::harmonic::sweeps::SweptTable;
 use crate::prep::harmonic::{HarmonicApproximation, SteppedSinePoint};
 use crate::regressor::robust::{ChannelSensitivity, NoiseModel, RowNoise, WindowNoise};
+use crate::regressor::source::SteppedSineSource;
 use crate::regressor::{Regressor, RegressorSettings, RowLabel};
 
 /// Relative step of the forward differences (module doc).
@@ -158,28 +158,21 @@ fn input_work(point: &SteppedSinePoint, psi: &[f64]) -> f64 {
     std::f64::consts::PI * point.force_amplitude * point.amplitudes[f] * psi[f].sin()
 }
 
-/// The regressor of `swept` (one equation per point, in table order) with its noise
-/// model: the model's terms by the harmonic approximation `approximation`, then the
-/// `structural` terms in closed form. Row labels: `record` the point's label,
-/// `record_index` the point's index, `window` its sweep.
-pub fn build(
+/// The regressor of `source` (one equation per point, in table order) with its noise
+/// model: the model's terms by the harmonic approximation, then the structural terms in
+/// closed form, each point's response first corrected by its residual receptance R_p
+/// for the unknowns `residual` (the module doc; empty: as measured). Row labels:
+/// `record` the point's sweep, `record_index` the sweep's index, `window` the point's
+/// place in its sweep, `frequency` its ω.
+pub(crate) fn build(
     model: &DampingModel,
-    structural: &[StructuralTerm],
-    swept: &SweptTable,
-    approximation: &HarmonicApproximation,
+    source: &SteppedSineSource,
+    residual: &[f64],
 ) -> Result<Regressor> {
-    build_with_residual(model, structural, swept, approximation, None)
-}
-
-/// [`build`] with each point's response corrected by its residual receptance
-/// `residual[p]` (R_p of point p, the module doc; `None`: as measured).
-pub fn build_with_residual(
-    model: &DampingModel,
-    structural: &[StructuralTerm],
-    swept: &SweptTable,
-    approximation: &HarmonicApproximation,
-    residual: Option<&[f64]>,
-) -> Result<Regressor> {
+    let (structural, swept, approximation) =
+        (&source.structural, &source.table, &source.approximation);
+    let residual = source.per_point(residual)?;
+    let residual = residual.as_deref();
     approximation.validate()?;
     let table = &swept.table;
     let dofs = table.dofs();
@@ -240,11 +233,21 @@ pub fn build_with_residual(
     let rhs: Vec<f64> = (0..points.len())
         .map(|r| all[r * per_point].input)
         .collect();
+    // Each point's place in its sweep.
+    let mut count = vec![0usize; swept.sweep_names.len()];
+    let places: Vec<usize> = swept
+        .sweeps
+        .iter()
+        .map(|&s| {
+            count[s] += 1;
+            count[s] - 1
+        })
+        .collect();
     let mut noise = NoiseModel {
         rows: Vec::with_capacity(points.len()),
         windows: Vec::with_capacity(points.len()),
     };
-    for (r, point) in points.iter().enumerate() {
+    for r in 0..points.len() {
         let base = &all[r * per_point];
         let sigma = &swept.noise[r];
         let derivative = |offset: usize| {
@@ -279,29 +282,31 @@ pub fn build_with_residual(
             force_variance: (sigma.force * db_da).powi(2),
         });
         noise.windows.push(WindowNoise {
-            record: point.label.clone(),
-            window: swept.sweeps[r],
+            record: swept.sweep_names[swept.sweeps[r]].clone(),
+            window: places[r],
             harmonics: vec![1],
             displacement_noise: sigma.amplitudes.clone(),
             sensors: Vec::new(),
             force_noise: vec![sigma.force],
         });
     }
-    let labels = points
-        .iter()
-        .enumerate()
-        .map(|(r, p)| RowLabel {
-            record: p.label.clone(),
-            record_index: r,
-            window: swept.sweeps[r],
-            start_time: 0.0,
-            cycles: 1,
+    let labels = (0..points.len())
+        .map(|r| {
+            let s = swept.sweeps[r];
+            RowLabel {
+                record: swept.sweep_names[s].clone(),
+                record_index: s,
+                window: places[r],
+                start_time: 0.0,
+                cycles: 1,
+                frequency: Some(points[r].frequency),
+            }
         })
         .collect();
     for (r, b) in rhs.iter().enumerate() {
         if *b == 0.0 {
             return Err(Error::NoInputWork {
-                record: points[r].label.clone(),
+                record: source.point_label(r),
                 window: None,
                 channels: format!("force on DOF {}", points[r].force_dof + 1),
                 reason: "π a X sin φ is zero at this stepped-sine point (phase lag 0 or π, or a zero amplitude)".into(),

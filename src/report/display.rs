@@ -8,6 +8,7 @@
 
 use std::fmt;
 
+use crate::analysis::bootstrap::{BootstrapSummary, Resampled};
 use crate::analysis::diagnostics::StandardErrorBasis;
 use crate::analysis::digest;
 use crate::report::{CoefficientEstimate, FitReport, NoiseSummary};
@@ -76,9 +77,9 @@ impl FitReport {
             (false, _) => String::new(),
         };
         let interval = match (&c.interval, level) {
-            (Some(i), _) => format!("  [{:>12.5e}, {:>12.5e}]", i.lower, i.upper),
+            (Some(i), Some(_)) => format!("  [{:>12.5e}, {:>12.5e}]", i.lower, i.upper),
             (None, Some(_)) => format!("  {:>27}", "-"),
-            (None, None) => String::new(),
+            (_, None) => String::new(),
         };
         let held = self
             .active_constraints
@@ -128,10 +129,87 @@ impl FitReport {
     }
 }
 
+impl FitReport {
+    /// The bootstrap of a fit with estimated parameters: one table of every parameter's
+    /// and coefficient's percentile interval (the coefficient table of the linear fit
+    /// at η̂ then shows none).
+    fn write_estimated_bootstrap(
+        &self,
+        f: &mut fmt::Formatter<'_>,
+        b: &BootstrapSummary,
+    ) -> fmt::Result {
+        let percent = (100.0 * b.level * 1e6).round() / 1e6;
+        writeln!(
+            f,
+            "bootstrap: {} of {} replicates kept, {} resampled ({} to draw from), seed {}, {} regressors built",
+            b.used, b.replicates, b.resampled, b.groups, b.seed, b.evaluations
+        )?;
+        if b.used < b.replicates {
+            writeln!(
+                f,
+                "  dropped: {} whose outer loop did not converge, {} whose linear fit was not usable",
+                b.not_converged, b.unusable
+            )?;
+        }
+        writeln!(
+            f,
+            "{:<20} {:>14}  {:>34}",
+            "parameter",
+            "bootstrap se",
+            format!("{percent}% percentile interval")
+        )?;
+        let parameters = self
+            .estimation
+            .iter()
+            .flat_map(|e| &e.parameters)
+            .filter_map(|p| p.bootstrap.as_ref());
+        let coefficients = self
+            .coefficients
+            .iter()
+            .chain(&self.nuisance)
+            .filter_map(|c| c.interval.as_ref());
+        for i in parameters.chain(coefficients) {
+            writeln!(
+                f,
+                "{:<20} {:>14.3e}  {:>34}",
+                i.name,
+                i.std_error,
+                format!("[{:.6e}, {:.6e}]", i.lower, i.upper)
+            )?;
+        }
+        writeln!(
+            f,
+            "bootstrap: each replicate refits the whole variable projection (η and θ) on the resampled equations, from the full data's estimate"
+        )?;
+        if b.resampled == Resampled::Sweeps {
+            writeln!(
+                f,
+                "  whole sweeps keep each sweep's points together: an unknown of one sweep (its residual receptance) varies here only through the shared parameters, so read its joint interval above"
+            )?;
+        }
+        Ok(())
+    }
+}
+
 impl fmt::Display for FitReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if let Some(estimation) = &self.estimation {
+            estimation.write(f, self.is_estimate())?;
+            if let Some(b) = &self.bootstrap {
+                self.write_estimated_bootstrap(f, b)?;
+            }
+            writeln!(
+                f,
+                "linear fit at the estimated parameters (its errors hold them fixed):"
+            )?;
+        }
         writeln!(f, "status: {:?} ({:?})", self.status, self.method)?;
-        let level = self.bootstrap.as_ref().map(|b| b.level);
+        // With estimated parameters the bootstrap is shown above, with theirs.
+        let bootstrap = self
+            .bootstrap
+            .as_ref()
+            .filter(|_| self.estimation.is_none());
+        let level = bootstrap.map(|b| b.level);
         let interval_header = level
             .map(|l| {
                 let percent = (100.0 * l * 1e6).round() / 1e6;
@@ -167,11 +245,11 @@ impl fmt::Display for FitReport {
         if self.coefficients.iter().any(|c| c.std_error.is_some()) {
             writeln!(f, "{}", self.std_error_basis)?;
         }
-        if let Some(b) = &self.bootstrap {
+        if let Some(b) = bootstrap {
             writeln!(
                 f,
-                "bootstrap: {} of {} resampled regressors used (windows resampled with replacement, seed {}); percentile intervals",
-                b.used, b.replicates, b.seed
+                "bootstrap: {} of {} resampled regressors used ({} resampled with replacement, seed {}); percentile intervals",
+                b.used, b.replicates, b.resampled, b.seed
             )?;
         }
         writeln!(

@@ -9,12 +9,12 @@
 //! ([`records`]) is reported, with a warning naming a record that dominates.
 
 mod display;
+pub mod estimation;
 pub mod html;
 pub mod provenance;
 pub mod records;
 mod truth;
 pub mod units;
-pub mod varpro;
 mod warning;
 
 pub use truth::AgainstTruth;
@@ -39,6 +39,7 @@ use crate::fit::{ActiveConstraint, Fit, FitMethod, FitStatus, SolverInfo};
 use crate::prep::steady_state::SteadyStateReport;
 use crate::regressor::robust::WindowNoise;
 use crate::regressor::{Regressor, RowLabel};
+pub use estimation::Estimation;
 
 /// One identified coefficient.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -125,8 +126,16 @@ pub struct FitReport {
     pub solver: Option<SolverInfo>,
     /// What the data can and cannot determine.
     pub identifiability: Identifiability,
-    /// The bootstrap behind the confidence intervals, when one was run.
+    /// The bootstrap behind the confidence intervals, when one was run (the
+    /// coefficients' percentile intervals are in `coefficients`, the nonlinear
+    /// parameters' in `estimation`).
     pub bootstrap: Option<BootstrapSummary>,
+    /// The estimated nonlinear parameters (law parameters, a table's residual
+    /// receptances), when the fit estimated any: the coefficients above are then those
+    /// of the linear fit at the estimate, their standard errors holding it fixed, and
+    /// the estimation's joint intervals include its uncertainty.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub estimation: Option<Estimation>,
     /// The noise-robust pipeline's estimates and model check, when it ran.
     #[serde(default)]
     pub noise: Option<NoiseSummary>,
@@ -277,6 +286,7 @@ impl FitReport {
             solver: fit.solver,
             identifiability,
             bootstrap: None,
+            estimation: None,
             noise,
             velocity_noise: None,
             records,
@@ -284,17 +294,33 @@ impl FitReport {
         }
     }
 
-    /// Adds the confidence intervals of `bootstrap` (run on the same regressor and fit
-    /// settings) to the coefficients, matched by name.
-    pub fn with_bootstrap(mut self, bootstrap: Bootstrap) -> Self {
+    /// Adds the percentile intervals of `bootstrap` (run on the same problem and
+    /// settings) to the coefficients and the estimated parameters, matched by name.
+    pub fn with_bootstrap(mut self, bootstrap: &Bootstrap) -> Self {
         for c in self.coefficients.iter_mut().chain(&mut self.nuisance) {
             c.interval = bootstrap
-                .intervals
+                .coefficients
                 .iter()
                 .find(|i| i.name == c.name && c.determined)
                 .cloned();
         }
+        if let Some(estimation) = &mut self.estimation {
+            for p in &mut estimation.parameters {
+                p.bootstrap = bootstrap
+                    .parameters
+                    .iter()
+                    .find(|i| i.name == p.name)
+                    .cloned();
+            }
+        }
         self.bootstrap = Some(bootstrap.summary);
+        self
+    }
+
+    /// This report with the `estimation` of its nonlinear parameters (the report is the
+    /// linear fit's at the estimate).
+    pub fn with_estimation(mut self, estimation: Estimation) -> Self {
+        self.estimation = Some(estimation);
         self
     }
 
@@ -380,13 +406,59 @@ impl FitReport {
                 _ => {}
             }
         }
+        if let Some(estimation) = &self.estimation {
+            failures.extend(estimation.strict_failures());
+        }
         failures
     }
 
-    /// True when the data determine every coefficient and the fit converged: the
-    /// values are estimates.
+    /// True when the fit converged (its solver, and the outer loop of any estimated
+    /// parameters): the numbers are a solution, which the exit status of `dampid
+    /// identify` says (1 otherwise). Whether the data determine each coefficient is
+    /// [`Self::is_estimate`].
+    pub fn is_usable(&self) -> bool {
+        self.status.is_usable() && self.estimation.as_ref().is_none_or(|e| e.status.converged)
+    }
+
+    /// True when the fit converged ([`Self::is_usable`]) and the data determine every
+    /// coefficient: the values are estimates.
     pub fn is_estimate(&self) -> bool {
-        self.status.is_usable() && self.coefficients.iter().all(|c| c.determined)
+        self.is_usable() && self.coefficients.iter().all(|c| c.determined)
+    }
+
+    /// The covariance of the coefficients (in column order, nuisance unknowns after the
+    /// damping coefficients): the joint one of an estimation (its first p rows and
+    /// columns: θ, holding nothing fixed) when it has one, else the linear fit's,
+    /// Σ_ij = se_i se_j ρ_ij from the standard errors and the correlation; `None` when
+    /// a coefficient has no standard error.
+    pub fn covariance(&self) -> Option<Vec<Vec<f64>>> {
+        if let Some(estimation) = &self.estimation {
+            return estimation.covariance.clone();
+        }
+        let all: Vec<&CoefficientEstimate> =
+            self.coefficients.iter().chain(&self.nuisance).collect();
+        let p = all.len();
+        let se: Vec<f64> = all.iter().map(|c| c.std_error).collect::<Option<_>>()?;
+        let mut c = vec![vec![0.0; p]; p];
+        for (i, row) in c.iter_mut().enumerate() {
+            row[i] = se[i] * se[i];
+        }
+        if let Some(corr) = &self.correlation {
+            let index = |name: &str| all.iter().position(|c| c.name == name);
+            for (a, na) in corr.names.iter().enumerate() {
+                for (b, nb) in corr.names.iter().enumerate() {
+                    if let (Some(i), Some(j)) = (index(na), index(nb)) {
+                        c[i][j] = se[i] * se[j] * corr.matrix[a][b];
+                    }
+                }
+            }
+        }
+        Some(c)
+    }
+
+    /// The value of estimated nonlinear parameter `name`, if the fit estimated it.
+    pub fn parameter(&self, name: &str) -> Option<f64> {
+        self.estimation.as_ref()?.parameter(name)
     }
 
     /// The estimate of coefficient `name` (damping or nuisance), if the model has it.

@@ -159,6 +159,7 @@ mod tests {
             window,
             start_time: 0.0,
             cycles: 1,
+            frequency: None,
         }
     }
 

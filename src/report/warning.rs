@@ -114,6 +114,11 @@ pub enum Warning {
         /// Its standardised residual.
         standardised_residual: Option<f64>,
     },
+    /// A bootstrap was asked for but not run.
+    NoBootstrap {
+        /// Why.
+        reason: String,
+    },
 }
 
 impl Warning {
@@ -282,6 +287,7 @@ impl fmt::Display for Warning {
                     100.0 * equation_share
                 )
             }
+            Warning::NoBootstrap { reason } => write!(f, "no bootstrap: {reason}"),
         }
     }
 }

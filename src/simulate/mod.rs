@@ -278,17 +278,13 @@ impl System {
     }
 }
 
-/// Simulates `system` and records its steady state.
-pub fn simulate(system: &System, settings: &SimSettings) -> Result<Record> {
-    simulate_with_progress(system, settings, &crate::progress::silent)
-}
-
 /// Reports at most this many times per simulation.
 const PROGRESS_REPORTS: usize = 100;
 
-/// [`simulate`], calling `progress(done, total)` in integration steps (recorded steps,
-/// transient included) about every 1% of the run and once at its end.
-pub fn simulate_with_progress(
+/// Simulates `system` and records its steady state, calling `progress(done, total)` in
+/// integration steps (recorded steps, transient included) about every 1% of the run and
+/// once at its end ([`crate::progress::silent`] for none).
+pub fn simulate(
     system: &System,
     settings: &SimSettings,
     progress: crate::progress::Progress<'_>,

@@ -12,7 +12,7 @@
 //! A new built-in law is one file in `laws/` holding the law, its `impl Law` and its
 //! registration (the name model files use, its parameters, its constructor), plus one
 //! line in `laws/mod.rs`; a program registers laws of its own at run time
-//! (`laws::Registry::with`, then `model_file::parse_with_laws`).
+//! (`laws::Registry::with`, then `model_file::parse` with `Options { laws: Some(&registry), .. }`).
 //!
 //! Where laws end. A force with memory, such as hysteresis and friction with an internal
 //! state (Bouc–Wen, Dahl, Iwan/Masing, LuGre), depends on the whole path: a block cannot

@@ -47,14 +47,17 @@
 //! so the result does not depend on the number of threads.
 
 use crate::analysis::bootstrap::{
-    BootstrapSettings, Groups, percentile_interval, rank_of, replicate_rng, run_replicates,
+    Bootstrap, BootstrapSettings, BootstrapSummary, Groups, Resampled, percentile_interval,
+    rank_of, replicate_rng, run_replicates,
 };
 use crate::error::{Error, Result};
+use crate::fit::FitMethod;
 use crate::progress::Progress;
+use crate::regressor::NonlinearParameter;
 
 use super::levenberg_marquardt::levenberg_marquardt;
 use super::problem::Problem;
-use super::{NonlinearParameter, Resampled, VarProBootstrap, VarProSettings, fixed_weights};
+use super::{VarProSettings, fixed_weights};
 
 /// What became of one replicate.
 enum Outcome {
@@ -74,13 +77,13 @@ pub(super) fn bootstrap(
     varpro: &VarProSettings,
     settings: &BootstrapSettings,
     progress: Progress<'_>,
-) -> Result<VarProBootstrap> {
+) -> Result<Bootstrap> {
     settings.validate()?;
     varpro.validate()?;
-    let fit = &problem.settings().fit;
+    let fit = problem.fit();
     fit.validate()?;
     let specs = problem.parameters();
-    super::check_values(specs, estimate)?;
+    crate::regressor::parametric::check_values(specs, estimate)?;
     let full = problem.regressor(estimate)?;
     let m = full.equations();
     let p = full.columns().len();
@@ -124,9 +127,9 @@ pub(super) fn bootstrap(
         let drawn = units.draw(&mut rng);
         let rows = units.rows_of(&drawn);
         let replicate = Problem::with_builder(
-            &start,
+            start.clone(),
             Box::new(|eta: &[f64]| problem.regressor(eta)?.select_rows(&rows)),
-            problem.settings(),
+            problem.fit(),
         );
         let outcome = match refit(&replicate, varpro, full_rank) {
             Ok(outcome) => outcome,
@@ -175,16 +178,23 @@ pub(super) fn bootstrap(
         .enumerate()
         .map(|(k, name)| interval(q + k, name))
         .collect();
-    Ok(VarProBootstrap {
-        replicates: settings.replicates,
-        used,
-        not_converged,
-        unusable,
-        seed: settings.seed,
-        level: settings.level,
-        resampled,
-        evaluations: problem.evaluations() - built_before,
-        groups: units.count(),
+    Ok(Bootstrap {
+        summary: BootstrapSummary {
+            replicates: settings.replicates,
+            used,
+            seed: settings.seed,
+            level: settings.level,
+            method: if fit.constraints.is_empty() {
+                FitMethod::LeastSquares
+            } else {
+                FitMethod::Constrained
+            },
+            resampled,
+            groups: units.count(),
+            not_converged,
+            unusable,
+            evaluations: problem.evaluations() - built_before,
+        },
         parameters,
         coefficients,
         samples,
@@ -195,7 +205,7 @@ pub(super) fn bootstrap(
 /// The outer loop of one replicate from its parameters' initial values (η̂), without
 /// multistart, and the linear fit at its end.
 fn refit(replicate: &Problem<'_>, varpro: &VarProSettings, full_rank: usize) -> Result<Outcome> {
-    let fit = &replicate.settings().fit;
+    let fit = replicate.fit();
     let parameters = replicate.parameters();
     let minimum = if parameters.len() == 1 {
         levenberg_marquardt(&|eta| replicate.residuals(eta), parameters, varpro, false)?

@@ -32,8 +32,12 @@
 //!   include the uncertainty of η; ∂r/∂η by central differences of rebuilt regressors.
 //!
 //! An outer loop that does not converge (iteration limit) is data, as [`crate::fit::FitStatus`]
-//! is: [`VarProReport::is_estimate`] is false, and the report shows the last trial as
-//! such, without intervals.
+//! is: [`crate::report::FitReport::is_estimate`] is false, and the report shows the last
+//! trial as such, without intervals.
+//!
+//! [`crate::identify::identify`] runs it for a problem with nonlinear parameters
+//! ([`ParametricRegressor`]); the bootstrap of the whole variable projection
+//! (`bootstrap.rs`) runs through it too.
 
 mod bootstrap;
 mod fixed_weights;
@@ -44,223 +48,16 @@ mod outer;
 mod problem;
 mod profile;
 
-use std::fmt;
-use std::sync::Arc;
-
-use crate::analysis::bootstrap::BootstrapSettings;
+use crate::analysis::bootstrap::{Bootstrap, BootstrapSettings};
 use crate::error::{Error, Result};
-use crate::identify::IdentifySettings;
-use crate::model::DampingModel;
+use crate::fit::FitSettings;
 use crate::progress::Progress;
-use crate::record::Record;
-use crate::regressor::Regressor;
-pub use crate::report::varpro::{
-    JointEstimate, NonlinearEstimate, OuterLoop, ProfileInterval, Resampled, VarProBootstrap,
-    VarProReport,
+pub use crate::regressor::{NonlinearParameter, ParametricModel};
+use crate::regressor::{ParametricRegressor, Regressor, RegressorSettings};
+use crate::report::FitReport;
+pub use crate::report::estimation::{
+    Estimation, JointEstimate, NonlinearEstimate, OuterLoop, ProfileInterval,
 };
-
-/// One nonlinear parameter to estimate: its name, initial value and bounds.
-#[derive(Debug, Clone, PartialEq)]
-pub struct NonlinearParameter {
-    /// Name (e.g. `exponent`, `vs`; reports prefix it with the term's coefficient name
-    /// where the model file builds it).
-    pub name: String,
-    /// Initial value, within [lower, upper] (the start of Levenberg–Marquardt, with the multistart corners; bounded Brent,
-    /// used for a single parameter, searches the whole interval).
-    pub initial: f64,
-    /// Lower bound.
-    pub lower: f64,
-    /// Upper bound.
-    pub upper: f64,
-    /// A nuisance parameter (a stepped-sine table's residual receptance): estimated with
-    /// the others and reported with its joint Wald interval, but given no profile
-    /// interval of its own. The profiles of the other parameters still minimise over it.
-    pub nuisance: bool,
-}
-
-impl NonlinearParameter {
-    /// A parameter `name` starting at `initial` within [`lower`, `upper`].
-    pub fn new(name: impl Into<String>, initial: f64, lower: f64, upper: f64) -> Self {
-        NonlinearParameter {
-            name: name.into(),
-            initial,
-            lower,
-            upper,
-            nuisance: false,
-        }
-    }
-
-    /// The same parameter as a nuisance one ([`NonlinearParameter::nuisance`]).
-    pub fn as_nuisance(self) -> Self {
-        NonlinearParameter {
-            nuisance: true,
-            ..self
-        }
-    }
-
-    /// Finite bounds with lower < upper and the initial value within them.
-    pub fn validate(&self) -> Result<()> {
-        let name = |what: &str| format!("{what} of estimated parameter '{}'", self.name);
-        for (what, value) in [
-            ("lower bound", self.lower),
-            ("upper bound", self.upper),
-            ("initial value", self.initial),
-        ] {
-            if !value.is_finite() {
-                return Err(Error::invalid(
-                    &name(what),
-                    value,
-                    "an estimated parameter needs finite `initial`, `lower` and `upper`",
-                ));
-            }
-        }
-        if self.lower >= self.upper {
-            return Err(Error::invalid(
-                &name("lower bound"),
-                self.lower,
-                &format!("must be below the upper bound {}", self.upper),
-            ));
-        }
-        if !(self.lower..=self.upper).contains(&self.initial) {
-            return Err(Error::invalid(
-                &name("initial value"),
-                self.initial,
-                &format!("must lie within [{}, {}]", self.lower, self.upper),
-            ));
-        }
-        Ok(())
-    }
-}
-
-/// Builds the damping model for given nonlinear parameter values (in the order of
-/// [`ParametricModel::parameters`]).
-pub type ModelBuilder = Arc<dyn Fn(&[f64]) -> Result<DampingModel> + Send + Sync>;
-
-/// A damping model with nonlinear parameters: their specs and a builder η → model.
-#[derive(Clone)]
-pub struct ParametricModel {
-    parameters: Vec<NonlinearParameter>,
-    builder: ModelBuilder,
-}
-
-impl fmt::Debug for ParametricModel {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.debug_struct("ParametricModel")
-            .field("parameters", &self.parameters)
-            .finish_non_exhaustive()
-    }
-}
-
-impl ParametricModel {
-    /// `parameters` (at least one, unique names, each valid) and the `builder`.
-    pub fn new(
-        parameters: Vec<NonlinearParameter>,
-        builder: impl Fn(&[f64]) -> Result<DampingModel> + Send + Sync + 'static,
-    ) -> Result<Self> {
-        validate_parameters(&parameters, "a parametric model")?;
-        Ok(ParametricModel {
-            parameters,
-            builder: Arc::new(builder),
-        })
-    }
-
-    /// The nonlinear parameters.
-    pub fn parameters(&self) -> &[NonlinearParameter] {
-        &self.parameters
-    }
-
-    /// The damping model at `values` (one per parameter).
-    pub fn model(&self, values: &[f64]) -> Result<DampingModel> {
-        check_values(&self.parameters, values)?;
-        (self.builder)(values)
-    }
-
-    /// The model at the initial values.
-    pub fn initial_model(&self) -> Result<DampingModel> {
-        let initial: Vec<f64> = self.parameters.iter().map(|p| p.initial).collect();
-        self.model(&initial)
-    }
-}
-
-/// One value per parameter.
-fn check_values<T>(parameters: &[NonlinearParameter], values: &[T]) -> Result<()> {
-    if values.len() == parameters.len() {
-        Ok(())
-    } else {
-        Err(Error::mismatch(
-            "nonlinear parameter values vs parameters",
-            parameters.len(),
-            values.len(),
-        ))
-    }
-}
-
-/// At least one parameter, unique names, each valid.
-fn validate_parameters(parameters: &[NonlinearParameter], of: &str) -> Result<()> {
-    if parameters.is_empty() {
-        return Err(Error::Empty {
-            what: format!("estimated parameters of {of}"),
-        });
-    }
-    for (i, p) in parameters.iter().enumerate() {
-        p.validate()?;
-        if parameters[..i].iter().any(|q| q.name == p.name) {
-            return Err(Error::choice(
-                "estimated parameter",
-                format!("'{}'", p.name),
-                "given twice: every estimated parameter needs its own name",
-            ));
-        }
-    }
-    Ok(())
-}
-
-/// Builds the whole regressor for given nonlinear parameter values (in the order of
-/// [`ParametricRegressor::parameters`]).
-pub type RegressorBuilder = Arc<dyn Fn(&[f64]) -> Result<Regressor> + Send + Sync>;
-
-/// A regressor with nonlinear parameters: their specs and a builder η → regressor, for
-/// problems whose η changes more than the damping model (a stepped-sine table's
-/// residual receptances, [`crate::prep::harmonic::residual`], with or without
-/// estimated law parameters). A [`ParametricModel`] on records is one such builder.
-#[derive(Clone)]
-pub struct ParametricRegressor {
-    parameters: Vec<NonlinearParameter>,
-    builder: RegressorBuilder,
-}
-
-impl fmt::Debug for ParametricRegressor {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.debug_struct("ParametricRegressor")
-            .field("parameters", &self.parameters)
-            .finish_non_exhaustive()
-    }
-}
-
-impl ParametricRegressor {
-    /// `parameters` (at least one, unique names, each valid) and the `builder`.
-    pub fn new(
-        parameters: Vec<NonlinearParameter>,
-        builder: impl Fn(&[f64]) -> Result<Regressor> + Send + Sync + 'static,
-    ) -> Result<Self> {
-        validate_parameters(&parameters, "a parametric regressor")?;
-        Ok(ParametricRegressor {
-            parameters,
-            builder: Arc::new(builder),
-        })
-    }
-
-    /// The nonlinear parameters.
-    pub fn parameters(&self) -> &[NonlinearParameter] {
-        &self.parameters
-    }
-
-    /// The regressor at `values` (one per parameter).
-    pub fn regressor(&self, values: &[f64]) -> Result<Regressor> {
-        check_values(&self.parameters, values)?;
-        (self.builder)(values)
-    }
-}
 
 /// Settings of the outer loop and the intervals.
 ///
@@ -317,150 +114,61 @@ impl VarProSettings {
     }
 }
 
-/// Identifies the linear coefficients and the nonlinear parameters of `model` from
-/// `records` by variable projection; the inner fits use `settings` as
-/// [`crate::identify::identify`] does.
-pub fn identify_varpro(
-    model: &ParametricModel,
-    records: &[Record],
-    settings: &IdentifySettings,
+/// The variable projection of `problem` (at least one nonlinear parameter): its records'
+/// windows cut by `regressor`, each inner fit by `fit`. Returns the regressor at the
+/// estimate η̂ (the last trial when the outer loop did not converge) and the report of
+/// the linear fit there, carrying the [`Estimation`]. A stage of
+/// [`crate::identify::identify`], public for research use.
+pub fn estimate(
+    problem: &ParametricRegressor<'_>,
+    regressor: &RegressorSettings,
+    fit: &FitSettings,
     varpro: &VarProSettings,
-) -> Result<VarProReport> {
-    identify_varpro_with_regressor(model, records, settings, varpro).map(|(_, _, report)| report)
-}
-
-/// [`identify_varpro`], also returning the regressor and the damping model at the
-/// estimate η̂ (`model.model(η̂)`, the last trial when the outer loop did not converge),
-/// as [`crate::identify::identify_with_regressor`] does, for plots and the equivalent
-/// damping without a rebuild.
-pub fn identify_varpro_with_regressor(
-    model: &ParametricModel,
-    records: &[Record],
-    settings: &IdentifySettings,
-    varpro: &VarProSettings,
-) -> Result<(Regressor, DampingModel, VarProReport)> {
-    settings.fit.validate()?;
+) -> Result<(Regressor, FitReport)> {
     varpro.validate()?;
-    let problem = problem::Problem::new(model, records, settings);
-    let (regressor, report) = run(&problem, settings, varpro)?;
-    let values: Vec<f64> = report.parameters.iter().map(|p| p.value).collect();
-    Ok((regressor, model.model(&values)?, report))
+    let problem = problem::Problem::new(problem, regressor, fit);
+    run(&problem, fit, varpro)
 }
 
-/// [`identify_varpro`] for a regressor built directly from η (`model`'s builder); the
-/// inner fits use `settings.fit` (its regressor settings are the builder's business).
-pub fn identify_varpro_regressor(
-    model: &ParametricRegressor,
-    settings: &IdentifySettings,
+/// The bootstrap of the variable projection of `problem` around its estimate η̂
+/// (`estimate`, every parameter): every replicate draws the windows (or, with `groups`,
+/// whole groups: a table's sweeps) with replacement and refits the whole variable
+/// projection from η̂ (the method: `varpro/bootstrap.rs`). `progress(done, total)`
+/// counts replicates; [`crate::cancel::check`] runs before each. A stage of
+/// [`crate::identify::identify`] (which runs it around its own estimate with its own
+/// settings), public for research use: a bootstrap around a given η̂ or under other
+/// outer-loop settings.
+#[allow(clippy::too_many_arguments)]
+pub fn bootstrap(
+    problem: &ParametricRegressor<'_>,
+    regressor: &RegressorSettings,
+    fit: &FitSettings,
     varpro: &VarProSettings,
-) -> Result<VarProReport> {
-    identify_varpro_regressor_with_regressor(model, settings, varpro).map(|(_, report)| report)
-}
-
-/// [`identify_varpro_regressor`], also returning the regressor at the estimate η̂ (the
-/// last trial when the outer loop did not converge).
-pub fn identify_varpro_regressor_with_regressor(
-    model: &ParametricRegressor,
-    settings: &IdentifySettings,
-    varpro: &VarProSettings,
-) -> Result<(Regressor, VarProReport)> {
-    settings.fit.validate()?;
-    varpro.validate()?;
-    let problem = problem::Problem::with_builder(
-        model.parameters(),
-        Box::new(|eta: &[f64]| model.regressor(eta)),
-        settings,
-    );
-    run(&problem, settings, varpro)
-}
-
-/// The bootstrap of a variable-projection fit of `model` on `records`
-/// ([`identify_varpro`]'s `report` of the same inputs): every replicate draws the
-/// windows (equations) with replacement and refits the whole variable projection from
-/// the report's estimate η̂ (the method: `varpro/bootstrap.rs`). `progress(done,
-/// total)` counts replicates; [`crate::cancel::check`] runs before each. Add the result
-/// to the report with [`VarProReport::with_bootstrap`].
-pub fn bootstrap_varpro(
-    model: &ParametricModel,
-    records: &[Record],
-    settings: &IdentifySettings,
-    varpro: &VarProSettings,
-    report: &VarProReport,
+    estimate: &[f64],
     bootstrap: &BootstrapSettings,
     progress: Progress<'_>,
-) -> Result<VarProBootstrap> {
-    let problem = problem::Problem::new(model, records, settings);
-    let estimate = estimate_of(model.parameters(), report)?;
-    bootstrap::bootstrap(&problem, &estimate, None, varpro, bootstrap, progress)
-}
-
-/// [`bootstrap_varpro`] for a regressor built directly from η
-/// ([`identify_varpro_regressor`]'s `report` of the same inputs). With `groups`,
-/// `groups[r]` the group of equation r (a stepped-sine table's sweeps,
-/// [`crate::model_file::Job::sweeps`]), a replicate draws whole groups; without, single
-/// equations. Fewer than two groups is [`Error::InvalidChoice`]: one sweep cannot be
-/// resampled as a whole.
-pub fn bootstrap_varpro_regressor(
-    model: &ParametricRegressor,
-    groups: Option<&[usize]>,
-    settings: &IdentifySettings,
-    varpro: &VarProSettings,
-    report: &VarProReport,
-    bootstrap: &BootstrapSettings,
-    progress: Progress<'_>,
-) -> Result<VarProBootstrap> {
-    let problem = problem::Problem::with_builder(
-        model.parameters(),
-        Box::new(|eta: &[f64]| model.regressor(eta)),
-        settings,
-    );
-    let estimate = estimate_of(model.parameters(), report)?;
-    bootstrap::bootstrap(&problem, &estimate, groups, varpro, bootstrap, progress)
-}
-
-/// η̂ of `report`, whose parameters must be `specs` (by name, in order) and whose outer
-/// loop must have converged to an estimate.
-fn estimate_of(specs: &[NonlinearParameter], report: &VarProReport) -> Result<Vec<f64>> {
-    check_values(specs, &report.parameters)?;
-    if let Some((spec, found)) = specs
-        .iter()
-        .zip(&report.parameters)
-        .find(|(spec, found)| spec.name != found.name)
-    {
-        return Err(Error::choice(
-            "variable-projection report to bootstrap",
-            format!("parameter '{}'", found.name),
-            &format!(
-                "the problem's parameter there is '{}': bootstrap the report of the same problem",
-                spec.name
-            ),
-        ));
-    }
-    if !report.is_estimate() {
-        return Err(Error::choice(
-            "variable-projection report to bootstrap",
-            "a fit that is not an estimate".to_string(),
-            "its outer loop did not converge or its linear fit failed: there is no estimate to resample around",
-        ));
-    }
-    Ok(report.parameters.iter().map(|p| p.value).collect())
+) -> Result<Bootstrap> {
+    let groups = problem.groups();
+    let problem = problem::Problem::new(problem, regressor, fit);
+    bootstrap::bootstrap(&problem, estimate, groups, varpro, bootstrap, progress)
 }
 
 /// The outer loop, the fit at its minimum and the intervals of `problem`, with the
 /// regressor at the minimum.
 fn run(
     problem: &problem::Problem<'_>,
-    settings: &IdentifySettings,
+    fit: &FitSettings,
     varpro: &VarProSettings,
-) -> Result<(Regressor, VarProReport)> {
+) -> Result<(Regressor, FitReport)> {
     let specs = problem.parameters();
     let minimum = if specs.len() == 1 {
         outer::minimise(&|eta: &[f64]| problem.residuals(eta), specs, varpro, true)?
     } else {
-        fixed_weights::minimise(problem, &settings.fit, varpro, true)?
+        fixed_weights::minimise(problem, fit, varpro, true)?
     };
     let best = problem.trial(&minimum.values)?;
-    let fit_report = crate::identify::identify_regressor(&best.regressor, &settings.fit)?;
+    let solved = crate::analysis::solved::solved(&best.regressor, fit)?;
+    let fit_report = FitReport::new(&best.regressor, solved.fit, solved.diagnostics);
     let converged = minimum.converged && best.fit.status.is_usable();
     let dof = best
         .regressor
@@ -507,6 +215,7 @@ fn run(
                     .map(|s| [value - joint.quantile * s, value + joint.quantile * s])
             }),
             interval,
+            bootstrap: None,
         });
     }
     let coefficients = best
@@ -527,7 +236,7 @@ fn run(
             }
         })
         .collect();
-    let report = VarProReport {
+    let estimation = Estimation {
         status: OuterLoop {
             converged: minimum.converged,
             method: minimum.method.into(),
@@ -542,8 +251,6 @@ fn run(
         parameters,
         coefficients,
         covariance: joint.and_then(|j| j.covariance),
-        fit: fit_report,
-        bootstrap: None,
     };
-    Ok((best.regressor, report))
+    Ok((best.regressor, fit_report.with_estimation(estimation)))
 }

@@ -2,30 +2,27 @@
 //! θ̂(η) and the projected cost φ(η) = Σ_r (e_r / s_r)², e = A(η) θ̂ − b, with s_r the
 //! propagated residual standard deviation of a weighted fit (s_r = 1 otherwise).
 //!
-//! A trial's regressor comes from a builder η → A(η), b: a [`ParametricModel`] on
-//! records (its model at η, then [`Regressor::build`]) or any builder
-//! (a stepped-sine table rebuilt with its residual receptances at η).
+//! A trial's regressor comes from a builder η → A(η), b: the problem's
+//! [`ParametricRegressor::regressor`] (the law's model at η on records, or a stepped-sine
+//! table rebuilt with its residual receptances at η), or, in a bootstrap replicate,
+//! the resampled rows of it.
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use crate::analysis::diagnostics::REJECTION_P_VALUE;
 use crate::error::Result;
-use crate::fit::Fit;
-use crate::identify::IdentifySettings;
-use crate::record::Record;
-use crate::regressor::Regressor;
+use crate::fit::{Fit, FitSettings};
+use crate::regressor::{NonlinearParameter, ParametricRegressor, Regressor, RegressorSettings};
 use crate::report::FitReport;
-
-use super::{NonlinearParameter, ParametricModel};
 
 /// The regressor at η (η in the order of the problem's parameters).
 pub type TrialBuilder<'a> = dyn Fn(&[f64]) -> Result<Regressor> + Send + Sync + 'a;
 
 /// The data and settings every trial shares, and a count of the trials.
 pub(super) struct Problem<'a> {
-    parameters: &'a [NonlinearParameter],
+    parameters: Vec<NonlinearParameter>,
     build: Box<TrialBuilder<'a>>,
-    settings: &'a IdentifySettings,
+    fit: &'a FitSettings,
     evaluations: AtomicU64,
 }
 
@@ -37,42 +34,42 @@ pub(super) struct Trial {
 }
 
 impl<'a> Problem<'a> {
+    /// The trials of `problem`, its records' windows cut by `regressor`, each fitted
+    /// with `fit`.
     pub fn new(
-        model: &'a ParametricModel,
-        records: &'a [Record],
-        settings: &'a IdentifySettings,
+        problem: &'a ParametricRegressor<'a>,
+        regressor: &'a RegressorSettings,
+        fit: &'a FitSettings,
     ) -> Self {
         Self::with_builder(
-            model.parameters(),
-            Box::new(move |eta: &[f64]| {
-                Regressor::build(&model.model(eta)?, records, &settings.regressor)
-            }),
-            settings,
+            problem.parameters(),
+            Box::new(move |eta: &[f64]| problem.regressor(eta, regressor)),
+            fit,
         )
     }
 
     /// A problem whose trial at η fits the regressor `build(η)`.
     pub fn with_builder(
-        parameters: &'a [NonlinearParameter],
+        parameters: Vec<NonlinearParameter>,
         build: Box<TrialBuilder<'a>>,
-        settings: &'a IdentifySettings,
+        fit: &'a FitSettings,
     ) -> Self {
         Problem {
             parameters,
             build,
-            settings,
+            fit,
             evaluations: AtomicU64::new(0),
         }
     }
 
     /// The nonlinear parameters.
     pub fn parameters(&self) -> &[NonlinearParameter] {
-        self.parameters
+        &self.parameters
     }
 
     /// The settings of the inner fits.
-    pub fn settings(&self) -> &'a IdentifySettings {
-        self.settings
+    pub fn fit(&self) -> &'a FitSettings {
+        self.fit
     }
 
     /// Regressors built so far.
@@ -89,7 +86,7 @@ impl<'a> Problem<'a> {
     /// The trial at `eta`.
     pub fn trial(&self, eta: &[f64]) -> Result<Trial> {
         let regressor = self.regressor(eta)?;
-        let fit = crate::fit::solve(&regressor, &self.settings.fit)?;
+        let fit = crate::fit::solve(&regressor, self.fit)?;
         let cost = weighted_residuals(&regressor, &fit.coefficients, fit.residual_std.as_deref())
             .iter()
             .map(|e| e * e)

@@ -340,7 +340,7 @@ fn model_file_record_that_is_a_device_is_refused_at_its_line() {
     let text = "dofs = 1\n\n[[terms]]\nkind = \"law\"\nlaw = \"linear\"\nelements = \"each_dof\"\ncoefficient = \"c\"\n\n[[data.records]]\nfile = \"run.csv\"\ntime = \"t\"\ndisplacements = [\"x\"]\nforces = [{ column = \"f\", dof = 1 }]\n";
     let base = dir.clone();
     let result = without_hanging(move || {
-        dampid::model_file::parse(text, "m.toml", &base)
+        dampid::model_file::parse(text, "m.toml", &base, Default::default())
             .map(drop)
             .map_err(|e| (e.to_string(), e.innermost().kind()))
     });

@@ -22,7 +22,12 @@ const ONE_FOR_TWO: Error = Error::TooFewEquations {
 #[test]
 fn fewer_windows_than_coefficients_is_too_few_equations() {
     // One window, two coefficients.
-    let err = identify(&per_dof_model(), &[record()], &measured()).unwrap_err();
+    let err = identify(
+        &ParametricRegressor::linear(&per_dof_model(), &[record()]),
+        &measured(),
+        &silent,
+    )
+    .unwrap_err();
     assert_eq!(err, ONE_FOR_TWO);
     let text = err.to_string();
     assert!(
@@ -41,7 +46,12 @@ fn constrained_fit_with_too_few_equations_is_too_few_equations() {
     let mut settings = measured();
     settings.fit.constraints = Constraints::nonnegative();
     assert_eq!(
-        identify(&per_dof_model(), &[record()], &settings).unwrap_err(),
+        identify(
+            &ParametricRegressor::linear(&per_dof_model(), &[record()]),
+            &settings,
+            &silent
+        )
+        .unwrap_err(),
         ONE_FOR_TWO
     );
 
@@ -54,7 +64,12 @@ fn constrained_fit_with_too_few_equations_is_too_few_equations() {
     ));
     settings.fit.constraints = fixed("d", 0.0);
     assert_eq!(
-        identify(&model, &[record()], &settings).unwrap_err(),
+        identify(
+            &ParametricRegressor::linear(&model, &[record()]),
+            &settings,
+            &silent
+        )
+        .unwrap_err(),
         ONE_FOR_TWO
     );
 }
@@ -79,7 +94,12 @@ fn regressor_without_rows_is_too_few_equations() {
 #[test]
 fn bound_on_unknown_coefficient_lists_the_known_names() {
     let settings = two_windows(bound("zeta", Some(0.0), None));
-    let err = identify(&per_dof_model(), &[record()], &settings).unwrap_err();
+    let err = identify(
+        &ParametricRegressor::linear(&per_dof_model(), &[record()]),
+        &settings,
+        &silent,
+    )
+    .unwrap_err();
     assert_eq!(
         err,
         Error::UnknownCoefficient {
@@ -98,7 +118,7 @@ fn bound_on_unknown_coefficient_lists_the_known_names() {
 fn fixed_unknown_coefficient_is_unknown() {
     let settings = two_windows(fixed("c", 1.0));
     assert!(matches!(
-        identify(&per_dof_model(), &[record()], &settings),
+        identify(&ParametricRegressor::linear(&per_dof_model(), &[record()]), &settings, &silent),
         Err(Error::UnknownCoefficient { ref name, ref known })
             if name == "c" && known == "c[1], c[2]"
     ));
@@ -107,7 +127,12 @@ fn fixed_unknown_coefficient_is_unknown() {
 #[test]
 fn lower_bound_above_upper_bound_is_infeasible() {
     let settings = two_windows(bound("c[2]", Some(2.0), Some(1.0)));
-    let err = identify(&per_dof_model(), &[record()], &settings).unwrap_err();
+    let err = identify(
+        &ParametricRegressor::linear(&per_dof_model(), &[record()]),
+        &settings,
+        &silent,
+    )
+    .unwrap_err();
     assert_eq!(
         err,
         Error::InfeasibleBounds {
@@ -130,7 +155,12 @@ fn negative_upper_bound_with_nonnegativity_is_infeasible() {
         ..bound("c[1]", None, Some(-0.5))
     });
     assert_eq!(
-        identify(&per_dof_model(), &[record()], &settings).unwrap_err(),
+        identify(
+            &ParametricRegressor::linear(&per_dof_model(), &[record()]),
+            &settings,
+            &silent
+        )
+        .unwrap_err(),
         Error::InfeasibleBounds {
             name: "c[1]".into(),
             lower: 0.0,
@@ -146,7 +176,7 @@ fn fixed_value_outside_its_bounds_is_infeasible() {
         ..bound("c[1]", Some(0.0), Some(1.0))
     });
     assert!(matches!(
-        identify(&per_dof_model(), &[record()], &settings),
+        identify(&ParametricRegressor::linear(&per_dof_model(), &[record()]), &settings, &silent),
         Err(Error::InfeasibleBounds { ref name, lower, upper })
             if name == "c[1]" && lower == 2.0 && upper == 1.0
     ));
@@ -157,7 +187,7 @@ fn fixed_value_outside_its_bounds_is_infeasible() {
         ..fixed("c[2]", -0.1)
     });
     assert!(matches!(
-        identify(&per_dof_model(), &[record()], &settings),
+        identify(&ParametricRegressor::linear(&per_dof_model(), &[record()]), &settings, &silent),
         Err(Error::InfeasibleBounds { ref name, lower, upper })
             if name == "c[2]" && lower == 0.0 && upper == -0.1
     ));
@@ -167,18 +197,18 @@ fn fixed_value_outside_its_bounds_is_infeasible() {
 fn nan_bound_or_fixed_value_is_invalid_parameter() {
     assert_invalid(
         identify(
-            &per_dof_model(),
-            &[record()],
+            &ParametricRegressor::linear(&per_dof_model(), &[record()]),
             &two_windows(bound("c[1]", None, Some(f64::NAN))),
+            &silent,
         ),
         "upper bound of 'c[1]'",
         f64::NAN,
     );
     assert_invalid(
         identify(
-            &per_dof_model(),
-            &[record()],
+            &ParametricRegressor::linear(&per_dof_model(), &[record()]),
             &two_windows(fixed("c[2]", f64::INFINITY)),
+            &silent,
         ),
         "fixed value of 'c[2]'",
         f64::INFINITY,
@@ -195,7 +225,11 @@ fn invalid_rank_tolerance_is_invalid_parameter() {
         let mut settings = measured();
         settings.fit.rank_tolerance = tolerance;
         let err = assert_invalid(
-            identify(&shared_model(), &[record()], &settings),
+            identify(
+                &ParametricRegressor::linear(&shared_model(), &[record()]),
+                &settings,
+                &silent,
+            ),
             "rank_tolerance",
             tolerance,
         );
@@ -209,7 +243,11 @@ fn invalid_solver_tolerance_is_invalid_parameter() {
         let mut settings = measured();
         settings.fit.solver.tolerance = tolerance;
         assert_invalid(
-            identify(&shared_model(), &[record()], &settings),
+            identify(
+                &ParametricRegressor::linear(&shared_model(), &[record()]),
+                &settings,
+                &silent,
+            ),
             "solver tolerance",
             tolerance,
         );
@@ -232,7 +270,11 @@ fn zero_max_iterations_is_invalid_parameter() {
     let mut settings = measured();
     settings.fit.solver.max_iterations = 0;
     assert_invalid(
-        identify(&shared_model(), &[record()], &settings),
+        identify(
+            &ParametricRegressor::linear(&shared_model(), &[record()]),
+            &settings,
+            &silent,
+        ),
         "max_iterations",
         0.0,
     );

@@ -164,7 +164,7 @@ pub fn sim_settings() -> SimSettings {
 pub fn simulate_with(edit: impl FnOnce(&mut System)) -> Result<Record> {
     let mut sys = system();
     edit(&mut sys);
-    simulate(&sys, &sim_settings())
+    simulate(&sys, &sim_settings(), &dampid::progress::silent)
 }
 
 /// Asserts `result` is `InvalidParameter` named `name` with value `value` (NaN-aware).
@@ -221,7 +221,7 @@ pub fn chain3_with_motion(motion: &str) -> String {
 }
 
 pub fn parse_model(text: &str, file: &str) -> Result<dampid::model_file::Job> {
-    dampid::model_file::parse(text, file, std::path::Path::new("."))
+    dampid::model_file::parse(text, file, std::path::Path::new("."), Default::default())
 }
 
 /// The fixture record with its amplitude growing by half over its two periods: the
@@ -251,11 +251,17 @@ pub fn growing_record_is_not_steady() -> Error {
 
 #[test]
 fn fixtures_are_valid() {
-    let report = identify(&shared_model(), &[record()], &measured()).unwrap();
+    let report = identify(
+        &ParametricRegressor::linear(&shared_model(), &[record()]),
+        &measured(),
+        &silent,
+    )
+    .unwrap()
+    .report;
     let c = report.coefficient("c").unwrap();
     assert!((c - C_TRUE).abs() < 1e-6 * C_TRUE, "c = {c}");
 
-    let sim = simulate(&system(), &sim_settings()).unwrap();
+    let sim = simulate(&system(), &sim_settings(), &dampid::progress::silent).unwrap();
     assert_eq!(sim.samples(), 20);
     assert_eq!(sim.dofs(), 2);
 }

@@ -28,7 +28,11 @@ pub fn bouc_wen_model(passes: usize) -> DampingModel {
 #[test]
 fn a_state_that_does_not_repeat_names_the_record_and_window() {
     // One pass from z = 0 at x = 1 cannot end where it started.
-    match identify(&bouc_wen_model(1), &[record()], &measured()) {
+    match identify(
+        &ParametricRegressor::linear(&bouc_wen_model(1), &[record()]),
+        &measured(),
+        &silent,
+    ) {
         Err(Error::NoPeriodicOrbit {
             record,
             window,
@@ -49,7 +53,12 @@ fn a_state_that_does_not_repeat_names_the_record_and_window() {
 
 #[test]
 fn zero_passes_are_refused() {
-    let error = identify(&bouc_wen_model(0), &[record()], &measured()).unwrap_err();
+    let error = identify(
+        &ParametricRegressor::linear(&bouc_wen_model(0), &[record()]),
+        &measured(),
+        &silent,
+    )
+    .unwrap_err();
     assert!(
         matches!(&error, Error::InvalidParameter { name, .. } if name.contains("max_passes")),
         "{error:?}"
@@ -75,7 +84,12 @@ fn non_periodic_spans_refuse_history_terms() {
         regressor: RegressorSettings::non_periodic(SpanWindows::new(0.5)),
         ..IdentifySettings::default()
     };
-    let error = identify(&bouc_wen_model(200), &[record()], &spans).unwrap_err();
+    let error = identify(
+        &ParametricRegressor::linear(&bouc_wen_model(200), &[record()]),
+        &spans,
+        &silent,
+    )
+    .unwrap_err();
     assert_refused(error, "non-periodic");
 }
 
@@ -83,9 +97,9 @@ fn non_periodic_spans_refuse_history_terms() {
 fn noise_robust_rows_refuse_history_terms() {
     // the default pipeline: harmonic projection with noise = auto
     let error = identify(
-        &bouc_wen_model(200),
-        &[record()],
+        &ParametricRegressor::linear(&bouc_wen_model(200), &[record()]),
         &IdentifySettings::default(),
+        &silent,
     )
     .unwrap_err();
     assert_refused(error, "noise-robust");
@@ -96,7 +110,7 @@ fn the_simulator_refuses_history_terms() {
     let mut system = system();
     system.damping = bouc_wen_model(200);
     system.damping_coefficients = vec![0.1, 1.0];
-    let error = simulate(&system, &sim_settings()).unwrap_err();
+    let error = simulate(&system, &sim_settings(), &dampid::progress::silent).unwrap_err();
     assert_refused(error, "not simulated");
 }
 

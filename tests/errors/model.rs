@@ -16,7 +16,12 @@ fn element_on_missing_dof_is_dof_out_of_range() {
         vec![Element::to_ground(0), Element::between(0, 3)],
         Coefficients::PerElement("dashpot".into()),
     ));
-    let err = identify(&model, &[record()], &measured()).unwrap_err();
+    let err = identify(
+        &ParametricRegressor::linear(&model, &[record()]),
+        &measured(),
+        &silent,
+    )
+    .unwrap_err();
     assert!(
         matches!(
             &err,
@@ -58,7 +63,7 @@ fn term_without_elements_is_empty() {
         Coefficients::Shared("c".into()),
     ));
     assert!(matches!(
-        identify(&model, &[record()], &measured()),
+        identify(&ParametricRegressor::linear(&model, &[record()]), &measured(), &silent),
         Err(Error::Empty { ref what }) if what.contains("element list")
     ));
 }
@@ -66,7 +71,12 @@ fn term_without_elements_is_empty() {
 #[test]
 fn matrix_term_of_wrong_size_is_dimension_mismatch() {
     let model = DampingModel::new().with(Term::viscous("c", Mat::identity(3, 3)));
-    let err = identify(&model, &[record()], &measured()).unwrap_err();
+    let err = identify(
+        &ParametricRegressor::linear(&model, &[record()]),
+        &measured(),
+        &silent,
+    )
+    .unwrap_err();
     assert!(
         matches!(
             &err,
@@ -91,7 +101,7 @@ fn nan_in_damping_matrix_is_non_finite() {
     c0[(0, 1)] = f64::NAN;
     let model = DampingModel::new().with(Term::mass_proportional("m", c0));
     assert!(matches!(
-        identify(&model, &[record()], &measured()),
+        identify(&ParametricRegressor::linear(&model, &[record()]), &measured(), &silent),
         Err(Error::NonFinite { ref what, row: 0, column: 1, value })
             if what == "matrix of term 'm'" && value.is_nan()
     ));
@@ -99,7 +109,12 @@ fn nan_in_damping_matrix_is_non_finite() {
 
 #[test]
 fn empty_model_is_empty() {
-    let err = identify(&DampingModel::new(), &[record()], &measured()).unwrap_err();
+    let err = identify(
+        &ParametricRegressor::linear(&DampingModel::new(), &[record()]),
+        &measured(),
+        &silent,
+    )
+    .unwrap_err();
     assert!(
         matches!(&err, Error::Empty { what } if what == "damping model"),
         "{err:?}"
@@ -112,7 +127,12 @@ fn two_terms_with_the_same_coefficient_name_are_duplicate() {
     let model = DampingModel::new()
         .with(Term::viscous("c", Mat::identity(2, 2)))
         .with(Term::per_dof(Linear, 2, Coefficients::Shared("c".into())));
-    let err = identify(&model, &[record()], &measured()).unwrap_err();
+    let err = identify(
+        &ParametricRegressor::linear(&model, &[record()]),
+        &measured(),
+        &silent,
+    )
+    .unwrap_err();
     assert_eq!(err, Error::DuplicateCoefficient { name: "c".into() });
     assert!(err.to_string().contains("'c'"), "{err}");
 }

@@ -286,8 +286,8 @@ fn non_periodic_sections_as_tables_translate_as_the_model_file() {
         "drive",
     )
     .unwrap();
-    let job = load(&path).unwrap();
-    assert_eq!(identification.settings, job.settings);
+    let job = load(&path, Default::default()).unwrap();
+    assert_eq!(identification, job.settings);
     assert_eq!(high_pass, None);
     let np = |extra: &str| -> toml::Table {
         toml::from_str(&format!("window = 0.25\n{extra}")).unwrap()

@@ -19,7 +19,12 @@ fn record_shorter_than_one_window_is_too_short() {
     let mut p = parts(80);
     p.label = "short".into();
     let short = Record::new(p).unwrap();
-    let err = identify(&shared_model(), &[short], &measured()).unwrap_err();
+    let err = identify(
+        &ParametricRegressor::linear(&shared_model(), &[short]),
+        &measured(),
+        &silent,
+    )
+    .unwrap_err();
     assert_eq!(
         err,
         Error::RecordTooShort {
@@ -40,7 +45,7 @@ fn too_many_requested_windows_is_too_short() {
     let settings = windows(WindowSpec::cycles(1).first(3));
     // Window 2 starts at sample 200 and reads 101 samples.
     assert!(matches!(
-        identify(&shared_model(), &[record()], &settings),
+        identify(&ParametricRegressor::linear(&shared_model(), &[record()]), &settings, &silent),
         Err(Error::RecordTooShort { ref record, needed: 301, available: N }) if record == "fixture"
     ));
 }
@@ -49,7 +54,11 @@ fn too_many_requested_windows_is_too_short() {
 fn skip_beyond_record_is_too_short() {
     let settings = windows(WindowSpec::cycles(1).skipping(500).first(1));
     assert!(matches!(
-        identify(&shared_model(), &[record()], &settings),
+        identify(
+            &ParametricRegressor::linear(&shared_model(), &[record()]),
+            &settings,
+            &silent
+        ),
         Err(Error::RecordTooShort {
             needed: 601,
             available: N,
@@ -78,7 +87,11 @@ fn period_beyond_any_record_is_too_short() {
             let mut settings = measured();
             settings.regressor.quadrature = quadrature;
             settings.regressor.velocity = velocity;
-            let result = identify(&shared_model(), std::slice::from_ref(&record), &settings);
+            let result = identify(
+                &ParametricRegressor::linear(&shared_model(), std::slice::from_ref(&record)),
+                &settings,
+                &silent,
+            );
             assert!(
                 matches!(
                     result,
@@ -101,7 +114,11 @@ fn invalid_window_spec_is_invalid_parameter() {
         (WindowSpec::cycles(1).first(0), "count"),
     ] {
         assert_invalid(
-            identify(&shared_model(), &[record()], &windows(spec)),
+            identify(
+                &ParametricRegressor::linear(&shared_model(), &[record()]),
+                &windows(spec),
+                &silent,
+            ),
             name,
             0.0,
         );
@@ -115,7 +132,11 @@ fn rectangular_window_under_two_samples_is_invalid_parameter() {
     let mut settings = measured();
     settings.regressor.quadrature = Quadrature::Rectangular;
     assert_invalid(
-        identify(&shared_model(), &[record], &settings),
+        identify(
+            &ParametricRegressor::linear(&shared_model(), &[record]),
+            &settings,
+            &silent,
+        ),
         "window span",
         0.5 * H,
     );
@@ -132,7 +153,12 @@ fn measured_velocities_on_record_without_them_are_missing() {
         p.velocities = None;
     })
     .unwrap();
-    let err = identify(&shared_model(), &[record], &measured()).unwrap_err();
+    let err = identify(
+        &ParametricRegressor::linear(&shared_model(), &[record]),
+        &measured(),
+        &silent,
+    )
+    .unwrap_err();
     assert_eq!(
         err,
         Error::MissingVelocities {
@@ -149,7 +175,11 @@ fn spectral_velocities_with_too_many_harmonics_are_invalid_parameter() {
         settings.regressor.velocity = VelocitySource::Spectral {
             harmonics: Some(harmonics),
         };
-        identify(&shared_model(), &[record()], &settings)
+        identify(
+            &ParametricRegressor::linear(&shared_model(), &[record()]),
+            &settings,
+            &silent,
+        )
     };
     // A one-period trapezoid window reads 101 samples: at most 50 harmonics fit.
     let err = assert_invalid(spectral(80), "harmonics", 80.0);

@@ -17,7 +17,7 @@ fn huge_period_is_too_short_not_a_panic() {
     // length saturates to usize::MAX in Quadrature::length and `whole + 1` overflows.
     let record = record_with(|p| p.period = 1e20).unwrap();
     assert!(matches!(
-        identify(&shared_model(), &[record], &measured()),
+        identify(&ParametricRegressor::linear(&shared_model(), &[record]), &measured(), &silent),
         Err(Error::RecordTooShort { available: N, needed, .. }) if needed > N
     ));
 }
@@ -26,7 +26,7 @@ fn huge_period_is_too_short_not_a_panic() {
 fn huge_skip_is_too_short_not_a_panic() {
     let settings = windows(WindowSpec::cycles(1).skipping(usize::MAX).first(1));
     assert!(matches!(
-        identify(&shared_model(), &[record()], &settings),
+        identify(&ParametricRegressor::linear(&shared_model(), &[record()]), &settings, &silent),
         Err(Error::RecordTooShort { available: N, needed, .. }) if needed > N
     ));
 }
@@ -35,7 +35,7 @@ fn huge_skip_is_too_short_not_a_panic() {
 fn huge_window_count_is_too_short_not_a_panic() {
     let settings = windows(WindowSpec::cycles(1).first(usize::MAX));
     assert!(matches!(
-        identify(&shared_model(), &[record()], &settings),
+        identify(&ParametricRegressor::linear(&shared_model(), &[record()]), &settings, &silent),
         Err(Error::RecordTooShort { available: N, needed, .. }) if needed > N
     ));
 }
@@ -45,7 +45,7 @@ fn huge_transient_is_invalid_not_a_panic() {
     let mut settings = sim_settings();
     settings.transient_steps = usize::MAX;
     assert!(matches!(
-        dampid::simulate::simulate(&system(), &settings),
+        dampid::simulate::simulate(&system(), &settings, &dampid::progress::silent),
         Err(Error::InvalidParameter { ref name, .. }) if name.contains("steps")
     ));
 }
@@ -63,7 +63,7 @@ fn singular_mass_with_roundoff_pivot_is_numerical() {
         DampingModel::new().with(Term::per_dof(Linear, 3, Coefficients::Shared("c".into())));
     let mut settings = sim_settings();
     settings.recorded_steps = 3;
-    let result = dampid::simulate::simulate(&sys, &settings);
+    let result = dampid::simulate::simulate(&sys, &settings, &dampid::progress::silent);
     assert!(
         matches!(
             &result,
@@ -86,7 +86,11 @@ fn large_but_finite_records_give_the_right_number() {
         p.forcing = Forcing::generalized(Mat::from_fn(N, 2, |i, j| 1e80 * forces(N)[(i, j)]));
     })
     .unwrap();
-    match identify(&shared_model(), &[record], &measured()) {
+    match identify(
+        &ParametricRegressor::linear(&shared_model(), &[record]),
+        &measured(),
+        &silent,
+    ) {
         Ok(report) => {
             let c = report.coefficient("c").unwrap();
             assert!((c - C_TRUE).abs() < 1e-6, "c = {c}");
@@ -140,7 +144,11 @@ fn infinite_bounds_that_admit_no_value_are_rejected() {
     // [−inf, −inf] likewise from above.
     for (lower, upper) in [(Some(f64::INFINITY), None), (None, Some(f64::NEG_INFINITY))] {
         let settings = two_windows(bound("c[1]", lower, upper));
-        let result = identify(&per_dof_model(), &[record()], &settings);
+        let result = identify(
+            &ParametricRegressor::linear(&per_dof_model(), &[record()]),
+            &settings,
+            &silent,
+        );
         assert!(
             matches!(
                 &result,
@@ -174,7 +182,7 @@ fn element_weights_that_do_not_match_the_elements_are_checked() {
         ))
     };
     assert!(matches!(
-        identify(&weighted(vec![0.5]), &[record()], &measured()),
+        identify(&ParametricRegressor::linear(&weighted(vec![0.5]), &[record()]), &measured(), &silent),
         Err(Error::DimensionMismatch { ref what, expected: 2, found: 1 })
             if what.contains("element weights")
     ));
@@ -189,7 +197,7 @@ fn element_weights_that_do_not_match_the_elements_are_checked() {
     }
     // A non-finite weight names its position.
     assert!(matches!(
-        identify(&weighted(vec![0.5, f64::NAN]), &[record()], &measured()),
+        identify(&ParametricRegressor::linear(&weighted(vec![0.5, f64::NAN]), &[record()]), &measured(), &silent),
         Err(Error::NonFinite { ref what, row: 1, column: 0, value })
             if what.contains("element weights") && value.is_nan()
     ));
@@ -205,7 +213,11 @@ fn window_shorter_than_one_step_is_invalid_not_an_endless_loop() {
         let mut settings = windows(WindowSpec::cycles(1));
         settings.regressor.quadrature = quadrature;
         assert_invalid(
-            identify(&shared_model(), std::slice::from_ref(&record), &settings),
+            identify(
+                &ParametricRegressor::linear(&shared_model(), std::slice::from_ref(&record)),
+                &settings,
+                &silent,
+            ),
             "window span",
             1e-30,
         );

@@ -13,7 +13,12 @@ use crate::support::regressors::row_labels;
 
 #[test]
 fn empty_record_list_is_empty() {
-    let err = identify(&shared_model(), &[], &measured()).unwrap_err();
+    let err = identify(
+        &ParametricRegressor::linear(&shared_model(), &[]),
+        &measured(),
+        &silent,
+    )
+    .unwrap_err();
     assert!(
         matches!(&err, Error::Empty { what } if what == "record list"),
         "{err:?}"
@@ -39,7 +44,7 @@ fn custom_law_returning_nan_names_the_regressor_column() {
     assert!(err.to_string().contains("'bad'"), "{err}");
     // The same through identify: no report with NaN coefficients.
     assert!(matches!(
-        identify(&model, &[record()], &measured()),
+        identify(&ParametricRegressor::linear(&model, &[record()]), &measured(), &silent),
         Err(Error::NonFinite { ref what, .. }) if what == "regressor column 'bad'"
     ));
 }
@@ -53,7 +58,7 @@ fn overflowing_regressor_column_is_non_finite_not_a_number() {
     })
     .unwrap();
     assert!(matches!(
-        identify(&shared_model(), &[record], &measured()),
+        identify(&ParametricRegressor::linear(&shared_model(), &[record]), &measured(), &silent),
         Err(Error::NonFinite { ref what, row: 0, column: 0, value })
             if what == "regressor column 'c'" && value == f64::INFINITY
     ));
@@ -102,7 +107,12 @@ fn regressor_parts_are_checked() {
 #[test]
 fn zero_force_is_no_input_work() {
     let dead = record_with(|p| p.forcing = Forcing::generalized(Mat::zeros(N, 2))).unwrap();
-    let err = identify(&shared_model(), &[dead], &measured()).unwrap_err();
+    let err = identify(
+        &ParametricRegressor::linear(&shared_model(), &[dead]),
+        &measured(),
+        &silent,
+    )
+    .unwrap_err();
     assert!(
         matches!(&err, Error::NoInputWork { record, window: None, channels, .. }
             if record == "fixture" && channels == "force channels 1 (on DOF 1) and 2 (on DOF 2)"),
@@ -124,8 +134,16 @@ fn zero_regressor_is_no_information() {
     let names = vec!["a".to_string(), "b".to_string()];
     let regressor =
         Regressor::from_parts(Mat::zeros(3, 2), vec![1.0, 2.0, 3.0], names, row_labels(3)).unwrap();
-    let err =
-        dampid::identify::identify_regressor(&regressor, &FitSettings::default()).unwrap_err();
+    let err = identify(
+        &ParametricRegressor::rows(&regressor),
+        &IdentifySettings {
+            fit: (FitSettings::default()).clone(),
+            ..Default::default()
+        },
+        &silent,
+    )
+    .map(|i| i.report)
+    .unwrap_err();
     assert!(
         matches!(&err, Error::NoInformation { coefficients, .. } if coefficients == "a and b"),
         "{err:?}"

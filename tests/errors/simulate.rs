@@ -39,7 +39,7 @@ fn diverging_simulation_is_numerical_not_nan() {
         transient_steps: 0,
         recorded_steps: 200,
     };
-    let err = simulate(&sys, &settings).unwrap_err();
+    let err = simulate(&sys, &settings, &dampid::progress::silent).unwrap_err();
     assert!(
         matches!(
             &err,
@@ -76,18 +76,30 @@ fn custom_law_returning_nan_in_simulation_is_numerical() {
 fn invalid_sim_settings_are_invalid_parameter() {
     let mut settings = sim_settings();
     settings.substeps = 0;
-    let err = assert_invalid(simulate(&system(), &settings), "substeps", 0.0);
+    let err = assert_invalid(
+        simulate(&system(), &settings, &dampid::progress::silent),
+        "substeps",
+        0.0,
+    );
     assert!(err.to_string().contains("substeps"), "{err}");
 
     for step in [0.0, -0.1, f64::NAN, f64::INFINITY] {
         let mut settings = sim_settings();
         settings.step = step;
-        assert_invalid(simulate(&system(), &settings), "step", step);
+        assert_invalid(
+            simulate(&system(), &settings, &dampid::progress::silent),
+            "step",
+            step,
+        );
     }
 
     let mut settings = sim_settings();
     settings.recorded_steps = 2;
-    assert_invalid(simulate(&system(), &settings), "recorded_steps", 2.0);
+    assert_invalid(
+        simulate(&system(), &settings, &dampid::progress::silent),
+        "recorded_steps",
+        2.0,
+    );
 }
 
 /// Sizes are checked before allocation, and time from a measured rate: a record of
@@ -97,13 +109,13 @@ fn invalid_sim_settings_are_invalid_parameter() {
 fn absurd_simulation_sizes_are_too_large() {
     let mut settings = sim_settings();
     settings.recorded_steps = 1_000_000_000_000_000;
-    let memory = simulate(&system(), &settings).unwrap_err();
+    let memory = simulate(&system(), &settings, &dampid::progress::silent).unwrap_err();
     assert_eq!(memory.kind(), "too_large");
     assert!(memory.to_string().contains("recorded_steps"), "{memory}");
 
     let mut settings = sim_settings();
     settings.transient_steps = 1_000_000_000_000_000;
-    let time = simulate(&system(), &settings).unwrap_err();
+    let time = simulate(&system(), &settings, &dampid::progress::silent).unwrap_err();
     assert_eq!(time.kind(), "too_large");
     let message = time.to_string();
     assert!(

@@ -27,7 +27,8 @@ phases = ["phi"]
 "#,
         file.display()
     );
-    let e = dampid::model_file::parse(&text, "m.toml", Path::new(".")).unwrap_err();
+    let e =
+        dampid::model_file::parse(&text, "m.toml", Path::new("."), Default::default()).unwrap_err();
     (file.display().to_string(), e)
 }
 
@@ -118,7 +119,7 @@ phases = [{}]
         columns("x"),
         columns("phi"),
     );
-    dampid::model_file::parse(&text, "m.toml", Path::new(".")).unwrap_err()
+    dampid::model_file::parse(&text, "m.toml", Path::new("."), Default::default()).unwrap_err()
 }
 
 /// Two sweeps of three points each.
@@ -214,39 +215,31 @@ fn residual_bounds_contradictory_name_the_line() {
 /// than the coefficients and law parameters, and coefficients that are not the model's
 /// columns, with `DimensionMismatch` (never a panic on an index).
 #[test]
-fn equivalent_damping_estimated_checks_its_sizes() {
-    use dampid::analysis::equivalent::Modal;
-    use dampid::analysis::equivalent_estimated::{EstimatedLaw, equivalent_damping_estimated};
+fn equivalent_damping_checks_its_sizes() {
+    use dampid::analysis::equivalent::equivalent_damping;
+    use dampid::regressor::{NonlinearParameter, ParametricModel, ParametricRegressor};
     let dir = std::env::temp_dir().join(format!("dampid_errors_ss_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let file = dir.join("equivalent_sizes.csv");
     std::fs::write(&file, GOOD).unwrap();
     let text = format!(
-        "dofs = 1\n[[terms]]\nkind = \"law\"\nlaw = \"linear\"\nelements = \"each_dof\"\ncoefficient = \"c\"\n[stepped_sine]\nfile = \"{}\"\nfrequency = \"w\"\nforce = \"a\"\namplitudes = [\"x\"]\nphases = [\"phi\"]\n",
+        "dofs = 1\n[[terms]]\nkind = \"law\"\nlaw = \"linear\"\nelements = \"each_dof\"\ncoefficient = \"c\"\n[stepped_sine]\nfile = \"{}\"\nfrequency = \"w\"\nforce = \"a\"\namplitudes = [\"x\"]\nphases = [\"phi\"]\n[system]\nmass = [[1.0]]\nstiffness = [[1.0]]\n",
         file.display()
     );
-    let job = dampid::model_file::parse(&text, "m.toml", Path::new(".")).unwrap();
+    let job =
+        dampid::model_file::parse(&text, "m.toml", Path::new("."), Default::default()).unwrap();
     let table = job.stepped_sine.as_ref().unwrap();
     let model = job.model.clone();
-    let builder = move |_: &[f64]| Ok(model.clone());
-    let law = EstimatedLaw {
-        model: &builder,
-        values: &[1.0],
-        lower: &[0.5],
-        upper: &[2.0],
-    };
+    let law = ParametricModel::new(
+        vec![NonlinearParameter::new("p", 1.0, 0.5, 2.0)],
+        move |_: &[f64]| Ok(model.clone()),
+    )
+    .unwrap();
+    let problem = ParametricRegressor::new(law, table);
     let run = |coefficients: &[f64], covariance: &[Vec<f64>]| {
-        equivalent_damping_estimated(
-            &job.model,
-            Some(&law),
-            &table.structural,
-            &table.approximation,
-            &table.table,
-            coefficients,
-            Some(covariance),
-            Modal::given(1.0, 1.0).unwrap(),
-        )
-        .unwrap_err()
+        equivalent_damping(&problem, &[1.0], coefficients, Some(covariance))
+            .expect("a one-DOF table")
+            .unwrap_err()
     };
     // One coefficient and one law parameter need a 2 × 2 covariance.
     match run(&[1.0], &[vec![1.0]]) {

@@ -49,7 +49,12 @@ fn non_periodic_spans_refuse_structural_damping() {
         regressor: RegressorSettings::non_periodic(SpanWindows::new(0.5)),
         ..IdentifySettings::default()
     };
-    let error = identify(&structural_model(vec![2.0]), &[record()], &spans).unwrap_err();
+    let error = identify(
+        &ParametricRegressor::linear(&structural_model(vec![2.0]), &[record()]),
+        &spans,
+        &silent,
+    )
+    .unwrap_err();
     assert_refused(error, "non-periodic");
 }
 
@@ -58,7 +63,7 @@ fn the_simulator_refuses_structural_damping() {
     let mut system = system();
     system.damping = structural_model(vec![2.0]);
     system.damping_coefficients = vec![0.1, 0.02];
-    let error = simulate(&system, &sim_settings()).unwrap_err();
+    let error = simulate(&system, &sim_settings(), &dampid::progress::silent).unwrap_err();
     assert_refused(error, "non-causal");
 }
 

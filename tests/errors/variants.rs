@@ -25,14 +25,44 @@ fn every_variant_is_reachable() {
         record_with(|p| p.velocities = Some(velocities(3))).unwrap_err(),
         record_with(|p| p.step = 0.0).unwrap_err(),
         Record::new(parts(2)).unwrap_err(),
-        identify(&per_dof_model(), &[record()], &measured()).unwrap_err(),
+        identify(
+            &ParametricRegressor::linear(&per_dof_model(), &[record()]),
+            &measured(),
+            &silent,
+        )
+        .unwrap_err(),
         record_with(|p| p.forcing = Forcing::on_dofs(forces(N), vec![0, 2])).unwrap_err(),
-        identify(&DampingModel::new(), &[record()], &measured()).unwrap_err(),
-        identify(&duplicate, &[record()], &measured()).unwrap_err(),
-        identify(&per_dof_model(), &[record()], &unknown).unwrap_err(),
-        identify(&per_dof_model(), &[record()], &infeasible).unwrap_err(),
-        identify(&shared_model(), &[no_v], &measured()).unwrap_err(),
-        simulate(&singular, &sim_settings()).unwrap_err(),
+        identify(
+            &ParametricRegressor::linear(&DampingModel::new(), &[record()]),
+            &measured(),
+            &silent,
+        )
+        .unwrap_err(),
+        identify(
+            &ParametricRegressor::linear(&duplicate, &[record()]),
+            &measured(),
+            &silent,
+        )
+        .unwrap_err(),
+        identify(
+            &ParametricRegressor::linear(&per_dof_model(), &[record()]),
+            &unknown,
+            &silent,
+        )
+        .unwrap_err(),
+        identify(
+            &ParametricRegressor::linear(&per_dof_model(), &[record()]),
+            &infeasible,
+            &silent,
+        )
+        .unwrap_err(),
+        identify(
+            &ParametricRegressor::linear(&shared_model(), &[no_v]),
+            &measured(),
+            &silent,
+        )
+        .unwrap_err(),
+        simulate(&singular, &sim_settings(), &dampid::progress::silent).unwrap_err(),
         dampid::terms::laws::Expression::parse("abs(v)*q").unwrap_err(),
         parse_model("dofs = ", "bad.toml").unwrap_err(),
         dampid::io::csv::parse("t,x\n0,1\n", "t.csv")
@@ -55,27 +85,47 @@ fn every_variant_is_reachable() {
                 },
                 ..IdentifySettings::default()
             };
-            identify(&shared_model(), &[record()], &spectral).unwrap_err()
+            identify(
+                &ParametricRegressor::linear(&shared_model(), &[record()]),
+                &spectral,
+                &silent,
+            )
+            .unwrap_err()
         },
         dampid::terms::laws::by_name("power", &dampid::terms::laws::LawParameters::new())
             .unwrap_err(),
         {
             let dead = record_with(|p| p.forcing = Forcing::generalized(Mat::zeros(N, 2)));
-            identify(&shared_model(), &[dead.unwrap()], &measured()).unwrap_err()
+            identify(
+                &ParametricRegressor::linear(&shared_model(), &[dead.unwrap()]),
+                &measured(),
+                &silent,
+            )
+            .unwrap_err()
         },
         {
             let zero = DampingModel::new().with(Term::viscous("zero", Mat::zeros(2, 2)));
-            identify(&zero, &[record()], &measured()).unwrap_err()
+            identify(
+                &ParametricRegressor::linear(&zero, &[record()]),
+                &measured(),
+                &silent,
+            )
+            .unwrap_err()
         },
         existing_output(),
-        identify(&crate::history::bouc_wen_model(1), &[record()], &measured()).unwrap_err(),
+        identify(
+            &ParametricRegressor::linear(&crate::history::bouc_wen_model(1), &[record()]),
+            &measured(),
+            &silent,
+        )
+        .unwrap_err(),
         // A flag of the caller's own: the process-wide one would stop the other tests.
         dampid::cancel::check_flag(&std::sync::atomic::AtomicBool::new(true), "the simulation")
             .unwrap_err(),
         {
             let mut huge = sim_settings();
             huge.recorded_steps = 1_000_000_000_000_000;
-            simulate(&system(), &huge).unwrap_err()
+            simulate(&system(), &huge, &dampid::progress::silent).unwrap_err()
         },
         {
             let contradictory = Constraints {
@@ -85,7 +135,12 @@ fn every_variant_is_reachable() {
                 ],
                 ..Constraints::default()
             };
-            identify(&per_dof_model(), &[record()], &two_windows(contradictory)).unwrap_err()
+            identify(
+                &ParametricRegressor::linear(&per_dof_model(), &[record()]),
+                &two_windows(contradictory),
+                &silent,
+            )
+            .unwrap_err()
         },
         dampid::io::records::write_record(
             std::path::Path::new("/nonexistent-dampid-folder/record_1.csv"),

@@ -54,7 +54,7 @@ fn parameter_specs_are_checked() {
     let one =
         ParametricModel::new(vec![NonlinearParameter::new("p", 1.0, 0.5, 4.0)], model).unwrap();
     assert!(matches!(
-        one.model(&[1.0, 2.0]),
+        one.at(&[1.0, 2.0]),
         Err(Error::DimensionMismatch {
             expected: 1,
             found: 2,

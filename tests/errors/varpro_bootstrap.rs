@@ -1,10 +1,12 @@
-//! The bootstrap of variable projection (`varpro::bootstrap_varpro_regressor`): fewer
-//! than two replicates, fewer than half of them kept, a table of a single sweep (whole
-//! sweeps cannot be resampled from one), and a report that is not an estimate.
+//! The bootstrap of variable projection (`dampid::varpro::bootstrap`, which `identify`
+//! runs with `--bootstrap`): fewer than two replicates, fewer than half of them kept, a
+//! table of a single sweep (whole sweeps cannot be resampled from one), and a fit that
+//! is not an estimate (no bootstrap, a warning).
 
 use dampid::analysis::bootstrap::BootstrapSettings;
 use dampid::prelude::*;
-use dampid::varpro::{VarProReport, VarProSettings, bootstrap_varpro_regressor};
+use dampid::report::Warning;
+use dampid::varpro::VarProSettings;
 
 use crate::table;
 
@@ -27,40 +29,29 @@ fn job(name: &str, levels: &[f64]) -> dampid::model_file::Job {
         &table::model_text(&file, "residual = \"stiffness\""),
         "m.toml",
         std::path::Path::new("."),
+        Default::default(),
     )
     .unwrap()
 }
 
-/// The fit of `job` (an estimate) and its bootstrap under `varpro` and `settings`.
+/// The fit of `job` (an estimate), then the bootstrap stage around it under `varpro`
+/// and `settings`.
 fn boot(
     job: &dampid::model_file::Job,
     varpro: &VarProSettings,
     settings: &BootstrapSettings,
-    report: Option<&VarProReport>,
-) -> Result<dampid::varpro::VarProBootstrap> {
-    let model = job.parametric_regressor().unwrap().unwrap();
-    let fitted;
-    let report = match report {
-        Some(r) => r,
-        None => {
-            fitted = dampid::varpro::identify_varpro_regressor(
-                &model,
-                &job.settings,
-                &job.varpro_settings(),
-            )
-            .unwrap();
-            assert!(fitted.is_estimate(), "{fitted}");
-            &fitted
-        }
-    };
-    bootstrap_varpro_regressor(
-        &model,
-        job.sweeps(),
-        &job.settings,
+) -> Result<dampid::analysis::bootstrap::Bootstrap> {
+    let problem = job.problem();
+    let fitted = identify(&problem, &job.settings, &silent).unwrap().report;
+    assert!(fitted.is_estimate(), "{fitted}");
+    dampid::varpro::bootstrap(
+        &problem,
+        &job.settings.regressor,
+        &job.settings.fit,
         varpro,
-        report,
+        &fitted.estimation.as_ref().unwrap().values(),
         settings,
-        &dampid::progress::silent,
+        &silent,
     )
 }
 
@@ -73,13 +64,12 @@ fn replicates(n: usize) -> BootstrapSettings {
 
 #[test]
 fn one_replicate_is_refused() {
-    let e = boot(
-        &job("vb_one.csv", &[0.5, 1.0, 2.0]),
-        &VarProSettings::default(),
-        &replicates(1),
-        None,
-    )
-    .unwrap_err();
+    let job = job("vb_one.csv", &[0.5, 1.0, 2.0]);
+    let settings = IdentifySettings {
+        bootstrap: Some(replicates(1)),
+        ..job.settings.clone()
+    };
+    let e = identify(&job.problem(), &settings, &silent).unwrap_err();
     assert!(
         matches!(&e, Error::InvalidParameter { name, value, .. } if name == "replicates" && *value == 1.0),
         "{e}"
@@ -91,18 +81,13 @@ fn one_replicate_is_refused() {
 /// estimate, not the replicate's): fewer than half kept.
 #[test]
 fn too_few_kept_replicates_is_an_error() {
+    let job = job("vb_few.csv", &[0.5, 1.0, 2.0]);
     let limited = VarProSettings {
         max_iterations: 1,
         tolerance: 1e-16,
-        ..job("vb_few.csv", &[0.5, 1.0, 2.0]).varpro_settings()
+        ..job.settings.estimation
     };
-    let e = boot(
-        &job("vb_few.csv", &[0.5, 1.0, 2.0]),
-        &limited,
-        &replicates(8),
-        None,
-    )
-    .unwrap_err();
+    let e = boot(&job, &limited, &replicates(8)).unwrap_err();
     match &e {
         Error::Numerical { stage, detail } => {
             assert!(stage.contains("variable projection"), "{e}");
@@ -121,7 +106,6 @@ fn a_single_sweep_cannot_be_resampled() {
         &job("vb_single.csv", &[1.0]),
         &VarProSettings::default(),
         &replicates(20),
-        None,
     )
     .unwrap_err();
     match &e {
@@ -133,27 +117,29 @@ fn a_single_sweep_cannot_be_resampled() {
     }
 }
 
-/// A report whose outer loop did not converge has no estimate to resample around.
+/// A fit whose outer loop did not converge has no estimate to resample around: no
+/// bootstrap, and a warning that says why.
 #[test]
-fn a_report_that_is_not_an_estimate_is_refused() {
+fn a_fit_that_is_not_an_estimate_is_not_bootstrapped() {
     let job = job("vb_not.csv", &[0.5, 1.0, 2.0]);
-    let model = job.parametric_regressor().unwrap().unwrap();
-    let limited = VarProSettings {
-        max_iterations: 1,
-        ..job.varpro_settings()
+    let settings = IdentifySettings {
+        estimation: VarProSettings {
+            max_iterations: 1,
+            ..job.settings.estimation
+        },
+        bootstrap: Some(replicates(20)),
+        ..job.settings.clone()
     };
-    let report =
-        dampid::varpro::identify_varpro_regressor(&model, &job.settings, &limited).unwrap();
-    assert!(!report.is_estimate());
-    let e = boot(
-        &job,
-        &VarProSettings::default(),
-        &replicates(20),
-        Some(&report),
-    )
-    .unwrap_err();
+    let found = identify(&job.problem(), &settings, &silent).unwrap();
+    assert!(!found.report.is_estimate());
+    assert!(found.bootstrap.is_none() && found.report.bootstrap.is_none());
     assert!(
-        matches!(&e, Error::InvalidChoice { reason, .. } if reason.contains("did not converge")),
-        "{e}"
+        found
+            .report
+            .warnings
+            .iter()
+            .any(|w| matches!(w, Warning::NoBootstrap { reason } if reason.contains("did not reach an estimate"))),
+        "{}",
+        found.report
     );
 }

@@ -8,6 +8,7 @@ use faer::Mat;
 pub fn row_labels(count: usize) -> Vec<RowLabel> {
     (0..count)
         .map(|i| RowLabel {
+            frequency: None,
             record: format!("r{i}"),
             record_index: i,
             window: 0,

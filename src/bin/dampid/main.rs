@@ -1,31 +1,27 @@
 //! The `dampid` command line: parse the arguments (args.rs), run the command through
-//! the library, print what it returns. The library composes every report; this file
-//! only draws progress bars, writes the HTML page where asked, and maps errors and
-//! untrusted results to exit codes 2 and 1. Ctrl-C sets `dampid::cancel`: the running
-//! work stops at its next step, nothing is written, and the exit code is 130 (128 +
-//! SIGINT, as a shell reports a process stopped by Ctrl-C).
+//! the library's command layer ([`dampid::command`]), print what it returns. The library
+//! composes every outcome (text, JSON, HTML page, exit status); this file draws
+//! progress bars, writes the HTML page where asked, and maps errors to exit code 2.
+//! Ctrl-C sets `dampid::cancel`: the running work stops at its next step, nothing is
+//! written, and the exit code is 130 (128 + SIGINT, as a shell reports a process
+//! stopped by Ctrl-C).
 
 mod args;
 
-use std::fmt::Write as _;
 use std::io::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::ExitCode;
 
 use anyhow::{Context, bail};
 use clap::Parser;
-use dampid::analysis::bootstrap::{BootstrapSettings, bootstrap_groups, bootstrap_with_progress};
+use dampid::analysis::bootstrap::BootstrapSettings;
+use dampid::command::identify::{Identified, IdentifyOptions};
+use dampid::command::{self, Outcome};
 use dampid::io::output::Overwrite;
-use dampid::io::pod_files::{Columns, PodTables, pod_of_files};
-use dampid::model_file::{CheckReport, Job, load_with_progress};
+use dampid::io::pod_files::Columns;
+use dampid::model_file::{Job, Options};
 use dampid::prep::pod::{PodBasis, PodSettings, Retain};
-use dampid::prep::steady_state::SteadyStateReport;
-use dampid::reference::FourMassSummary;
-use dampid::regressor::Regressor;
-use dampid::report::count;
-use dampid::report::html::HtmlReport;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use serde_json::json;
 
 use args::{Cli, Command, ReferenceSystem};
 
@@ -33,12 +29,6 @@ use args::{Cli, Command, ReferenceSystem};
 /// memory follows the data, not the allocator's arenas.
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
-/// What a command prints, and whether its numbers can be trusted.
-struct Outcome {
-    text: String,
-    trusted: bool,
-}
 
 fn main() -> ExitCode {
     // faer's default parallelism splits each product and decomposition over all of rayon's
@@ -53,15 +43,7 @@ fn main() -> ExitCode {
     // written through temporary files, so none is left partial).
     let _ = signal_hook::flag::register(signal_hook::consts::SIGINT, dampid::cancel::flag());
     match run(Cli::parse()) {
-        Ok(outcome) => {
-            // A closed pipe (`dampid … | head`) is not an error of ours.
-            let _ = std::io::stdout().lock().write_all(outcome.text.as_bytes());
-            if outcome.trusted {
-                ExitCode::SUCCESS
-            } else {
-                ExitCode::from(1)
-            }
-        }
+        Ok(status) => ExitCode::from(status),
         Err(e) => {
             eprintln!("error: {e:#}");
             let cancelled = e
@@ -73,7 +55,7 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(cli: Cli) -> anyhow::Result<Outcome> {
+fn run(cli: Cli) -> anyhow::Result<u8> {
     if let Some(bytes) = cli.max_memory {
         dampid::budget::set_max_memory(bytes);
     }
@@ -81,7 +63,11 @@ fn run(cli: Cli) -> anyhow::Result<Outcome> {
         dampid::budget::set_time_limit(None);
     }
     match cli.command {
-        Command::Init { files, out, force } => init(&files, &out, Overwrite::from_force(force)),
+        Command::Init { files, out, force } => print(
+            &command::init::run(&files, &out, Overwrite::from_force(force))?,
+            false,
+            false,
+        ),
         Command::Identify {
             model,
             json,
@@ -92,20 +78,47 @@ fn run(cli: Cli) -> anyhow::Result<Outcome> {
             seed,
             strict,
         } => {
-            let bootstrap = bootstrap.map(|replicates| BootstrapSettings {
-                replicates,
-                seed,
-                ..Default::default()
-            });
-            let report =
-                report.map(|folder| (folder.join("report.html"), Overwrite::from_force(force)));
-            identify(&model, json, report, accept_transient, bootstrap, strict)
+            let page = report.map(|folder| folder.join("report.html"));
+            let overwrite = Overwrite::from_force(force);
+            // Refuse an existing report before any work, and again when it is renamed.
+            if let (Some(file), Overwrite::Refuse) = (&page, overwrite) {
+                dampid::io::output::refuse_existing(file)?;
+            }
+            let job = load(&model)?;
+            let options = IdentifyOptions {
+                accept_transient,
+                bootstrap: bootstrap.map(|replicates| BootstrapSettings {
+                    replicates,
+                    seed,
+                    ..Default::default()
+                }),
+                strict,
+                command_line: std::env::args().collect::<Vec<_>>().join(" "),
+            };
+            let bar = progress_bar("bootstrap");
+            let found = command::identify::run(&job, &options, &on_bar(&bar));
+            bar.finish_and_clear();
+            let found = found.map_err(|e| transient_hint(e, &model))?;
+            let outcome = Identified {
+                job: &job,
+                options: &options,
+                identification: &found,
+            };
+            if let Some(file) = page {
+                write_page(&file, overwrite, &outcome.html(&model)?)?;
+            }
+            print(&outcome, json, strict)
         }
         Command::Check {
             model,
             accept_transient,
             json,
-        } => check(&model, accept_transient, json),
+        } => {
+            let job = load(&model)?;
+            let report = command::check::run(&job, accept_transient)
+                .context("the regressor cannot be fitted")?;
+            print(&report, json, false)
+        }
         Command::Pod {
             files,
             columns,
@@ -114,37 +127,104 @@ fn run(cli: Cli) -> anyhow::Result<Outcome> {
             remove_mean,
             energy,
             json,
-        } => pod(&files, columns, prefix, shared, remove_mean, energy, json),
+        } => {
+            let choice = match (columns, prefix) {
+                (Some(names), _) => Columns::Named(names),
+                (None, Some(prefix)) => Columns::Prefix(prefix),
+                (None, None) => Columns::AllButTime,
+            };
+            let settings = PodSettings {
+                remove_mean,
+                retain: Retain::Energy(energy),
+                basis: if shared {
+                    PodBasis::Shared
+                } else {
+                    PodBasis::PerRecord
+                },
+            };
+            print(&command::pod::run(&files, &choice, &settings)?, json, false)
+        }
         Command::Compare {
             model_a,
             model_b,
             laws,
             json,
-        } => match (model_b, laws) {
-            (Some(model_b), _) => compare(&model_a, &model_b, json),
-            (None, Some(laws)) => rank_laws(&model_a, &laws, json),
-            (None, None) => bail!("give a second model file or --laws"),
-        },
-        Command::Design { model, json } => design(&model, json),
+        } => {
+            let first = model_a.display().to_string();
+            match (model_b, laws) {
+                (Some(model_b), _) => {
+                    let job = load(&model_a)?;
+                    // Only model B's terms are used: its records are not simulated or read.
+                    let (_, other) = dampid::model_file::load_parametric_model(&model_b)?;
+                    let second = model_b.display().to_string();
+                    print(
+                        &command::compare::models(&job, &first, &other, &second)?,
+                        json,
+                        false,
+                    )
+                }
+                (None, Some(laws)) => {
+                    let job = load(&model_a)?;
+                    print(&command::compare::laws(&job, &first, &laws)?, json, false)
+                }
+                (None, None) => bail!("give a second model file or --laws"),
+            }
+        }
+        Command::Design { model, json } => {
+            let job = load(&model)?;
+            let bar = progress_bar("design");
+            let designed = command::design::run(&job, &model.display().to_string(), &on_bar(&bar));
+            bar.finish_and_clear();
+            print(&designed?, json, false)
+        }
         Command::Simulate { model, out, force } => {
-            write_records(&model, &out, Overwrite::from_force(force))
+            let job = load(&model)?;
+            let source = model.display().to_string();
+            let written =
+                command::simulate::run(&job, &source, &out, Overwrite::from_force(force))?;
+            print(&written, false, false)
         }
         Command::Reference {
             system: ReferenceSystem::FourMass,
             json,
             quadrature,
         } => {
-            let summary = FourMassSummary::run(quadrature.into()).context("four-mass reference")?;
-            let text = if json {
-                format!("{}\n", serde_json::to_string_pretty(&summary.to_json())?)
-            } else {
-                summary.to_string()
-            };
-            Ok(Outcome {
-                text,
-                trusted: summary.all_pass(),
-            })
+            let reference =
+                command::reference::four_mass(quadrature.into()).context("four-mass reference")?;
+            print(&reference, json, false)
         }
+    }
+}
+
+/// Prints `outcome` (JSON or text) on stdout, its notices, `--strict` failures and
+/// refusal on stderr, and returns its exit status.
+fn print(outcome: &impl Outcome, json: bool, strict: bool) -> anyhow::Result<u8> {
+    let text = if json {
+        command::json(outcome)?
+    } else {
+        outcome.to_string()
+    };
+    // A closed pipe (`dampid … | head`) is not an error of ours.
+    let _ = std::io::stdout().lock().write_all(text.as_bytes());
+    for notice in outcome.notices() {
+        eprintln!("{notice}");
+    }
+    let (status, failures) = command::exit_status(outcome, strict);
+    for failure in &failures {
+        eprintln!("strict: {failure}");
+    }
+    if let Some(refusal) = outcome.refused() {
+        eprintln!("error: {refusal}");
+    }
+    Ok(status)
+}
+
+/// A steady-state refusal with what accepts it on the command line.
+fn transient_hint(e: dampid::Error, model: &Path) -> anyhow::Error {
+    if e.kind() == "not_steady" {
+        anyhow::Error::new(e).context(format!("{}: {}", model.display(), command::TRANSIENT_HINT))
+    } else {
+        e.into()
     }
 }
 
@@ -168,344 +248,17 @@ fn on_bar(bar: &ProgressBar) -> impl Fn(u64, u64) + Sync + '_ {
 }
 
 /// Loads a model file with a progress bar over simulating or reading its records.
-fn load_job(path: &Path) -> anyhow::Result<Job> {
+fn load(path: &Path) -> anyhow::Result<Job> {
     let bar = progress_bar("records");
-    let job = load_with_progress(path, &on_bar(&bar));
+    let job = dampid::model_file::load(
+        path,
+        Options {
+            progress: &on_bar(&bar),
+            ..Default::default()
+        },
+    );
     bar.finish_and_clear();
     Ok(job?)
-}
-
-/// Loads a model file and enforces steady state on its windows (unless accepted; the
-/// non-periodic mode has no steady state to check).
-fn load_steady_job(
-    path: &Path,
-    accept_transient: bool,
-) -> anyhow::Result<(Job, Option<SteadyStateReport>)> {
-    let mut job = load_job(path)?;
-    job.steady_state.accept_transient |= accept_transient;
-    let steady = job.steady_state()?;
-    steady.as_ref().map_or(Ok(()), |s| s.enforce()).with_context(|| {
-        format!(
-            "{}: set accept_transient = true in [identification] or pass --accept-transient to use these windows anyway",
-            path.display()
-        )
-    })?;
-    Ok((job, steady))
-}
-
-/// The regressor with a spinner while it is built: it is built in one call (its rows
-/// in parallel, and a noise model across them), so there is no per-record count to show.
-/// Estimated parameters, if any, stand at their initial values (`dampid check`).
-fn build_regressor(job: &Job) -> anyhow::Result<Regressor> {
-    let spinner = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
-    spinner.set_style(
-        ProgressStyle::with_template("{spinner} {msg} ({elapsed})")
-            .unwrap_or_else(|_| ProgressStyle::default_spinner()),
-    );
-    spinner.set_message(format!(
-        "building the regressor from {}",
-        count(job.records.len(), "record")
-    ));
-    spinner.enable_steady_tick(std::time::Duration::from_millis(120));
-    let regressor = job.initial_regressor();
-    spinner.finish_and_clear();
-    Ok(regressor?)
-}
-
-fn identify(
-    path: &Path,
-    as_json: bool,
-    html: Option<(PathBuf, Overwrite)>,
-    accept_transient: bool,
-    bootstrap: Option<BootstrapSettings>,
-    strict: bool,
-) -> anyhow::Result<Outcome> {
-    // Refuse an existing report before any work, and again when it is renamed into place.
-    if let Some((file, Overwrite::Refuse)) = &html {
-        dampid::io::output::refuse_existing(file)?;
-    }
-    let (job, steady) = load_steady_job(path, accept_transient)?;
-    job.settings.fit.validate()?;
-    if let Some(mut fit) = job.identify_varpro().transpose()? {
-        // Windows accepted although not in steady state are warnings of the linear fit
-        // at η̂ too (and failures under --strict), as on the linear path.
-        fit.report.fit = fit.report.fit.with_steady_state(steady.as_ref());
-        let fit = match &bootstrap {
-            Some(settings) if fit.report.is_estimate() => {
-                let bar = progress_bar("bootstrap");
-                let result = bootstrap_varpro(&job, &fit.report, settings, &on_bar(&bar));
-                bar.finish_and_clear();
-                dampid::model_file::VarProFit {
-                    report: fit.report.with_bootstrap(result?),
-                    ..fit
-                }
-            }
-            Some(_) => {
-                eprintln!(
-                    "no bootstrap: the variable projection did not reach an estimate, so there is none to resample around"
-                );
-                fit
-            }
-            None => fit,
-        };
-        return identify_varpro(
-            path,
-            &job,
-            &fit,
-            steady.as_ref(),
-            as_json,
-            html,
-            accept_transient,
-            bootstrap.as_ref(),
-            strict,
-        );
-    }
-    let regressor = build_regressor(&job)?;
-    let mut report = dampid::identify::identify_regressor(&regressor, &job.settings.fit)?
-        .with_velocity_noise(dampid::analysis::velocity_noise::assess_or_none(
-            &job.model,
-            &job.records,
-            &job.settings.regressor,
-            &regressor,
-        ))
-        .with_steady_state(steady.as_ref());
-    let flags = identify_flags(accept_transient, bootstrap.as_ref(), strict);
-    if let Some(settings) = bootstrap {
-        // Stepped-sine tables: errors are correlated within a sweep, so whole sweeps
-        // are resampled.
-        let bar = progress_bar("bootstrap");
-        let intervals = match job.sweeps() {
-            Some(sweeps) => bootstrap_groups(
-                &regressor,
-                &job.settings.fit,
-                &settings,
-                sweeps,
-                &on_bar(&bar),
-            ),
-            None => {
-                bootstrap_with_progress(&regressor, &job.settings.fit, &settings, &on_bar(&bar))
-            }
-        };
-        bar.finish_and_clear();
-        let intervals = intervals?;
-        report = report.with_bootstrap(intervals);
-    }
-    let equivalent = job.equivalent_damping(&report);
-    let mut out = String::new();
-    if let Some((file, overwrite)) = html {
-        let page = HtmlReport {
-            title: &job.title,
-            model: &job.model,
-            records: &job.records,
-            regressor: &regressor,
-            report: &report,
-            truth: job.truth.as_deref(),
-            pod: job.pod.as_ref(),
-            steady: steady.as_ref(),
-            provenance: Some(&job.provenance(path, &flags)?),
-            units: Some(&job.units),
-        }
-        .render_with(equivalent.as_ref().and_then(|e| e.as_ref().ok()))?;
-        write_page(&file, overwrite, &page)?;
-    }
-    if as_json {
-        let truth = truth_json(&job);
-        writeln!(
-            out,
-            "{}",
-            serde_json::to_string_pretty(&json!({
-                "model": job.title,
-                "report": report,
-                "truth": truth,
-                "steady_state": steady,
-                "detected_periods": job.detected_periods,
-                "pod": job.pod.as_ref().map(|r| r.reports()),
-                "equivalent_damping": equivalent.as_ref().map(|e| match e {
-                    Ok(e) => json!(e),
-                    Err(e) => json!({ "error": e.to_string() }),
-                }),
-            }))?
-        )?;
-    } else {
-        writeln!(out, "{}", job.title)?;
-        writeln!(
-            out,
-            "{}, {}",
-            count(job.records.len(), "record"),
-            count(report.residuals.len(), "equation")
-        )?;
-        write!(out, "{}{report}", job.preamble(steady.as_ref()))?;
-        if let Some(truth) = &job.truth {
-            write!(out, "{}", report.against(truth))?;
-        }
-        match &equivalent {
-            Some(Ok(e)) => write!(out, "{e}")?,
-            Some(Err(e)) => writeln!(out, "equivalent damping not computed: {e}")?,
-            None => {}
-        }
-    }
-    let passes = passes_strict(strict, || report.strict_failures());
-    Ok(Outcome {
-        text: out,
-        trusted: report.status.is_usable() && passes,
-    })
-}
-
-/// The command line's own settings of `dampid identify`, for the provenance.
-fn identify_flags(
-    accept_transient: bool,
-    bootstrap: Option<&BootstrapSettings>,
-    strict: bool,
-) -> Vec<(String, String)> {
-    vec![
-        (
-            "command line".to_string(),
-            std::env::args().collect::<Vec<_>>().join(" "),
-        ),
-        (
-            "--accept-transient".to_string(),
-            if accept_transient {
-                "given (accept_transient = true whatever [identification] says)".to_string()
-            } else {
-                "not given".to_string()
-            },
-        ),
-        (
-            "--bootstrap".to_string(),
-            bootstrap.map_or("not given".to_string(), |b| {
-                format!(
-                    "{} replicates, seed {}, {}% percentile intervals",
-                    b.replicates,
-                    b.seed,
-                    100.0 * b.level
-                )
-            }),
-        ),
-        (
-            "--strict".to_string(),
-            if strict { "given" } else { "not given" }.to_string(),
-        ),
-    ]
-}
-
-/// With `--strict`, prints each of `failures` on stderr; true when there are none (or
-/// without `--strict`).
-fn passes_strict(strict: bool, failures: impl FnOnce() -> Vec<String>) -> bool {
-    let failures = if strict { failures() } else { Vec::new() };
-    for failure in &failures {
-        eprintln!("strict: {failure}");
-    }
-    failures.is_empty()
-}
-
-/// `dampid identify` of a job with estimated nonlinear parameters (its variable-projection
-/// `fit`): the report, the equivalent damping of a one-mode stepped-sine job at η̂, and
-/// the HTML page where asked.
-/// Percentile intervals of a variable-projection fit from refits on resampled data:
-/// whole sweeps of a stepped-sine table, windows of records.
-fn bootstrap_varpro(
-    job: &Job,
-    report: &dampid::varpro::VarProReport,
-    settings: &BootstrapSettings,
-    progress: dampid::progress::Progress<'_>,
-) -> anyhow::Result<dampid::varpro::VarProBootstrap> {
-    let varpro = job.varpro_settings();
-    Ok(
-        match (job.parametric_regressor().transpose()?, &job.parametric) {
-            (Some(regressor), _) => dampid::varpro::bootstrap_varpro_regressor(
-                &regressor,
-                job.sweeps(),
-                &job.settings,
-                &varpro,
-                report,
-                settings,
-                progress,
-            )?,
-            (None, Some(parametric)) => dampid::varpro::bootstrap_varpro(
-                parametric,
-                &job.records,
-                &job.settings,
-                &varpro,
-                report,
-                settings,
-                progress,
-            )?,
-            (None, None) => {
-                anyhow::bail!("nothing is estimated by variable projection in this job")
-            }
-        },
-    )
-}
-
-#[allow(clippy::too_many_arguments)]
-fn identify_varpro(
-    path: &Path,
-    job: &Job,
-    fit: &dampid::model_file::VarProFit,
-    steady: Option<&SteadyStateReport>,
-    as_json: bool,
-    html: Option<(PathBuf, Overwrite)>,
-    accept_transient: bool,
-    bootstrap: Option<&BootstrapSettings>,
-    strict: bool,
-) -> anyhow::Result<Outcome> {
-    let report = &fit.report;
-    // Not an estimate: no equivalent damping either (the text report's rule).
-    let equivalent = job
-        .equivalent_damping_varpro(&fit.model, report)
-        .map(|e| match e {
-            Ok(_) if !report.is_estimate() => Err("the fit is not an estimate".to_string()),
-            e => e.map_err(|e| e.to_string()),
-        });
-    if let Some((file, overwrite)) = html {
-        let flags = identify_flags(accept_transient, bootstrap, strict);
-        let page = HtmlReport {
-            title: &job.title,
-            model: &fit.model,
-            records: &job.records,
-            regressor: &fit.regressor,
-            report: &report.fit,
-            truth: job.truth.as_deref(),
-            pod: job.pod.as_ref(),
-            steady,
-            provenance: Some(&job.provenance(path, &flags)?),
-            units: Some(&job.units),
-        }
-        .render_varpro(report, equivalent.as_ref().and_then(|e| e.as_ref().ok()))?;
-        write_page(&file, overwrite, &page)?;
-    }
-    let mut out = String::new();
-    if as_json {
-        let truth = truth_json(job);
-        writeln!(
-            out,
-            "{}",
-            serde_json::to_string_pretty(&json!({
-                "model": job.title,
-                "varpro": report,
-                "truth": truth,
-                "steady_state": steady,
-                "detected_periods": job.detected_periods,
-                "equivalent_damping": equivalent.as_ref().map(|e| match e {
-                    Ok(e) => json!(e),
-                    Err(e) => json!({ "error": e }),
-                }),
-            }))?
-        )?;
-    } else {
-        writeln!(out, "{}", job.title)?;
-        write!(out, "{report}")?;
-        match &equivalent {
-            Some(Ok(e)) => write!(out, "{e}")?,
-            Some(Err(e)) => writeln!(out, "equivalent damping not computed: {e}")?,
-            None => {}
-        }
-    }
-    let passes = passes_strict(strict, || report.strict_failures());
-    Ok(Outcome {
-        text: out,
-        trusted: report.is_estimate() && passes,
-    })
 }
 
 /// Writes the HTML `page` to `file` (its folder created) and says so on stderr (stdout
@@ -524,271 +277,4 @@ fn write_page(file: &Path, overwrite: Overwrite, page: &str) -> anyhow::Result<(
     })?;
     eprintln!("wrote {}", file.display());
     Ok(())
-}
-
-fn init(files: &[PathBuf], out: &Path, overwrite: Overwrite) -> anyhow::Result<Outcome> {
-    use dampid::model_file::init::{InitRecord, init as annotated, path_in_model};
-    // Refuse an existing model file before reading any data, and again at the rename.
-    if overwrite == Overwrite::Refuse {
-        dampid::io::output::refuse_existing(out)?;
-    }
-    let records = files
-        .iter()
-        .map(|file| {
-            let table = dampid::io::read_table(file)?;
-            Ok(InitRecord::guess(&path_in_model(file, out), &table))
-        })
-        .collect::<dampid::Result<Vec<_>>>()?;
-    let model = annotated(records);
-    dampid::io::output::write_file(out, overwrite, |sink| {
-        sink.write_all(model.text.as_bytes())
-            .map_err(|e| dampid::Error::Output {
-                path: out.display().to_string(),
-                message: e.to_string(),
-            })
-    })?;
-    Ok(Outcome {
-        text: format!("wrote {}: {model}next: dampid check {0}\n", out.display()),
-        trusted: true,
-    })
-}
-
-fn check(path: &Path, accept_transient: bool, as_json: bool) -> anyhow::Result<Outcome> {
-    let mut job = load_job(path)?;
-    job.steady_state.accept_transient |= accept_transient;
-    let steady = job.steady_state()?;
-    if let Some(Err(e)) = steady.as_ref().map(|s| s.enforce()) {
-        // The table says which windows and by how much; print it with the error.
-        if let Some(steady) = &steady {
-            eprint!("{}{steady}", job.periods());
-        }
-        return Err(anyhow::Error::new(e).context(format!(
-            "{}: set accept_transient = true in [identification] or pass --accept-transient to use these windows anyway",
-            path.display()
-        )));
-    }
-    job.settings.fit.validate()?;
-    let regressor = build_regressor(&job)?;
-    let report =
-        CheckReport::new(&job, steady, &regressor).context("the regressor cannot be fitted")?;
-    let text = if as_json {
-        format!("{}\n", serde_json::to_string_pretty(&report)?)
-    } else {
-        report.to_string()
-    };
-    Ok(Outcome {
-        text,
-        trusted: true,
-    })
-}
-
-fn pod(
-    files: &[PathBuf],
-    columns: Option<Vec<String>>,
-    prefix: Option<String>,
-    shared: bool,
-    remove_mean: bool,
-    energy: f64,
-    as_json: bool,
-) -> anyhow::Result<Outcome> {
-    let choice = match (columns, prefix) {
-        (Some(names), _) => Columns::Named(names),
-        (None, Some(prefix)) => Columns::Prefix(prefix),
-        (None, None) => Columns::AllButTime,
-    };
-    let settings = PodSettings {
-        remove_mean,
-        retain: Retain::Energy(energy),
-        basis: if shared {
-            PodBasis::Shared
-        } else {
-            PodBasis::PerRecord
-        },
-    };
-    let pods = pod_of_files(files, &choice, &settings)?;
-    let text = if as_json {
-        format!(
-            "{}\n",
-            serde_json::to_string_pretty(&json!({ "decompositions": pods }))?
-        )
-    } else {
-        PodTables(&pods).to_string()
-    };
-    Ok(Outcome {
-        text,
-        trusted: true,
-    })
-}
-
-fn compare(first: &Path, second: &Path, as_json: bool) -> anyhow::Result<Outcome> {
-    let job = load_job(first)?;
-    // Only model B's terms are used: its records, if it has any, are not simulated or read.
-    let (other, other_law) = dampid::model_file::load_parametric_model(second)?;
-    // Both models on the first file's records, windows and mode (in the non-periodic
-    // mode both regressors carry the same nuisance columns); estimated parameters (and
-    // the first file's residual receptances) at their least-squares values.
-    let a = job.compared(
-        &first.display().to_string(),
-        &job.model,
-        job.parametric.as_ref(),
-    )?;
-    let b = job.compared(&second.display().to_string(), &other, other_law.as_ref())?;
-    let comparison = dampid::analysis::compare::compare_candidates(
-        a.candidate(),
-        b.candidate(),
-        &dampid::analysis::compare::CompareSettings {
-            rank_tolerance: job.settings.fit.rank_tolerance,
-            ..Default::default()
-        },
-    )?;
-    on_records_of(&comparison, first, as_json)
-}
-
-/// A comparison's output: JSON, or its text under the name of the model file whose
-/// records and settings it used.
-fn on_records_of(
-    result: &(impl serde::Serialize + std::fmt::Display),
-    source: &Path,
-    as_json: bool,
-) -> anyhow::Result<Outcome> {
-    let text = if as_json {
-        format!("{}\n", serde_json::to_string_pretty(result)?)
-    } else {
-        format!(
-            "records and identification settings of {}\n{result}",
-            source.display()
-        )
-    };
-    Ok(Outcome {
-        text,
-        trusted: true,
-    })
-}
-
-/// Candidate laws fitted on the data of one model file and ranked.
-fn rank_laws(path: &Path, laws: &[String], as_json: bool) -> anyhow::Result<Outcome> {
-    let job = load_job(path)?;
-    let dofs = job.records.first().map_or(1, |r| r.dofs());
-    let registry = dampid::terms::laws::Registry::builtin();
-    let regressors = laws
-        .iter()
-        .map(|spec| {
-            let (model, law) = dampid::model_file::candidate(spec, dofs, &registry)
-                .with_context(|| format!("candidate '{spec}'"))?;
-            // Its estimated exponents and the table's residual receptances (if the job
-            // estimates them) at their least-squares values.
-            job.compared(spec, &model, law.as_ref())
-                .with_context(|| format!("candidate '{spec}'"))
-        })
-        .collect::<anyhow::Result<Vec<_>>>()?;
-    let candidates: Vec<_> = regressors.iter().map(|c| c.candidate()).collect();
-    let ranking = dampid::analysis::compare::rank_candidates(
-        &candidates,
-        &dampid::analysis::compare::CompareSettings {
-            rank_tolerance: job.settings.fit.rank_tolerance,
-            ..Default::default()
-        },
-    )?;
-    on_records_of(&ranking, path, as_json)
-}
-
-fn design(path: &Path, as_json: bool) -> anyhow::Result<Outcome> {
-    let job = load_job(path)?;
-    if job.truth.is_none() {
-        bail!(
-            "{} has no [simulation] section: its experiments are the candidates a design chooses from",
-            path.display()
-        );
-    }
-    let settings = job.design.clone().unwrap_or_default();
-    let bar = progress_bar("design");
-    let report = dampid::analysis::design::select_with_progress(
-        &job.model,
-        &job.records,
-        &job.settings.regressor,
-        &settings,
-        &on_bar(&bar),
-    );
-    bar.finish_and_clear();
-    let report = report?;
-    let text = if as_json {
-        // The report, with the selected experiments as data and as the TOML to paste:
-        // the JSON stands alone.
-        let mut json = serde_json::to_value(&report)?;
-        if let Some(object) = json.as_object_mut() {
-            object.insert(
-                "selected_experiments".into(),
-                serde_json::to_value(dampid::model_file::selected_experiments(
-                    &report,
-                    &job.experiments,
-                ))?,
-            );
-            object.insert(
-                "selected_experiments_toml".into(),
-                json!(dampid::model_file::selected_experiments_toml(
-                    &report,
-                    &job.experiments
-                )),
-            );
-        }
-        format!("{}\n", serde_json::to_string_pretty(&json)?)
-    } else {
-        format!(
-            "{}: the [simulation] coefficients are the nominal damping\n{report}\n{}",
-            job.title,
-            dampid::model_file::selected_experiments_toml(&report, &job.experiments)
-        )
-    };
-    Ok(Outcome {
-        text,
-        trusted: report.succeeded(),
-    })
-}
-
-fn write_records(path: &Path, folder: &Path, overwrite: Overwrite) -> anyhow::Result<Outcome> {
-    let job = load_job(path)?;
-    if job.truth.is_none() {
-        bail!(
-            "{} has no [simulation] section: nothing to simulate",
-            path.display()
-        );
-    }
-    // Ctrl-C after the last simulation step: still nothing written.
-    dampid::cancel::check("simulate --out")?;
-    let source = path.display().to_string();
-    let run = dampid::io::run::write_run(folder, &job.source_records, &source, overwrite)?;
-    let mut out = String::new();
-    for (file, record) in run.written.iter().zip(job.source_records.iter()) {
-        writeln!(
-            out,
-            "{} ({}, period {:.6})",
-            file.display(),
-            record.label(),
-            record.period()
-        )?;
-    }
-    if let [.., stub, manifest] = run.written.as_slice() {
-        writeln!(
-            out,
-            "{} (the records as a [data] section for a model file)",
-            stub.display()
-        )?;
-        writeln!(out, "{} (this run's records)", manifest.display())?;
-    }
-    for stale in &run.removed {
-        eprintln!("removed {} (an earlier run's record)", stale.display());
-    }
-    Ok(Outcome {
-        text: out,
-        trusted: true,
-    })
-}
-
-/// The simulation's true coefficients as a JSON object (`None` for measured data).
-fn truth_json(job: &Job) -> Option<serde_json::Map<String, serde_json::Value>> {
-    job.truth.as_ref().map(|t| {
-        t.iter()
-            .map(|(n, v)| (n.clone(), json!(v)))
-            .collect::<serde_json::Map<_, _>>()
-    })
 }

@@ -170,7 +170,12 @@ impl StringStudy {
         let mut pod_checks = Vec::new();
         for (retained, paper) in [(1, PAPER_ONE_MODE), (2, PAPER_TWO_MODES)] {
             let reduction = reduce(&records, &pod_settings(retained))?;
-            let report = identify(&model, &reduction.records, &measured)?;
+            let report = identify(
+                &crate::regressor::ParametricRegressor::linear(&model, &reduction.records),
+                &measured,
+                &crate::progress::silent,
+            )?
+            .report;
             if retained == 2 {
                 for (a, dominant, second) in PAPER_SHARES {
                     let index = STRING_AMPLITUDES.iter().position(|&x| x == a).unwrap_or(0);
@@ -295,10 +300,11 @@ impl StringStudy {
             let reduction = reduce(&records, &pod_settings(2))?;
             for k in [1, 3, 5, 7, 9] {
                 let clean = identify(
-                    &model,
-                    &reduction.records,
+                    &crate::regressor::ParametricRegressor::linear(&model, &reduction.records),
                     &string_identify_settings(VelocitySource::Spectral { harmonics: Some(k) }),
-                )?;
+                    &crate::progress::silent,
+                )?
+                .report;
                 let stats = noisy_fits(&records, 2, k, draws)?.stats;
                 harmonic_sweep.push((
                     k,

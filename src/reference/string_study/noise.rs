@@ -89,7 +89,12 @@ pub(super) fn noisy_fits(
     for _ in 0..draws.max(1) {
         let data = noisy(records, &mut rng)?;
         let reduction = reduce(&data, &pod_settings(retained))?;
-        let report = identify(&model, &reduction.records, &settings)?;
+        let report = identify(
+            &crate::regressor::ParametricRegressor::linear(&model, &reduction.records),
+            &settings,
+            &crate::progress::silent,
+        )?
+        .report;
         cs.push(report.coefficient("c").unwrap_or(f64::NAN));
         ds.push(report.coefficient("d").unwrap_or(f64::NAN));
         for (sums, basis) in share_sums.iter_mut().zip(&reduction.bases) {

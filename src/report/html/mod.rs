@@ -81,6 +81,9 @@ impl HtmlReport<'_> {
     /// the equivalent damping. The measured points are the input work of each equation
     /// against the amplitude of the force DOF of `records` (the synthesized periods).
     pub fn render_with(&self, stepped_sine: Option<&EquivalentDamping>) -> Result<String> {
+        if let Some(estimation) = &self.report.estimation {
+            return self.render_estimated(estimation, stepped_sine);
+        }
         let report = self.report;
         let mut page = String::new();
         let title = escape(self.title);

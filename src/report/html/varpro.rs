@@ -14,22 +14,23 @@
 use std::fmt::Write as _;
 
 use super::{HtmlReport, STYLE, escape, noise_section, provenance_section};
+use crate::analysis::bootstrap::{BootstrapSummary, Resampled};
 use crate::analysis::equivalent::EquivalentDamping;
 use crate::error::Result;
 use crate::report::FitReport;
 use crate::report::count;
-use crate::report::varpro::{VarProReport, bound};
+use crate::report::estimation::{Estimation, bound};
 
 impl HtmlReport<'_> {
     /// The page of a variable-projection fit (module doc); `self.report` is
     /// `varpro.fit` and `self.model`, `self.regressor` are those at η̂. `stepped_sine`
     /// gives the equivalent damping of a one-mode stepped-sine job at η̂.
-    pub fn render_varpro(
+    pub(super) fn render_estimated(
         &self,
-        varpro: &VarProReport,
+        varpro: &Estimation,
         stepped_sine: Option<&EquivalentDamping>,
     ) -> Result<String> {
-        let estimate = varpro.is_estimate();
+        let estimate = self.report.is_estimate();
         // The linear fit with the joint standard errors in place of the conditional
         // ones, for the law bands (none when the fit is not an estimate).
         let mut joint: FitReport = self.report.clone();
@@ -78,11 +79,11 @@ impl HtmlReport<'_> {
         }
         page.push_str(&self.parameter_table(varpro));
         page.push_str(&self.joint_coefficient_table(varpro));
-        if let Some(bootstrap) = &varpro.bootstrap {
-            page.push_str(&bootstrap_table(bootstrap));
+        if let Some(bootstrap) = &report.bootstrap {
+            page.push_str(&self.bootstrap_table(varpro, bootstrap));
         }
         if !estimate {
-            return Ok(self.close(page, varpro));
+            return Ok(self.close(page));
         }
         page.push_str(&self.records_section());
         page.push_str("<h2>Energy balance</h2>\n<p>At the estimated nonlinear parameters.</p>\n");
@@ -125,15 +126,15 @@ impl HtmlReport<'_> {
             page.push_str(&self.energy_section(equivalent)?);
             page.push_str(&equivalent_table(equivalent));
         }
-        Ok(self.close(page, varpro))
+        Ok(self.close(page))
     }
 
-    /// The provenance, the JSON of `varpro` and the end of the page.
-    fn close(&self, mut page: String, varpro: &VarProReport) -> String {
+    /// The provenance, the JSON of the report and the end of the page.
+    fn close(&self, mut page: String) -> String {
         if let Some(provenance) = self.provenance {
             page.push_str(&provenance_section(provenance, self.units()));
         }
-        let json = serde_json::to_string_pretty(varpro).unwrap_or_default();
+        let json = serde_json::to_string_pretty(self.report).unwrap_or_default();
         let _ = write!(
             page,
             "<details><summary>Report JSON</summary><pre>{}</pre></details>\n</body></html>\n",
@@ -143,8 +144,8 @@ impl HtmlReport<'_> {
     }
 
     /// The estimated nonlinear parameters.
-    fn parameter_table(&self, varpro: &VarProReport) -> String {
-        let estimate = varpro.is_estimate();
+    fn parameter_table(&self, varpro: &Estimation) -> String {
+        let estimate = self.report.is_estimate();
         // The true values when the simulation's truth names some parameter.
         let truth = self.truth.filter(|truth| {
             varpro
@@ -223,8 +224,8 @@ impl HtmlReport<'_> {
     }
 
     /// The linear coefficients with their joint intervals.
-    fn joint_coefficient_table(&self, varpro: &VarProReport) -> String {
-        let estimate = varpro.is_estimate();
+    fn joint_coefficient_table(&self, varpro: &Estimation) -> String {
+        let estimate = self.report.is_estimate();
         let percent = (100.0 * varpro.level * 1e6).round() / 1e6;
         let units = self.coefficient_units();
         let with_units = units.iter().any(Option::is_some);
@@ -295,41 +296,51 @@ impl HtmlReport<'_> {
     }
 }
 
-/// The percentile intervals of `--bootstrap` (every estimated parameter, then every
-/// coefficient), with what was resampled.
-fn bootstrap_table(b: &crate::report::varpro::VarProBootstrap) -> String {
-    let percent = (100.0 * b.level * 1e6).round() / 1e6;
-    let mut out = format!(
-        "\n<h2>Bootstrap</h2>\n<p>{} of {} replicates kept ({} not converged, {} with an unusable linear fit), seed {}; each drew {} {} with replacement from the {} there are and refitted the whole variable projection from the estimate. Percentile intervals at {percent}%.{}</p>\n<table><tr><th>quantity</th><th>bootstrap std error</th><th>{percent}% percentile interval</th></tr>\n",
-        b.used,
-        b.replicates,
-        b.not_converged,
-        b.unusable,
-        b.seed,
-        b.groups,
-        match b.resampled {
-            crate::report::varpro::Resampled::Windows => "windows",
-            crate::report::varpro::Resampled::Sweeps => "whole sweeps",
-        },
-        b.groups,
-        match b.resampled {
-            crate::report::varpro::Resampled::Sweeps =>
-                " A sweep's own unknown (its residual receptance) sees the same points in every replicate that draws its sweep: its interval understates its uncertainty, read its joint interval above.",
-            crate::report::varpro::Resampled::Windows => "",
-        }
-    );
-    for i in b.parameters.iter().chain(&b.coefficients) {
-        let _ = writeln!(
-            out,
-            "<tr><td>{}</td><td>{:.3e}</td><td>[{:.6e}, {:.6e}]</td></tr>",
-            escape(&i.name),
-            i.std_error,
-            i.lower,
-            i.upper
+impl HtmlReport<'_> {
+    /// The percentile intervals of `--bootstrap` (every estimated parameter, then every
+    /// coefficient), with what was resampled.
+    fn bootstrap_table(&self, estimation: &Estimation, b: &BootstrapSummary) -> String {
+        let percent = (100.0 * b.level * 1e6).round() / 1e6;
+        let mut out = format!(
+            "\n<h2>Bootstrap</h2>\n<p>{} of {} replicates kept ({} not converged, {} with an unusable linear fit), seed {}; each drew {} {} with replacement from the {} there are and refitted the whole variable projection from the estimate. Percentile intervals at {percent}%.{}</p>\n<table><tr><th>quantity</th><th>bootstrap std error</th><th>{percent}% percentile interval</th></tr>\n",
+            b.used,
+            b.replicates,
+            b.not_converged,
+            b.unusable,
+            b.seed,
+            b.groups,
+            b.resampled,
+            b.groups,
+            match b.resampled {
+                Resampled::Sweeps => {
+                    " A sweep's own unknown (its residual receptance) sees the same points in every replicate that draws its sweep: its interval understates its uncertainty, read its joint interval above."
+                }
+                Resampled::Windows => "",
+            }
         );
+        let parameters = estimation
+            .parameters
+            .iter()
+            .filter_map(|p| p.bootstrap.as_ref());
+        let coefficients = self
+            .report
+            .coefficients
+            .iter()
+            .chain(&self.report.nuisance)
+            .filter_map(|c| c.interval.as_ref());
+        for i in parameters.chain(coefficients) {
+            let _ = writeln!(
+                out,
+                "<tr><td>{}</td><td>{:.3e}</td><td>[{:.6e}, {:.6e}]</td></tr>",
+                escape(&i.name),
+                i.std_error,
+                i.lower,
+                i.upper
+            );
+        }
+        out.push_str("</table>\n");
+        out
     }
-    out.push_str("</table>\n");
-    out
 }
 
 /// The equivalent damping table (±1.96 standard deviations, joint).

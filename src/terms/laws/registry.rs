@@ -18,7 +18,7 @@
 //! The built-in laws register themselves in their own files and are listed once in
 //! `laws/mod.rs` ([`super::BUILTIN`]); a program adds its own laws at run time with
 //! [`Registry::with`] and hands the registry to
-//! [`crate::model_file::parse_with_laws`].
+//! [`crate::model_file::parse`] with [`crate::model_file::Options::laws`].
 
 use std::collections::BTreeMap;
 use std::sync::Arc;

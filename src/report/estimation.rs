@@ -1,17 +1,14 @@
-//! The report of a variable-projection fit ([`crate::varpro`]): the nonlinear
-//! parameters with their profile-likelihood intervals, the linear coefficients with
-//! intervals from the joint covariance (which include the uncertainty of the nonlinear
-//! parameters), the outer loop's status, and the ordinary [`FitReport`] of the linear
-//! fit at the estimated parameters (its errors conditional on them); and, when one
-//! was run, the bootstrap of the whole variable projection ([`crate::varpro::bootstrap_varpro`]):
-//! percentile intervals of every parameter and coefficient from refits of resampled
-//! windows or whole sweeps.
+//! The estimated nonlinear parameters of a fit ([`crate::varpro`]): each parameter with
+//! its profile-likelihood interval, the linear coefficients with intervals from the
+//! joint covariance (which include the uncertainty of the nonlinear parameters), and
+//! the outer loop's status. A [`FitReport`](super::FitReport) carries it as
+//! `estimation` when something was estimated; the report's own coefficients are then
+//! those of the linear fit at the estimate, their errors conditional on it.
 
 use std::fmt;
 
 use serde::{Deserialize, Serialize};
 
-use super::FitReport;
 use crate::analysis::bootstrap::ConfidenceInterval;
 
 /// How the outer loop ended.
@@ -66,6 +63,9 @@ pub struct NonlinearEstimate {
     /// joint intervals), reported where no profile interval is computed.
     #[serde(default)]
     pub joint_interval: Option<[f64; 2]>,
+    /// The bootstrap percentile interval, when a bootstrap was run.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bootstrap: Option<ConfidenceInterval>,
 }
 
 /// A linear coefficient with its joint (nonlinear-aware) interval.
@@ -83,9 +83,9 @@ pub struct JointEstimate {
     pub upper: Option<f64>,
 }
 
-/// What a variable-projection fit found.
+/// What the outer loop of a variable projection found.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct VarProReport {
+pub struct Estimation {
     /// The outer loop's status.
     pub status: OuterLoop,
     /// Confidence level of the intervals.
@@ -98,7 +98,8 @@ pub struct VarProReport {
     pub degrees_of_freedom: usize,
     /// The nonlinear parameters.
     pub parameters: Vec<NonlinearEstimate>,
-    /// The linear coefficients (and nuisance unknowns), in column order.
+    /// The linear coefficients (and nuisance unknowns), in column order, with their
+    /// joint intervals.
     pub coefficients: Vec<JointEstimate>,
     /// The joint covariance of (θ, η) at the optimum, (p + q) × (p + q): the
     /// coefficients in column order, then the nonlinear parameters in order
@@ -106,81 +107,27 @@ pub struct VarProReport {
     /// no degrees of freedom, a rank-deficient Jacobian).
     #[serde(default)]
     pub covariance: Option<Vec<Vec<f64>>>,
-    /// The linear fit at the estimated parameters.
-    pub fit: FitReport,
-    /// The bootstrap of the whole variable projection, when one was run.
-    #[serde(default)]
-    pub bootstrap: Option<VarProBootstrap>,
 }
 
-/// What a replicate of a variable-projection bootstrap drew with replacement.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Resampled {
-    /// Single equations (windows of whole periods of records, or single points).
-    Windows,
-    /// Whole groups of equations: the sweeps of a stepped-sine table.
-    Sweeps,
-}
-
-impl fmt::Display for Resampled {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            Resampled::Windows => "windows",
-            Resampled::Sweeps => "whole sweeps",
-        })
-    }
-}
-
-/// The bootstrap of a variable-projection fit: each replicate refits η and θ on
-/// resampled equations ([`crate::varpro::bootstrap_varpro`]).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct VarProBootstrap {
-    /// Replicates drawn (B).
-    pub replicates: usize,
-    /// Replicates kept: outer loop converged, linear fit usable at full rank.
-    pub used: usize,
-    /// Replicates dropped because their outer loop did not converge.
-    pub not_converged: usize,
-    /// Replicates dropped because the linear fit at their η* was not usable (solver
-    /// status, a numerical failure, or a rank below the full data's).
-    pub unusable: usize,
-    /// Master seed.
-    pub seed: u64,
-    /// Confidence level of the percentile intervals.
-    pub level: f64,
-    /// What a replicate drew.
-    pub resampled: Resampled,
-    /// Regressors built by the replicates' outer loops (all replicates).
-    pub evaluations: u64,
-    /// How many units (windows or sweeps) there are to draw from; a replicate draws as
-    /// many, with replacement.
-    pub groups: usize,
-    /// One interval per nonlinear parameter, in parameter order.
-    pub parameters: Vec<ConfidenceInterval>,
-    /// One interval per linear coefficient, in column order.
-    pub coefficients: Vec<ConfidenceInterval>,
-    /// (η*, θ*) of each kept replicate, η* first, in replicate order (not serialised).
-    #[serde(skip)]
-    pub samples: Vec<Vec<f64>>,
-    /// The units each replicate drew (indices in 0..`groups`), every replicate in
-    /// replicate order, kept or not (not serialised).
-    #[serde(skip)]
-    pub drawn: Vec<Vec<usize>>,
-}
-
-impl VarProReport {
-    /// True when the outer loop converged and the linear fit at its end is an estimate.
-    pub fn is_estimate(&self) -> bool {
-        self.status.converged && self.fit.is_estimate()
+impl Estimation {
+    /// The value of nonlinear parameter `name`.
+    pub fn parameter(&self, name: &str) -> Option<f64> {
+        self.parameters
+            .iter()
+            .find(|p| p.name == name)
+            .map(|p| p.value)
     }
 
-    /// What `dampid identify --strict` refuses in this fit: the linear fit's own
-    /// failures at η̂ ([`FitReport::strict_failures`]), an outer loop that did not
-    /// converge, and an estimated parameter on one of its bounds (not an interior
+    /// η̂, in parameter order.
+    pub fn values(&self) -> Vec<f64> {
+        self.parameters.iter().map(|p| p.value).collect()
+    }
+
+    /// What `--strict` refuses besides the linear fit's failures: an outer loop that did
+    /// not converge, and an estimated parameter on one of its bounds (not an interior
     /// estimate).
     pub fn strict_failures(&self) -> Vec<String> {
-        let mut failures = self.fit.strict_failures();
+        let mut failures = Vec::new();
         if !self.status.converged {
             failures.push(format!(
                 "the outer loop did not converge: {}",
@@ -199,42 +146,17 @@ impl VarProReport {
         failures
     }
 
-    /// The value of nonlinear parameter `name`.
-    pub fn parameter(&self, name: &str) -> Option<f64> {
-        self.parameters
-            .iter()
-            .find(|p| p.name == name)
-            .map(|p| p.value)
-    }
-
-    /// The value of linear coefficient `name`.
-    pub fn coefficient(&self, name: &str) -> Option<f64> {
-        self.fit.coefficient(name)
-    }
-
-    /// This report with the bootstrap `bootstrap` (run on the same problem).
-    pub fn with_bootstrap(mut self, bootstrap: VarProBootstrap) -> Self {
-        self.bootstrap = Some(bootstrap);
-        self
-    }
-}
-
-fn end(value: Option<f64>, bound: f64) -> String {
-    match value {
-        Some(v) => format!("{v:.6e}"),
-        None => format!("beyond {bound}"),
-    }
-}
-
-impl fmt::Display for VarProReport {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+    /// The estimation's part of the text report: the outer loop, the parameter table
+    /// and the coefficients' joint intervals; `estimate` says whether the whole fit is
+    /// an estimate.
+    pub(crate) fn write(&self, f: &mut fmt::Formatter<'_>, estimate: bool) -> fmt::Result {
         let s = &self.status;
         writeln!(
             f,
             "variable projection: {} ({}, {} iterations, {} regressors built)",
             s.reason, s.method, s.iterations, s.evaluations
         )?;
-        if !self.is_estimate() {
+        if !estimate {
             writeln!(
                 f,
                 "NOT AN ESTIMATE: the outer optimisation did not converge or the linear fit failed; the values below are the last trial"
@@ -306,60 +228,14 @@ impl fmt::Display for VarProReport {
             f,
             "joint errors: covariance of the full Jacobian [∂r/∂θ, ∂r/∂η] at the optimum, {} degrees of freedom",
             self.degrees_of_freedom
-        )?;
-        if let Some(b) = &self.bootstrap {
-            write!(f, "{b}")?;
-        }
-        writeln!(
-            f,
-            "linear fit at the estimated parameters (its errors hold them fixed):"
-        )?;
-        write!(f, "{}", self.fit)
+        )
     }
 }
 
-impl fmt::Display for VarProBootstrap {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let percent = (100.0 * self.level * 1e6).round() / 1e6;
-        writeln!(
-            f,
-            "bootstrap: {} of {} replicates kept, {} resampled ({} to draw from), seed {}, {} regressors built",
-            self.used, self.replicates, self.resampled, self.groups, self.seed, self.evaluations
-        )?;
-        if self.used < self.replicates {
-            writeln!(
-                f,
-                "  dropped: {} whose outer loop did not converge, {} whose linear fit was not usable",
-                self.not_converged, self.unusable
-            )?;
-        }
-        writeln!(
-            f,
-            "{:<20} {:>14}  {:>34}",
-            "parameter",
-            "bootstrap se",
-            format!("{percent}% percentile interval")
-        )?;
-        for i in self.parameters.iter().chain(&self.coefficients) {
-            writeln!(
-                f,
-                "{:<20} {:>14.3e}  {:>34}",
-                i.name,
-                i.std_error,
-                format!("[{:.6e}, {:.6e}]", i.lower, i.upper)
-            )?;
-        }
-        writeln!(
-            f,
-            "bootstrap: each replicate refits the whole variable projection (η and θ) on the resampled equations, from the full data's estimate"
-        )?;
-        if self.resampled == Resampled::Sweeps {
-            writeln!(
-                f,
-                "  whole sweeps keep each sweep's points together: an unknown of one sweep (its residual receptance) varies here only through the shared parameters, so read its joint interval above"
-            )?;
-        }
-        Ok(())
+fn end(value: Option<f64>, bound: f64) -> String {
+    match value {
+        Some(v) => format!("{v:.6e}"),
+        None => format!("beyond {bound}"),
     }
 }
 

@@ -1,0 +1,64 @@
+//! `dampid init [FILES] --out MODEL`: a first, annotated model file for data files (or a
+//! template that runs as is), written without replacing an existing one unless asked
+//! ([`crate::model_file::init`]).
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+use super::Outcome;
+use crate::error::{Error, Result};
+use crate::io::output::{Overwrite, refuse_existing, write_file};
+use crate::model_file::init::{InitModel, InitRecord, init, path_in_model};
+
+/// The model file `dampid init` wrote.
+#[derive(Debug, Clone, Serialize)]
+pub struct Initialized {
+    /// Where.
+    pub file: PathBuf,
+    /// What it holds.
+    #[serde(skip)]
+    pub model: InitModel,
+}
+
+/// Guesses a model file for the data `files` (none: the template) and writes it to
+/// `out`.
+pub fn run(files: &[PathBuf], out: &Path, overwrite: Overwrite) -> Result<Initialized> {
+    // Refuse an existing model file before reading any data, and again at the rename.
+    if overwrite == Overwrite::Refuse {
+        refuse_existing(out)?;
+    }
+    let records = files
+        .iter()
+        .map(|file| {
+            let table = crate::io::read_table(file)?;
+            Ok(InitRecord::guess(&path_in_model(file, out), &table))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let model = init(records);
+    write_file(out, overwrite, |sink| {
+        sink.write_all(model.text.as_bytes())
+            .map_err(|e| Error::Output {
+                path: out.display().to_string(),
+                message: e.to_string(),
+            })
+    })?;
+    Ok(Initialized {
+        file: out.to_path_buf(),
+        model,
+    })
+}
+
+impl fmt::Display for Initialized {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "wrote {}: {}next: dampid check {0}\n",
+            self.file.display(),
+            self.model
+        )
+    }
+}
+
+impl Outcome for Initialized {}
