@@ -18,7 +18,7 @@
 //!
 //! - `varpro/linear_fit`: `identify` of the model at the true exponents (regressor build
 //!   and weighted fit);
-//! - `varpro/two_parameters`: `identify_varpro` without the profile intervals (the outer
+//! - `varpro/two_parameters`: `identify` without the profile intervals (the outer
 //!   loop, the final fit and the joint covariance);
 //! - `varpro/two_parameters_with_profiles`: the same with the profile intervals.
 //!

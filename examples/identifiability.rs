@@ -159,7 +159,7 @@ fn main() -> Result<()> {
                 seed: 1,
                 ..BootstrapSettings::default()
             }),
-            ..(settings).clone()
+            ..settings.clone()
         },
         &silent,
     )

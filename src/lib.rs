@@ -21,9 +21,11 @@
 //!
 //! ## Start here
 //!
-//! - [`identify()`] runs the whole chain: records and a damping model in, a
-//!   [`report::FitReport`] out (its `Display` is the text report, serde gives the JSON);
-//!   [`prelude`] has the names most programs need.
+//! - [`identify()`] runs the whole chain for every kind of problem: a damping model
+//!   (perhaps with estimated law parameters) on records, a stepped-sine table or rows
+//!   built already ([`regressor::ParametricRegressor`]) in, an
+//!   [`identify::Identification`] out, whose [`report::FitReport`]'s `Display` is the
+//!   text report and serde gives the JSON; [`prelude`] has the names most programs need.
 //! - [`record`]: a [`record::Record`] is one experiment, built from your own arrays
 //!   (example below) or read from files.
 //! - [`terms`] and [`model`]: the damping laws (linear, quadratic, Coulomb, power,
@@ -47,10 +49,11 @@
 //! by POD); [`regressor`] builds `A θ = b` (whole periods, the noise-robust rows, or fixed
 //! spans of non-periodic records with stored-energy unknowns); [`fit`] solves it;
 //! [`analysis`] diagnoses it (conditioning, identifiability, bootstrap, comparison,
-//! experiment design); [`identify::identify_regressor`] runs the part after the
-//! regressor. Cross-cutting: [`error`] (the typed [`Error`]), [`format`](mod@format) (numbers in
-//! messages), [`progress`] (callbacks), [`budget`] (memory and time limits), [`interop`].
-//! The `dampid` binary (feature `cli`) prints what the library returns.
+//! experiment design); [`identify::identify`] runs them in order for every problem;
+//! [`command`] holds the commands the `dampid` binary (feature `cli`) and the Python
+//! package print. Cross-cutting: [`error`] (the typed [`Error`]), [`format`](mod@format)
+//! (numbers in messages), [`progress`] (callbacks), [`budget`] (memory and time limits),
+//! [`interop`].
 //!
 //! Threads: dampid parallelises over windows, kernel blocks, POD row chunks, bootstrap
 //! replicates and design candidates, and combines them in index order, so its own work
@@ -98,7 +101,8 @@
 //! let model = DampingModel::new().with(Term::per_dof(Linear, 1, Coefficients::Shared("c".into())));
 //! let mut settings = IdentifySettings::default();
 //! settings.regressor.velocity = VelocitySource::Measured;
-//! let report = identify(&model, &[record], &settings)?;
+//! let problem = ParametricRegressor::linear(&model, &[record]);
+//! let report = identify(&problem, &settings, &silent)?.report;
 //! let estimate = report.coefficient("c").unwrap();
 //! assert!((estimate - c).abs() < 1e-9 * c, "{estimate}");
 //! # Ok::<(), dampid::Error>(())
@@ -112,8 +116,8 @@
 //!
 //! let records = four_mass_records(false, 1)?;           // simulate the paper's chain
 //! let settings = IdentifySettings::default();            // trapezoid, noise-robust projection
-//! let report = identify(&four_mass_model(), &records, &settings)?;
-//! let c = report.coefficient("c").unwrap();
+//! let problem = ParametricRegressor::linear(&four_mass_model(), &records);
+//! let c = identify(&problem, &settings, &silent)?.coefficient("c").unwrap();
 //! assert!((c - 0.15).abs() < 0.15 * 0.005);
 //! # Ok::<(), dampid::Error>(())
 //! ```

@@ -252,7 +252,7 @@ fn constrained_fits_are_bootstrapped_with_their_constraints() {
                 seed: 3,
                 level: 0.95,
             }),
-            ..(s).clone()
+            ..s.clone()
         },
         &silent,
     )

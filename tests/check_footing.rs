@@ -105,7 +105,7 @@ fn check_and_identify_agree_on_noisy_data() {
                 let report = identify(
                     &ParametricRegressor::rows(&regressor),
                     &IdentifySettings {
-                        fit: (settings.fit).clone(),
+                        fit: settings.fit.clone(),
                         ..Default::default()
                     },
                     &silent,

@@ -140,7 +140,7 @@ fn a_zero_regressor_determines_nothing() {
     );
     assert!(!id.to_string().contains("every coefficient is determined"));
     assert!(matches!(
-        identify(&ParametricRegressor::rows(&r), &IdentifySettings { fit: (fit::FitSettings::default()).clone(), ..Default::default() }, &silent).map(|i| i.report),
+        identify(&ParametricRegressor::rows(&r), &IdentifySettings { fit: fit::FitSettings::default(), ..Default::default() }, &silent).map(|i| i.report),
         Err(Error::NoInformation { ref coefficients, .. }) if coefficients == "t0 and t1"
     ));
 }
@@ -161,7 +161,7 @@ fn a_zero_column_beside_a_nonzero_one_is_not_determined() {
     let report = identify(
         &ParametricRegressor::rows(&r),
         &IdentifySettings {
-            fit: (fit::FitSettings::default()).clone(),
+            fit: fit::FitSettings::default(),
             ..Default::default()
         },
         &silent,

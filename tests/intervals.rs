@@ -55,7 +55,7 @@ fn default_pipeline(path: &str) -> (FitReport, Vec<(String, f64)>, Regressor) {
     let report = identify(
         &ParametricRegressor::rows(&regressor),
         &IdentifySettings {
-            fit: (job.settings.fit).clone(),
+            fit: job.settings.fit.clone(),
             ..Default::default()
         },
         &silent,

@@ -64,7 +64,7 @@ fn fit(regressor: &Regressor, fit: &FitSettings) -> FitReport {
     identify(
         &ParametricRegressor::rows(regressor),
         &IdentifySettings {
-            fit: (*fit).clone(),
+            fit: fit.clone(),
             ..Default::default()
         },
         &silent,

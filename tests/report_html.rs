@@ -2,7 +2,6 @@
 
 mod support;
 use dampid::progress::silent;
-use dampid::regressor::ParametricRegressor;
 use support::cli::{dampid_json, dampid_ok};
 
 #[test]
@@ -109,7 +108,7 @@ fn pod_report_shows_the_proper_orthogonal_modes() {
 /// the harmonics kept and the estimated noise.
 #[test]
 fn noise_robust_report_shows_the_noise_and_the_model_check() {
-    use dampid::identify::{IdentifySettings, identify};
+    use dampid::identify::identify;
     use dampid::report::html::HtmlReport;
     let text = std::fs::read_to_string("models/measured_chain.toml")
         .unwrap()

@@ -99,7 +99,7 @@ fn viscous_and_power_law_come_back_noise_free() {
     let report = identify(
         &ParametricRegressor::rows(&regressor),
         &IdentifySettings {
-            fit: (job.settings.fit).clone(),
+            fit: job.settings.fit.clone(),
             ..Default::default()
         },
         &silent,
@@ -126,7 +126,7 @@ fn noisy_table_is_weighted_and_calibrated() {
     let report = identify(
         &ParametricRegressor::rows(&regressor),
         &IdentifySettings {
-            fit: (job.settings.fit).clone(),
+            fit: job.settings.fit.clone(),
             ..Default::default()
         },
         &silent,
@@ -327,7 +327,7 @@ fn negative_damping_is_a_warning() {
     let report = identify(
         &ParametricRegressor::rows(&regressor),
         &IdentifySettings {
-            fit: (FitSettings::default()).clone(),
+            fit: FitSettings::default(),
             ..Default::default()
         },
         &silent,
@@ -352,7 +352,7 @@ fn negative_damping_is_a_warning() {
     let report = identify(
         &ParametricRegressor::rows(&regressor),
         &IdentifySettings {
-            fit: (bounded).clone(),
+            fit: bounded.clone(),
             ..Default::default()
         },
         &silent,
@@ -429,7 +429,7 @@ fn residual_stiffness_comes_back_noise_free_and_its_neglect_biases() {
     let biased = identify(
         &ParametricRegressor::rows(&plain.initial_regressor().unwrap()),
         &IdentifySettings {
-            fit: (plain.settings.fit).clone(),
+            fit: plain.settings.fit.clone(),
             ..Default::default()
         },
         &silent,

@@ -272,7 +272,7 @@ fn stepped_sine_closed_form_and_time_domain_agree() {
         (Some(0), None, Element::to_ground(0)),
         (Some(0), Some(1), Element::between(0, 1)),
     ] {
-        let mut table = SteppedSineSource::new(swept.clone(), approximation.clone());
+        let mut table = SteppedSineSource::new(swept.clone(), approximation);
         table.structural = vec![StructuralTerm {
             coefficient: "eta".into(),
             stiffness: k,
@@ -280,7 +280,7 @@ fn stepped_sine_closed_form_and_time_domain_agree() {
             to,
         }];
         let closed = Regressor::build(&DampingModel::new(), &table, &settings().regressor).unwrap();
-        let plain = SteppedSineSource::new(swept.clone(), approximation.clone());
+        let plain = SteppedSineSource::new(swept.clone(), approximation);
         let time_domain = Regressor::build(
             &DampingModel::new().with(structural(k, element)),
             &plain,

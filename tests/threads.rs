@@ -10,7 +10,6 @@
 //! in tests/bootstrap.rs.
 
 use dampid::progress::silent;
-use dampid::regressor::ParametricRegressor;
 use std::path::PathBuf;
 use std::process::Command;
 

@@ -76,7 +76,7 @@ fuzz_target!(
         let Ok(regressor) = job.initial_regressor() else {
             return;
         };
-        if let Ok(report) = identify(&ParametricRegressor::rows(&regressor), &IdentifySettings { fit: (job.settings.fit).clone(), ..Default::default() }, &silent).map(|i| i.report) {
+        if let Ok(report) = identify(&ParametricRegressor::rows(&regressor), &IdentifySettings { fit: job.settings.fit.clone(), ..Default::default() }, &silent).map(|i| i.report) {
             support::check(&report);
         }
         // `dampid check` reads the same solve: any outcome but a panic.

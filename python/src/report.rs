@@ -331,7 +331,8 @@ impl PyReport {
         };
         let page = match &self.source {
             Source::Job(job, file, options) => {
-                let mut provenance = job.provenance(file, &[]).py_err()?;
+                let settings = options.settings(job);
+                let mut provenance = job.provenance(file, &settings, &[]).py_err()?;
                 provenance
                     .settings
                     .splice(0..0, self.settings.iter().cloned());

@@ -49,7 +49,7 @@ pub struct RegressorCheck {
 }
 
 impl RegressorCheck {
-    /// Checks `regressor` as [`crate::identify::identify_regressor`] fits it with
+    /// Checks `regressor` as [`crate::identify::identify`] fits it with
     /// `settings` (its weighting, constraints and rank tolerance); a regressor whose
     /// every column is zero is [`crate::Error::NoInformation`].
     pub fn new(regressor: &Regressor, settings: &FitSettings) -> Result<Self> {

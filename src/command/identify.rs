@@ -13,7 +13,7 @@ use serde::Serialize;
 use super::Outcome;
 use crate::analysis::bootstrap::BootstrapSettings;
 use crate::error::Result;
-use crate::identify::{Equivalent, Identification, identify};
+use crate::identify::{Equivalent, Identification, IdentifySettings, identify};
 use crate::model_file::Job;
 use crate::progress::Progress;
 use crate::report::count;
@@ -70,14 +70,21 @@ impl IdentifyOptions {
     }
 }
 
+impl IdentifyOptions {
+    /// The settings `job` is identified with under these options.
+    pub fn settings(&self, job: &Job) -> IdentifySettings {
+        let mut settings = job.settings.clone();
+        if let Some(steady) = &mut settings.steady_state {
+            steady.accept_transient |= self.accept_transient;
+        }
+        settings.bootstrap = self.bootstrap;
+        settings
+    }
+}
+
 /// Identifies `job` with `options`; `progress` counts bootstrap replicates.
 pub fn run(job: &Job, options: &IdentifyOptions, progress: Progress<'_>) -> Result<Identification> {
-    let mut settings = job.settings.clone();
-    if let Some(steady) = &mut settings.steady_state {
-        steady.accept_transient |= options.accept_transient;
-    }
-    settings.bootstrap = options.bootstrap;
-    identify(&job.problem(), &settings, progress)
+    identify(&job.problem(), &options.settings(job), progress)
 }
 
 /// The outcome of `dampid identify`: a job and what identifying it found.
@@ -95,9 +102,11 @@ impl Identified<'_> {
     /// The HTML page of the outcome; `model_file` is the job's file (for the provenance:
     /// its text, its data files' SHA-256 and every setting in effect).
     pub fn html(&self, model_file: &Path) -> Result<String> {
-        let provenance = self
-            .job
-            .provenance(model_file, &self.options.provenance_rows())?;
+        let provenance = self.job.provenance(
+            model_file,
+            &self.options.settings(self.job),
+            &self.options.provenance_rows(),
+        )?;
         self.html_with(Some(&provenance))
     }
 

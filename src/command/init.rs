@@ -52,9 +52,9 @@ pub fn run(files: &[PathBuf], out: &Path, overwrite: Overwrite) -> Result<Initia
 
 impl fmt::Display for Initialized {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
+        writeln!(
             f,
-            "wrote {}: {}next: dampid check {0}\n",
+            "wrote {}: {}next: dampid check {0}",
             self.file.display(),
             self.model
         )

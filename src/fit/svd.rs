@@ -10,7 +10,7 @@
 //! Least squares reads θ_s = Σ_{i<r} v_i c_i/σ_i from it, the diagnostics read κ, r and
 //! (A_sᵀA_s)⁻¹ = V Σ⁻² Vᵀ, the identifiability analysis reads σ, V and the residual of
 //! the projection, and model comparison reads the column space U_r; `identify` factors
-//! the matrix once for all of them ([`crate::identify::identify_regressor`]).
+//! the matrix once for all of them ([`crate::analysis::solved::solved`]).
 //!
 //! A short regressor (m < p) is padded with zero rows to p rows, so that V holds all p
 //! right singular vectors and Σ all p singular values (the missing ones are 0).

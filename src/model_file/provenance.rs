@@ -20,9 +20,15 @@ use crate::report::provenance::{
 use crate::report::units::Units;
 
 impl Job {
-    /// The provenance of a report on this job read from `model_file`, with the command
+    /// The provenance of a report on this job read from `model_file` and identified
+    /// with `settings` (the job's, with what the command line changed), with the command
     /// line's own settings `extra` (name, value) listed first.
-    pub fn provenance(&self, model_file: &Path, extra: &[(String, String)]) -> Result<Provenance> {
+    pub fn provenance(
+        &self,
+        model_file: &Path,
+        settings: &IdentifySettings,
+        extra: &[(String, String)],
+    ) -> Result<Provenance> {
         let model_text = std::fs::read_to_string(model_file).map_err(|e| Error::ModelFile {
             file: model_file.display().to_string(),
             line: 0,
@@ -36,6 +42,7 @@ impl Job {
             .map(|p| DataFile::read(p))
             .collect::<Result<Vec<_>>>()?;
         let file: toml::Table = toml::from_str(&model_text).unwrap_or_default();
+        let in_effect = settings;
         let mut settings: Vec<Setting> = extra
             .iter()
             .map(|(key, value)| Setting {
@@ -45,7 +52,7 @@ impl Job {
                 source: SettingSource::CommandLine,
             })
             .collect();
-        settings.extend(self.settings_in_effect(&file));
+        settings.extend(self.settings_in_effect(in_effect, &file));
         Ok(Provenance {
             model_file: model_file.display().to_string(),
             model_text,
@@ -76,9 +83,9 @@ fn name_of(value: &impl serde::Serialize) -> String {
 impl Job {
     /// Every model-file setting in effect: the file's value where it sets the key, else
     /// the job's (the default).
-    fn settings_in_effect(&self, file: &toml::Table) -> Vec<Setting> {
+    fn settings_in_effect(&self, settings: &IdentifySettings, file: &toml::Table) -> Vec<Setting> {
         settings_in_effect(
-            &self.settings,
+            settings,
             self.design.as_ref(),
             &self.units,
             (file, SettingSource::ModelFile),
@@ -99,7 +106,7 @@ pub fn settings_in_effect(
     given: (&toml::Table, SettingSource),
 ) -> Vec<Setting> {
     let (file, set) = given;
-    let steady_state = &settings.steady_state.clone().unwrap_or_default();
+    let steady_state = &settings.steady_state.unwrap_or_default();
     let mut rows = Vec::new();
     let section = |rows: &mut Vec<Setting>, name: &str, keys: Vec<(&str, String)>| {
         let written = file.get(name).and_then(toml::Value::as_table);

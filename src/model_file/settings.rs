@@ -452,7 +452,7 @@ mod tests {
             accept_transient: true,
             ..IdentificationSpec::default()
         };
-        let steady = given.steady_state.clone().unwrap();
+        let steady = given.steady_state.unwrap();
         assert!(steady.accept_transient);
         assert_eq!(
             IdentifySettings {

@@ -5,7 +5,7 @@
 //! Replicate k draws, with replacement, as many units as there are (the pairs bootstrap
 //! of [`crate::analysis::bootstrap`]): single equations (a window of whole periods of a
 //! record is a unit of its own), or whole sweeps of a stepped-sine table (the cluster
-//! bootstrap of `bootstrap_groups`: errors correlated within a sweep, such as its
+//! bootstrap of [`crate::analysis::bootstrap::bootstrap`] with groups: errors correlated within a sweep, such as its
 //! residual receptance or a drift over the sweep, are resampled as they occur). With
 //! R the drawn rows (repeats kept), the replicate minimises the projected cost of those
 //! rows alone,

@@ -137,7 +137,7 @@ fn zero_regressor_is_no_information() {
     let err = identify(
         &ParametricRegressor::rows(&regressor),
         &IdentifySettings {
-            fit: (FitSettings::default()).clone(),
+            fit: FitSettings::default(),
             ..Default::default()
         },
         &silent,

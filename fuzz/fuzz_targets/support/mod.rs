@@ -1,5 +1,5 @@
 //! What every fuzz target that fits checks of the outcome (of
-//! `dampid::identify::identify` or `identify_regressor`, the pipeline the CLI runs).
+//! `dampid::identify::identify`, the pipeline the CLI runs).
 
 use dampid::report::FitReport;
 

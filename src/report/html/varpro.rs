@@ -1,13 +1,13 @@
 //! The page of a variable-projection fit ([`crate::varpro`]): the [`HtmlReport`] fields
 //! are those of the linear fit at the estimate η̂ (its model, regressor and
-//! [`FitReport`]), and the [`VarProReport`] adds the estimated nonlinear parameters
+//! [`FitReport`]), and its [`crate::report::Estimation`] adds the estimated nonlinear parameters
 //! (value, profile or joint Wald interval, bounds, whether on a bound, the outer loop's
 //! method, iterations and status) and the coefficients' joint intervals, which include
 //! the uncertainty of η̂ (the linear fit's own errors hold η fixed: shown beside them,
 //! for comparison only). The law plots are drawn at η̂ with bands of ± 1.96 joint
 //! standard errors of the coefficients; a one-mode stepped-sine job adds the energy per
 //! cycle against amplitude at η̂ and the equivalent-damping table with its joint
-//! intervals ([`crate::analysis::equivalent_estimated`]). When the outer loop did not
+//! intervals ([`crate::analysis::equivalent`]). When the outer loop did not
 //! converge or the linear fit at its end is not an estimate, the page says so and shows
 //! the last trial's values as such: no interval, no fitted curve, no equivalent damping.
 
