@@ -14,6 +14,7 @@
 //! Besides criterion's numbers it prints the ratio with / without from medians of 11
 //! interleaved runs of each case in the same process (alternating which runs first).
 
+use dampid::terms::OnElements;
 use std::hint::black_box;
 use std::time::Instant;
 

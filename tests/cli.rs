@@ -199,26 +199,23 @@ fn identify_with_bootstrap_prints_intervals() {
 fn identify_with_bootstrap_of_an_estimated_exponent() {
     let model = "tests/data/power_exponent_small.toml";
     let json = dampid_json(&["identify", model, "--bootstrap", "50", "--json"]);
-    let varpro = &json["varpro"];
-    let bootstrap = &varpro["bootstrap"];
+    let report = &json["report"];
+    let varpro = &report["estimation"];
+    let bootstrap = &report["bootstrap"];
     assert_eq!(bootstrap["replicates"], 50, "{bootstrap}");
     assert_eq!(bootstrap["resampled"], "windows");
     assert_eq!(bootstrap["groups"], 12);
     assert!(bootstrap["used"].as_u64().unwrap() >= 25);
     let value = varpro["parameters"][0]["value"].as_f64().unwrap();
-    let interval = &bootstrap["parameters"][0];
+    let interval = &varpro["parameters"][0]["bootstrap"];
     assert_eq!(interval["name"], "d.exponent");
     let (lower, upper) = (
         interval["lower"].as_f64().unwrap(),
         interval["upper"].as_f64().unwrap(),
     );
     assert!(lower <= upper && (value - 1.7).abs() < 0.01, "{interval}");
-    for (c, i) in varpro["coefficients"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .zip(bootstrap["coefficients"].as_array().unwrap())
-    {
+    for c in report["coefficients"].as_array().unwrap() {
+        let i = &c["interval"];
         assert_eq!(c["name"], i["name"]);
         assert!(i["std_error"].as_f64().unwrap() > 0.0, "{i}");
     }

@@ -14,6 +14,7 @@
 //! and the result is bitwise the same with 1, 2 and 3 threads.
 
 use dampid::prelude::*;
+use dampid::terms::OnElements;
 use dampid::terms::laws::Expression;
 use faer::Mat;
 

@@ -74,9 +74,11 @@ fn report_of_a_residual_job() {
     assert!(!page.contains("Not an estimate"));
     assert_finite(&page);
     // 7 residuals + c, d: a 9 × 9 covariance whose diagonal gives the standard errors.
-    let covariance = json["varpro"]["covariance"].as_array().unwrap();
+    let covariance = json["report"]["estimation"]["covariance"]
+        .as_array()
+        .unwrap();
     assert_eq!(covariance.len(), 9);
-    let se = json["varpro"]["coefficients"][0]["std_error"]
+    let se = json["report"]["estimation"]["coefficients"][0]["std_error"]
         .as_f64()
         .unwrap();
     let c00 = covariance[0][0].as_f64().unwrap();

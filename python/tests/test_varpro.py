@@ -47,7 +47,7 @@ def test_residual_job_agrees_with_the_cli(root):
     text = subprocess.run([binary, "identify", model], capture_output=True, text=True, check=True).stdout
     assert str(report).strip() == text.strip()
     cli = json.loads(subprocess.run([binary, "identify", model, "--json"], capture_output=True, text=True, check=True).stdout)
-    assert cli["varpro"] == report.to_dict()
+    assert cli["report"] == report.to_dict()
 
 
 def test_html_of_a_residual_job(root, tmp_path):

@@ -152,6 +152,35 @@ pub struct BootstrapSummary {
     pub evaluations: u64,
 }
 
+impl BootstrapSummary {
+    /// The summary of `used` kept of `settings.replicates` replicates refitted with
+    /// `fit`, which drew from `units` (`resampled`); the others counted as unusable.
+    pub(crate) fn of(
+        settings: &BootstrapSettings,
+        fit: &FitSettings,
+        used: usize,
+        units: &Groups,
+        resampled: Resampled,
+    ) -> Self {
+        BootstrapSummary {
+            replicates: settings.replicates,
+            used,
+            seed: settings.seed,
+            level: settings.level,
+            method: if fit.constraints.is_empty() {
+                FitMethod::LeastSquares
+            } else {
+                FitMethod::Constrained
+            },
+            resampled,
+            groups: units.count(),
+            not_converged: 0,
+            unusable: settings.replicates - used,
+            evaluations: 0,
+        }
+    }
+}
+
 /// The result of a bootstrap.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Bootstrap {
@@ -348,11 +377,6 @@ fn resample(
             ),
         });
     }
-    let method = if fit.constraints.is_empty() {
-        FitMethod::LeastSquares
-    } else {
-        FitMethod::Constrained
-    };
     let coefficients = regressor
         .columns()
         .iter()
@@ -360,18 +384,7 @@ fn resample(
         .map(|(j, name)| percentile_interval(name, samples.iter().map(|s| s[j]), settings.level))
         .collect();
     Ok(Bootstrap {
-        summary: BootstrapSummary {
-            replicates: settings.replicates,
-            used,
-            seed: settings.seed,
-            level: settings.level,
-            method,
-            resampled,
-            groups: units.count(),
-            not_converged: 0,
-            unusable: settings.replicates - used,
-            evaluations: 0,
-        },
+        summary: BootstrapSummary::of(settings, fit, used, units, resampled),
         parameters: Vec::new(),
         coefficients,
         samples,

@@ -138,6 +138,22 @@ impl Job {
     }
 }
 
+impl Sources {
+    /// Records simulated from the model (their truth known, nothing detected or read),
+    /// with the stored energy when the simulation knows it.
+    fn simulated(records: Vec<Record>, truth: Truth, stored_energy: Option<StoredEnergy>) -> Self {
+        Sources {
+            detected_periods: vec![None; records.len()],
+            time_jitter: vec![None; records.len()],
+            inputs: Vec::new(),
+            records,
+            truth: Some(truth),
+            stored_energy,
+            stepped_sine: None,
+        }
+    }
+}
+
 /// Where the records come from, and what is known with them.
 struct Sources {
     records: Vec<Record>,
@@ -444,28 +460,12 @@ impl Context<'_> {
             let energy = self.at(sim, |s| {
                 stored_energy(&s.mass, &s.stiffness, &s.cubic_springs, n, matrix)
             })?;
-            return Ok(Sources {
-                detected_periods: vec![None; records.len()],
-                time_jitter: vec![None; records.len()],
-                inputs: Vec::new(),
-                records,
-                truth: Some(truth),
-                stored_energy: Some(energy),
-                stepped_sine: None,
-            });
+            return Ok(Sources::simulated(records, truth, Some(energy)));
         }
         if let Some(string) = &spec.string_simulation {
             let (records, truth) =
                 self.at(string, |s| string::string_records(s, model, n, progress))?;
-            return Ok(Sources {
-                detected_periods: vec![None; records.len()],
-                time_jitter: vec![None; records.len()],
-                inputs: Vec::new(),
-                records,
-                truth: Some(truth),
-                stored_energy: None,
-                stepped_sine: None,
-            });
+            return Ok(Sources::simulated(records, truth, None));
         }
         if let Some(table) = &spec.stepped_sine {
             let mut source = self.at(table, |t| self.stepped_sine(t, n, base))?;

@@ -23,6 +23,7 @@ use crate::model::DampingModel;
 use crate::prep::quadrature::Quadrature;
 use crate::prep::window::Window;
 use crate::record::{LoadDistribution, Record, col};
+use crate::terms::OnElements;
 use crate::terms::{Coefficients, Term};
 
 /// The samples t_0..t_F of a window of span kT and the fractional end φ.

@@ -20,6 +20,7 @@
 //! themselves, on the projected motion, less its expected noise contribution
 //! (`regressor/robust/structural.rs`), and never call [`add_columns`].
 
+use crate::terms::OnElements;
 use faer::MatRef;
 
 use crate::error::{Error, Result};

@@ -25,8 +25,8 @@ use crate::prep::harmonic::residual::{self, ResidualKind};
 use crate::prep::harmonic::sweeps::SweptTable;
 use crate::record::Record;
 use crate::regressor::Regressor;
-use crate::regressor::parametric::NonlinearParameter;
-use crate::regressor::stepped_sine::StructuralTerm;
+use crate::regressor::nonlinear::NonlinearParameter;
+use crate::regressor::structural_term::StructuralTerm;
 
 /// The equations' source.
 #[derive(Debug, Clone, Copy)]

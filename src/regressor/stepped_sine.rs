@@ -37,7 +37,6 @@
 //! b is unchanged by R, the columns read X_mode and φ_mode.
 
 use faer::Mat;
-use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 use crate::model::DampingModel;
@@ -45,68 +44,11 @@ use crate::prep::harmonic::residual;
 use crate::prep::harmonic::{HarmonicApproximation, SteppedSinePoint};
 use crate::regressor::robust::{ChannelSensitivity, NoiseModel, RowNoise, WindowNoise};
 use crate::regressor::source::SteppedSineSource;
+pub use crate::regressor::structural_term::StructuralTerm;
 use crate::regressor::{Regressor, RegressorSettings, RowLabel};
 
 /// Relative step of the forward differences (module doc).
 const STEP: f64 = 1e-6;
-
-/// Structural (hysteretic) damping: a loss factor η on one element of given stiffness
-/// k, dissipating π η k |Z_e|² per cycle of harmonic motion (complex stiffness
-/// k(1 + iη); its damping force is (ηk/ω) ẋ at frequency ω).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct StructuralTerm {
-    /// The coefficient's name (η).
-    pub coefficient: String,
-    /// The element's stiffness k (> 0).
-    pub stiffness: f64,
-    /// The element: DOFs (0-based), `None` for ground.
-    pub from: Option<usize>,
-    /// The other end (0-based), `None` for ground.
-    pub to: Option<usize>,
-}
-
-impl StructuralTerm {
-    /// Checks the stiffness and the DOFs against `dofs`.
-    pub fn validate(&self, dofs: usize) -> Result<()> {
-        if !(self.stiffness.is_finite() && self.stiffness > 0.0) {
-            return Err(Error::invalid(
-                &format!("stiffness of structural damping '{}'", self.coefficient),
-                self.stiffness,
-                "must be finite and positive",
-            ));
-        }
-        for dof in [self.from, self.to].into_iter().flatten() {
-            if dof >= dofs {
-                return Err(Error::dof_index(
-                    format!("structural damping '{}'", self.coefficient),
-                    dof,
-                    dofs,
-                ));
-            }
-        }
-        if self.from == self.to {
-            return Err(Error::choice(
-                "structural damping element",
-                format!("'{}' between a DOF and itself", self.coefficient),
-                "give two different DOFs, or one DOF and ground (0)",
-            ));
-        }
-        Ok(())
-    }
-
-    /// The closed-form column π k |Z_a − Z_b|² of `point` with synthesized lags `psi`.
-    pub fn column(&self, point: &SteppedSinePoint, psi: &[f64]) -> f64 {
-        let z = |dof: Option<usize>| {
-            dof.map_or((0.0, 0.0), |i| {
-                let x = point.amplitudes[i];
-                (x * psi[i].cos(), -x * psi[i].sin())
-            })
-        };
-        let (a, b) = (z(self.from), z(self.to));
-        let (re, im) = (a.0 - b.0, a.1 - b.1);
-        std::f64::consts::PI * self.stiffness * (re * re + im * im)
-    }
-}
 
 /// One row: the columns and the input work.
 struct Row {

@@ -29,6 +29,7 @@
 //! periods for the noise floor). Forces with memory and structural damping get no bias
 //! model here (they add none).
 
+use crate::terms::OnElements;
 use faer::{Mat, MatRef};
 
 use crate::error::Result;

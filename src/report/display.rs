@@ -110,12 +110,7 @@ impl FitReport {
         for c in self.coefficients.iter().filter(|c| !many || c.determined) {
             self.write_estimate(f, c, weighted, level)?;
         }
-        let undetermined: Vec<&str> = self
-            .coefficients
-            .iter()
-            .filter(|c| !c.determined)
-            .map(|c| c.name.as_str())
-            .collect();
+        let undetermined = self.undetermined();
         if many && !undetermined.is_empty() {
             writeln!(
                 f,

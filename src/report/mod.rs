@@ -380,12 +380,7 @@ impl FitReport {
     /// failing, or a fit that did not converge.
     pub fn strict_failures(&self) -> Vec<String> {
         let mut failures = Vec::new();
-        let undetermined: Vec<&str> = self
-            .coefficients
-            .iter()
-            .filter(|c| !c.determined)
-            .map(|c| c.name.as_str())
-            .collect();
+        let undetermined = self.undetermined();
         if !undetermined.is_empty() {
             failures.push(format!(
                 "not determined: {}",
@@ -410,6 +405,15 @@ impl FitReport {
             failures.extend(estimation.strict_failures());
         }
         failures
+    }
+
+    /// The names of the coefficients the data do not determine.
+    pub fn undetermined(&self) -> Vec<&str> {
+        self.coefficients
+            .iter()
+            .filter(|c| !c.determined)
+            .map(|c| c.name.as_str())
+            .collect()
     }
 
     /// True when the fit converged (its solver, and the outer loop of any estimated

@@ -8,60 +8,10 @@
 
 use std::sync::Arc;
 
-use serde::{Deserialize, Serialize};
-
 use crate::error::{Error, Result};
 use crate::terms::element::Element;
 use crate::terms::law::Law;
-
-/// How the elements of a term share coefficients.
-#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Coefficients {
-    /// One coefficient with this name for every element.
-    Shared(String),
-    /// One coefficient per element, named `prefix[label]`.
-    PerElement(String),
-}
-
-impl Coefficients {
-    /// The coefficients' names for `elements`: the shared name once, or `prefix[label]`
-    /// per element.
-    pub(crate) fn names(&self, elements: &[Element]) -> Vec<String> {
-        match self {
-            Coefficients::Shared(name) => vec![name.clone()],
-            Coefficients::PerElement(prefix) => elements
-                .iter()
-                .map(|e| {
-                    // "prefix[label]" without the format machinery: thousands of
-                    // columns name themselves on every build.
-                    let mut name = String::with_capacity(prefix.len() + e.label.len() + 2);
-                    name.push_str(prefix);
-                    name.push('[');
-                    name.push_str(&e.label);
-                    name.push(']');
-                    name
-                })
-                .collect(),
-        }
-    }
-
-    /// How many coefficients on `elements`: one shared, or one per element.
-    pub(crate) fn count(&self, elements: usize) -> usize {
-        match self {
-            Coefficients::Shared(_) => 1,
-            Coefficients::PerElement(_) => elements,
-        }
-    }
-
-    /// The column of element `index` within the term's columns.
-    pub(crate) fn column_of(&self, index: usize) -> usize {
-        match self {
-            Coefficients::Shared(_) => 0,
-            Coefficients::PerElement(_) => index,
-        }
-    }
-}
+use crate::terms::on_elements::{Coefficients, OnElements};
 
 /// A damping law on elements.
 #[derive(Debug, Clone)]
@@ -104,30 +54,9 @@ impl ElementTerm {
         self.law.as_ref()
     }
 
-    /// The elements.
-    pub fn elements(&self) -> &[Element] {
-        &self.elements
-    }
-
-    /// The sharing of coefficients.
-    pub fn coefficients(&self) -> &Coefficients {
-        &self.coefficients
-    }
-
-    pub(crate) fn coefficient_names(&self) -> Vec<String> {
-        self.coefficients.names(&self.elements)
-    }
-
     pub(crate) fn validate(&self, dofs: usize) -> Result<()> {
         let what = format!("{} term", self.law.name());
-        if self.elements.is_empty() {
-            return Err(Error::Empty {
-                what: format!("element list of the {what}"),
-            });
-        }
-        self.elements
-            .iter()
-            .try_for_each(|e| e.validate(dofs, &what))?;
+        self.validate_elements(dofs, &what)?;
         if let Some(weights) = &self.weights {
             let what = format!("element weights of the {what}");
             if weights.len() != self.elements.len() {
@@ -172,5 +101,15 @@ impl ElementTerm {
                 out[b] -= f;
             }
         }
+    }
+}
+
+impl OnElements for ElementTerm {
+    fn elements(&self) -> &[Element] {
+        &self.elements
+    }
+
+    fn coefficients(&self) -> &Coefficients {
+        &self.coefficients
     }
 }

@@ -17,6 +17,7 @@ pub mod lanes;
 pub mod law;
 pub mod laws;
 pub mod matrix_term;
+pub mod on_elements;
 pub mod structural;
 
 use std::sync::Arc;
@@ -24,10 +25,11 @@ use std::sync::Arc;
 use faer::Mat;
 
 pub use element::Element;
-pub use element_term::{Coefficients, ElementTerm};
+pub use element_term::ElementTerm;
 pub use history::{HistoryTerm, Hysteresis};
 pub use law::{ElementMotion, Law, PowerForm, Weights};
 pub use matrix_term::{MatrixKind, MatrixTerm};
+pub use on_elements::{Coefficients, OnElements};
 pub use structural::StructuralDamping;
 
 use crate::error::Result;
@@ -133,7 +135,7 @@ impl Term {
     pub fn coefficient_count(&self) -> usize {
         match self {
             Term::Matrix(_) => 1,
-            Term::Elements(t) => t.coefficients().count(t.elements().len()),
+            Term::Elements(t) => t.coefficient_count(),
             Term::History(t) => t.coefficient_count(),
             Term::Structural(t) => t.coefficient_count(),
         }

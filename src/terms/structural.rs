@@ -52,6 +52,7 @@
 //! coefficients with its expected noise contribution removed
 //! (`regressor/robust/structural.rs`).
 
+use crate::terms::on_elements::{Coefficients, OnElements};
 use std::cell::RefCell;
 
 use realfft::RealFftPlanner;
@@ -59,7 +60,6 @@ use realfft::num_complex::Complex;
 
 use crate::error::{Error, Result};
 use crate::terms::element::Element;
-use crate::terms::element_term::Coefficients;
 
 thread_local! {
     static PLANNER: RefCell<RealFftPlanner<f64>> = RefCell::new(RealFftPlanner::new());
@@ -123,41 +123,13 @@ impl StructuralDamping {
         }
     }
 
-    /// The elements.
-    pub fn elements(&self) -> &[Element] {
-        &self.elements
-    }
-
     /// Each element's stiffness k.
     pub fn stiffness(&self) -> &[f64] {
         &self.stiffness
     }
 
-    /// The sharing of coefficients.
-    pub fn coefficients(&self) -> &Coefficients {
-        &self.coefficients
-    }
-
-    pub(crate) fn coefficient_names(&self) -> Vec<String> {
-        self.coefficients.names(&self.elements)
-    }
-
-    pub(crate) fn coefficient_count(&self) -> usize {
-        self.coefficients.count(self.elements.len())
-    }
-
-    /// The column of element `index` (an offset within the term's columns).
-    pub(crate) fn column_of(&self, index: usize) -> usize {
-        self.coefficients.column_of(index)
-    }
-
     pub(crate) fn validate(&self, dofs: usize) -> Result<()> {
-        let what = "structural damping term";
-        if self.elements.is_empty() {
-            return Err(Error::Empty {
-                what: format!("element list of the {what}"),
-            });
-        }
+        self.validate_elements(dofs, "structural damping term")?;
         if self.stiffness.len() != self.elements.len() {
             return Err(Error::mismatch(
                 "structural damping stiffnesses vs elements",
@@ -174,9 +146,17 @@ impl StructuralDamping {
                 ));
             }
         }
-        self.elements
-            .iter()
-            .try_for_each(|e| e.validate(dofs, what))
+        Ok(())
+    }
+}
+
+impl OnElements for StructuralDamping {
+    fn elements(&self) -> &[Element] {
+        &self.elements
+    }
+
+    fn coefficients(&self) -> &Coefficients {
+        &self.coefficients
     }
 }
 

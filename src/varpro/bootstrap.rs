@@ -51,7 +51,6 @@ use crate::analysis::bootstrap::{
     rank_of, replicate_rng, run_replicates,
 };
 use crate::error::{Error, Result};
-use crate::fit::FitMethod;
 use crate::progress::Progress;
 use crate::regressor::NonlinearParameter;
 
@@ -83,7 +82,7 @@ pub(super) fn bootstrap(
     let fit = problem.fit();
     fit.validate()?;
     let specs = problem.parameters();
-    crate::regressor::parametric::check_values(specs, estimate)?;
+    crate::regressor::nonlinear::check_values(specs, estimate)?;
     let full = problem.regressor(estimate)?;
     let m = full.equations();
     let p = full.columns().len();
@@ -180,20 +179,10 @@ pub(super) fn bootstrap(
         .collect();
     Ok(Bootstrap {
         summary: BootstrapSummary {
-            replicates: settings.replicates,
-            used,
-            seed: settings.seed,
-            level: settings.level,
-            method: if fit.constraints.is_empty() {
-                FitMethod::LeastSquares
-            } else {
-                FitMethod::Constrained
-            },
-            resampled,
-            groups: units.count(),
             not_converged,
             unusable,
             evaluations: problem.evaluations() - built_before,
+            ..BootstrapSummary::of(settings, fit, used, &units, resampled)
         },
         parameters,
         coefficients,

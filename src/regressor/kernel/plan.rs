@@ -26,6 +26,7 @@
 //! by one matrix product per window (see `gram.rs`), then A = tr(C₀ᵀ G). The choice is
 //! made once per plan from the number of distinct entries (j ≤ k) of C₀ + C₀ᵀ.
 
+use crate::terms::OnElements;
 use std::collections::HashMap;
 use std::ops::Range;
 

@@ -8,6 +8,7 @@
 //! derivative-free form the last Stieltjes interval ends on the closing sample, r_L = r_0
 //! (so ∂b/∂r_0 gathers the gradient of both ends: the closing sample is the first).
 
+use crate::terms::OnElements;
 use faer::Mat;
 
 use crate::error::{Error, Result};

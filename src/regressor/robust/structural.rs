@@ -51,6 +51,7 @@
 //! Cost: G is one p × p product over the window's samples (O(m p²)), then O(p²) per
 //! element for the value and gradient, and O(p³) for C_j once per sensor kind (p = 2K + 1).
 
+use crate::terms::OnElements;
 use faer::Mat;
 
 use crate::record::Sensor;

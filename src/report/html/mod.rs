@@ -15,6 +15,7 @@ mod plots;
 mod pom;
 mod varpro;
 
+use crate::terms::OnElements;
 use std::fmt::Write as _;
 
 use crate::analysis::digest;

@@ -28,6 +28,7 @@ pub mod dahl;
 pub mod iwan;
 pub mod orbit;
 
+use crate::terms::on_elements::{Coefficients, OnElements};
 use std::fmt;
 use std::sync::Arc;
 
@@ -37,7 +38,6 @@ pub use iwan::Iwan;
 
 use crate::error::{Error, Result};
 use crate::terms::element::Element;
-use crate::terms::element_term::Coefficients;
 
 /// A hysteretic element: a state advanced along the displacement and the force per
 /// unit coefficient it gives.
@@ -107,36 +107,9 @@ impl HistoryTerm {
         self.hysteresis.as_ref()
     }
 
-    /// The elements.
-    pub fn elements(&self) -> &[Element] {
-        &self.elements
-    }
-
-    /// The sharing of coefficients.
-    pub fn coefficients(&self) -> &Coefficients {
-        &self.coefficients
-    }
-
-    pub(crate) fn coefficient_names(&self) -> Vec<String> {
-        self.coefficients.names(&self.elements)
-    }
-
-    pub(crate) fn coefficient_count(&self) -> usize {
-        self.coefficients.count(self.elements.len())
-    }
-
-    /// The column of element `index` (an offset within the term's columns).
-    pub(crate) fn column_of(&self, index: usize) -> usize {
-        self.coefficients.column_of(index)
-    }
-
     pub(crate) fn validate(&self, dofs: usize) -> Result<()> {
         let what = format!("{} term", self.hysteresis.kind());
-        if self.elements.is_empty() {
-            return Err(Error::Empty {
-                what: format!("element list of the {what}"),
-            });
-        }
+        self.validate_elements(dofs, &what)?;
         if self.max_passes == 0 {
             return Err(Error::invalid(
                 &format!("max_passes of the {what}"),
@@ -144,9 +117,17 @@ impl HistoryTerm {
                 "the state needs at least one pass through the window's period",
             ));
         }
-        self.elements
-            .iter()
-            .try_for_each(|e| e.validate(dofs, &what))
+        Ok(())
+    }
+}
+
+impl OnElements for HistoryTerm {
+    fn elements(&self) -> &[Element] {
+        &self.elements
+    }
+
+    fn coefficients(&self) -> &Coefficients {
+        &self.coefficients
     }
 }
 
