@@ -101,7 +101,8 @@
 //! let model = DampingModel::new().with(Term::per_dof(Linear, 1, Coefficients::Shared("c".into())));
 //! let mut settings = IdentifySettings::default();
 //! settings.regressor.velocity = VelocitySource::Measured;
-//! let problem = ParametricRegressor::linear(&model, &[record]);
+//! let records = [record];
+//! let problem = ParametricRegressor::linear(&model, &records);
 //! let report = identify(&problem, &settings, &silent)?.report;
 //! let estimate = report.coefficient("c").unwrap();
 //! assert!((estimate - c).abs() < 1e-9 * c, "{estimate}");

@@ -44,6 +44,9 @@ coefficient = "friction"
 quadrature = "trapezoid"
 velocity = "spectral"
 cycles = 2
+# Two-period windows of these records are not all in steady state (record 5); the
+# tests here are of gains, not of steady state.
+accept_transient = true
 "#,
     );
     for (k, dof) in CHAIN3_RECORDS {
