@@ -13,7 +13,7 @@ use crate::error::{Error, Result};
 use crate::model::DampingModel;
 use crate::prep::steady_state::{SteadyStateReport, SteadyStateSettings, StoredEnergy};
 use crate::record::Record;
-use crate::regressor::nonlinear::{NonlinearParameter, Parametric, ParametricModel, check_values};
+use crate::regressor::nonlinear::{NonlinearParameter, Parametric, ParametricModel};
 use crate::regressor::source::Source;
 use crate::regressor::{Regressor, RegressorSettings};
 
@@ -145,7 +145,13 @@ impl<'a> ParametricRegressor<'a> {
 
     /// The damping model at `values` (every parameter; the law takes its own).
     pub fn model(&self, values: &[f64]) -> Result<DampingModel> {
-        check_values(&self.parameters(), values)?;
+        if values.len() != self.parameter_count() {
+            return Err(Error::mismatch(
+                "nonlinear parameter values vs parameters",
+                self.parameter_count(),
+                values.len(),
+            ));
+        }
         self.law.at(&values[..self.law.parameters().len()])
     }
 
