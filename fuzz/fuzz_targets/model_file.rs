@@ -82,7 +82,15 @@ fuzz_target!(|bytes: &[u8]| {
     };
     // As `dampid identify` does: periodic windows or the non-periodic balance.
     if let Ok(regressor) = job.initial_regressor()
-        && let Ok(report) = identify(&ParametricRegressor::rows(&regressor), &IdentifySettings { fit: job.settings.fit.clone(), ..Default::default() }, &silent).map(|i| i.report)
+        && let Ok(report) = identify(
+            &ParametricRegressor::rows(&regressor),
+            &IdentifySettings {
+                fit: job.settings.fit.clone(),
+                ..Default::default()
+            },
+            &silent,
+        )
+        .map(|i| i.report)
     {
         support::check(&report);
     }
