@@ -41,10 +41,12 @@ use std::fmt;
 
 use serde::{Deserialize, Serialize};
 
+use crate::analysis::measured_levels::{LevelDamping, crossings};
 use crate::error::{Error, Result};
 use crate::model::DampingModel;
-use crate::prep::harmonic::SteppedSinePoint;
+use crate::prep::harmonic::residual::correct;
 use crate::prep::harmonic::sweeps::SweptTable;
+use crate::prep::harmonic::{SteppedSinePoint, SteppedSineTable};
 use crate::regressor::stepped_sine::columns_of;
 use crate::regressor::{NonlinearParameter, ParametricRegressor, SteppedSineSource};
 
@@ -63,6 +65,10 @@ pub enum ModalSource {
         sweep: String,
         /// Its points.
         points: usize,
+        /// Whether the points were the response less the estimated residual
+        /// receptance.
+        #[serde(default)]
+        less_residual: bool,
     },
 }
 
@@ -149,6 +155,7 @@ impl Modal {
             source: ModalSource::LowestLevelFrf {
                 sweep: name.clone(),
                 points: members.len(),
+                less_residual: false,
             },
         })
     }
@@ -191,6 +198,10 @@ pub struct EquivalentDamping {
     pub modal: Modal,
     /// From the smallest to the largest measured amplitude, log-spaced.
     pub points: Vec<EquivalentPoint>,
+    /// At each sweep's measured level (its resonance crossing): the fitted ζ_eq beside
+    /// the table's own phase-slope estimate ([`crate::analysis::measured_levels`]).
+    #[serde(default)]
+    pub levels: Vec<LevelDamping>,
 }
 
 /// ζ_eq(X) and η(X) of a one-DOF stepped-sine `problem` at the estimate `values` (every
@@ -209,11 +220,7 @@ pub fn equivalent_damping(
     if table.table.table.dofs() != 1 {
         return None;
     }
-    let modal = match table.system {
-        Some(system) => Modal::given(system.mass, system.stiffness),
-        None => Modal::from_lowest_level(&table.table),
-    };
-    Some(modal.and_then(|modal| {
+    Some((|| {
         let law = problem.law();
         let q_law = law.parameters().len();
         if values.len() < q_law {
@@ -223,25 +230,58 @@ pub fn equivalent_damping(
                 values.len(),
             ));
         }
+        // The measured response less the residual receptance at the estimate.
+        let corrected = corrected(table, &values[q_law..])?;
+        let mut modal = match table.system {
+            Some(system) => Modal::given(system.mass, system.stiffness),
+            None => Modal::from_lowest_level(&corrected),
+        }?;
+        if let ModalSource::LowestLevelFrf { less_residual, .. } = &mut modal.source {
+            *less_residual = values.len() > q_law;
+        }
         of_table(
             &|eta| law.at(eta),
             &values[..q_law],
             law.parameters(),
             table,
+            &corrected,
             coefficients,
             covariance,
             modal,
         )
-    }))
+    })())
+}
+
+/// The points of `table` less their residual receptance at the unknowns `residual`
+/// (the table as measured when it estimates none).
+fn corrected(table: &SteppedSineSource, residual: &[f64]) -> Result<SweptTable> {
+    let Some(r) = table.per_point(residual)? else {
+        return Ok(table.table.clone());
+    };
+    let points = table
+        .table
+        .table
+        .points()
+        .iter()
+        .zip(&r)
+        .map(|(p, &r)| correct(p, r))
+        .collect::<Result<Vec<_>>>()?;
+    Ok(SweptTable {
+        table: SteppedSineTable::new(points)?,
+        ..table.table.clone()
+    })
 }
 
 /// [`equivalent_damping`] of the model `law(η)` at the law parameters `eta` (bounds in
-/// `specs`, for the difference step) on `table`.
+/// `specs`, for the difference step) on `table`, whose points less their residual are
+/// `swept`.
+#[allow(clippy::too_many_arguments)]
 fn of_table(
     law: &(dyn Fn(&[f64]) -> Result<DampingModel> + Sync),
     eta: &[f64],
     specs: &[NonlinearParameter],
     table: &SteppedSineSource,
+    swept: &SweptTable,
     coefficients: &[f64],
     covariance: Option<&[Vec<f64>]>,
     modal: Modal,
@@ -258,7 +298,11 @@ fn of_table(
             c.len(),
         ));
     }
-    let (grid, synthetic) = amplitude_grid(&table.table, &modal)?;
+    // The grid over the measured amplitudes, then each sweep's crossing amplitude.
+    let (mut grid, mut synthetic) = amplitude_grid(swept, &modal)?;
+    let crossings = crossings(swept);
+    grid.extend(crossings.iter().map(|c| c.amplitude));
+    synthetic.extend(crossings.iter().map(|c| at_amplitude(c.amplitude, &modal)));
     let columns = columns_of(&law(eta)?, structural, approximation, &synthetic)?;
     if columns.first().is_some_and(|g| g.len() != p) {
         return Err(Error::mismatch(
@@ -290,7 +334,7 @@ fn of_table(
             );
         }
     }
-    let points = grid
+    let mut points = grid
         .iter()
         .zip(&columns)
         .enumerate()
@@ -305,8 +349,25 @@ fn of_table(
             });
             point(x, g, coefficients, std, &modal)
         })
+        .collect::<Vec<_>>();
+    let levels = crossings
+        .iter()
+        .zip(points.split_off(GRID))
+        .map(|(c, at)| LevelDamping {
+            sweep: swept.sweep_names[c.sweep].clone(),
+            frequency: c.frequency,
+            amplitude: c.amplitude,
+            fitted: at.damping_ratio,
+            fitted_std: at.damping_ratio_std,
+            measured: c.slope_damping,
+            ratio: c.slope_damping.map(|m| at.damping_ratio / m),
+        })
         .collect();
-    Ok(EquivalentDamping { modal, points })
+    Ok(EquivalentDamping {
+        modal,
+        points,
+        levels,
+    })
 }
 
 /// The [`GRID`] amplitudes, log-spaced from the smallest to the largest measured one
@@ -321,18 +382,21 @@ fn amplitude_grid(swept: &SweptTable, modal: &Modal) -> Result<(Vec<f64>, Vec<St
     let grid: Vec<f64> = (0..GRID)
         .map(|i| lo * (hi / lo).powf(i as f64 / (GRID - 1) as f64))
         .collect();
-    let synthetic = grid
-        .iter()
-        .map(|&x| SteppedSinePoint {
-            label: format!("X = {x:e}"),
-            frequency: modal.natural_frequency,
-            force_dof: 0,
-            force_amplitude: 1.0,
-            amplitudes: vec![x],
-            phases: vec![std::f64::consts::FRAC_PI_2],
-        })
-        .collect();
+    let synthetic = grid.iter().map(|&x| at_amplitude(x, modal)).collect();
     Ok((grid, synthetic))
+}
+
+/// A synthetic point at amplitude `x` (unit force at ω_n, phase lag π/2), whose columns
+/// are g(X).
+fn at_amplitude(x: f64, modal: &Modal) -> SteppedSinePoint {
+    SteppedSinePoint {
+        label: format!("X = {x:e}"),
+        frequency: modal.natural_frequency,
+        force_dof: 0,
+        force_amplitude: 1.0,
+        amplitudes: vec![x],
+        phases: vec![std::f64::consts::FRAC_PI_2],
+    }
 }
 
 /// uᵀ C u.
@@ -367,8 +431,17 @@ impl fmt::Display for EquivalentDamping {
         let m = &self.modal;
         let source = match &m.source {
             ModalSource::System => "from [system]".to_string(),
-            ModalSource::LowestLevelFrf { sweep, points } => format!(
-                "estimated from the frequency response of the lowest level ({sweep}, {points} points)"
+            ModalSource::LowestLevelFrf {
+                sweep,
+                points,
+                less_residual,
+            } => format!(
+                "estimated from the frequency response of the lowest level ({sweep}, {points} points{})",
+                if *less_residual {
+                    ", less the estimated residual receptance"
+                } else {
+                    ""
+                }
             ),
         };
         writeln!(
@@ -394,6 +467,32 @@ impl fmt::Display for EquivalentDamping {
                 band(p.damping_ratio, p.damping_ratio_std),
                 band(p.loss_factor, p.loss_factor_std)
             )?;
+        }
+        if !self.levels.is_empty() {
+            writeln!(
+                f,
+                "at the measured levels (where each sweep's phase lag crosses π/2; measured: the phase slope at the crossing):"
+            )?;
+            writeln!(
+                f,
+                "  {:<24} {:>12} {:>12}  {:>26}  {:>12} {:>8}",
+                "sweep", "f_c (Hz)", "X_c", "ζ_eq fitted (95%)", "ζ measured", "ratio"
+            )?;
+            for l in &self.levels {
+                let fitted = match l.fitted_std {
+                    Some(s) => format!("{:.4e} ± {:.2e}", l.fitted, 1.96 * s),
+                    None => format!("{:.4e}", l.fitted),
+                };
+                writeln!(
+                    f,
+                    "  {:<24} {:>12.6e} {:>12.4e}  {fitted:>26}  {:>12} {:>8}",
+                    l.sweep,
+                    l.frequency / (2.0 * std::f64::consts::PI),
+                    l.amplitude,
+                    l.measured.map_or("-".into(), |m| format!("{m:.4e}")),
+                    l.ratio.map_or("-".into(), |r| format!("{r:.4}")),
+                )?;
+            }
         }
         Ok(())
     }

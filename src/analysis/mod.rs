@@ -15,6 +15,7 @@ pub mod diagnostics;
 pub mod digest;
 pub mod equivalent;
 pub mod identifiability;
+pub mod measured_levels;
 pub mod solved;
 pub(crate) mod stats;
 pub mod velocity_noise;

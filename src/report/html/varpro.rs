@@ -348,7 +348,7 @@ fn equivalent_table(equivalent: &EquivalentDamping) -> String {
     let m = &equivalent.modal;
     let source = match &m.source {
         crate::analysis::equivalent::ModalSource::System => "from [system]".to_string(),
-        crate::analysis::equivalent::ModalSource::LowestLevelFrf { sweep, points } => format!(
+        crate::analysis::equivalent::ModalSource::LowestLevelFrf { sweep, points, .. } => format!(
             "estimated from the frequency response of the lowest level ({}, {points} points)",
             escape(sweep)
         ),
