@@ -52,6 +52,17 @@ enum Content {
     Arrays { slots: Vec<Slot>, npz: Option<Npz> },
 }
 
+/// Reads the real numeric variables of a `.mat` file (`io/mat.rs`); every one must have
+/// the same number of samples.
+pub fn read_mat(path: &Path) -> Result<Table> {
+    DataFile::open(path)?.whole()
+}
+
+/// Reads every array of a `.npz` archive (`io/npz.rs`); each must be usable.
+pub fn read_npz(path: &Path) -> Result<Table> {
+    DataFile::open(path)?.whole()
+}
+
 /// A data file opened once (module doc).
 pub struct DataFile {
     file: String,

@@ -10,7 +10,6 @@ use std::path::Path;
 use matfile::{MatFile, NumericData};
 
 use crate::error::{Error, Result};
-use crate::io::table::Table;
 
 /// One variable of a MAT file: its name and its values column-major with its
 /// dimensions (r, c), or why it cannot be table columns.
@@ -100,12 +99,6 @@ fn complete(bytes: &[u8]) -> std::result::Result<(), String> {
         element += 1;
     }
     Ok(())
-}
-
-/// Reads the real numeric variables of a `.mat` file; every one must have the same
-/// number of samples.
-pub fn read_mat(path: &Path) -> Result<Table> {
-    super::data_file::DataFile::open(path)?.whole()
 }
 
 /// Reads the variables of a `.mat` file.

@@ -5,8 +5,8 @@
 //! |---|---|---|
 //! | `.csv` | [`csv::read`] | header names |
 //! | `.npy` | [`npy::read_npy`] | the file stem (`x`, or `x[1]`…`x[k]` for N × k) |
-//! | `.npz` | [`npy::read_npz`] (`io/npz.rs`) | each array's name, as above |
-//! | `.mat` | [`mat::read_mat`] | each real numeric variable's name, as above |
+//! | `.npz` | [`read_npz`] (`io/npz.rs`) | each array's name, as above |
+//! | `.mat` | [`read_mat`] | each real numeric variable's name, as above |
 //! | `.uff`, `.unv` | [`uff::read`] | `t`, then per dataset 58 record `3+Z` (node, direction) and its ID line 1 |
 //!
 //! [`read_table`] reads a whole file; a model file's records go through
@@ -37,6 +37,7 @@ pub mod uff;
 use std::path::Path;
 
 use crate::error::{Error, Result};
+pub use data_file::{read_mat, read_npz};
 pub use table::Table;
 
 /// Checks a data file before it is opened: it must be a regular file (symbolic links

@@ -214,8 +214,3 @@ pub fn read_npy(path: &Path) -> Result<Table> {
     )?;
     table_from_arrays(&file, vec![array])
 }
-
-/// Reads every array of a `.npz` archive (`io/npz.rs`); each must be usable.
-pub fn read_npz(path: &Path) -> Result<Table> {
-    super::data_file::DataFile::open(path)?.whole()
-}

@@ -42,7 +42,7 @@ fn mat_header() -> Vec<u8> {
 fn read_mat_bytes(name: &str, bytes: &[u8]) -> Result<Table> {
     let path = std::env::temp_dir().join(format!("dampid-{name}-{}.mat", std::process::id()));
     std::fs::write(&path, bytes).unwrap();
-    let result = dampid::io::mat::read_mat(&path);
+    let result = dampid::io::read_mat(&path);
     std::fs::remove_file(&path).unwrap();
     result
 }
@@ -293,8 +293,8 @@ fn device_fifo_or_folder_named_as_a_data_file_is_a_data_error() {
     let readers: [(&str, Reader); 7] = [
         ("csv", |p| dampid::io::read_table(p).map(drop)),
         ("npy", |p| dampid::io::npy::read_npy(p).map(drop)),
-        ("npz", |p| dampid::io::npy::read_npz(p).map(drop)),
-        ("mat", |p| dampid::io::mat::read_mat(p).map(drop)),
+        ("npz", |p| dampid::io::read_npz(p).map(drop)),
+        ("mat", |p| dampid::io::read_mat(p).map(drop)),
         ("uff", |p| dampid::io::uff::read(p).map(drop)),
         ("txt", |p| dampid::io::csv::read(p).map(drop)),
         ("csv", |p| {
