@@ -383,6 +383,7 @@ impl PyReport {
                 message: e.to_string(),
             })
         })
+        .map(drop)
         .map_err(to_py)
     }
 }

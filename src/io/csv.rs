@@ -150,6 +150,7 @@ pub fn write(
             message: e.to_string(),
         })
     })
+    .map(drop)
 }
 
 /// Writes `headers` and column-major `columns` as CSV to `sink`.

@@ -515,13 +515,19 @@ fn write_page(file: &Path, overwrite: Overwrite, page: &str) -> anyhow::Result<(
         std::fs::create_dir_all(folder)
             .with_context(|| format!("creating {}", folder.display()))?;
     }
-    dampid::io::output::write_file(file, overwrite, |sink| {
+    let stale = dampid::io::output::write_file(file, overwrite, |sink| {
         sink.write_all(page.as_bytes())
             .map_err(|e| dampid::Error::Output {
                 path: file.display().to_string(),
                 message: e.to_string(),
             })
     })?;
+    for stale in stale {
+        eprintln!(
+            "removed {} (a temporary file of an interrupted run)",
+            stale.display()
+        );
+    }
     eprintln!("wrote {}", file.display());
     Ok(())
 }
@@ -777,6 +783,12 @@ fn write_records(path: &Path, folder: &Path, overwrite: Overwrite) -> anyhow::Re
     }
     for stale in &run.removed {
         eprintln!("removed {} (an earlier run's record)", stale.display());
+    }
+    for stale in &run.stale {
+        eprintln!(
+            "removed {} (a temporary file of an interrupted run)",
+            stale.display()
+        );
     }
     Ok(Outcome {
         text: out,
