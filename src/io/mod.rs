@@ -47,30 +47,40 @@ pub use table::Table;
 /// Returns the size in bytes; [`Error::Data`] naming the file, or [`Error::TooLarge`].
 pub(crate) fn require_data_file(path: &Path) -> Result<u64> {
     let file = path.display().to_string();
-    let fail = |message: String| Error::Data {
-        file: file.clone(),
-        row: 0,
-        column: String::new(),
-        message,
-    };
-    let metadata = std::fs::metadata(path).map_err(|e| fail(e.to_string()))?;
+    regular_file(path, "data file", "data are read only from files").map_err(|message| {
+        Error::Data {
+            file: file.clone(),
+            row: 0,
+            column: String::new(),
+            message,
+        }
+    })?
+}
+
+/// The size of the regular file at `path` within the memory budget (the checks of
+/// [`require_data_file`] for a file that is a `what`): `Err` is why it cannot be read,
+/// in words; `Ok(Err)` is [`Error::TooLarge`].
+pub(crate) fn regular_file(
+    path: &Path,
+    what: &str,
+    why: &str,
+) -> std::result::Result<Result<u64>, String> {
+    let metadata = std::fs::metadata(path).map_err(|e| e.to_string())?;
     if !metadata.is_file() {
         let kind = if metadata.is_dir() {
             "a folder"
         } else {
             "a device, FIFO or socket"
         };
-        return Err(fail(format!(
-            "is {kind}, not a regular file: data are read only from files"
-        )));
+        return Err(format!("is {kind}, not a regular file: {why}"));
     }
     let bytes = metadata.len();
-    crate::budget::require(
-        &format!("reading the data file {file}"),
+    Ok(crate::budget::require(
+        &format!("reading the {what} {}", path.display()),
         u128::from(bytes),
-        "read a smaller file (fewer samples or channels), or raise --max-memory",
-    )?;
-    Ok(bytes)
+        &format!("read a smaller {what}, or raise --max-memory"),
+    )
+    .map(|()| bytes))
 }
 
 /// Reads a data file by its extension: every column of it (every array of a `.npz`,

@@ -163,7 +163,12 @@ fn is_record_name(name: &str) -> bool {
 /// The record files the folder's `manifest.json` lists that are regular files in it
 /// (plain `record_K.csv` names only); none when there is no readable manifest.
 fn listed_records(folder: &Path) -> Vec<PathBuf> {
-    let Ok(text) = std::fs::read_to_string(folder.join(MANIFEST)) else {
+    let path = folder.join(MANIFEST);
+    // Not a FIFO (which would block) nor a file larger than the memory budget.
+    if !matches!(super::regular_file(&path, "manifest", ""), Ok(Ok(_))) {
+        return Vec::new();
+    }
+    let Ok(text) = std::fs::read_to_string(&path) else {
         return Vec::new();
     };
     let Ok(manifest) = serde_json::from_str::<serde_json::Value>(&text) else {

@@ -123,13 +123,40 @@ pub fn parse_parametric_model(
     context.damping_model(&spec, &Registry::builtin())
 }
 
+/// The text of the model file at `path`: a regular file (not a FIFO, which would wait
+/// for a writer, nor a device such as `/dev/zero`, which never ends) within the memory
+/// budget, as data files are checked ([`crate::io::require_data_file`]), and UTF-8.
 fn read(path: &Path) -> Result<String> {
-    std::fs::read_to_string(path).map_err(|e| Error::ModelFile {
-        file: path.display().to_string(),
+    let file = path.display().to_string();
+    let error = |message: String| Error::ModelFile {
+        file: file.clone(),
         line: 0,
         column: 0,
-        message: e.to_string(),
+        message,
         cause: None,
+    };
+    crate::io::regular_file(
+        path,
+        "model file",
+        "a model file is read from a file (TOML text)",
+    )
+    .map_err(error)??;
+    let bytes = std::fs::read(path).map_err(|e| error(e.to_string()))?;
+    String::from_utf8(bytes).map_err(|e| {
+        let at = e.utf8_error().valid_up_to();
+        let text = String::from_utf8_lossy(&e.as_bytes()[..at]);
+        let line = text.matches('\n').count() + 1;
+        let column = text.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+        Error::ModelFile {
+            file: file.clone(),
+            line,
+            column,
+            message: format!(
+                "byte {at} is not UTF-8 text (byte 0x{:02x}): save the model file as UTF-8 (a Latin-1 or Windows-1252 file shows this at its first accented letter)",
+                e.as_bytes().get(at).copied().unwrap_or_default()
+            ),
+            cause: None,
+        }
     })
 }
 

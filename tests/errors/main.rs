@@ -43,6 +43,7 @@ mod data_files;
 mod fit;
 mod fixtures;
 mod history;
+mod limits;
 mod model;
 mod model_file;
 mod prep;
