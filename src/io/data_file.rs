@@ -67,6 +67,9 @@ pub fn read_npz(path: &Path) -> Result<Table> {
 pub struct DataFile {
     file: String,
     content: Content,
+    /// Variables of a MAT file that are not numeric arrays (not read, named in the
+    /// error for a column that is not there).
+    unread: usize,
 }
 
 impl DataFile {
@@ -77,6 +80,7 @@ impl DataFile {
         let extension = path
             .extension()
             .map(|e| e.to_string_lossy().to_ascii_lowercase());
+        let mut unread = 0;
         let content = match extension.as_deref() {
             Some("npz") => {
                 let npz = Npz::open(path)?;
@@ -100,7 +104,10 @@ impl DataFile {
                 }
             }
             Some("mat") => {
-                let slots = mat::variables(path)?
+                let read = mat::variables(path)?;
+                unread = read.unread;
+                let slots = read
+                    .variables
                     .into_iter()
                     .map(|v| {
                         let columns = v.values.and_then(|(r, c, values)| {
@@ -120,7 +127,11 @@ impl DataFile {
             }
             _ => Content::Table(super::read_whole(path)?),
         };
-        Ok(DataFile { file, content })
+        Ok(DataFile {
+            file,
+            content,
+            unread,
+        })
     }
 
     /// The file, as error messages name it.
@@ -209,8 +220,17 @@ impl DataFile {
             .filter_map(|s| s.columns.as_ref().ok())
             .flat_map(|(headers, _)| headers.iter().map(String::as_str))
             .collect();
+        let what = match self.unread {
+            0 => format!("column in {}", self.file),
+            n => format!(
+                "column in {} (which also holds {n} variable{} that {} not real numeric arrays but structs, cells, sparse, char or logical arrays, which are not read)",
+                self.file,
+                if n == 1 { "" } else { "s" },
+                if n == 1 { "is" } else { "are" }
+            ),
+        };
         Err(Error::UnknownName {
-            what: format!("column in {}", self.file),
+            what,
             name: name.to_string(),
             known: known.join(", "),
         })

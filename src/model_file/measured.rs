@@ -326,7 +326,10 @@ pub(super) fn read_record(
     let (base, files) = files;
     let path = base.join(&spec.file);
     let table = files.table(&path, &named_columns(spec))?;
-    let label = spec.label.clone().unwrap_or_else(|| spec.file.clone());
+    let label = spec
+        .label
+        .clone()
+        .unwrap_or_else(|| crate::format::printable(&spec.file).into_owned());
     let time_scale = match &spec.time_scale {
         None => 1.0,
         Some(s) => gain(ctx, s, "time", Some(*s.get_ref()), None)?.0,

@@ -8,7 +8,10 @@
 //! ([`crate::terms::laws::Registry`]): the built-in laws for [`load`] and [`parse`],
 //! or a registry extended with a program's own laws for [`parse_with_laws`].
 //!
-//! Errors carry the file and the line and column of the offending table or key.
+//! Errors carry the file and the line and column of the offending table or key: the
+//! settings are checked against the model before any record is simulated or read
+//! (`preflight.rs`), and an error without a position gets the one of the key it
+//! concerns (`locate.rs`).
 //!
 //! [`candidate_model`] builds the candidate models of `dampid compare --laws`.
 //!
@@ -21,7 +24,9 @@ pub use compared::ComparedModel;
 mod context;
 pub mod init;
 mod job;
+mod locate;
 mod measured;
+mod preflight;
 mod provenance;
 mod records;
 mod reduction;
@@ -120,7 +125,10 @@ pub fn parse_parametric_model(
 ) -> Result<(DampingModel, Option<ParametricModel>)> {
     let context = Context { file, text };
     let spec = parse_spec(text, file)?;
-    context.damping_model(&spec, &Registry::builtin())
+    preflight::model(&context, &spec)?;
+    context
+        .damping_model(&spec, &Registry::builtin())
+        .map_err(|e| context.located(e, None))
 }
 
 /// The text of the model file at `path`: a regular file (not a FIFO, which would wait
@@ -169,11 +177,33 @@ fn parse_with(
 ) -> Result<Job> {
     let context = Context { file, text };
     let spec = parse_spec(text, file)?;
-    context.build(&spec, base, laws, progress)
+    preflight::model(&context, &spec)?;
+    preflight::settings(&context, &spec, laws)?;
+    context
+        .build(&spec, base, laws, progress)
+        .map_err(|e| context.located(e, None))
 }
 
-/// The serde form of `text`; a TOML or schema error carries its line and column.
+/// The serde form of `text`; a TOML or schema error carries its line and column. The
+/// title and the records' labels, which reports print, have their control characters
+/// (an ANSI escape, a bell, a carriage return) escaped ([`crate::format::printable`]).
 fn parse_spec(text: &str, file: &str) -> Result<ModelFileSpec> {
+    let mut spec = read_spec(text, file)?;
+    let printable = |s: &mut String| *s = crate::format::printable(s).into_owned();
+    if let Some(title) = spec.title.as_mut() {
+        printable(title);
+    }
+    for data in spec.data.iter_mut() {
+        for record in data.get_mut().records.iter_mut() {
+            if let Some(label) = record.get_mut().label.as_mut() {
+                printable(label);
+            }
+        }
+    }
+    Ok(spec)
+}
+
+fn read_spec(text: &str, file: &str) -> Result<ModelFileSpec> {
     let context = Context { file, text };
     toml::from_str(text).map_err(|e| {
         let (line, column) = e.span().map_or((0, 0), |s| context.position(s.start));

@@ -283,6 +283,9 @@ pub fn simulate(system: &System, settings: &SimSettings) -> Result<Record> {
     simulate_with_progress(system, settings, &crate::progress::silent)
 }
 
+/// A state of the simulation: t, x and v.
+type State = (f64, Vec<f64>, Vec<f64>);
+
 /// The error for a damping force that is not finite at a finite state (t, x, v): the
 /// term whose law is undefined there, its DOF and the state, 1-based.
 fn undefined_damping(system: &System, t: f64, x: &[f64], v: &[f64]) -> Error {
@@ -371,7 +374,7 @@ pub fn simulate_with_progress(
     // The first state at which the damping force was not finite while the state was:
     // a law undefined there (an expression's sqrt of a negative velocity), reported as
     // such rather than as a divergence of the integration.
-    let undefined: std::cell::RefCell<Option<(f64, Vec<f64>, Vec<f64>)>> = Default::default();
+    let undefined: std::cell::RefCell<Option<State>> = Default::default();
     let mut derivative = |t: f64, y: &[f64], out: &mut [f64]| {
         let (x, v) = y.split_at(n);
         system.applied(t, &mut force);

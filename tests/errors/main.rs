@@ -44,6 +44,7 @@ mod fit;
 mod fixtures;
 mod history;
 mod limits;
+mod messages;
 mod model;
 mod model_file;
 mod prep;
