@@ -85,6 +85,7 @@ pub(super) fn settings(context: &Context<'_>, spec: &ModelFileSpec, laws: &Regis
             ));
         }
     }
+    unused_high_pass(context, spec)?;
     let identification = |e: Error| context.located(e, Some("identification"));
     let settings = identification_settings(&spec.identification, spec.non_periodic.is_some());
     settings.regressor.validate().map_err(identification)?;
@@ -135,4 +136,34 @@ fn estimated_bounds(context: &Context<'_>, spec: &ModelFileSpec, laws: &Registry
         })?;
     }
     Ok(())
+}
+
+/// `[non_periodic] high_pass` acts only where velocity or acceleration columns are
+/// integrated (a DOF without a displacement column); given where no record has one, it
+/// would be silently ignored, so it is refused at its key.
+fn unused_high_pass(context: &Context<'_>, spec: &ModelFileSpec) -> Result<()> {
+    let Some(high_pass) = spec
+        .non_periodic
+        .as_ref()
+        .and_then(|np| np.get_ref().high_pass.as_ref())
+    else {
+        return Ok(());
+    };
+    let integrates = spec.data.iter().any(|data| {
+        data.get_ref().records.iter().any(|r| {
+            let r = r.get_ref();
+            !r.accelerations.is_empty()
+                || (!r.velocities.is_empty() && r.displacements.len() < spec.dofs)
+        })
+    });
+    if integrates {
+        return Ok(());
+    }
+    Err(context.error_at(
+        high_pass,
+        format!(
+            "high_pass = {} has no effect: it filters velocity or acceleration columns that are integrated to displacements, and every record here gives displacements; remove it",
+            crate::format::number(*high_pass.get_ref())
+        ),
+    ))
 }
