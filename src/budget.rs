@@ -129,8 +129,27 @@ pub fn readable_duration(seconds: f64) -> String {
     }
 }
 
-/// `MemAvailable` of /proc/meminfo, in bytes (Linux); `None` elsewhere.
+/// `MemAvailable` of /proc/meminfo, in bytes (Linux); `None` elsewhere. Read at most
+/// every [`REREAD`] (checks run per window), else the last reading.
 fn available_memory() -> Option<u64> {
+    static LAST: std::sync::Mutex<Option<(Instant, Option<u64>)>> = std::sync::Mutex::new(None);
+    let mut last = LAST
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    match *last {
+        Some((at, value)) if at.elapsed() < REREAD => value,
+        _ => {
+            let value = read_available_memory();
+            *last = Some((Instant::now(), value));
+            value
+        }
+    }
+}
+
+/// How long a reading of the available memory stands.
+const REREAD: Duration = Duration::from_millis(100);
+
+fn read_available_memory() -> Option<u64> {
     let info = std::fs::read_to_string("/proc/meminfo").ok()?;
     let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
     let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
@@ -153,6 +172,29 @@ pub fn require(what: &str, bytes: u128, reduce: &str) -> Result<()> {
         }),
         _ => Ok(()),
     }
+}
+
+/// Checks that `records` records of `samples` samples × `channels` channels each (f64)
+/// fit the limit together, as a job holds them all at once, plus one record's worth
+/// for the work on the records (a record being built beside those already done, the
+/// windows' working copies): (`records` + 1) × `samples` × `channels` × 8 bytes.
+pub fn require_records(
+    what: &str,
+    records: usize,
+    samples: usize,
+    channels: usize,
+    reduce: &str,
+) -> Result<()> {
+    let one = (samples as u128).saturating_mul(channels as u128);
+    require(
+        &format!(
+            "{what}: {records} record{} × {} samples × {channels} channels",
+            if records == 1 { "" } else { "s" },
+            crate::format::integer(samples as u128)
+        ),
+        f64s(one.saturating_mul(records as u128 + 1)),
+        reduce,
+    )
 }
 
 /// `1.5 GB`, `820 MB`, `12 kB`, `512 bytes` (decimal units, 2 significant digits).

@@ -172,7 +172,7 @@ pub enum Error {
     },
 
     /// A model file is malformed: bad TOML, an unknown key, a wrong type or value.
-    #[error("{file}:{line}:{column}: {message}")]
+    #[error("{}: {message}", position_text(.file, *.line, *.column))]
     ModelFile {
         /// The file.
         file: String,
@@ -190,7 +190,7 @@ pub enum Error {
     },
 
     /// A name in a model file does not refer to anything known.
-    #[error("unknown {what} '{name}'; known: {known}")]
+    #[error("unknown {what} '{name}'; known: {}", known_text(.known))]
     UnknownName {
         /// What kind of name ("law", "matrix", "column").
         what: String,
@@ -201,7 +201,7 @@ pub enum Error {
     },
 
     /// A data file cannot be read or holds a bad value.
-    #[error("{file}, row {row}, column '{column}': {message}")]
+    #[error("{}: {message}", data_position_text(.file, *.row, .column))]
     Data {
         /// The file.
         file: String,
@@ -377,6 +377,50 @@ pub enum Error {
 }
 
 /// `, window k` for an error about one window.
+/// `file:line:column`, or `file` alone when the problem has no position (line 0), never
+/// `file:0:0`.
+fn position_text(file: &str, line: usize, column: usize) -> String {
+    match (line, column) {
+        (0, _) => file.to_string(),
+        (line, 0) => format!("{file}:{line}"),
+        (line, column) => format!("{file}:{line}:{column}"),
+    }
+}
+
+/// `file, row R, column 'C'`, leaving out the row of a problem with the header or the
+/// file as a whole (row 0) and an empty column.
+fn data_position_text(file: &str, row: usize, column: &str) -> String {
+    let mut text = file.to_string();
+    if row > 0 {
+        text.push_str(&format!(", row {row}"));
+    }
+    if !column.is_empty() {
+        text.push_str(&format!(", column '{column}'"));
+    }
+    text
+}
+
+/// The names a list of known names holds, for a message: `(none)` for an empty list,
+/// the first [`KNOWN_SHOWN`] and how many more for a long one (a CSV header of 300,000
+/// columns is not a message).
+fn known_text(known: &str) -> String {
+    if known.trim().is_empty() {
+        return "(none)".into();
+    }
+    let names: Vec<&str> = known.split(", ").collect();
+    if names.len() <= KNOWN_SHOWN {
+        return known.to_string();
+    }
+    format!(
+        "{}, … and {} more",
+        names[..KNOWN_SHOWN].join(", "),
+        integer(names.len() as u128 - KNOWN_SHOWN as u128)
+    )
+}
+
+/// Known names shown in an [`Error::UnknownName`] message at most.
+const KNOWN_SHOWN: usize = 40;
+
 fn window_text(window: &Option<usize>) -> String {
     window.map_or_else(String::new, |w| format!(", window {w}"))
 }

@@ -29,9 +29,45 @@ pub fn integer(n: impl Into<u128>) -> String {
     }
 }
 
+/// `text` with every control character (C0, DEL, C1: ESC of an ANSI sequence, BEL, CR,
+/// newline, tab) and every bidirectional override written as its escape `\u{1b}`, so a
+/// title or label from a file prints as one line of inert text on a terminal.
+pub fn printable(text: &str) -> std::borrow::Cow<'_, str> {
+    let inert = |c: char| {
+        !(c.is_control()
+            || ('\u{202a}'..='\u{202e}').contains(&c)
+            || ('\u{2066}'..='\u{2069}').contains(&c))
+    };
+    if text.chars().all(inert) {
+        return std::borrow::Cow::Borrowed(text);
+    }
+    let mut clean = String::with_capacity(text.len() + 8);
+    for c in text.chars() {
+        if inert(c) {
+            clean.push(c);
+        } else {
+            clean.push_str(&c.escape_unicode().to_string());
+        }
+    }
+    std::borrow::Cow::Owned(clean)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn text_from_files_prints_inert() {
+        assert_eq!(
+            printable("Four-mass chain (ω = 0.618)"),
+            "Four-mass chain (ω = 0.618)"
+        );
+        assert_eq!(
+            printable("\u{1b}[31mred\u{7}\r\n"),
+            "\\u{1b}[31mred\\u{7}\\u{d}\\u{a}"
+        );
+        assert_eq!(printable("a\u{202e}b\u{85}"), "a\\u{202e}b\\u{85}");
+    }
 
     #[test]
     fn numbers_are_short_and_round_trip() {

@@ -1,4 +1,4 @@
-//! MATLAB level-5 `.mat` files: `dampid::io::mat::read_mat` on arbitrary bytes. Any `Err` is fine; a panic is a bug, and
+//! MATLAB level-5 `.mat` files: `dampid::io::read_mat` on arbitrary bytes. Any `Err` is fine; a panic is a bug, and
 //! so is a table with columns of different lengths or non-finite values.
 
 #![no_main]
@@ -18,7 +18,7 @@ fuzz_target!(
     },
     |bytes: &[u8]| {
         let path = file_input::write(bytes, "mat");
-        if let Ok(table) = dampid::io::mat::read_mat(&path) {
+        if let Ok(table) = dampid::io::read_mat(&path) {
             file_input::check(&table);
         }
     }

@@ -1,4 +1,4 @@
-//! NumPy `.npz` archives: `dampid::io::npy::read_npz` on arbitrary bytes. Any `Err` is fine; a panic is a bug, and
+//! NumPy `.npz` archives: `dampid::io::read_npz` on arbitrary bytes. Any `Err` is fine; a panic is a bug, and
 //! so is a table with columns of different lengths or non-finite values.
 
 #![no_main]
@@ -19,7 +19,7 @@ fuzz_target!(
     },
     |bytes: &[u8]| {
         let path = file_input::write(bytes, "npz");
-        if let Ok(table) = dampid::io::npy::read_npz(&path) {
+        if let Ok(table) = dampid::io::read_npz(&path) {
             file_input::check(&table);
         }
     }

@@ -375,6 +375,7 @@ impl PyReport {
                 message: e.to_string(),
             })
         })
+        .map(drop)
         .map_err(to_py)
     }
 }

@@ -64,7 +64,6 @@ pub struct LevelDamping {
 /// left out), in sweep order.
 pub(crate) fn crossings(swept: &SweptTable) -> Vec<Crossing> {
     let points = swept.table.points();
-    let half_pi = std::f64::consts::FRAC_PI_2;
     (0..swept.sweep_names.len())
         .filter_map(|s| {
             let mut members = swept.members(s);

@@ -20,6 +20,8 @@ pub struct Initialized {
     /// What it holds.
     #[serde(skip)]
     pub model: InitModel,
+    /// Temporary files of an interrupted run that the write removed.
+    pub stale: Vec<PathBuf>,
 }
 
 /// Guesses a model file for the data `files` (none: the template) and writes it to
@@ -37,7 +39,7 @@ pub fn run(files: &[PathBuf], out: &Path, overwrite: Overwrite) -> Result<Initia
         })
         .collect::<Result<Vec<_>>>()?;
     let model = init(records);
-    write_file(out, overwrite, |sink| {
+    let stale = write_file(out, overwrite, |sink| {
         sink.write_all(model.text.as_bytes())
             .map_err(|e| Error::Output {
                 path: out.display().to_string(),
@@ -47,6 +49,7 @@ pub fn run(files: &[PathBuf], out: &Path, overwrite: Overwrite) -> Result<Initia
     Ok(Initialized {
         file: out.to_path_buf(),
         model,
+        stale,
     })
 }
 
@@ -61,4 +64,8 @@ impl fmt::Display for Initialized {
     }
 }
 
-impl Outcome for Initialized {}
+impl Outcome for Initialized {
+    fn notices(&self) -> Vec<String> {
+        self.stale.iter().map(|p| super::stale_notice(p)).collect()
+    }
+}

@@ -79,3 +79,11 @@ pub fn json(outcome: &impl Serialize) -> crate::Result<String> {
             message: e.to_string(),
         })
 }
+
+/// The notice for a temporary file of an interrupted run that a write removed.
+pub fn stale_notice(file: &std::path::Path) -> String {
+    format!(
+        "removed {} (a temporary file of an interrupted run)",
+        file.display()
+    )
+}

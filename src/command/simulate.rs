@@ -23,6 +23,8 @@ pub struct Simulated {
     pub manifest: Option<PathBuf>,
     /// Files of an earlier run that were removed.
     pub removed: Vec<PathBuf>,
+    /// Temporary files of an interrupted run that were removed.
+    pub stale: Vec<PathBuf>,
 }
 
 /// Writes the records `job` simulated (from the file `model_file`) into `folder`.
@@ -54,6 +56,7 @@ pub fn run(job: &Job, model_file: &str, folder: &Path, overwrite: Overwrite) -> 
         stub,
         manifest,
         removed: run.removed,
+        stale: run.stale,
     })
 }
 
@@ -81,6 +84,7 @@ impl Outcome for Simulated {
         self.removed
             .iter()
             .map(|p| format!("removed {} (an earlier run's record)", p.display()))
+            .chain(self.stale.iter().map(|p| super::stale_notice(p)))
             .collect()
     }
 }

@@ -307,12 +307,46 @@ impl Constraints {
                 ));
             }
             let within = intervals[i].lower <= f.value && f.value <= intervals[i].upper;
+            let explicit_lower = self
+                .bounds
+                .iter()
+                .filter(|b| b.name == f.name)
+                .filter_map(|b| b.lower)
+                .fold(f64::NEG_INFINITY, f64::max);
+            if !within && self.nonnegative && i < damping && f.value < 0.0 && explicit_lower < 0.0 {
+                return Err(Error::invalid(
+                    &format!("fixed value of '{}'", f.name),
+                    f.value,
+                    "is negative, but nonnegative = true keeps every damping coefficient ≥ 0: remove `nonnegative` (and bound the others one by one in [identification.bounds]) or fix it at a value ≥ 0",
+                ));
+            }
             if !within {
-                return Err(Error::InfeasibleBounds {
-                    name: f.name.clone(),
-                    lower: f.value.max(intervals[i].lower),
-                    upper: f.value.min(intervals[i].upper),
-                });
+                let side = |v: f64| {
+                    if v.is_infinite() {
+                        "∞".to_string()
+                    } else {
+                        crate::format::number(v)
+                    }
+                };
+                return Err(Error::invalid(
+                    &format!("fixed value of '{}'", f.name),
+                    f.value,
+                    &format!(
+                        "lies outside its bounds [{}{}, {}] (from [identification.bounds]{}); a fixed coefficient must satisfy them",
+                        if intervals[i].lower.is_infinite() {
+                            "−"
+                        } else {
+                            ""
+                        },
+                        side(intervals[i].lower),
+                        side(intervals[i].upper),
+                        if self.nonnegative && i < damping {
+                            " and nonnegative = true"
+                        } else {
+                            ""
+                        }
+                    ),
+                ));
             }
             intervals[i] = Interval {
                 lower: f.value,

@@ -81,6 +81,9 @@ fn from_reader<R: std::io::Read>(mut reader: ::csv::Reader<R>, file: String) -> 
     if headers.is_empty() || headers.iter().all(String::is_empty) {
         return Err(data_error(0, "", "no header row".into()));
     }
+    // The first column of each name: one hash map, linear in the header's length.
+    let mut first_of: std::collections::HashMap<&str, usize> =
+        std::collections::HashMap::with_capacity(headers.len());
     for (k, name) in headers.iter().enumerate() {
         if name.is_empty() {
             return Err(data_error(
@@ -89,7 +92,7 @@ fn from_reader<R: std::io::Read>(mut reader: ::csv::Reader<R>, file: String) -> 
                 format!("column {} of the header has no name", k + 1),
             ));
         }
-        if let Some(first) = headers[..k].iter().position(|h| h == name) {
+        if let Some(&first) = first_of.get(name.as_str()) {
             return Err(data_error(
                 0,
                 name,
@@ -100,6 +103,7 @@ fn from_reader<R: std::io::Read>(mut reader: ::csv::Reader<R>, file: String) -> 
                 ),
             ));
         }
+        first_of.insert(name, k);
     }
     let mut columns = vec![Vec::new(); headers.len()];
     for (index, record) in reader.records().enumerate() {
@@ -150,6 +154,7 @@ pub fn write(
             message: e.to_string(),
         })
     })
+    .map(drop)
 }
 
 /// Writes `headers` and column-major `columns` as CSV to `sink`.

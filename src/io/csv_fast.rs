@@ -158,10 +158,11 @@ fn header(bytes: &[u8]) -> Option<(Vec<String>, &[u8])> {
         }
         let text = std::str::from_utf8(line).ok()?;
         let headers: Vec<String> = text.split(',').map(|h| h.trim().to_string()).collect();
+        // One hash set: a header of 300,000 names is checked in linear time.
+        let mut seen = std::collections::HashSet::with_capacity(headers.len());
         let unique = headers
             .iter()
-            .enumerate()
-            .all(|(k, h)| !h.is_empty() && !headers[..k].contains(h));
+            .all(|h| !h.is_empty() && seen.insert(h.as_str()));
         return unique.then_some((headers, after));
     }
 }

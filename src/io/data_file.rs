@@ -52,10 +52,24 @@ enum Content {
     Arrays { slots: Vec<Slot>, npz: Option<Npz> },
 }
 
+/// Reads the real numeric variables of a `.mat` file (`io/mat.rs`); every one must have
+/// the same number of samples.
+pub fn read_mat(path: &Path) -> Result<Table> {
+    DataFile::open(path)?.whole()
+}
+
+/// Reads every array of a `.npz` archive (`io/npz.rs`); each must be usable.
+pub fn read_npz(path: &Path) -> Result<Table> {
+    DataFile::open(path)?.whole()
+}
+
 /// A data file opened once (module doc).
 pub struct DataFile {
     file: String,
     content: Content,
+    /// Variables of a MAT file that are not numeric arrays (not read, named in the
+    /// error for a column that is not there).
+    unread: usize,
 }
 
 impl DataFile {
@@ -66,6 +80,7 @@ impl DataFile {
         let extension = path
             .extension()
             .map(|e| e.to_string_lossy().to_ascii_lowercase());
+        let mut unread = 0;
         let content = match extension.as_deref() {
             Some("npz") => {
                 let npz = Npz::open(path)?;
@@ -89,7 +104,10 @@ impl DataFile {
                 }
             }
             Some("mat") => {
-                let slots = mat::variables(path)?
+                let read = mat::variables(path)?;
+                unread = read.unread;
+                let slots = read
+                    .variables
                     .into_iter()
                     .map(|v| {
                         let columns = v.values.and_then(|(r, c, values)| {
@@ -109,7 +127,11 @@ impl DataFile {
             }
             _ => Content::Table(super::read_whole(path)?),
         };
-        Ok(DataFile { file, content })
+        Ok(DataFile {
+            file,
+            content,
+            unread,
+        })
     }
 
     /// The file, as error messages name it.
@@ -198,8 +220,17 @@ impl DataFile {
             .filter_map(|s| s.columns.as_ref().ok())
             .flat_map(|(headers, _)| headers.iter().map(String::as_str))
             .collect();
+        let what = match self.unread {
+            0 => format!("column in {}", self.file),
+            n => format!(
+                "column in {} (which also holds {n} variable{} that {} not real numeric arrays but structs, cells, sparse, char or logical arrays, which are not read)",
+                self.file,
+                if n == 1 { "" } else { "s" },
+                if n == 1 { "is" } else { "are" }
+            ),
+        };
         Err(Error::UnknownName {
-            what: format!("column in {}", self.file),
+            what,
             name: name.to_string(),
             known: known.join(", "),
         })

@@ -10,7 +10,6 @@ use std::path::Path;
 use matfile::{MatFile, NumericData};
 
 use crate::error::{Error, Result};
-use crate::io::table::Table;
 
 /// One variable of a MAT file: its name and its values column-major with its
 /// dimensions (r, c), or why it cannot be table columns.
@@ -47,16 +46,29 @@ fn real_values(data: &NumericData) -> Option<Vec<f64>> {
 /// short (a file copied or written incompletely), so that variable would vanish from the
 /// table. Each element is an 8-byte tag (type, byte count; a small element packs both
 /// and its data into 8 bytes) followed by its data, padded to 8 bytes unless compressed.
-fn complete(bytes: &[u8]) -> std::result::Result<(), String> {
+/// Returns the number of data elements (variables) the file holds.
+fn complete(bytes: &[u8]) -> std::result::Result<usize, String> {
     const HEADER: usize = 128;
     const COMPRESSED: u32 = 15;
     let length = bytes.len();
+    let v4 = "a MAT v4 file (MATLAB's save -v4: no 128-byte text header, which level-5 files start with) is not read; save the variables with -v7 or -v6";
     if length < HEADER {
         return Err(format!(
-            "not a level-5 MAT file: {length} bytes, shorter than the {HEADER}-byte header"
+            "not a level-5 MAT file: {length} bytes, shorter than the {HEADER}-byte header; {v4}"
         ));
     }
-    let little = &bytes[126..128] == b"IM";
+    let mark = &bytes[126..128];
+    if mark != b"IM" && mark != b"MI" {
+        return Err(format!(
+            "not a level-5 MAT file: bytes 127–128 are not the endianness mark 'IM' or 'MI'; {v4}"
+        ));
+    }
+    if bytes[..116].windows(10).any(|w| w == b"MATLAB 7.3") {
+        return Err(
+            "a MAT v7.3 file (HDF5) is not read; save the variables with -v7 or -v6".into(),
+        );
+    }
+    let little = mark == b"IM";
     let word = |at: usize| {
         let quad = [bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]];
         if little {
@@ -99,17 +111,20 @@ fn complete(bytes: &[u8]) -> std::result::Result<(), String> {
         offset = next;
         element += 1;
     }
-    Ok(())
+    Ok(element - 1)
 }
 
-/// Reads the real numeric variables of a `.mat` file; every one must have the same
-/// number of samples.
-pub fn read_mat(path: &Path) -> Result<Table> {
-    super::data_file::DataFile::open(path)?.whole()
+/// The numeric variables of a MAT file, and how many variables of other kinds it holds.
+pub(crate) struct MatVariables {
+    /// The numeric arrays (matfile's), usable or with the reason they are not.
+    pub variables: Vec<Variable>,
+    /// Data elements that are not numeric arrays (structs, cells, sparse, char or
+    /// logical arrays, function handles), which are not read.
+    pub unread: usize,
 }
 
 /// Reads the variables of a `.mat` file.
-pub(crate) fn variables(path: &Path) -> Result<Vec<Variable>> {
+pub(crate) fn variables(path: &Path) -> Result<MatVariables> {
     let file = path.display().to_string();
     let error = |message: String| Error::Data {
         file: file.clone(),
@@ -119,7 +134,7 @@ pub(crate) fn variables(path: &Path) -> Result<Vec<Variable>> {
     };
     super::require_data_file(path)?;
     let bytes = std::fs::read(path).map_err(|e| error(e.to_string()))?;
-    complete(&bytes).map_err(error)?;
+    let elements = complete(&bytes).map_err(error)?;
     // matfile 0.5 panics on some malformed files (a data element whose size is within 8
     // of u32::MAX overflows its padding arithmetic; found by the `mat` fuzz target), so
     // a panic in the parser is turned into the same typed error as a parse failure.
@@ -129,20 +144,25 @@ pub(crate) fn variables(path: &Path) -> Result<Vec<Variable>> {
     .map_err(|_| error("not a level-5 MAT file: the MAT parser failed on it".into()))?;
     let mat =
         parsed.map_err(|e| error(format!("not a level-5 MAT file (v7.3 files are HDF5): {e}")))?;
-    Ok(mat
-        .arrays()
-        .iter()
-        .map(|a| {
-            let size = a.size();
-            let values = match (size.as_slice(), real_values(a.data())) {
-                (_, None) => Err("complex values: only real variables are read".to_string()),
-                ([r, c], Some(values)) => Ok((*r, *c, values)),
-                (size, Some(_)) => Err(format!("size {size:?}: expected one or two dimensions")),
-            };
-            Variable {
-                name: a.name().to_string(),
-                values,
-            }
-        })
-        .collect())
+    let arrays = mat.arrays();
+    Ok(MatVariables {
+        unread: elements.saturating_sub(arrays.len()),
+        variables: arrays
+            .iter()
+            .map(|a| {
+                let size = a.size();
+                let values = match (size.as_slice(), real_values(a.data())) {
+                    (_, None) => Err("complex values: only real variables are read".to_string()),
+                    ([r, c], Some(values)) => Ok((*r, *c, values)),
+                    (size, Some(_)) => {
+                        Err(format!("size {size:?}: expected one or two dimensions"))
+                    }
+                };
+                Variable {
+                    name: a.name().to_string(),
+                    values,
+                }
+            })
+            .collect(),
+    })
 }

@@ -5,8 +5,8 @@
 //! |---|---|---|
 //! | `.csv` | [`csv::read`] | header names |
 //! | `.npy` | [`npy::read_npy`] | the file stem (`x`, or `x[1]`…`x[k]` for N × k) |
-//! | `.npz` | [`npy::read_npz`] (`io/npz.rs`) | each array's name, as above |
-//! | `.mat` | [`mat::read_mat`] | each real numeric variable's name, as above |
+//! | `.npz` | [`read_npz`] (`io/npz.rs`) | each array's name, as above |
+//! | `.mat` | [`read_mat`] | each real numeric variable's name, as above |
 //! | `.uff`, `.unv` | [`uff::read`] | `t`, then per dataset 58 record `3+Z` (node, direction) and its ID line 1 |
 //!
 //! [`read_table`] reads a whole file; a model file's records go through
@@ -37,6 +37,7 @@ pub mod uff;
 use std::path::Path;
 
 use crate::error::{Error, Result};
+pub use data_file::{read_mat, read_npz};
 pub use table::Table;
 
 /// Checks a data file before it is opened: it must be a regular file (symbolic links
@@ -46,30 +47,40 @@ pub use table::Table;
 /// Returns the size in bytes; [`Error::Data`] naming the file, or [`Error::TooLarge`].
 pub(crate) fn require_data_file(path: &Path) -> Result<u64> {
     let file = path.display().to_string();
-    let fail = |message: String| Error::Data {
-        file: file.clone(),
-        row: 0,
-        column: String::new(),
-        message,
-    };
-    let metadata = std::fs::metadata(path).map_err(|e| fail(e.to_string()))?;
+    regular_file(path, "data file", "data are read only from files").map_err(|message| {
+        Error::Data {
+            file: file.clone(),
+            row: 0,
+            column: String::new(),
+            message,
+        }
+    })?
+}
+
+/// The size of the regular file at `path` within the memory budget (the checks of
+/// [`require_data_file`] for a file that is a `what`): `Err` is why it cannot be read,
+/// in words; `Ok(Err)` is [`Error::TooLarge`].
+pub(crate) fn regular_file(
+    path: &Path,
+    what: &str,
+    why: &str,
+) -> std::result::Result<Result<u64>, String> {
+    let metadata = std::fs::metadata(path).map_err(|e| e.to_string())?;
     if !metadata.is_file() {
         let kind = if metadata.is_dir() {
             "a folder"
         } else {
             "a device, FIFO or socket"
         };
-        return Err(fail(format!(
-            "is {kind}, not a regular file: data are read only from files"
-        )));
+        return Err(format!("is {kind}, not a regular file: {why}"));
     }
     let bytes = metadata.len();
-    crate::budget::require(
-        &format!("reading the data file {file}"),
+    Ok(crate::budget::require(
+        &format!("reading the {what} {}", path.display()),
         u128::from(bytes),
-        "read a smaller file (fewer samples or channels), or raise --max-memory",
-    )?;
-    Ok(bytes)
+        &format!("read a smaller {what}, or raise --max-memory"),
+    )
+    .map(|()| bytes))
 }
 
 /// Reads a data file by its extension: every column of it (every array of a `.npz`,

@@ -156,6 +156,17 @@ pub(crate) fn read_data<R: Read>(
             ),
         ));
     }
+    // The columns hold every element as f64, whatever the stored type: checked before
+    // they are allocated (a deflated archive member can claim far more than its file).
+    crate::budget::require(
+        &format!(
+            "reading the array '{name}' of {file} ({} × {} values)",
+            crate::format::integer(layout.samples as u128),
+            crate::format::integer(layout.columns as u128)
+        ),
+        crate::budget::f64s(layout.elements() as u128),
+        "read a file with fewer samples or channels, or raise --max-memory",
+    )?;
     let size = header.element_size();
     let block = layout.block(BLOCK).min(layout.elements().max(1));
     let mut bytes = vec![0u8; block * size];
@@ -213,9 +224,4 @@ pub fn read_npy(path: &Path) -> Result<Table> {
         &file,
     )?;
     table_from_arrays(&file, vec![array])
-}
-
-/// Reads every array of a `.npz` archive (`io/npz.rs`); each must be usable.
-pub fn read_npz(path: &Path) -> Result<Table> {
-    super::data_file::DataFile::open(path)?.whole()
 }

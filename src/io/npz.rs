@@ -9,8 +9,10 @@
 //! SIMD, well above memory speed) and compared with the directory's, which is what
 //! NumPy does too: `numpy.load` reads members through Python's zipfile, which checks
 //! the CRC of every member read to its end, stored or deflated. A deflated member
-//! (`np.savez_compressed`) is inflated through zip's reader, which checks its CRC, into
-//! memory and read from there. A member's data must lie inside the file before any of
+//! (`np.savez_compressed`) is inflated through zip's reader, which checks its CRC, and
+//! read as it is inflated (never whole into memory: a member of a few MB can claim
+//! gigabytes, and the values are checked against the memory budget before they are
+//! allocated). A member's data must lie inside the file before any of
 //! it is read.
 
 use std::fs::File;
@@ -67,6 +69,20 @@ impl<R: Read> Read for Crc<R> {
     fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
         let n = self.inner.read(buf)?;
         self.hasher.update(&buf[..n]);
+        Ok(n)
+    }
+}
+
+/// A reader that counts the bytes it passes on.
+struct Counted<R> {
+    inner: R,
+    count: u64,
+}
+
+impl<R: Read> Read for Counted<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        self.count += n as u64;
         Ok(n)
     }
 }
@@ -134,16 +150,30 @@ impl Npz {
         let error = |e: &dyn std::fmt::Display| data_error(file, name, e);
         let mut opened = File::open(&self.path).map_err(|e| error(&e))?;
         let Some(stored) = member.stored else {
+            // Inflated as it is read, never whole into memory: a member of a few MB can
+            // claim gigabytes, which `read_data` checks against the budget first; the
+            // size the directory gives bounds the data, and a member that ends sooner is
+            // an error of `read_data` (its CRC is checked by zip's reader at the end).
             let mut archive = ZipArchive::new(BufReader::new(opened)).map_err(|e| error(&e))?;
-            let mut bytes = Vec::new();
-            archive
+            let inflating = archive
                 .by_index(member.index)
-                .and_then(|mut m| Ok(m.read_to_end(&mut bytes)?))
                 .map_err(|e| error(&format!("inflating '{name}.npy': {e}")))?;
-            let mut slice = bytes.as_slice();
-            read_header(&mut slice).map_err(|e| error(&e))?;
-            let available = slice.len() as u64;
-            return read_data(&mut slice, header, available, name, file);
+            let size = inflating.size();
+            let mut reader = BufReader::with_capacity(
+                1 << 16,
+                Counted {
+                    inner: inflating,
+                    count: 0,
+                },
+            );
+            read_header(&mut reader).map_err(|e| error(&e))?;
+            // What the BufReader took from the member but has not handed out yet.
+            let consumed = reader.get_ref().count - reader.buffer().len() as u64;
+            let available = size.saturating_sub(consumed);
+            let array = read_data(&mut reader, header, available, name, file)?;
+            std::io::copy(&mut reader, &mut std::io::sink())
+                .map_err(|e| error(&format!("inflating '{name}.npy': {e}")))?;
+            return Ok(array);
         };
         opened
             .seek(SeekFrom::Start(stored.start))

@@ -18,9 +18,23 @@
 //!
 //! Two runs writing into one folder each write their own temporary files; the renames
 //! are the only commits, so rows of two runs can never interleave within a file.
+//!
+//! Permissions: a new file gets what a file created normally gets, `0o666` less the
+//! umask (the temporary file is created with that mode, not tempfile's private `0o600`);
+//! a file replaced under [`Overwrite::Replace`] keeps its mode.
+//!
+//! Stale temporary files: a run killed outright (`kill -9`, a power cut) cannot remove
+//! its temporary files. Each temporary file is held under an exclusive advisory lock
+//! (`flock`) for as long as its run lives, and the lock dies with the process, so the
+//! first write into a folder ([`Staged::add`]) removes the files of dampid's naming,
+//! `.NAME.XXXXXX.tmp`, that no live process locks and that were not modified within the
+//! last [`STALE_AFTER`] (which covers the instant between a file's creation and its
+//! lock); [`Staged::commit`] and [`write_file`] return what was removed, and the
+//! command line says so.
 
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::time::{Duration, SystemTime};
 
 use tempfile::NamedTempFile;
 
@@ -46,16 +60,28 @@ impl Overwrite {
     }
 }
 
-/// Writes the file at `path` with `content`, atomically, under `overwrite`.
+/// A temporary file of dampid's naming younger than this is never taken for stale.
+pub const STALE_AFTER: Duration = Duration::from_secs(2);
+
+/// Writes the file at `path` with `content`, atomically, under `overwrite`. Returns
+/// the stale temporary files removed from its folder (module doc).
 pub fn write_file(
     path: &Path,
     overwrite: Overwrite,
     content: impl FnOnce(&mut dyn Write) -> Result<()>,
-) -> Result<()> {
+) -> Result<Vec<PathBuf>> {
     let mut staged = Staged::new(overwrite);
     staged.add(path, content)?;
-    staged.commit()?;
-    Ok(())
+    Ok(staged.commit()?.stale)
+}
+
+/// What [`Staged::commit`] did.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Committed {
+    /// The targets written, in the order added.
+    pub written: Vec<PathBuf>,
+    /// Stale temporary files of earlier, killed runs removed from the targets' folders.
+    pub stale: Vec<PathBuf>,
 }
 
 /// Files written to temporary names, renamed onto their targets together by
@@ -63,6 +89,9 @@ pub fn write_file(
 pub struct Staged {
     overwrite: Overwrite,
     files: Vec<(NamedTempFile, PathBuf)>,
+    /// The folders already cleared of stale temporary files, and what was removed.
+    cleared: Vec<PathBuf>,
+    stale: Vec<PathBuf>,
 }
 
 impl Staged {
@@ -71,6 +100,8 @@ impl Staged {
         Staged {
             overwrite,
             files: Vec::new(),
+            cleared: Vec::new(),
+            stale: Vec::new(),
         }
     }
 
@@ -101,11 +132,12 @@ impl Staged {
             path: path.display().to_string(),
             message: e.to_string(),
         };
-        let mut temporary = tempfile::Builder::new()
-            .prefix(&format!(".{name}."))
-            .suffix(".tmp")
-            .tempfile_in(folder)
-            .map_err(|e| failed(&e))?;
+        if !self.cleared.iter().any(|f| f == folder) {
+            self.stale.extend(remove_stale_temporaries(folder)?);
+            self.cleared.push(folder.to_path_buf());
+        }
+        let mut temporary =
+            temporary_file(folder, &name, path, self.overwrite).map_err(|e| failed(&e))?;
         {
             let mut writer = BufWriter::new(temporary.as_file_mut());
             content(&mut writer)?;
@@ -121,7 +153,7 @@ impl Staged {
     /// stops the commit with [`Error::Cancelled`], and no target is written. Under [`Overwrite::Refuse`] the first target that appeared meanwhile
     /// stops the commit with [`Error::OutputExists`]; the files not yet renamed are
     /// removed.
-    pub fn commit(self) -> Result<Vec<PathBuf>> {
+    pub fn commit(self) -> Result<Committed> {
         // A run cancelled while its files were written commits none of them: dropping
         // the temporary files removes them.
         crate::cancel::check("writing the output files")?;
@@ -143,8 +175,103 @@ impl Staged {
             })?;
             written.push(target);
         }
-        Ok(written)
+        Ok(Committed {
+            written,
+            stale: self.stale,
+        })
     }
+}
+
+/// The temporary file for `name` in `folder`: created with mode `0o666` less the umask
+/// (as a file created normally), or with the mode of the regular file it will replace
+/// under [`Overwrite::Replace`]; locked for as long as it lives (module doc).
+fn temporary_file(
+    folder: &Path,
+    name: &str,
+    target: &Path,
+    overwrite: Overwrite,
+) -> std::io::Result<NamedTempFile> {
+    let prefix = format!(".{name}.");
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(&prefix).suffix(".tmp");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    let temporary = builder.tempfile_in(folder)?;
+    temporary.as_file().lock()?;
+    if overwrite == Overwrite::Replace
+        && let Ok(existing) = std::fs::symlink_metadata(target)
+        && existing.is_file()
+    {
+        temporary
+            .as_file()
+            .set_permissions(existing.permissions())?;
+    }
+    Ok(temporary)
+}
+
+/// Whether `name` is of dampid's temporary naming, `.NAME.XXXXXX.tmp` (tempfile's six
+/// random alphanumeric characters).
+fn is_temporary_name(name: &str) -> bool {
+    let Some(inner) = name
+        .strip_prefix('.')
+        .and_then(|rest| rest.strip_suffix(".tmp"))
+    else {
+        return false;
+    };
+    match inner.rsplit_once('.') {
+        Some((target, random)) => {
+            !target.is_empty()
+                && random.len() == 6
+                && random.bytes().all(|b| b.is_ascii_alphanumeric())
+        }
+        None => false,
+    }
+}
+
+/// Removes from `folder` the temporary files of dampid's naming that no live process
+/// holds (their lock is free) and that were not modified within [`STALE_AFTER`]; returns
+/// them. A file that cannot be inspected is left alone.
+pub fn remove_stale_temporaries(folder: &Path) -> Result<Vec<PathBuf>> {
+    let Ok(entries) = std::fs::read_dir(folder) else {
+        return Ok(Vec::new());
+    };
+    let now = SystemTime::now();
+    let mut removed = Vec::new();
+    for entry in entries.flatten() {
+        if !is_temporary_name(&entry.file_name().to_string_lossy()) {
+            continue;
+        }
+        let path = entry.path();
+        let Ok(metadata) = std::fs::symlink_metadata(&path) else {
+            continue;
+        };
+        let recent = metadata
+            .modified()
+            .ok()
+            .and_then(|m| now.duration_since(m).ok())
+            .is_none_or(|age| age < STALE_AFTER);
+        if !metadata.is_file() || recent {
+            continue;
+        }
+        let Ok(file) = std::fs::File::open(&path) else {
+            continue;
+        };
+        if file.try_lock().is_err() {
+            continue; // a live run is writing it
+        }
+        std::fs::remove_file(&path).map_err(|e| Error::Output {
+            path: path.display().to_string(),
+            message: format!(
+                "could not remove this stale temporary file of an interrupted run: {e}"
+            ),
+        })?;
+        removed.push(path);
+    }
+    removed.sort();
+    Ok(removed)
 }
 
 /// [`Error::OutputExists`] when something (even a dangling symbolic link) is at `path`.
@@ -220,6 +347,29 @@ mod tests {
         });
         assert!(result.is_err());
         assert!(entries(&dir).is_empty(), "{:?}", entries(&dir));
+    }
+
+    /// dampid's temporary naming, `.NAME.XXXXXX.tmp`, and nothing else.
+    #[test]
+    fn temporary_names() {
+        for name in [
+            ".record_1.csv.aB3dE9.tmp",
+            ".report.html.000000.tmp",
+            ".a.b.c.Zz9Zz9.tmp",
+        ] {
+            assert!(is_temporary_name(name), "{name}");
+        }
+        for name in [
+            "record_1.csv.aB3dE9.tmp",
+            ".record_1.csv.aB3dE.tmp",
+            ".record_1.csv.aB3dE9.tmpx",
+            "..aB3dE9.tmp",
+            ".aB3dE9.tmp",
+            ".notes.tmp",
+            ".x.aB-dE9.tmp",
+        ] {
+            assert!(!is_temporary_name(name), "{name}");
+        }
     }
 
     /// A symbolic link is refused, and with Replace it is replaced, not followed.

@@ -11,10 +11,14 @@
 //! A folder that already holds record files or a manifest (of another run, or of an
 //! earlier dampid that wrote no manifest) is refused under [`Overwrite::Refuse`], so a
 //! model file listing `record_*.csv` never mixes two runs. Under
-//! [`Overwrite::Replace`] the new files replace the old ones and the earlier run's
-//! extra `record_K.csv` files are removed. Every file is staged and renamed into place
+//! [`Overwrite::Replace`] the new files replace the old ones of the same names, and of
+//! the earlier run's other record files only those its `manifest.json` lists are
+//! removed: a record file no manifest lists (a measured data set, a file of another
+//! program) is never deleted, and a manifest entry that is not a plain `record_K.csv`
+//! name in this folder is ignored. Every file is staged and renamed into place
 //! ([`crate::io::output::Staged`]), the manifest last: a run that fails part way leaves
-//! the folder as it was.
+//! the folder as it was. Stale temporary files of a killed earlier run are removed
+//! first ([`crate::io::output::remove_stale_temporaries`]) and reported.
 
 use std::path::{Path, PathBuf};
 
@@ -36,9 +40,11 @@ pub const DATA_STUB: &str = "data.toml";
 pub struct RunFiles {
     /// The record files, the `[data]` stub, then the manifest.
     pub written: Vec<PathBuf>,
-    /// An earlier run's record files that this run does not replace (only under
-    /// [`Overwrite::Replace`]).
+    /// An earlier run's record files, listed by its manifest, that this run does not
+    /// replace (only under [`Overwrite::Replace`]).
     pub removed: Vec<PathBuf>,
+    /// Stale temporary files of an interrupted earlier run, removed from the folder.
+    pub stale: Vec<PathBuf>,
 }
 
 #[derive(Serialize)]
@@ -129,16 +135,57 @@ pub fn write_run(
                 message: e.to_string(),
             })
     })?;
-    let written = staged.commit()?;
+    let listed = listed_records(folder);
+    let committed = staged.commit()?;
+    let written = committed.written;
     let mut removed = Vec::new();
-    for stale in earlier.into_iter().filter(|p| !written.contains(p)) {
+    for stale in listed.into_iter().filter(|p| !written.contains(p)) {
         std::fs::remove_file(&stale).map_err(|e| Error::Output {
             path: stale.display().to_string(),
             message: format!("could not remove the earlier run's file: {e}"),
         })?;
         removed.push(stale);
     }
-    Ok(RunFiles { written, removed })
+    Ok(RunFiles {
+        written,
+        removed,
+        stale: committed.stale,
+    })
+}
+
+/// Whether `name` is a record file's name, `record_K.csv`.
+fn is_record_name(name: &str) -> bool {
+    name.strip_prefix("record_")
+        .and_then(|rest| rest.strip_suffix(".csv"))
+        .is_some_and(|k| !k.is_empty() && k.bytes().all(|b| b.is_ascii_digit()))
+}
+
+/// The record files the folder's `manifest.json` lists that are regular files in it
+/// (plain `record_K.csv` names only); none when there is no readable manifest.
+fn listed_records(folder: &Path) -> Vec<PathBuf> {
+    let path = folder.join(MANIFEST);
+    // Not a FIFO (which would block) nor a file larger than the memory budget.
+    if !matches!(super::regular_file(&path, "manifest", ""), Ok(Ok(_))) {
+        return Vec::new();
+    }
+    let Ok(text) = std::fs::read_to_string(&path) else {
+        return Vec::new();
+    };
+    let Ok(manifest) = serde_json::from_str::<serde_json::Value>(&text) else {
+        return Vec::new();
+    };
+    let mut listed: Vec<PathBuf> = manifest["records"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .filter_map(|entry| entry["file"].as_str())
+        .filter(|name| is_record_name(name))
+        .map(|name| folder.join(name))
+        .filter(|path| std::fs::symlink_metadata(path).is_ok_and(|m| m.is_file()))
+        .collect();
+    listed.sort();
+    listed.dedup();
+    listed
 }
 
 /// The `[[data.records]]` entries that read `records` back from this folder.

@@ -62,7 +62,7 @@ impl SteppedSineTable {
     /// [`Overwrite::Refuse`]).
     pub fn save_csv(&self, path: &Path, overwrite: Overwrite) -> Result<()> {
         let file = path.display().to_string();
-        output::write_file(path, overwrite, |sink| self.write_csv(sink, &file))
+        output::write_file(path, overwrite, |sink| self.write_csv(sink, &file)).map(drop)
     }
 
     /// Reads a CSV file.

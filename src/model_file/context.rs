@@ -41,7 +41,12 @@ impl Context<'_> {
         if matches!(error, Error::ModelFile { .. }) {
             return error;
         }
-        let (line, column) = self.position(spanned.span().start);
+        // At the key the error names when it is inside this table, else the table.
+        let span = spanned.span();
+        let offset = super::locate::key_of(&error)
+            .and_then(|key| super::locate::find_key_within(self.text, span.clone(), &key))
+            .unwrap_or(span.start);
+        let (line, column) = self.position(offset);
         Error::ModelFile {
             file: self.file.to_string(),
             line,
@@ -70,14 +75,71 @@ impl Context<'_> {
         }
     }
 
-    /// The typed error `error` about the file as a whole, after `prefix` (a section).
+    /// The typed error `error` about a section as a whole, after `prefix` (the section,
+    /// `[identification]`): at the key of that section the error names, if it has one
+    /// ([`Context::located`]).
     pub(super) fn whole_file_typed_error(&self, prefix: &str, error: Error) -> Error {
-        Error::ModelFile {
+        let section = prefix.trim_matches(|c| c == '[' || c == ']');
+        let wrapped = Error::ModelFile {
             file: self.file.to_string(),
             line: 0,
             column: 0,
             message: format!("{prefix}: {error}"),
             cause: Some(Box::new(error)),
+        };
+        self.located(wrapped, Some(section))
+    }
+
+    /// An error at the offset of `key` (searched as [`super::locate::find_key`] does),
+    /// or about the file as a whole when the key is not in it.
+    pub(super) fn error_at_key(
+        &self,
+        section: Option<&str>,
+        key: &str,
+        message: impl std::fmt::Display,
+    ) -> Error {
+        let (line, column) = super::locate::find_key(self.text, section, key)
+            .map_or((0, 0), |offset| self.position(offset));
+        Error::ModelFile {
+            file: self.file.to_string(),
+            line,
+            column,
+            message: message.to_string(),
+            cause: None,
+        }
+    }
+
+    /// `error` with the line and column of the key it concerns (`locate.rs`), searched
+    /// in `section` first: a model-file error that has a position keeps it, any other
+    /// error becomes a model-file error of this file (without a position when its key
+    /// is not in the file), its typed error kept as the cause.
+    pub(super) fn located(&self, error: Error, section: Option<&str>) -> Error {
+        if matches!(&error, Error::ModelFile { line, file, .. } if *line > 0 || file != self.file) {
+            return error;
+        }
+        let offset = super::locate::key_of(&error)
+            .and_then(|key| super::locate::find_key(self.text, section, &key));
+        let (line, column) = offset.map_or((0, 0), |o| self.position(o));
+        match error {
+            Error::ModelFile {
+                file,
+                message,
+                cause,
+                ..
+            } => Error::ModelFile {
+                file,
+                line,
+                column,
+                message,
+                cause,
+            },
+            other => Error::ModelFile {
+                file: self.file.to_string(),
+                line,
+                column,
+                message: other.to_string(),
+                cause: Some(Box::new(other)),
+            },
         }
     }
 }

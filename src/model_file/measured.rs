@@ -326,10 +326,26 @@ pub(super) fn read_record(
     let (base, files) = files;
     let path = base.join(&spec.file);
     let table = files.table(&path, &named_columns(spec))?;
-    let label = spec.label.clone().unwrap_or_else(|| spec.file.clone());
+    let label = spec
+        .label
+        .clone()
+        .unwrap_or_else(|| crate::format::printable(&spec.file).into_owned());
     let time_scale = match &spec.time_scale {
         None => 1.0,
-        Some(s) => gain(ctx, s, "time", Some(*s.get_ref()), None)?.0,
+        Some(s) => {
+            let scale = gain(ctx, s, "time", Some(*s.get_ref()), None)?.0;
+            if !(scale > 0.0) {
+                return Err(ctx.typed_error_at(
+                    s,
+                    Error::invalid(
+                        "time_scale",
+                        scale,
+                        "time = time_scale × the time column must increase with the column: give a positive factor (1e-3 for a column in milliseconds)",
+                    ),
+                ));
+            }
+            scale
+        }
     };
     let (step, jitter) = match (&spec.time, spec.step) {
         (Some(time), None) => {
@@ -417,7 +433,16 @@ pub(super) fn read_record(
     }
     let (period, detected) = match (spec.period, spec.frequency) {
         (Some(period), None) => (period, None),
-        (None, Some(omega)) => (2.0 * std::f64::consts::PI / omega, None),
+        (None, Some(omega)) if omega.is_finite() && omega > 0.0 => {
+            (2.0 * std::f64::consts::PI / omega, None)
+        }
+        (None, Some(omega)) => {
+            return Err(Error::invalid(
+                "frequency",
+                omega,
+                "the driving frequency ω (rad per unit time) must be finite and positive; or give `period`, or neither to detect the period from the force",
+            ));
+        }
         (None, None) if !periodic => (step * (signals.nrows().max(2) - 1) as f64, None),
         (None, None) => {
             let estimate = detect_period(signals.as_ref(), step, &label)?;

@@ -8,7 +8,10 @@
 //! ([`crate::terms::laws::Registry`]): the built-in laws, or a registry extended with a
 //! program's own laws ([`Options::laws`] of [`load`] and [`parse`]).
 //!
-//! Errors carry the file and the line and column of the offending table or key.
+//! Errors carry the file and the line and column of the offending table or key: the
+//! settings are checked against the model before any record is simulated or read
+//! (`preflight.rs`), and an error without a position gets the one of the key it
+//! concerns (`locate.rs`).
 //!
 //! [`candidate_model`] builds the candidate models of `dampid compare --laws`.
 //!
@@ -21,7 +24,9 @@ pub use compared::ComparedModel;
 mod context;
 pub mod init;
 mod job;
+mod locate;
 mod measured;
+mod preflight;
 mod provenance;
 mod records;
 mod reduction;
@@ -102,7 +107,11 @@ pub fn parse(text: &str, file: &str, base: &Path, options: Options<'_>) -> Resul
             &builtin
         }
     };
-    context.build(&spec, base, laws, options.progress)
+    preflight::model(&context, &spec)?;
+    preflight::settings(&context, &spec, laws)?;
+    context
+        .build(&spec, base, laws, options.progress)
+        .map_err(|e| context.located(e, None))
 }
 
 /// The damping model of the model file at `path` alone (`dofs`, `[matrices]` and
@@ -131,21 +140,69 @@ pub fn load_parametric_model(path: &Path) -> Result<(DampingModel, ParametricMod
 pub fn parse_parametric_model(text: &str, file: &str) -> Result<(DampingModel, ParametricModel)> {
     let context = Context { file, text };
     let spec = parse_spec(text, file)?;
-    context.damping_model(&spec, &Registry::builtin())
+    preflight::model(&context, &spec)?;
+    context
+        .damping_model(&spec, &Registry::builtin())
+        .map_err(|e| context.located(e, None))
 }
 
+/// The text of the model file at `path`: a regular file (not a FIFO, which would wait
+/// for a writer, nor a device such as `/dev/zero`, which never ends) within the memory
+/// budget, as data files are checked ([`crate::io::require_data_file`]), and UTF-8.
 fn read(path: &Path) -> Result<String> {
-    std::fs::read_to_string(path).map_err(|e| Error::ModelFile {
-        file: path.display().to_string(),
+    let file = path.display().to_string();
+    let error = |message: String| Error::ModelFile {
+        file: file.clone(),
         line: 0,
         column: 0,
-        message: e.to_string(),
+        message,
         cause: None,
+    };
+    crate::io::regular_file(
+        path,
+        "model file",
+        "a model file is read from a file (TOML text)",
+    )
+    .map_err(error)??;
+    let bytes = std::fs::read(path).map_err(|e| error(e.to_string()))?;
+    String::from_utf8(bytes).map_err(|e| {
+        let at = e.utf8_error().valid_up_to();
+        let text = String::from_utf8_lossy(&e.as_bytes()[..at]);
+        let line = text.matches('\n').count() + 1;
+        let column = text.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+        Error::ModelFile {
+            file: file.clone(),
+            line,
+            column,
+            message: format!(
+                "byte {at} is not UTF-8 text (byte 0x{:02x}): save the model file as UTF-8 (a Latin-1 or Windows-1252 file shows this at its first accented letter)",
+                e.as_bytes().get(at).copied().unwrap_or_default()
+            ),
+            cause: None,
+        }
     })
 }
 
-/// The serde form of `text`; a TOML or schema error carries its line and column.
+/// The serde form of `text`; a TOML or schema error carries its line and column. The
+/// title and the records' labels, which reports print, have their control characters
+/// (an ANSI escape, a bell, a carriage return) escaped ([`crate::format::printable`]).
 fn parse_spec(text: &str, file: &str) -> Result<ModelFileSpec> {
+    let mut spec = read_spec(text, file)?;
+    let printable = |s: &mut String| *s = crate::format::printable(s).into_owned();
+    if let Some(title) = spec.title.as_mut() {
+        printable(title);
+    }
+    for data in spec.data.iter_mut() {
+        for record in data.get_mut().records.iter_mut() {
+            if let Some(label) = record.get_mut().label.as_mut() {
+                printable(label);
+            }
+        }
+    }
+    Ok(spec)
+}
+
+fn read_spec(text: &str, file: &str) -> Result<ModelFileSpec> {
     let context = Context { file, text };
     toml::from_str(text).map_err(|e| {
         let (line, column) = e.span().map_or((0, 0), |s| context.position(s.start));

@@ -78,6 +78,14 @@ pub(super) fn simulate_records(
         transient_steps: spec.transient_steps,
         recorded_steps: spec.recorded_steps,
     };
+    // Every record is held at once: x and v of n DOFs and one force channel each.
+    crate::budget::require_records(
+        "the simulated records",
+        spec.experiments.len(),
+        spec.recorded_steps,
+        2 * n + 1,
+        "reduce `recorded_steps` or the number of experiments",
+    )?;
     let (mass, stiffness) = (matrix(&spec.mass)?, matrix(&spec.stiffness)?);
     let steps = spec.transient_steps.saturating_add(spec.recorded_steps) as u64;
     let total = steps.saturating_mul(spec.experiments.len() as u64);

@@ -300,6 +300,13 @@ pub(super) fn design_settings(
             })
         })
         .collect::<Result<Vec<_>>>()?;
+    if spec.picks == Some(0) {
+        return Err(Error::invalid(
+            "picks",
+            0.0,
+            "[design] adds at least one experiment: give picks ≥ 1, or leave it out (3)",
+        ));
+    }
     let settings = DesignSettings {
         criterion: spec.criterion,
         picks: spec.picks.unwrap_or(DesignSettings::default().picks),

@@ -45,6 +45,15 @@ pub(super) fn string_records(
         transient_steps: spec.transient_steps,
         recorded_steps: spec.recorded_steps,
     };
+    // Every record is held at once: the sensors' displacements and velocities and the
+    // force channel.
+    crate::budget::require_records(
+        "the simulated string records",
+        spec.amplitudes.len(),
+        spec.recorded_steps,
+        2 * sensors + 1,
+        "reduce `recorded_steps` or the number of amplitudes",
+    )?;
     let total = spec.amplitudes.len() as u64;
     spec.amplitudes
         .iter()

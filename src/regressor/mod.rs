@@ -56,15 +56,32 @@ use robust::NoiseModel;
 /// One equation: the columns (one per coefficient) and the input work.
 pub(crate) type Row = (Vec<f64>, f64);
 
-/// `row` of every window, in window order; on the rayon pool when `parallel`.
+/// `row` of every window, in window order; on the rayon pool when `parallel`. The
+/// build's rate is measured and extrapolated against the time limit
+/// ([`crate::budget::Stopwatch`]), so a build that would run past it (history terms
+/// whose orbits take long, huge windows) is refused early.
 pub(crate) fn map_windows<T: Send>(
     parallel: bool,
     windows: &[Window],
     row: impl Fn(&Window) -> Result<T> + Sync + Send,
 ) -> Result<Vec<T>> {
+    let total = windows.len() as u64;
+    let done = std::sync::atomic::AtomicU64::new(0);
+    let stopwatch = std::sync::Mutex::new(crate::budget::Stopwatch::start());
     let checked = |w: &Window| {
         crate::cancel::check("building the regressor")?;
-        row(w)
+        let value = row(w)?;
+        let finished = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+        stopwatch
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .check(
+                finished,
+                total,
+                &format!("building the regressor of {total} windows"),
+                "use fewer or shorter records, or cheaper terms (a history term's orbit is integrated per window)",
+            )?;
+        Ok(value)
     };
     if parallel {
         windows.par_iter().map(checked).collect()

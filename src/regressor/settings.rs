@@ -202,6 +202,15 @@ impl RegressorSettings {
     /// Checks the settings themselves (not against a record): the window settings, and
     /// for fixed spans a rule and a velocity source that need no period.
     pub fn validate(&self) -> Result<()> {
+        if let VelocitySource::Spectral { harmonics: Some(0) }
+        | VelocitySource::HarmonicProjection { harmonics: Some(0) } = self.velocity
+        {
+            return Err(Error::invalid(
+                "harmonics",
+                0.0,
+                "must be at least 1 (the harmonics of the drive the velocities are built from)",
+            ));
+        }
         match &self.windows {
             Windows::Cycles(spec) => spec.validate(),
             Windows::Spans(spans) => {

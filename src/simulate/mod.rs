@@ -278,6 +278,42 @@ impl System {
     }
 }
 
+/// A state of the simulation: t, x and v.
+type State = (f64, Vec<f64>, Vec<f64>);
+
+/// The error for a damping force that is not finite at a finite state (t, x, v): the
+/// term whose law is undefined there, its DOF and the state, 1-based.
+fn undefined_damping(system: &System, t: f64, x: &[f64], v: &[f64]) -> Error {
+    let n = x.len();
+    let mut culprit = None;
+    for (term, range) in system.damping.term_columns() {
+        let mut out = vec![0.0; n];
+        term.add_force(&system.damping_coefficients[range], x, v, &mut out);
+        if let Some(dof) = out.iter().position(|f| !f.is_finite()) {
+            culprit = Some((term.coefficient_names().join(", "), dof, out[dof]));
+            break;
+        }
+    }
+    let list = |values: &[f64]| {
+        values
+            .iter()
+            .map(|value| format!("{value:.4e}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let (term, dof, value) = culprit.unwrap_or_default();
+    Error::Numerical {
+        stage: "simulation".into(),
+        detail: format!(
+            "the damping force of the term with coefficient(s) {term} on DOF {} is {value} at t = {}, x = [{}], v = [{}]: its law is not defined there (an expression such as sqrt(v) or ln(v) at a velocity ≤ 0, or a division by zero); make the law defined for every x and v (e.g. sqrt(abs(v))). This is not a step-size problem",
+            dof + 1,
+            crate::format::number(t),
+            list(x),
+            list(v)
+        ),
+    }
+}
+
 /// Reports at most this many times per simulation.
 const PROGRESS_REPORTS: usize = 100;
 
@@ -331,6 +367,10 @@ pub fn simulate(
     let mut net = vec![0.0; n];
     let mut damping = vec![0.0; n];
     let mut conservative = vec![0.0; n];
+    // The first state at which the damping force was not finite while the state was:
+    // a law undefined there (an expression's sqrt of a negative velocity), reported as
+    // such rather than as a divergence of the integration.
+    let undefined: std::cell::RefCell<Option<State>> = Default::default();
     let mut derivative = |t: f64, y: &[f64], out: &mut [f64]| {
         let (x, v) = y.split_at(n);
         system.applied(t, &mut force);
@@ -339,6 +379,12 @@ pub fn simulate(
         system
             .damping
             .add_damping_force(&system.damping_coefficients, x, v, &mut damping);
+        if !damping.iter().all(|d| d.is_finite())
+            && y.iter().all(|s| s.is_finite())
+            && undefined.borrow().is_none()
+        {
+            *undefined.borrow_mut() = Some((t, x.to_vec(), v.to_vec()));
+        }
         conservative.fill(0.0);
         for c in &system.conservative {
             match c {
@@ -365,6 +411,11 @@ pub fn simulate(
     let mut signals = Mat::<f64>::zeros(recorded, system.forcing.len());
     let mut t = 0.0;
     let mut stopwatch = crate::budget::Stopwatch::start();
+    // RK4 steps done and to do (each evaluates the damping forces four times).
+    let mut integrated: u64 = 0;
+    let work = (total as u64).saturating_mul(settings.substeps as u64);
+    // Checked about every 2^16 multiply-adds of the equations of motion (n² per step).
+    let check_every = (65_536 / (n as u64).saturating_mul(n as u64).max(1)).clamp(1, 64);
     for step in 0..total {
         if step >= settings.transient_steps {
             let row = step - settings.transient_steps;
@@ -380,8 +431,26 @@ pub fn simulate(
         for sub in 0..settings.substeps {
             t = step as f64 * settings.step + sub as f64 * h;
             rk.step(t, h, &mut state, &mut derivative);
+            integrated += 1;
+            if integrated.is_multiple_of(check_every) {
+                // Every RK4 step counts, so that `substeps` is in the estimate too.
+                crate::cancel::check("the simulation")?;
+                stopwatch.check(
+                    integrated,
+                    work,
+                    &format!(
+                        "a simulation of {} steps × {} substeps of {n} DOFs",
+                        crate::format::integer(total as u128),
+                        crate::format::integer(settings.substeps as u128)
+                    ),
+                    "reduce `transient_steps`, `recorded_steps` or `substeps`",
+                )?;
+            }
         }
         if state.iter().any(|s| !s.is_finite()) {
+            if let Some((at, x, v)) = undefined.borrow().as_ref() {
+                return Err(undefined_damping(system, *at, x, v));
+            }
             return Err(Error::Numerical {
                 stage: "simulation".into(),
                 detail: format!(
@@ -389,15 +458,6 @@ pub fn simulate(
                     crate::format::number(t)
                 ),
             });
-        }
-        if (step + 1) % 64 == 0 {
-            crate::cancel::check("the simulation")?;
-            stopwatch.check(
-                (step + 1) as u64,
-                total as u64,
-                &format!("a simulation of {total} steps of {n} DOFs"),
-                "reduce `transient_steps` or `recorded_steps`",
-            )?;
         }
         if (step + 1) % report_every == 0 || step + 1 == total {
             progress((step + 1) as u64, total as u64);

@@ -224,6 +224,23 @@ pub fn simulate_string(system: &StringSystem, settings: &SimSettings) -> Result<
         ));
     }
     let modes = system.modes;
+    // Φ on the damping points (points × modes), the velocity there and the positions,
+    // then the recorded sensors' displacement and velocity and the force.
+    let values = (system.damping_points as u128)
+        .saturating_mul(modes as u128 + 2)
+        .saturating_add(
+            (settings.recorded_steps as u128).saturating_mul(2 * system.sensors as u128 + 1),
+        );
+    crate::budget::require(
+        &format!(
+            "the string simulation ({} damping points × {modes} modes, {} recorded steps × {} sensors)",
+            crate::format::integer(system.damping_points as u128),
+            crate::format::integer(settings.recorded_steps as u128),
+            system.sensors
+        ),
+        crate::budget::f64s(values),
+        "reduce `damping_points`, `modes` or `recorded_steps`",
+    )?;
     let points = system.damping_positions();
     let point_weight = system.damping_spacing();
     // Φ_kj = φ_j(x_k) on the damping points, and φ_j at the load.
@@ -270,6 +287,16 @@ pub fn simulate_string(system: &StringSystem, settings: &SimSettings) -> Result<
     let mut state = vec![0.0; 2 * modes];
     let h = settings.step / settings.substeps as f64;
     let total = settings.transient_steps + recorded;
+    let mut stopwatch = crate::budget::Stopwatch::start();
+    // RK4 steps done and to do; checked about every 2^16 multiply-adds of the modal
+    // equations (modes × damping points per evaluation).
+    let mut integrated: u64 = 0;
+    let work = (total as u64).saturating_mul(settings.substeps as u64);
+    let check_every = (65_536
+        / (modes as u64)
+            .saturating_mul(system.damping_points as u64)
+            .max(1))
+    .clamp(1, 64);
     for step in 0..total {
         let t_sample = step as f64 * settings.step;
         if step >= settings.transient_steps {
@@ -284,9 +311,21 @@ pub fn simulate_string(system: &StringSystem, settings: &SimSettings) -> Result<
         }
         for sub in 0..settings.substeps {
             rk.step(t_sample + sub as f64 * h, h, &mut state, &mut derivative);
-        }
-        if (step + 1) % 64 == 0 {
-            crate::cancel::check("the string simulation")?;
+            integrated += 1;
+            if integrated.is_multiple_of(check_every) {
+                crate::cancel::check("the string simulation")?;
+                stopwatch.check(
+                    integrated,
+                    work,
+                    &format!(
+                        "a string simulation of {} steps × {} substeps on {modes} modes and {} damping points",
+                        crate::format::integer(total as u128),
+                        crate::format::integer(settings.substeps as u128),
+                        crate::format::integer(system.damping_points as u128)
+                    ),
+                    "reduce `transient_steps`, `recorded_steps`, `substeps`, `modes` or `damping_points`",
+                )?;
+            }
         }
         if state.iter().any(|s| !s.is_finite()) {
             return Err(Error::Numerical {

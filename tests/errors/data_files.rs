@@ -42,7 +42,7 @@ fn mat_header() -> Vec<u8> {
 fn read_mat_bytes(name: &str, bytes: &[u8]) -> Result<Table> {
     let path = std::env::temp_dir().join(format!("dampid-{name}-{}.mat", std::process::id()));
     std::fs::write(&path, bytes).unwrap();
-    let result = dampid::io::mat::read_mat(&path);
+    let result = dampid::io::read_mat(&path);
     std::fs::remove_file(&path).unwrap();
     result
 }
@@ -80,6 +80,69 @@ fn mat_file_whose_element_size_overflows_is_a_data_error() {
         matches!(&result, Err(Error::Data { file, row: 0, message, .. })
             if file.ends_with(".mat") && message.contains("MAT")),
         "{result:?}"
+    );
+}
+
+/// One uncompressed miMATRIX element: array flags of `class`, dimensions 1 × `n`, the
+/// name, and `data` (a whole data element, tag included).
+fn mat_matrix(class: u8, name: &str, n: i32, data: &[u8]) -> Vec<u8> {
+    let tag = |kind: u32, size: u32| [kind.to_le_bytes(), size.to_le_bytes()].concat();
+    let mut body = tag(6, 8);
+    body.extend_from_slice(&[class, 0, 0, 0, 0, 0, 0, 0]);
+    body.extend(tag(5, 8));
+    body.extend_from_slice(&[1i32.to_le_bytes(), n.to_le_bytes()].concat());
+    body.extend(tag(1, name.len() as u32));
+    let mut padded = name.as_bytes().to_vec();
+    padded.resize(name.len().div_ceil(8) * 8, 0);
+    body.extend(padded);
+    body.extend_from_slice(data);
+    let mut element = tag(14, body.len() as u32);
+    element.extend(body);
+    element
+}
+
+/// A MAT file with a char variable beside a numeric one (issue 29, item 10): a column it
+/// does not have names the numeric variables and says that one variable is of a kind
+/// that is not read, instead of "known: " with nothing after it; a MAT v4 file is named
+/// as such, not "truncated".
+#[test]
+fn mat_variables_of_other_kinds_are_named_in_the_error() {
+    let tag = |kind: u32, size: u32| [kind.to_le_bytes(), size.to_le_bytes()].concat();
+    let mut bytes = mat_header();
+    let mut chars = tag(4, 4); // miUINT16 "hi", padded to 8
+    chars.extend_from_slice(&[b'h', 0, b'i', 0, 0, 0, 0, 0]);
+    bytes.extend(mat_matrix(4, "note", 2, &chars)); // mxCHAR_CLASS
+    let mut doubles = tag(9, 24); // miDOUBLE 1, 2, 3
+    for v in [1.0f64, 2.0, 3.0] {
+        doubles.extend_from_slice(&v.to_le_bytes());
+    }
+    bytes.extend(mat_matrix(6, "x", 3, &doubles)); // mxDOUBLE_CLASS
+    let path = std::env::temp_dir().join(format!("dampid-kinds-{}.mat", std::process::id()));
+    std::fs::write(&path, &bytes).unwrap();
+    let file = dampid::io::data_file::DataFile::open(&path).unwrap();
+    assert_eq!(
+        file.table(&["x"]).unwrap().column("x").unwrap(),
+        [1.0, 2.0, 3.0]
+    );
+    let message = file.table(&["note"]).unwrap_err().to_string();
+    for needle in ["'note'", "1 variable", "char", "known: x"] {
+        assert!(message.contains(needle), "'{needle}' not in {message}");
+    }
+    std::fs::remove_file(&path).ok();
+
+    // A MAT v4 file: a 20-byte header (type 0 = double, 1 × 1, not complex, name "x\0")
+    // and one value.
+    let mut v4 = Vec::new();
+    for word in [0i32, 1, 1, 0, 2] {
+        v4.extend_from_slice(&word.to_le_bytes());
+    }
+    v4.extend_from_slice(b"x\0");
+    v4.extend_from_slice(&1.0f64.to_le_bytes());
+    v4.resize(200, 0);
+    let message = read_mat_bytes("v4", &v4).unwrap_err().to_string();
+    assert!(
+        message.contains("MAT v4") && !message.contains("truncated"),
+        "{message}"
     );
 }
 
@@ -293,8 +356,8 @@ fn device_fifo_or_folder_named_as_a_data_file_is_a_data_error() {
     let readers: [(&str, Reader); 7] = [
         ("csv", |p| dampid::io::read_table(p).map(drop)),
         ("npy", |p| dampid::io::npy::read_npy(p).map(drop)),
-        ("npz", |p| dampid::io::npy::read_npz(p).map(drop)),
-        ("mat", |p| dampid::io::mat::read_mat(p).map(drop)),
+        ("npz", |p| dampid::io::read_npz(p).map(drop)),
+        ("mat", |p| dampid::io::read_mat(p).map(drop)),
         ("uff", |p| dampid::io::uff::read(p).map(drop)),
         ("txt", |p| dampid::io::csv::read(p).map(drop)),
         ("csv", |p| {

@@ -175,22 +175,40 @@ fn fixed_value_outside_its_bounds_is_infeasible() {
         fixed: fixed("c[1]", 2.0).fixed,
         ..bound("c[1]", Some(0.0), Some(1.0))
     });
-    assert!(matches!(
-        identify(&ParametricRegressor::linear(&per_dof_model(), &[record()]), &settings, &silent),
-        Err(Error::InfeasibleBounds { ref name, lower, upper })
-            if name == "c[1]" && lower == 2.0 && upper == 1.0
-    ));
+    let error = identify(
+        &ParametricRegressor::linear(&per_dof_model(), &[record()]),
+        &settings,
+        &silent,
+    )
+    .unwrap_err();
+    assert!(
+        matches!(&error, Error::InvalidParameter { name, value, .. }
+            if name == "fixed value of 'c[1]'" && *value == 2.0),
+        "{error:?}"
+    );
+    assert!(
+        error.to_string().contains("outside its bounds [0, 1]"),
+        "{error}"
+    );
 
-    // A negative fixed value under nonnegativity.
+    // A negative fixed value under nonnegativity says that nonnegative is the conflict
+    // (issue 29, item 10), not "infeasible bounds: lower 0 > upper -0.1".
     let settings = two_windows(Constraints {
         nonnegative: true,
         ..fixed("c[2]", -0.1)
     });
-    assert!(matches!(
-        identify(&ParametricRegressor::linear(&per_dof_model(), &[record()]), &settings, &silent),
-        Err(Error::InfeasibleBounds { ref name, lower, upper })
-            if name == "c[2]" && lower == 0.0 && upper == -0.1
-    ));
+    let error = identify(
+        &ParametricRegressor::linear(&per_dof_model(), &[record()]),
+        &settings,
+        &silent,
+    )
+    .unwrap_err();
+    assert!(
+        matches!(&error, Error::InvalidParameter { name, value, .. }
+            if name == "fixed value of 'c[2]'" && *value == -0.1),
+        "{error:?}"
+    );
+    assert!(error.to_string().contains("nonnegative = true"), "{error}");
 }
 
 #[test]

@@ -168,3 +168,36 @@ fn model_file_history_parameters_are_checked_at_their_line() {
         other => panic!("{other:?}"),
     }
 }
+
+/// Bouc–Wen's run time does not grow with β (issue 29, item 6): β = 10⁶ and 10²⁵⁰ (a
+/// saturation displacement z_max = 1/β far below the motion) build in bounded work and
+/// give finite columns; β = 10³⁰⁰ (z_max below 1e-280) is refused naming β.
+#[test]
+fn a_huge_bouc_wen_beta_runs_in_bounded_time_or_is_refused() {
+    let with_beta = |beta: f64| -> Result<DampingModel> {
+        Ok(shared_model().with(Term::History(HistoryTerm::new(
+            Arc::new(BoucWen::new(beta, 0.5, 1.0)?),
+            vec![Element::to_ground(0)],
+            Coefficients::Shared("alpha".into()),
+        ))))
+    };
+    for beta in [1e6, 1e250] {
+        let regressor = Regressor::build(
+            &with_beta(beta).unwrap(),
+            &[record()],
+            &measured().regressor,
+        )
+        .unwrap();
+        let column = regressor.matrix().col(1);
+        assert!(
+            column.iter().all(|a| a.is_finite() && *a != 0.0),
+            "β = {beta}"
+        );
+    }
+    let error = with_beta(1e300).unwrap_err();
+    assert!(
+        matches!(&error, Error::InvalidParameter { name, .. } if name.contains("beta")),
+        "{error:?}"
+    );
+    assert!(error.to_string().contains("z_max"), "{error}");
+}

@@ -195,8 +195,8 @@ pub(crate) enum Command {
         /// a [data] section, force columns named by DOF: f4 acts on DOF 4) and manifest.json.
         #[arg(long)]
         out: PathBuf,
-        /// Replace another run's files in the folder (refused otherwise); its extra
-        /// record files are removed.
+        /// Replace another run's files in the folder (refused otherwise); the extra
+        /// record files its manifest.json lists are removed, no other file.
         #[arg(long)]
         force: bool,
     },

@@ -268,13 +268,16 @@ fn write_page(file: &Path, overwrite: Overwrite, page: &str) -> anyhow::Result<(
         std::fs::create_dir_all(folder)
             .with_context(|| format!("creating {}", folder.display()))?;
     }
-    dampid::io::output::write_file(file, overwrite, |sink| {
+    let stale = dampid::io::output::write_file(file, overwrite, |sink| {
         sink.write_all(page.as_bytes())
             .map_err(|e| dampid::Error::Output {
                 path: file.display().to_string(),
                 message: e.to_string(),
             })
     })?;
+    for stale in stale {
+        eprintln!("{}", dampid::command::stale_notice(&stale));
+    }
     eprintln!("wrote {}", file.display());
     Ok(())
 }

@@ -85,6 +85,19 @@ impl HarmonicBasis {
                 ),
             ));
         }
+        // The dense work on the basis (its design matrix, the derivative's, a QR copy)
+        // is checked before any of it is allocated: samples × columns grows as the
+        // square of the samples per period when the harmonics follow them.
+        crate::budget::require(
+            &format!(
+                "a harmonic basis of {} samples × {} columns ({} harmonics)",
+                crate::format::integer(samples as u128),
+                crate::format::integer(columns as u128),
+                crate::format::integer(orders.len() as u128)
+            ),
+            crate::budget::f64s((samples as u128).saturating_mul(3 * columns as u128)),
+            "use fewer samples per period or fewer harmonics (`harmonics`), or raise --max-memory",
+        )?;
         let nyquist = std::f64::consts::PI / step;
         if highest as f64 * omega >= nyquist {
             return Err(Error::invalid(

@@ -203,6 +203,25 @@ impl HarmonicApproximation {
     /// The synthesized record of each of `points`.
     pub fn records_of(&self, points: &[SteppedSinePoint]) -> Result<Vec<Record>> {
         self.validate()?;
+        // Every synthesized record is held at once: N + 1 samples of x and v per DOF
+        // and one force channel, and the table of sample angles.
+        let channels = points.iter().map(|p| 2 * p.dofs() + 1).max().unwrap_or(1);
+        let samples = self.samples_per_period.saturating_add(1);
+        crate::budget::require(
+            &format!(
+                "the harmonic approximation's records: {} point{} × {} samples × {channels} channels",
+                points.len(),
+                if points.len() == 1 { "" } else { "s" },
+                crate::format::integer(samples as u128)
+            ),
+            crate::budget::f64s(
+                (samples as u128)
+                    .saturating_mul(channels as u128)
+                    .saturating_mul(points.len() as u128)
+                    .saturating_add(2 * samples as u128),
+            ),
+            "lower `samples_per_period` in [harmonic_approximation] (512 is plenty for one harmonic)",
+        )?;
         let trig = self.angles();
         points
             .iter()

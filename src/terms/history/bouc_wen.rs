@@ -19,8 +19,14 @@
 //! so between two samples the state follows the straight displacement path x0 → x1
 //! with σ fixed; it is integrated in x by the classical fourth-order Runge–Kutta rule
 //! on sub-steps of at most z_max/20 (local error O(δx⁵) per sub-step, fourth order in
-//! the sample spacing). Needs n ≥ 1 (g is then continuous at z = 0) and β + γ > 0
-//! (z bounded on loading).
+//! the sample spacing). Needs n ≥ 1 (g is then continuous at z = 0), β + γ > 0
+//! (z bounded on loading) and z_max ≥ 1e-280 (representable sub-steps).
+//!
+//! Run time does not grow with β: a sample that moves the element by many z_max
+//! (β ≫ 1/|dx|ⁿ) would take |dx|/z_max · 20 sub-steps, but z reaches the fixed point of
+//! g (dz/dx = 0: z = σ z_max on loading when γ ≤ β, linearised decay length z_max/n)
+//! within a few hundred of them, so a step of more than 1000 sub-steps stops at the
+//! first sub-step that leaves z unchanged to round-off; the rest would not change it.
 
 use crate::error::Result;
 
@@ -38,6 +44,16 @@ pub struct BoucWen {
 
 /// Sub-steps per z_max of displacement.
 const SUBSTEPS_PER_ZMAX: f64 = 20.0;
+
+/// A step of more sub-steps than this stops once z has settled (`step`).
+const SETTLE_AFTER: u64 = 1000;
+
+/// Sub-step counts up to this are uniform partitions of the step.
+const MAX_UNIFORM: f64 = 4_294_967_296.0;
+
+/// The smallest saturation displacement z_max integrated: below it the sub-steps
+/// z_max / 20 approach the smallest normal f64.
+const MIN_Z_MAX: f64 = 1e-280;
 
 impl BoucWen {
     /// Shape parameters β, γ (β + γ > 0) and n ≥ 1.
@@ -61,6 +77,16 @@ impl BoucWen {
             "the exponent n must be in [1, 50]",
         )?;
         let z_max = (beta + gamma).powf(-1.0 / n);
+        require(
+            "bouc_wen",
+            "beta",
+            beta,
+            z_max >= MIN_Z_MAX,
+            &format!(
+                "the saturation displacement z_max = (β + γ)^(−1/n) = {} is below {MIN_Z_MAX:e}, too small to integrate in floating point; express the displacements in smaller units (µm instead of m divides β + γ by 10⁶ⁿ)",
+                crate::format::number(z_max)
+            ),
+        )?;
         Ok(BoucWen {
             beta,
             gamma,
@@ -120,14 +146,29 @@ impl Hysteresis for BoucWen {
         }
         let sigma = dx.signum();
         let substeps = (dx.abs() / self.max_step).ceil().max(1.0);
-        let h = dx / substeps;
+        // Beyond SETTLE_AFTER sub-steps a sample moves the element many z_max: z
+        // settles on the fixed point of g within a few hundred sub-steps (module doc),
+        // after which the remaining ones (β large: up to 10²⁹⁸) change nothing; the
+        // loop stops once a sub-step leaves z unchanged to round-off. Uniform sub-steps
+        // of dx / substeps while that is a representable count, else of z_max / 20.
+        let (h, count) = if substeps <= MAX_UNIFORM {
+            (dx / substeps, substeps as u64)
+        } else {
+            (sigma * self.max_step, u64::MAX)
+        };
+        let settle = count > SETTLE_AFTER;
         let mut z = state[0];
-        for _ in 0..substeps as usize {
+        for _ in 0..count {
             let k1 = self.slope(z, sigma);
             let k2 = self.slope(z + 0.5 * h * k1, sigma);
             let k3 = self.slope(z + 0.5 * h * k2, sigma);
             let k4 = self.slope(z + h * k3, sigma);
-            z += h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+            let next = z + h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+            let still = (next - z).abs() <= f64::EPSILON * next.abs();
+            z = next;
+            if settle && still {
+                break;
+            }
         }
         state[0] = z;
     }
@@ -160,6 +201,30 @@ mod tests {
         }
         let exact = (1.0 - (-2.0 * x).exp()) / 2.0;
         assert!((state[0] - exact).abs() < 1e-8, "{} vs {exact}", state[0]);
+    }
+
+    /// A huge β (z_max ≪ the step) settles on z_max in bounded work: β = 1e300 with
+    /// n = 1 would otherwise take 10³⁰¹ sub-steps per sample.
+    #[test]
+    fn a_huge_beta_saturates_quickly() {
+        for beta in [1e6, 1e12, 1e300] {
+            let element = BoucWen::new(beta, 0.0, 1.0).unwrap();
+            let z_max = 1.0 / beta;
+            let mut state = [0.0];
+            element.step(&mut state, 0.0, 0.5);
+            assert!(
+                (state[0] - z_max).abs() <= 1e-12 * z_max,
+                "{beta}: {}",
+                state[0]
+            );
+            element.step(&mut state, 0.5, -0.5);
+            assert!(
+                (state[0] + z_max).abs() <= 1e-12 * z_max,
+                "{beta}: {}",
+                state[0]
+            );
+        }
+        assert!(BoucWen::new(f64::MAX, 0.0, 1.0).is_err());
     }
 
     #[test]

@@ -4,7 +4,9 @@
 //! Parsed once by exmex into a flat expression and evaluated per sample. The operators
 //! are exmex's float defaults (`+ - * / ^`, `abs`, `sqrt`, `exp`, `ln`, `sin`, `cos`,
 //! `tanh`, …, constants `PI`, `E`) plus `sign(v)`, which is 0 at 0 (exmex's `signum`
-//! is 1 there). Identifiers other than `x`, `v` and the law's named constants
+//! is 1 there). Numbers are every decimal literal Rust's f64 parser reads (`2.5e-1`,
+//! `1E3`, `.5`, `5.`, `1e+3`; one beyond f64 is refused); a call of a function that is
+//! not one of these is refused naming it and listing the known ones. Identifiers other than `x`, `v` and the law's named constants
 //! (`parameters = { vs = 0.01 }` in model files, fixed or estimated by variable
 //! projection) are rejected when parsing, so a typo cannot become a silent free
 //! variable; a named constant the expression does not use is rejected too.
@@ -20,7 +22,7 @@
 use std::sync::Arc;
 
 use exmex::prelude::*;
-use exmex::{FloatOpsFactory, MakeOperators, Operator};
+use exmex::{FloatOpsFactory, MakeOperators, MatchLiteral, Operator};
 
 use super::LawRegistration;
 use crate::error::{Error, Result};
@@ -38,7 +40,64 @@ impl MakeOperators<f64> for LawOperators {
     }
 }
 
-type Parsed = FlatEx<f64, LawOperators>;
+// Numeric literals: every decimal form Rust's f64 parser reads (`2.5e-1`, `1E3`, `.5`,
+// `5.`, `1e+3`), where exmex's own matcher takes digits and one dot only (`2.5e-1*v`
+// was "2 ops and 4 nodes"). `inf` and `NaN` are identifiers here, not numbers.
+exmex::literal_matcher_from_pattern!(
+    FloatLiteral,
+    r"^(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?"
+);
+
+type Parsed = FlatEx<f64, LawOperators, FloatLiteral>;
+
+/// The functions an expression may call (exmex's unary operators and `sign`).
+fn known_functions() -> Vec<&'static str> {
+    let mut names: Vec<&'static str> = LawOperators::make()
+        .iter()
+        .filter(|op| op.has_unary() && op.repr().chars().all(|c| c.is_ascii_alphanumeric()))
+        .map(|op| op.repr())
+        .collect();
+    names.sort_unstable();
+    names.dedup();
+    names
+}
+
+/// The first name in `text` written as a call, `name(`, that is not a known function.
+fn unknown_function(text: &str) -> Option<String> {
+    let known = known_functions();
+    let bytes = text.as_bytes();
+    let mut k = 0;
+    while k < bytes.len() {
+        let starts = (bytes[k].is_ascii_alphabetic() || bytes[k] == b'_')
+            && (k == 0 || !(bytes[k - 1].is_ascii_alphanumeric() || bytes[k - 1] == b'_' || bytes[k - 1] == b'.'));
+        if !starts {
+            k += 1;
+            continue;
+        }
+        let end = (k..bytes.len())
+            .find(|&j| !(bytes[j].is_ascii_alphanumeric() || bytes[j] == b'_'))
+            .unwrap_or(bytes.len());
+        let name = &text[k..end];
+        let called = text[end..].trim_start().starts_with('(');
+        if called && !known.contains(&name) {
+            return Some(name.to_string());
+        }
+        k = end;
+    }
+    None
+}
+
+/// A numeric literal of `text` that does not fit an f64 (`1e999`), if any.
+fn overflowing_literal(text: &str) -> Option<String> {
+    let literal = exmex::regex::Regex::new(r"(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+        .ok()?;
+    literal.find_iter(text).find_map(|m| {
+        let before = text[..m.start()].chars().next_back();
+        let inside_name = before.is_some_and(|c| c.is_ascii_alphanumeric() || c == '_');
+        let value: f64 = m.as_str().parse().ok()?;
+        (!inside_name && !value.is_finite()).then(|| m.as_str().to_string())
+    })
+}
 
 /// Which of (v, x) the expression reads, in exmex's alphabetical variable order.
 #[derive(Debug, Clone)]
@@ -131,7 +190,23 @@ impl Expression {
                 "a named constant may not be called '{name}': x and v are the element's motion"
             )));
         }
-        let parsed = Parsed::parse(text).map_err(|e| error(e.to_string()))?;
+        if let Some(name) = unknown_function(text) {
+            return Err(error(format!(
+                "unknown function '{name}': the functions are {}",
+                known_functions().join(", ")
+            )));
+        }
+        if let Some(literal) = overflowing_literal(text) {
+            return Err(error(format!(
+                "the number {literal} is beyond the largest floating-point number (about 1.8e308)"
+            )));
+        }
+        let parsed = Parsed::parse(text).map_err(|e| {
+            error(format!(
+                "not a valid expression ({e}); write it with x, v, numbers (2.5e-1), the operators + - * / ^, parentheses and the functions {}",
+                known_functions().join(", ")
+            ))
+        })?;
         let names: Vec<&str> = parsed.var_names().iter().map(String::as_str).collect();
         if let Some(unknown) = names
             .iter()
@@ -268,6 +343,39 @@ mod tests {
             Expression::parse("v*(x"),
             Err(Error::Expression { .. })
         ));
+    }
+
+    /// Every decimal literal Rust's f64 parser reads is a number of the expression,
+    /// with the value that parser gives (issue 29, item 10: `2.5e-1*v` was "we have 2
+    /// ops and 4 node").
+    #[test]
+    fn float_literals_read_as_rust_reads_them() {
+        for literal in [
+            "2.5e-1", "1E3", ".5", "5.", "1e+3", "0", "007", "1.5E-300", "6.02e23", "3.",
+            "0.000001", "1e0",
+        ] {
+            let law = Expression::parse(&format!("{literal}*v")).unwrap();
+            let value: f64 = literal.parse().unwrap();
+            assert_eq!(law.force(0.0, 1.0), value, "{literal}");
+            let law = Expression::parse(&format!("v-{literal}")).unwrap();
+            assert_eq!(law.force(0.0, 1.0), 1.0 - value, "{literal}");
+        }
+        assert!((Expression::parse("2*E").unwrap().force(0.0, 0.0) - 2.0 * std::f64::consts::E).abs() < 1e-15);
+        let overflow = Expression::parse("1e999*v").unwrap_err().to_string();
+        assert!(overflow.contains("1e999"), "{overflow}");
+    }
+
+    /// A call of an unknown function names it and lists the known ones, instead of
+    /// exmex's "a number/variable cannot be on the right of a closing parenthesis".
+    #[test]
+    fn unknown_functions_are_named() {
+        for (text, name) in [("foo(v)", "foo"), ("2*sgn (v)", "sgn"), ("abs(v)*Sqrt(x)", "Sqrt")] {
+            let message = Expression::parse(text).unwrap_err().to_string();
+            assert!(message.contains(&format!("unknown function '{name}'")), "{message}");
+            assert!(message.contains("abs") && message.contains("sign"), "{message}");
+        }
+        // Known functions and a constant beside parentheses still parse.
+        Expression::parse("sqrt(abs(v))*sign(v)+PI*(x)").unwrap();
     }
 
     /// At the cap an expression parses; one byte more is refused, naming the limit,

@@ -1,0 +1,101 @@
+//! The specs of the identification modes that transform records or windows:
+//! `[non_periodic]` (fixed spans with stored energy and offsets), `[pod]` and
+//! `[harmonic_approximation]` (eq. 4) with its phase readings.
+
+use serde::Deserialize;
+use toml::Spanned;
+
+use super::terms::{ElementsSpec, MatrixRef};
+
+/// `[non_periodic]`: windows of a fixed length, and what stores energy.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NonPeriodicSpec {
+    /// Window length in time units.
+    pub window: f64,
+    /// `"each_dof"` (an unknown lumped mass per DOF, the default), `"none"`, or
+    /// `{ known = <matrix> }`.
+    #[serde(default)]
+    pub mass: Option<StorageSpec>,
+    /// `"none"` (the default), `"each_dof"`, `"chain"`, DOF pairs (an unknown spring
+    /// per element), or `{ known = <matrix> }`.
+    #[serde(default)]
+    pub stiffness: Option<StorageSpec>,
+    /// DOFs (1-based) with an unknown constant force, or `"each_dof"`.
+    #[serde(default)]
+    pub offsets: Option<OffsetsSpec>,
+    /// Cut-off frequency f_c (cycles per time unit) of the zero-phase high-pass that
+    /// treats the drift when velocity or acceleration columns are integrated
+    /// (`dampid::prep::motion`); required with such columns, unused without.
+    pub high_pass: Option<Spanned<f64>>,
+}
+
+/// A stored-energy term of `[non_periodic]`.
+#[derive(Debug, Deserialize)]
+#[serde(untagged)]
+pub enum StorageSpec {
+    /// `"none"`, `"each_dof"`, `"chain"` or DOF pairs (1-based, 0 = ground).
+    Elements(ElementsSpec),
+    /// A known matrix.
+    Known {
+        /// The matrix (a name or rows).
+        known: MatrixRef,
+    },
+}
+
+/// The DOFs with a constant force.
+#[derive(Debug, Deserialize)]
+#[serde(untagged)]
+pub enum OffsetsSpec {
+    /// `"each_dof"` or `"none"`.
+    Named(String),
+    /// DOFs, 1-based.
+    Dofs(Vec<usize>),
+}
+
+/// `[pod]`: project every record on its leading proper orthogonal modes.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PodSpec {
+    /// Retain this many modes …
+    pub modes: Option<usize>,
+    /// … or the fewest whose cumulative energy share reaches this (default 0.999).
+    pub energy: Option<f64>,
+    /// One basis per record (default, the paper's) or one shared by all.
+    #[serde(default)]
+    pub basis: crate::prep::pod::PodBasis,
+    /// Remove the column means before the decomposition (the paper does not).
+    #[serde(default)]
+    pub remove_mean: bool,
+}
+
+/// Phase readings of the harmonic approximation.
+#[derive(Debug, Clone, Copy, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PhaseName {
+    /// Arithmetic mean lag (the paper's reading).
+    #[default]
+    ArithmeticMean,
+    /// Circular mean lag.
+    CircularMean,
+    /// Amplitude-weighted circular mean lag.
+    AmplitudeWeightedMean,
+    /// The lag of one DOF (`dof`).
+    Dof,
+    /// Every DOF its own lag (not synchronous).
+    PerDof,
+}
+
+/// `[harmonic_approximation]`: fundamentals per window (`[identification]` windows),
+/// synchronous motion, eq. 4.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HarmonicApproximationSpec {
+    /// How the DOFs' common phase is read.
+    #[serde(default)]
+    pub phase: PhaseName,
+    /// The DOF (1-based) whose lag is used with `phase = "dof"`.
+    pub dof: Option<usize>,
+    /// Samples per synthesized period (default 512).
+    pub samples_per_period: Option<usize>,
+}
