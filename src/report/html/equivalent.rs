@@ -142,7 +142,9 @@ impl HtmlReport<'_> {
                 measured: None,
             });
         }
-        let groups = self.by_group(|i| {
+        // Room for the curves and the markers' note.
+        let room = plots::MOST_ENTRIES.saturating_sub(curves.len() + 1);
+        let groups = self.by_group(room, |i| {
             let m = measured.get(i).copied().flatten()?;
             Some((m.amplitude, m.energy))
         });
@@ -163,7 +165,8 @@ impl HtmlReport<'_> {
         let m = &equivalent.modal;
         let (k, omega_n) = (m.stiffness, m.natural_frequency);
         let near = |p: &Measured| (p.frequency / omega_n - 1.0).abs() <= NEAR_RESONANCE;
-        let groups = self.by_group(|i| {
+        // Room for the curve, its band and the markers' note.
+        let groups = self.by_group(plots::MOST_ENTRIES - 3, |i| {
             let p = measured.get(i).copied().flatten().filter(near)?;
             let zeta = p.energy / (2.0 * PI * k * p.amplitude * p.amplitude);
             zeta.is_finite().then_some((p.amplitude, zeta))

@@ -10,7 +10,8 @@
 //! - the energy balance (input work b against identified work Aθ per equation; for a
 //!   table, the energy per cycle π a X sin φ of each point on log-log axes) and the
 //!   residuals b − Aθ (against the equation's index, or a point's frequency), coloured
-//!   by record or sweep, more than [`plots::MOST_GROUPS`] gathered into one.
+//!   by record or sweep, gathered into one beyond the legend's
+//!   room ([`plots::MOST_ENTRIES`] entries in all).
 
 use std::fmt::Write as _;
 
@@ -29,8 +30,9 @@ impl HtmlReport<'_> {
         let total = self.report.residuals.len();
         let table = self.source.stepped_sine();
         let mut out = match table {
-            Some(_) => String::from(
-                "<h2>Sweeps</h2>\n<p>Each sweep's force level (the median force amplitude of its points), its range of response amplitude and of frequency, and its share of the squared residual (weighted as fitted) against its share of the points, with its RMS residual in units of the fit's residual standard deviation (about 1 when it fits like the rest).</p>\n<table><tr><th>sweep</th><th>force a</th><th>amplitude X</th><th>frequency ω/2π</th><th>points</th><th>share of points</th><th>share of squared residual</th><th>standardised residual</th><th>mean residual</th></tr>\n",
+            Some(_) => format!(
+                "<h2>Sweeps</h2>\n<p>Each sweep's force level (the median force amplitude of its points), its range of response amplitude and of frequency, and its share of the squared residual (weighted as fitted) against its share of the points, with its RMS residual in units of the fit's residual standard deviation (about 1 when it fits like the rest).</p>\n<table><tr><th>sweep</th><th>force a</th><th>amplitude X</th><th>{}</th><th>points</th><th>share of points</th><th>share of squared residual</th><th>standardised residual</th><th>mean residual</th></tr>\n",
+                escape(&self.frequency_axis())
             ),
             None => String::from(
                 "<h2>Records</h2>\n<p>Each record's share of the squared residual (weighted as fitted) against its share of the equations, and its RMS residual in units of the fit's residual standard deviation (about 1 when it fits like the rest).</p>\n<table><tr><th>record</th><th>equations</th><th>share of equations</th><th>share of squared residual</th><th>standardised residual</th><th>mean residual</th></tr>\n",
@@ -91,7 +93,9 @@ impl HtmlReport<'_> {
         };
         let input = self.regressor.rhs();
         let residuals = &report.residuals;
-        let balance = self.by_group(|i| Some((input[i], input[i] - residuals[i])));
+        // Room for the line of equality and a note of points off the log axes.
+        let room = plots::MOST_ENTRIES - 2;
+        let balance = self.by_group(room, |i| Some((input[i], input[i] - residuals[i])));
         out.push_str(&plots::work_balance(&balance, &axes)?);
         out.push_str("\n<h2>Residuals</h2>\n");
         let frequency = self.frequency_axis();
@@ -110,12 +114,14 @@ impl HtmlReport<'_> {
             },
         };
         let rows = &report.rows;
+        // Room for the mean residual's line.
+        let room = plots::MOST_ENTRIES - 1;
         let groups = match self.equations() {
-            Equations::Points => self.by_group(|i| {
+            Equations::Points => self.by_group(room, |i| {
                 let omega = rows.get(i)?.frequency?;
                 Some((omega / std::f64::consts::TAU, residuals[i]))
             }),
-            Equations::Windows => self.by_group(|i| Some(((i + 1) as f64, residuals[i]))),
+            Equations::Windows => self.by_group(room, |i| Some(((i + 1) as f64, residuals[i]))),
         };
         out.push_str(&plots::residuals(
             &groups,
@@ -134,9 +140,13 @@ impl HtmlReport<'_> {
     }
 
     /// Points grouped by the record or sweep of each equation, in order of first
-    /// appearance: (its label, the point `of` each of its rows that has one), more than
-    /// [`plots::MOST_GROUPS`] gathered.
-    pub(super) fn by_group(&self, of: impl Fn(usize) -> Option<(f64, f64)>) -> Vec<Group> {
+    /// appearance: (its label, the point `of` each of its rows that has one), gathered
+    /// into `room` legend entries ([`plots::gathered`]).
+    pub(super) fn by_group(
+        &self,
+        room: usize,
+        of: impl Fn(usize) -> Option<(f64, f64)>,
+    ) -> Vec<Group> {
         let mut groups: Vec<(usize, Group)> = Vec::new();
         for (i, row) in self.report.rows.iter().enumerate() {
             let k = match groups.iter().position(|(r, _)| *r == row.record_index) {
@@ -161,7 +171,7 @@ impl HtmlReport<'_> {
             Equations::Points => "sweeps",
             Equations::Windows => "records",
         };
-        plots::gathered(groups.into_iter().map(|(_, g)| g).collect(), plural)
+        plots::gathered(groups.into_iter().map(|(_, g)| g).collect(), plural, room)
     }
 }
 

@@ -71,7 +71,7 @@ pub(crate) struct Curve {
 }
 
 /// Points of one group (a record or a sweep) in a scatter: its legend name and (x, y)
-/// points; `rest` marks the group that gathers every group beyond [`MOST_GROUPS`] − 1
+/// points; `rest` marks the group that gathers the groups a legend has no room for
 /// (drawn grey).
 pub(crate) struct Group {
     pub name: String,
@@ -80,17 +80,21 @@ pub(crate) struct Group {
 }
 
 /// Groups a scatter tells apart at most: the palette's six colours in three marker
-/// shapes. More are gathered: the first [`MOST_GROUPS`] − 1 keep their own marker and
-/// the rest share one grey marker and one legend entry ("12 more sweeps").
+/// shapes.
 pub(crate) const MOST_GROUPS: usize = 18;
 
-/// `groups` with those beyond [`MOST_GROUPS`] − 1 gathered into one, named "N more
-/// `plural`" (e.g. "sweeps"), when there are more than [`MOST_GROUPS`].
-pub(crate) fn gathered(mut groups: Vec<Group>, plural: &str) -> Vec<Group> {
-    if groups.len() <= MOST_GROUPS {
+/// Entries a legend holds at most.
+pub(crate) const MOST_ENTRIES: usize = 20;
+
+/// `groups` fitted into `room` legend entries (at most [`MOST_GROUPS`]): when there are
+/// more, the first `room` − 1 keep their own marker and the rest share one grey marker
+/// and one entry, "N more `plural`" (e.g. "12 more sweeps").
+pub(crate) fn gathered(mut groups: Vec<Group>, plural: &str, room: usize) -> Vec<Group> {
+    let room = room.clamp(2, MOST_GROUPS);
+    if groups.len() <= room {
         return groups;
     }
-    let rest = groups.split_off(MOST_GROUPS - 1);
+    let rest = groups.split_off(room - 1);
     groups.push(Group {
         name: format!("{} more {plural}", rest.len()),
         points: rest.into_iter().flat_map(|g| g.points).collect(),
@@ -619,8 +623,8 @@ pub(crate) mod tests {
         assert_eq!(LegendLayout::of(&[]).rows, 0);
     }
 
-    /// More than MOST_GROUPS groups: the first MOST_GROUPS − 1 stay, the rest become one
-    /// group holding all their points.
+    /// More groups than there is room for: the first room − 1 stay, the rest become one
+    /// group holding all their points; never more than MOST_GROUPS.
     #[test]
     fn many_groups_are_gathered() {
         let groups = |n: usize| -> Vec<Group> {
@@ -632,12 +636,18 @@ pub(crate) mod tests {
                 })
                 .collect()
         };
-        assert_eq!(gathered(groups(MOST_GROUPS), "sweeps").len(), MOST_GROUPS);
-        let many = gathered(groups(30), "sweeps");
-        assert_eq!(many.len(), MOST_GROUPS);
-        let last = &many[MOST_GROUPS - 1];
-        assert!(last.rest && !many[0].rest);
-        assert_eq!(last.name, format!("{} more sweeps", 30 - (MOST_GROUPS - 1)));
-        assert_eq!(last.points.len(), 2 * (30 - (MOST_GROUPS - 1)));
+        assert_eq!(
+            gathered(groups(MOST_GROUPS), "sweeps", 100).len(),
+            MOST_GROUPS
+        );
+        assert_eq!(gathered(groups(12), "sweeps", 12).len(), 12);
+        for (room, kept) in [(100, MOST_GROUPS), (15, 15)] {
+            let many = gathered(groups(30), "sweeps", room);
+            assert_eq!(many.len(), kept);
+            let last = &many[kept - 1];
+            assert!(last.rest && !many[0].rest);
+            assert_eq!(last.name, format!("{} more sweeps", 30 - (kept - 1)));
+            assert_eq!(last.points.len(), 2 * (30 - (kept - 1)));
+        }
     }
 }
