@@ -102,6 +102,16 @@ pub enum Equivalent {
     },
 }
 
+impl Equivalent {
+    /// The equivalent damping, or why it was not computed.
+    pub fn as_result(&self) -> std::result::Result<&EquivalentDamping, &str> {
+        match self {
+            Equivalent::Computed(e) => Ok(e),
+            Equivalent::NotComputed { error } => Err(error),
+        }
+    }
+}
+
 /// What [`identify`] found: the report, the regressor and damping model it ends at
 /// (those at η̂ when parameters were estimated), the steady-state check, the equivalent
 /// damping of a one-mode table and the bootstrap.

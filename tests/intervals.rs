@@ -190,12 +190,13 @@ fn the_report_says_the_errors_are_scaled_and_why() {
     let page = dampid::report::html::HtmlReport {
         title: "four-mass chain",
         model: &model,
-        records: &records,
+        source: (&records).into(),
         regressor: &regressor,
         report: &report,
         truth: Some(&truth),
         pod: None,
         steady: None,
+        equivalent: None,
         provenance: None,
         units: None,
     }

@@ -130,12 +130,13 @@ fn noise_robust_report_shows_the_noise_and_the_model_check() {
     let page = HtmlReport {
         title: &job.title,
         model: &job.model,
-        records: &job.records,
+        source: (&job.records).into(),
         regressor: &regressor,
         report: &report,
         truth: None,
         pod: None,
         steady: None,
+        equivalent: None,
         provenance: None,
         units: None,
     }

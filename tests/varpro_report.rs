@@ -144,12 +144,13 @@ fn a_fit_that_is_not_an_estimate_shows_no_estimates() {
     let page = HtmlReport {
         title: &job.title,
         model: &found.model,
-        records: &job.records,
+        source: (&job.records).into(),
         regressor: &found.regressor,
         report,
         truth: job.truth.as_deref(),
         pod: None,
         steady: None,
+        equivalent: None,
         provenance: None,
         units: None,
     }

@@ -310,24 +310,21 @@ impl PyReport {
     ) -> PyResult<()> {
         use dampid::io::output::{Overwrite, write_file};
         let found = &self.identification;
-        let equivalent = match &found.equivalent {
-            Some(Equivalent::Computed(e)) => Some(e),
-            _ => None,
-        };
-        let page = |records: &[Record], provenance| {
+        let page = |source: dampid::regressor::Source<'_>, provenance| {
             HtmlReport {
                 title: "dampid",
                 model: &found.model,
-                records,
+                source,
                 regressor: &found.regressor,
                 report: &found.report,
                 truth: None,
                 pod: None,
                 steady: found.steady_state.as_ref(),
+                equivalent: found.equivalent.as_ref().map(Equivalent::as_result),
                 provenance: Some(&provenance),
                 units: None,
             }
-            .render_with(equivalent)
+            .render()
         };
         let page = match &self.source {
             Source::Job(job, file, options) => {
@@ -351,14 +348,17 @@ impl PyReport {
                     ArrayDigest::of("rows", "A", regressor.matrix().as_ref(), false),
                     ArrayDigest::of("rows", "b", rhs.as_mat(), true),
                 ];
-                page(&[], self.arrays_provenance(arrays))
+                page(
+                    dampid::regressor::Source::Rows(regressor),
+                    self.arrays_provenance(arrays),
+                )
             }
             Source::Records(list) => {
                 let bound: Vec<Bound<'_, PyRecord>> =
                     list.iter().map(|r| r.bind(py).clone()).collect();
                 let lent = Lent::take(&bound)?;
                 let arrays = lent.records.iter().flat_map(digests).collect();
-                let page = page(&lent.records, self.arrays_provenance(arrays));
+                let page = page((&lent.records).into(), self.arrays_provenance(arrays));
                 lent.restore();
                 page
             }

@@ -114,23 +114,20 @@ impl Identified<'_> {
     pub fn html_with(&self, provenance: Option<&Provenance>) -> Result<String> {
         let job = self.job;
         let found = self.identification;
-        let equivalent = match &found.equivalent {
-            Some(Equivalent::Computed(e)) => Some(e),
-            _ => None,
-        };
         HtmlReport {
             title: &job.title,
             model: &found.model,
-            records: &job.records,
+            source: job.problem().source(),
             regressor: &found.regressor,
             report: &found.report,
             truth: job.truth.as_deref(),
             pod: job.pod.as_ref(),
             steady: found.steady_state.as_ref(),
+            equivalent: found.equivalent.as_ref().map(Equivalent::as_result),
             provenance,
             units: Some(&job.units),
         }
-        .render_with(equivalent)
+        .render()
     }
 }
 

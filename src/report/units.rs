@@ -10,7 +10,7 @@
 //! | linear (viscous), viscous matrix | F·T/L | N·s/m |
 //! | quadratic v\|v\| | F·T²/L² | N·s²/m² |
 //! | Coulomb sign(v) | F | N |
-//! | power \|v\|^p sign(v) | F·(T/L)^p | N·(s/m)^1.5 |
+//! | power \|v\|^p sign(v) | F·(T/L)^p (p to 4 significant digits) | N·(s/m)^1.5 |
 //! | stiffness-proportional C = θK | T (K is F/L, C is F·T/L) | s |
 //! | mass-proportional C = θM | 1/T (M is F·T²/L) | 1/s |
 //! | an expression | F per unit of the expression | N per unit of sign(v)*abs(v)^1.5 |
@@ -101,7 +101,7 @@ impl Units {
             } else if power == 0.0 {
                 f.clone()
             } else {
-                format!("{f}·({t}/{l})^{power}")
+                format!("{f}·({t}/{l})^{}", crate::format::label(power))
             })
         };
         match term {
@@ -130,7 +130,11 @@ impl Units {
                         .and_then(|p| p.parse::<f64>().ok())
                     {
                         Some(p) => per_velocity(p),
-                        None => Some(format!("{} per unit of {name}", f?)),
+                        None => Some(format!(
+                            "{} per unit of {}",
+                            f?,
+                            crate::format::labels_in(&name)
+                        )),
                     },
                 }
             }
@@ -177,6 +181,9 @@ mod tests {
         assert_eq!(u.coefficient(&law(Coulomb)).unwrap(), "N");
         let power = PowerLaw::new(1.5).unwrap();
         assert_eq!(u.coefficient(&law(power)).unwrap(), "N·(s/m)^1.5");
+        // An estimated exponent reads rounded (format::label).
+        let estimated = PowerLaw::new(2.611665943989249).unwrap();
+        assert_eq!(u.coefficient(&law(estimated)).unwrap(), "N·(s/m)^2.612");
         let stiff = Term::stiffness_proportional("beta", k.clone());
         assert_eq!(u.coefficient(&stiff).unwrap(), "s");
         assert_eq!(

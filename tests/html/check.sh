@@ -3,9 +3,11 @@
 # as a reader sees them (tests/html/checks.js measures, check.py judges): no console
 # errors, nothing wider than the viewport, every SVG text at least 12 px as shown, a
 # legend in every plot, and "not determined" on the walkthrough's first try; two
-# variable-projection pages besides. Installs
-# Debian's chromium when it is missing. With SCREENSHOTS=1 it also refreshes
-# docs/screenshots/.
+# variable-projection pages besides, and the page of a 12-sweep, 41-point-per-sweep
+# stepped-sine table (made by the bolted-joint generator): under 8,000 px tall at
+# 1200 px wide, its sweeps named, the table file's SHA-256 listed, the ζ_eq(X) plot
+# shown. Installs Debian's chromium when it is missing. With SCREENSHOTS=1 it also
+# refreshes docs/screenshots/.
 #
 # Usage: tests/html/check.sh            (uses target/release/dampid, built if missing)
 set -euo pipefail
@@ -30,14 +32,17 @@ flags=(--headless --no-sandbox --disable-gpu --disable-quic --no-first-run
        --hide-scrollbars --force-device-scale-factor=1)
 status=0
 check() {
-    local name=$1 model=$2 extra=${3:-}
+    local name=$1 model=$2
+    shift 2
     "$dampid" identify "$model" --report "$work/$name" >/dev/null
-    check_page "$name" "$extra"
+    check_page "$name" "$@"
 }
-# Checks $work/NAME/report.html, however it was made.
+# Checks $work/NAME/report.html, however it was made, at $WIDTH px (default 1280); the
+# arguments after NAME go to check.py.
 check_page() {
-    local name=$1 extra=${2:-}
-    local page="$work/$name/report.html"
+    local name=$1
+    shift
+    local page="$work/$name/report.html" width=${WIDTH:-1280}
     # A copy with the checks injected first in <head>; the report itself stays script-free.
     python3 - "$page" "$work/$name/checked.html" <<'PY'
 import sys
@@ -45,18 +50,23 @@ page = open(sys.argv[1], encoding="utf-8").read()
 script = open("tests/html/checks.js", encoding="utf-8").read()
 open(sys.argv[2], "w", encoding="utf-8").write(page.replace("<head>", "<head><script>" + script + "</script>", 1))
 PY
-    "$browser" "${flags[@]}" --user-data-dir="$(mktemp -d -p "$work")" --window-size=1280,900 \
+    "$browser" "${flags[@]}" --user-data-dir="$(mktemp -d -p "$work")" --window-size="$width,900" \
         --virtual-time-budget=5000 --dump-dom "file://$work/$name/checked.html" \
         >"$work/$name/dom.html" 2>"$work/$name/chromium.log" || true
-    if ! python3 tests/html/check.py "$work/$name/dom.html" "$name" $extra; then
+    if ! python3 tests/html/check.py "$work/$name/dom.html" "$name" "$@"; then
         status=1
     fi
     if [ "${SCREENSHOTS:-0}" = "1" ]; then
-        "$browser" "${flags[@]}" --user-data-dir="$(mktemp -d -p "$work")" --window-size=1280,2600 \
-            --screenshot="$PWD/docs/screenshots/$name.png" "file://$page" \
-            >/dev/null 2>&1 || true
-        echo "  screenshot docs/screenshots/$name.png"
+        screenshot "$name" "$page"
     fi
+}
+# screenshot NAME PAGE [SUFFIX]: docs/screenshots/NAME[SUFFIX].png, the top 2600 px of
+# PAGE at $WIDTH px.
+screenshot() {
+    local file="docs/screenshots/$1${3:-}.png"
+    "$browser" "${flags[@]}" --user-data-dir="$(mktemp -d -p "$work")" --window-size="${WIDTH:-1280},2600" \
+        --screenshot="$PWD/$file" "file://$2" >/dev/null 2>&1 || true
+    echo "  screenshot $file"
 }
 check walkthrough_first_try models/walkthrough_first_try.toml --not-determined
 check walkthrough models/walkthrough.toml
@@ -66,6 +76,31 @@ check four_mass_pod models/four_mass_pod.toml
 # (profile interval).
 check bolted_joint_residual models/bolted_joint_stepped_sine_residual.toml
 check four_mass_power models/four_mass_power.toml
+# A 12-sweep, 41-point-per-sweep table from the bolted-joint generator: the page is
+# organised by sweep (under 8,000 px tall at 1200 px wide), names the sweeps, lists the
+# table file with its SHA-256 and shows ζ_eq(X).
+mkdir -p "$work/table12"
+python3 models/data/bolted_joint/generate.py --levels 12 --points 41 --output "$work/table12/table12.csv"
+sed -e 's#^file = .*#file = "table12.csv"#' \
+    -e 's#^title = .*#title = "Bolted joint, 12 sweeps of 41 points (simulated)"#' \
+    models/bolted_joint_stepped_sine.toml >"$work/table12/table12.toml"
+sha=$(sha256sum "$work/table12/table12.csv" | cut -d' ' -f1)
+WIDTH=1200 check sweeps12 "$work/table12/table12.toml" --max-height 8000 \
+    --expect "492 points from 12 sweeps" --expect "<h2>Sweeps</h2>" --expect "level = 12" \
+    --expect "$sha" --expect-plot "Equivalent viscous damping ratio ζ_eq(X)" \
+    --absent "No data files" --absent "per window" --absent "equation (window)"
+if [ "${SCREENSHOTS:-0}" = "1" ]; then
+    # The page's energy per cycle and equivalent damping alone (its head, title and the
+    # sections from "Dissipated energy per cycle" to the provenance).
+    python3 - "$work/sweeps12/report.html" "$work/sweeps12/equivalent.html" <<'PY'
+import sys
+page = open(sys.argv[1], encoding="utf-8").read()
+start = page.index("<h2>Dissipated energy per cycle</h2>")
+end = page.index("<h2>Provenance</h2>")
+open(sys.argv[2], "w", encoding="utf-8").write(page[: page.index("</h1>") + 5] + page[start:end] + "</body></html>")
+PY
+    WIDTH=1200 screenshot sweeps12 "$work/sweeps12/equivalent.html" _equivalent
+fi
 # The Python package's page of records from NumPy arrays (steady-state table and
 # provenance as the CLI's), when a Python with the package is at hand: $PYTHON, or the
 # virtual environment .ci/run makes.

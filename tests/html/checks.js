@@ -16,6 +16,7 @@
     var result = { errors: errors, overflow: [], smallText: [], plots: 0, withoutLegend: [], minText: Infinity };
     var width = document.documentElement.clientWidth;
     result.viewport = width;
+    result.height = document.documentElement.scrollHeight;
     result.scrollWidth = document.documentElement.scrollWidth;
     // No element may stick out of the viewport (a scrolling table keeps its box inside).
     document.querySelectorAll('body *').forEach(function (el) {
