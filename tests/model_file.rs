@@ -132,7 +132,7 @@ fn unknown_matrix_name_lists_the_known_ones() {
 #[test]
 fn shared_and_per_element_together_are_rejected() {
     let text = "dofs = 2\n[[terms]]\nkind = \"law\"\nlaw = \"linear\"\nelements = \"chain\"\ncoefficient = \"c\"\nper_element = \"d\"\n[data]\nrecords = []\n";
-    assert_at(error_of(text), 2, "exactly one of");
+    assert_at(error_of(text), 6, "exactly one of"); // at `coefficient`
 }
 
 #[test]

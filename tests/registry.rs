@@ -246,7 +246,7 @@ fn the_parameters_table_and_the_top_level_exponent_give_the_same_power_law() {
 fn an_exponent_given_both_ways_is_rejected() {
     let text = law_term("law = \"power\"\nexponent = 1.5\nparameters = { exponent = 1.5 }");
     let (line, message) = line_and_message(parse_text(&text).unwrap_err());
-    assert_eq!(line, 2);
+    assert_eq!(line, 5, "at the key's line");
     assert!(
         message.contains("invalid exponent = 1.5: given twice"),
         "{message}"
@@ -284,7 +284,7 @@ fn a_parameter_the_law_does_not_declare_is_an_invalid_parameter_naming_it() {
     // The legacy top-level exponent on a law without one.
     let (line, message) =
         line_and_message(parse_text(&law_term("law = \"linear\"\nexponent = 2.0")).unwrap_err());
-    assert_eq!(line, 2);
+    assert_eq!(line, 5, "at the key's line");
     assert!(
         message.contains("the linear law has no parameter `exponent`; its parameters: none"),
         "{message}"
@@ -320,7 +320,7 @@ fn an_expression_given_to_a_law_that_takes_none_is_an_invalid_choice_named_expre
     }
     let text = law_term("law = \"coulomb\"\nexpression = \"sign(v)\"");
     let (line, message) = line_and_message(parse_text(&text).unwrap_err());
-    assert_eq!(line, 2);
+    assert_eq!(line, 5, "at the key's line");
     assert!(message.contains("takes no `expression`"), "{message}");
 }
 
