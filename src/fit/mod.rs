@@ -179,6 +179,11 @@ pub struct FitSettings {
     /// How the equations are weighted.
     #[serde(default)]
     pub weighting: Weighting,
+    /// Fit rows whose input work is negative beyond its noise (a passive structure
+    /// cannot give out energy, so [`crate::analysis::solved::solved`] refuses them
+    /// otherwise: [`crate::regressor::passive`]).
+    #[serde(default)]
+    pub accept_negative_work: bool,
 }
 
 impl Default for FitSettings {
@@ -188,6 +193,7 @@ impl Default for FitSettings {
             solver: SolverSettings::default(),
             rank_tolerance: 1e-10,
             weighting: Weighting::Auto,
+            accept_negative_work: false,
         }
     }
 }

@@ -104,6 +104,7 @@ pub const IDENTIFICATION_KEYS: &[&str] = &[
     "max_energy_mismatch",
     "max_state_mismatch",
     "accept_transient",
+    "accept_negative_work",
 ];
 
 /// What `[identification]` sets: the identification and the steady-state check of its
@@ -253,6 +254,7 @@ pub(super) fn identification_settings(
         ..IdentifySettings::default()
     };
     settings.fit.weighting = spec.weighting;
+    settings.fit.accept_negative_work = spec.accept_negative_work;
     settings.fit.constraints = Constraints {
         nonnegative: spec.nonnegative,
         bounds: spec

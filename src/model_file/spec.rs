@@ -495,6 +495,9 @@ pub struct IdentificationSpec {
     pub max_state_mismatch: f64,
     /// Identify from windows that are not steady (they are reported, not rejected).
     pub accept_transient: bool,
+    /// Fit rows whose input work is negative beyond its noise
+    /// ([`crate::regressor::passive`]).
+    pub accept_negative_work: bool,
 }
 
 /// `{ terms = { "dashpot[0-1]" = 1, "dashpot[4-5]" = -1 }, relation = "=", value = 0 }`.
@@ -545,6 +548,7 @@ impl Default for IdentificationSpec {
             max_energy_mismatch: crate::prep::steady_state::DEFAULT_MAX_ENERGY_MISMATCH,
             max_state_mismatch: crate::prep::steady_state::DEFAULT_MAX_STATE_MISMATCH,
             accept_transient: false,
+            accept_negative_work: false,
         }
     }
 }
@@ -659,6 +663,10 @@ pub struct RecordSpec {
     /// … or driving frequency ω (rad per unit time); with neither, the period is
     /// detected from the force columns (`dampid::prep::period`).
     pub frequency: Option<f64>,
+    /// DOFs (from 1) held still in this experiment: their motion columns may read a
+    /// constant ([`crate::regressor::dead_motion`]).
+    #[serde(default)]
+    pub fixed_dofs: Option<Spanned<Vec<usize>>>,
 }
 
 /// A motion column: its name (`"x1"`), or `{ column = "qm", dof = 2, scale = 1e-3,

@@ -18,16 +18,21 @@
 //! With [`WorkForm::DerivativeFree`] the input work is ∫ rᵀ dx and (on raw samples)
 //! Coulomb columns are total variations of x ([`derivative_free`]).
 //!
-//! Every build ends by checking that the input work is there ([`input_work`]): a record
-//! whose force does no work (a dead sensor) is an error, not a row of zeros.
+//! Every build starts by checking that each motion channel moves ([`dead_motion`]) and
+//! ends by checking that the input work is there ([`input_work`]): a record whose force
+//! does no work (a dead sensor) is an error, not a row of zeros. The gross work of each
+//! row is kept ([`passive::WorkScale`]) for the passivity check before the fit.
 
+pub mod dead_motion;
 pub mod derivative_free;
 pub(crate) mod history;
 pub mod input_work;
 mod kernel;
 pub mod nonperiodic;
+pub mod passive;
 mod periodic;
 pub mod robust;
+pub mod round_off;
 mod settings;
 pub mod stepped_sine;
 
@@ -103,6 +108,10 @@ pub struct Regressor {
     /// The last `nuisance` columns are stored-energy and offset unknowns
     /// ([`crate::regressor::nonperiodic`]), not damping coefficients.
     nuisance: usize,
+    /// The gross work of each row and its record or sweep, for the passivity check.
+    work_scale: Option<passive::WorkScale>,
+    /// Columns whose every entry was round-off of its inputs ([`round_off`]), now zero.
+    round_off: Vec<String>,
 }
 
 impl Regressor {
@@ -113,6 +122,7 @@ impl Regressor {
         records: &[Record],
         settings: &RegressorSettings,
     ) -> Result<Self> {
+        dead_motion::require_motion(records)?;
         let spec = match &settings.windows {
             Windows::Spans(spans) => {
                 settings.validate()?;
@@ -174,13 +184,20 @@ impl Regressor {
             )?;
             let mut regressor = Self::assemble(records, &windows, rows, columns)?;
             regressor.noise = Some(noise);
-            input_work::require_periodic_work(records, &windows, &regressor)?;
-            return Ok(regressor);
+            regressor.zero_round_off(model, records, &windows);
+            return input_work::require_periodic_work(records, &windows, regressor);
         }
         let rows = periodic::rows(model, records, &windows, spec, settings, columns.len())?;
-        let regressor = Self::assemble(records, &windows, rows, columns)?;
-        input_work::require_periodic_work(records, &windows, &regressor)?;
-        Ok(regressor)
+        let mut regressor = Self::assemble(records, &windows, rows, columns)?;
+        regressor.zero_round_off(model, records, &windows);
+        input_work::require_periodic_work(records, &windows, regressor)
+    }
+
+    /// Entries that are round-off of their inputs set to zero ([`round_off`]), and the
+    /// columns left zero in every row named.
+    fn zero_round_off(&mut self, model: &DampingModel, records: &[Record], windows: &[Window]) {
+        let zeroed = round_off::zero_round_off(model, records, windows, &mut self.matrix);
+        self.round_off = zeroed.iter().map(|&k| self.columns[k].clone()).collect();
     }
 
     /// The regressor of one row per window: the frame every row builder shares.
@@ -258,7 +275,44 @@ impl Regressor {
             rows,
             noise: None,
             nuisance: 0,
+            work_scale: None,
+            round_off: Vec::new(),
         })
+    }
+
+    /// This regressor with the gross work of each row and its group
+    /// ([`passive::WorkScale`], one entry per row), for the passivity check.
+    pub fn with_work_scale(mut self, scale: passive::WorkScale) -> Result<Self> {
+        let rows = self.rhs.len();
+        for (what, found) in [
+            ("gross work entries vs regressor rows", scale.gross.len()),
+            ("sample counts vs regressor rows", scale.samples.len()),
+            ("row groups vs regressor rows", scale.group.len()),
+        ] {
+            if found != rows {
+                return Err(Error::mismatch(what, rows, found));
+            }
+        }
+        if let Some(&g) = scale.group.iter().find(|&&g| g >= scale.names.len()) {
+            return Err(Error::mismatch(
+                "row group vs group names",
+                scale.names.len(),
+                g,
+            ));
+        }
+        self.work_scale = Some(scale);
+        Ok(self)
+    }
+
+    /// The columns that were round-off of their inputs in every row and count as zero
+    /// ([`round_off`]).
+    pub fn round_off_columns(&self) -> &[String] {
+        &self.round_off
+    }
+
+    /// The gross work of each row and its group, when the builder knew them.
+    pub fn work_scale(&self) -> Option<&passive::WorkScale> {
+        self.work_scale.as_ref()
     }
 
     /// This regressor with its last `count` columns marked as nuisance unknowns
@@ -298,6 +352,8 @@ impl Regressor {
         let mut selected = Self::from_parts(matrix, rhs, self.columns.clone(), rows)?;
         selected.noise = self.noise.as_ref().map(|n| n.select(indices));
         selected.nuisance = self.nuisance;
+        selected.work_scale = self.work_scale.as_ref().map(|s| s.select(indices));
+        selected.round_off = self.round_off.clone();
         Ok(selected)
     }
 

@@ -44,6 +44,7 @@ use crate::model::DampingModel;
 use crate::prep::harmonic::residual;
 use crate::prep::harmonic::sweeps::SweptTable;
 use crate::prep::harmonic::{HarmonicApproximation, SteppedSinePoint};
+use crate::regressor::passive::WorkScale;
 use crate::regressor::robust::{ChannelSensitivity, NoiseModel, RowNoise, WindowNoise};
 use crate::regressor::{Regressor, RegressorSettings, RowLabel};
 
@@ -308,7 +309,21 @@ pub fn build_with_residual(
             });
         }
     }
-    Regressor::from_parts(matrix, rhs, columns, labels)?.with_noise(noise)
+    // The gross work π a X_f of each point (|sin φ| ≤ 1), by sweep, for the passivity
+    // check (crate::regressor::passive).
+    let scale = WorkScale {
+        gross: points
+            .iter()
+            .map(|p| std::f64::consts::PI * p.force_amplitude * p.amplitudes[p.force_dof])
+            .collect(),
+        samples: vec![0; points.len()],
+        group: swept.sweeps.clone(),
+        names: swept.sweep_names.clone(),
+        unit: "sweep",
+    };
+    Regressor::from_parts(matrix, rhs, columns, labels)?
+        .with_noise(noise)?
+        .with_work_scale(scale)
 }
 
 /// The columns (model terms, then `structural`) of each of `points`, as

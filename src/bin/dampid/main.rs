@@ -88,10 +88,12 @@ fn run(cli: Cli) -> anyhow::Result<Outcome> {
             report,
             force,
             accept_transient,
+            accept_negative_work,
             bootstrap,
             seed,
             strict,
         } => {
+            NEGATIVE_WORK.store(accept_negative_work, std::sync::atomic::Ordering::Relaxed);
             let bootstrap = bootstrap.map(|replicates| BootstrapSettings {
                 replicates,
                 seed,
@@ -104,8 +106,12 @@ fn run(cli: Cli) -> anyhow::Result<Outcome> {
         Command::Check {
             model,
             accept_transient,
+            accept_negative_work,
             json,
-        } => check(&model, accept_transient, json),
+        } => {
+            NEGATIVE_WORK.store(accept_negative_work, std::sync::atomic::Ordering::Relaxed);
+            check(&model, accept_transient, json)
+        }
         Command::Pod {
             files,
             columns,
@@ -167,12 +173,19 @@ fn on_bar(bar: &ProgressBar) -> impl Fn(u64, u64) + Sync + '_ {
     }
 }
 
+/// `--accept-negative-work` of `identify` or `check`, copied into the job's
+/// `accept_negative_work` when it is loaded.
+static NEGATIVE_WORK: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
 /// Loads a model file with a progress bar over simulating or reading its records.
 fn load_job(path: &Path) -> anyhow::Result<Job> {
     let bar = progress_bar("records");
     let job = load_with_progress(path, &on_bar(&bar));
     bar.finish_and_clear();
-    Ok(job?)
+    let mut job = job?;
+    job.settings.fit.accept_negative_work |=
+        NEGATIVE_WORK.load(std::sync::atomic::Ordering::Relaxed);
+    Ok(job)
 }
 
 /// Loads a model file and enforces steady state on its windows (unless accepted; the
