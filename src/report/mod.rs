@@ -9,6 +9,7 @@
 //! ([`records`]) is reported, with a warning naming a record that dominates.
 
 mod display;
+pub mod explains;
 pub mod html;
 pub mod provenance;
 pub mod records;
@@ -178,6 +179,11 @@ impl FitReport {
                 p_value,
             });
         }
+        warnings.extend(explains::explains_nothing(
+            regressor,
+            &fit,
+            diagnostics.relative_residual,
+        ));
         let identifiability = diagnostics.identifiability;
         if !identifiability.separable() {
             warnings.push(Warning::Unidentifiable {
@@ -195,6 +201,7 @@ impl FitReport {
                 constrained: fit.method == FitMethod::Constrained,
             });
         }
+        explains::round_off(regressor, diagnostics.rank, &mut warnings);
         let weighted = diagnostics.weighted.as_ref();
         let mut coefficients: Vec<CoefficientEstimate> = regressor
             .columns()
@@ -377,6 +384,9 @@ impl FitReport {
                 Warning::NotConverged { status } => {
                     failures.push(format!("the fit ended with status {status:?}"))
                 }
+                Warning::FitExplainsNothing { .. }
+                | Warning::InconsistentRecord { .. }
+                | Warning::RoundOffColumn { .. } => failures.push(w.to_string()),
                 _ => {}
             }
         }
