@@ -91,7 +91,10 @@ pub fn identify_with_regressor(
 /// check` shares; the rows are factored once there.
 pub fn identify_regressor(regressor: &Regressor, settings: &FitSettings) -> Result<FitReport> {
     let Solved { fit, diagnostics } = solved(regressor, settings)?;
-    Ok(FitReport::new(regressor, fit, diagnostics))
+    let report = FitReport::new(regressor, fit, diagnostics);
+    Ok(crate::analysis::outliers::with_left_out(
+        report, regressor, settings,
+    ))
 }
 
 /// [`identify`] followed by a bootstrap of the same regressor and fit settings: the

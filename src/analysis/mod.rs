@@ -16,6 +16,7 @@ pub mod digest;
 pub mod equivalent;
 pub mod equivalent_estimated;
 pub mod identifiability;
+pub mod outliers;
 pub mod solved;
 pub(crate) mod stats;
 pub mod velocity_noise;
