@@ -164,7 +164,10 @@ fn force_scale_k_scales_every_coefficient_by_k() {
             Path::new("."),
         )
         .unwrap();
-        values(&dampid::identify(&job.model, &job.records, &job.settings).unwrap())
+        let mut settings = job.settings.clone();
+        // k < 0 inverts the force: negative input work, refused unless accepted.
+        settings.fit.accept_negative_work = scale < 0.0;
+        values(&dampid::identify(&job.model, &job.records, &settings).unwrap())
     };
     let base = identify_with(35.15);
     for k in [2.5, -0.4, 1e3] {
