@@ -78,6 +78,10 @@ pub struct IdentifiabilitySettings {
     /// Components below this fraction of a direction's largest are dropped from its
     /// written form (default 0.05).
     pub drop: f64,
+    /// Parameters estimated from the same equations outside the linear fit (variable
+    /// projection's η, [`crate::fit::FitSettings::nonlinear_parameters`]): the noise
+    /// level s counts m − rank − this many degrees of freedom (default 0).
+    pub nonlinear_parameters: usize,
 }
 
 impl Default for IdentifiabilitySettings {
@@ -86,6 +90,7 @@ impl Default for IdentifiabilitySettings {
             noise_factor: 3.0,
             precision: 1e-6,
             drop: 0.05,
+            nonlinear_parameters: 0,
         }
     }
 }
@@ -295,14 +300,15 @@ pub(crate) fn analyse_factored(
         .iter()
         .filter(|s| **s > rank_tolerance * sigma1)
         .count();
-    let noise_level = (m > rank).then(|| {
+    let spent = rank + settings.nonlinear_parameters;
+    let noise_level = (m > spent).then(|| {
         let residual2: f64 = (0..rows)
             .map(|r| {
                 let fitted: f64 = (0..rank).map(|i| u[(r, i)] * ub[i]).sum();
                 (b_s[(r, 0)] - fitted).powi(2)
             })
             .sum();
-        (residual2 / (m - rank) as f64).sqrt()
+        (residual2 / (m - spent) as f64).sqrt()
     });
     let floor = settings.precision * sigma1;
     let absolute = settings.noise_factor * settings.precision;

@@ -46,7 +46,13 @@ pub fn solved(regressor: &Regressor, settings: &FitSettings) -> Result<Solved> {
     require_information(regressor)?;
     crate::regressor::passive::require_passive(regressor, settings.accept_negative_work)?;
     let (fit, factorization) = solve_factored(regressor, settings)?;
-    let diagnostics = diagnose_factored(regressor, &fit, settings.rank_tolerance, factorization);
+    let diagnostics = diagnose_factored(
+        regressor,
+        &fit,
+        settings.rank_tolerance,
+        factorization,
+        settings.nonlinear_parameters,
+    );
     Ok(Solved { fit, diagnostics })
 }
 

@@ -184,6 +184,12 @@ pub struct FitSettings {
     /// otherwise: [`crate::regressor::passive`]).
     #[serde(default)]
     pub accept_negative_work: bool,
+    /// Parameters estimated from the same equations outside this linear fit (the law
+    /// parameters η of variable projection): they use degrees of freedom too, so the
+    /// residual variance, the χ² check and the noise level of the identifiability
+    /// analysis count m − (free coefficients) − this many.
+    #[serde(default)]
+    pub nonlinear_parameters: usize,
 }
 
 impl Default for FitSettings {
@@ -194,6 +200,7 @@ impl Default for FitSettings {
             rank_tolerance: 1e-10,
             weighting: Weighting::Auto,
             accept_negative_work: false,
+            nonlinear_parameters: 0,
         }
     }
 }

@@ -164,7 +164,9 @@ impl FitReport {
                 condition_number: diagnostics.condition_number,
             });
         }
-        if regressor.equations() == free {
+        if regressor.equations() == free
+            || (diagnostics.degrees_of_freedom == 0 && regressor.equations() > free)
+        {
             warnings.push(Warning::NoRedundancy {
                 equations: regressor.equations(),
             });

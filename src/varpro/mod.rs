@@ -459,7 +459,13 @@ fn run(
         fixed_weights::minimise(problem, &settings.fit, varpro, true)?
     };
     let best = problem.trial(&minimum.values)?;
-    let fit_report = crate::identify::identify_regressor(&best.regressor, &settings.fit)?;
+    let fit_report = crate::identify::identify_regressor(
+        &best.regressor,
+        &crate::fit::FitSettings {
+            nonlinear_parameters: minimum.values.len(),
+            ..settings.fit.clone()
+        },
+    )?;
     let converged = minimum.converged && best.fit.status.is_usable();
     let dof = best
         .regressor
