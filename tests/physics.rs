@@ -24,6 +24,12 @@ const TRUTH: [(&str, f64); 5] = [
     ("friction", 0.05),
 ];
 
+/// An edit of a model file's text.
+type Edit = fn(String) -> String;
+
+/// An edit of one record's text in a model file.
+type RecordEdit = fn(&str) -> String;
+
 fn models() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("models")
 }
@@ -86,7 +92,7 @@ fn the_measured_chain_passes_every_check() {
 /// "model and data are valid".
 #[test]
 fn inverted_forces_motions_and_accelerations_are_refused() {
-    let cases: [(&str, fn(String) -> String); 3] = [
+    let cases: [(&str, Edit); 3] = [
         ("forces inverted", |t| {
             t.replace("dof = 1 }", "dof = 1, scale = -1 }")
                 .replace("dof = 3 }", "dof = 3, scale = -1 }")
@@ -322,7 +328,7 @@ fn a_dead_displacement_channel_is_named() {
 /// experiment-design diagnosis is gone.
 #[test]
 fn an_inconsistent_record_is_named_not_called_a_design_problem() {
-    let cases: [(usize, &str, fn(&str) -> String); 3] = [
+    let cases: [(usize, &str, RecordEdit); 3] = [
         (5, "a=0.5 ω=1.4142 on mass 1", |r| {
             r.replace("dof = 1 }", "dof = 1, scale = 1000 }")
         }),

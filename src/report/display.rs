@@ -33,7 +33,7 @@ impl fmt::Display for StandardErrorBasis {
             ),
             StandardErrorBasis::PlugIn => write!(
                 f,
-                "standard errors are plug-in, from the propagated sensor noise: se = √diag((AᵀWA)⁻¹), W = diag(1/Var e_r); the χ² check passes"
+                "standard errors are plug-in, from the propagated sensor noise: se = √diag((AᵀWA)⁻¹), W = diag(1/Var e_r); the χ² check passes, or has no degrees of freedom to check with"
             ),
             StandardErrorBasis::ScaledPlugIn {
                 chi_square_per_dof,
