@@ -355,6 +355,9 @@ fn diagnose_rows(
             rank_tolerance,
             &IdentifiabilitySettings {
                 nonlinear_parameters: nonlinear,
+                window_scatter: crate::analysis::replicates::window_scatter(regressor)
+                    .unwrap_or(0.0),
+                experiments: crate::analysis::replicates::experiments(regressor),
                 ..IdentifiabilitySettings::default()
             },
         ),

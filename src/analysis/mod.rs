@@ -17,6 +17,7 @@ pub mod equivalent;
 pub mod equivalent_estimated;
 pub mod identifiability;
 pub mod outliers;
+pub(crate) mod replicates;
 pub mod solved;
 pub(crate) mod stats;
 pub mod velocity_noise;
