@@ -374,6 +374,69 @@ pub enum Error {
         /// The system's message.
         message: String,
     },
+
+    /// The input work is negative beyond its noise in some records or sweeps, or over
+    /// all of them ([`crate::regressor::passive`]): a passive structure cannot give out
+    /// energy over whole periods, so a sign, a DOF or a phase convention is wrong, and
+    /// a fit would return a confident wrong answer (every coefficient zero at its
+    /// bound, or a term compensating the error).
+    #[error(
+        "input work negative beyond its noise in {} of {total} {unit}s{}: {} of the input work |b| is negative; {reason}",
+        .groups.len(), groups_text(.groups), percent(*.share)
+    )]
+    NegativeInputWork {
+        /// `record` or `sweep`.
+        unit: String,
+        /// Each record or sweep whose net input work is negative beyond its noise, with
+        /// its net work as a share of its gross work (`'a=0.5' (net −0.99 of gross)`).
+        groups: Vec<String>,
+        /// How many records or sweeps there are.
+        total: usize,
+        /// Σ_{b<0} |b| / Σ |b| over every equation.
+        share: f64,
+        /// The rule that fired, the likely causes and how to proceed anyway.
+        reason: String,
+    },
+
+    /// A motion channel never moves in a record while other DOFs do
+    /// ([`crate::regressor::dead_motion`]): a dead or unplugged sensor, or a column of
+    /// zeros, read as a DOF that stands still, biases every term on that DOF.
+    #[error(
+        "record '{record}', {sensor} channel of DOF {dof}: never moves ({reason}); check the sensor and its column in the model file, or declare the DOF held still with `fixed_dofs = [{dof}]` in the record"
+    )]
+    DeadMotionSensor {
+        /// The record's label.
+        record: String,
+        /// The DOF, numbered from 1.
+        dof: usize,
+        /// `displacement`, `velocity` or `acceleration`.
+        sensor: String,
+        /// What was found (its range against the other channels').
+        reason: String,
+    },
+}
+
+/// ` ('a' (…), 'b' (…))`, at most eight named, for [`Error::NegativeInputWork`].
+fn groups_text(groups: &[String]) -> String {
+    const SHOWN: usize = 8;
+    if groups.is_empty() {
+        return String::new();
+    }
+    let mut text = groups
+        .iter()
+        .take(SHOWN)
+        .cloned()
+        .collect::<Vec<_>>()
+        .join(", ");
+    if groups.len() > SHOWN {
+        text.push_str(&format!(" and {} more", groups.len() - SHOWN));
+    }
+    format!(" ({text})")
+}
+
+/// `12.5%`.
+fn percent(share: f64) -> String {
+    format!("{:.1}%", 100.0 * share)
 }
 
 /// `, window k` for an error about one window.
@@ -457,6 +520,8 @@ pub const KINDS: &[&str] = &[
     "output_exists",
     "cancelled",
     "output",
+    "negative_input_work",
+    "dead_motion_sensor",
 ];
 
 impl Error {
@@ -494,6 +559,8 @@ impl Error {
             Error::OutputExists { .. } => "output_exists",
             Error::Cancelled { .. } => "cancelled",
             Error::Output { .. } => "output",
+            Error::NegativeInputWork { .. } => "negative_input_work",
+            Error::DeadMotionSensor { .. } => "dead_motion_sensor",
         }
     }
 

@@ -19,7 +19,7 @@
 
 use crate::analysis::bootstrap::{Bootstrap, BootstrapSettings};
 use crate::analysis::equivalent::{EquivalentDamping, equivalent_damping};
-use crate::analysis::solved::{Solved, solved};
+use crate::analysis::outliers::reported;
 use crate::analysis::velocity_noise;
 use crate::error::Result;
 use crate::fit::FitSettings;
@@ -171,8 +171,7 @@ pub fn identify(
     }
     let (regressor, report) = if problem.is_linear() {
         let regressor = problem.regressor(&[], &settings.regressor)?;
-        let Solved { fit, diagnostics } = solved(&regressor, &settings.fit)?;
-        let report = FitReport::new(&regressor, fit, diagnostics);
+        let report = reported(&regressor, &settings.fit)?;
         (regressor, report)
     } else {
         crate::varpro::estimate(

@@ -190,6 +190,9 @@ pub struct Record {
     /// The signals of sensors that are not all displacements, from which the
     /// displacements and velocities were reconstructed; `None` for displacement records.
     measured: Option<MeasuredMotion>,
+    /// DOFs (0-based) declared held still in this record: their motion channels may
+    /// read a constant ([`crate::regressor::dead_motion`]).
+    fixed_dofs: Vec<usize>,
 }
 
 impl Record {
@@ -251,6 +254,7 @@ impl Record {
             active_channels,
             channel_names: Vec::new(),
             measured: None,
+            fixed_dofs: Vec::new(),
         })
     }
 
@@ -319,6 +323,26 @@ impl Record {
         }
         self.channel_names = names;
         Ok(self)
+    }
+
+    /// This record with `dofs` (0-based) declared held still (grounded or clamped in
+    /// this experiment): a motion channel of theirs that never moves is then what the
+    /// experiment did, not a dead sensor ([`crate::regressor::dead_motion`]).
+    pub fn with_fixed_dofs(mut self, dofs: Vec<usize>) -> Result<Self> {
+        if let Some(&dof) = dofs.iter().find(|&&d| d >= self.dofs()) {
+            return Err(Error::dof_index(
+                format!("fixed DOF of record '{}'", self.label()),
+                dof,
+                self.dofs(),
+            ));
+        }
+        self.fixed_dofs = dofs;
+        Ok(self)
+    }
+
+    /// The DOFs (0-based) declared held still in this record.
+    pub fn fixed_dofs(&self) -> &[usize] {
+        &self.fixed_dofs
     }
 
     /// The name of force channel `k` (0-based), when the record has names.

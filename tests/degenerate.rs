@@ -4,7 +4,7 @@
 //!
 //! | class | where | what the library gives |
 //! |---|---|---|
-//! | a DOF that never moves | here: `dof_that_never_moves_*` | `Warning::RankDeficient`, no standard errors, the moving DOF's coefficient still right |
+//! | a DOF that never moves | here: `dof_that_never_moves_*`; tests/physics.rs, tests/errors/ (`physics`) | `Error::DeadMotionSensor` naming the record and the DOF (a dead sensor); declared held still (`Record::with_fixed_dofs`, `fixed_dofs` in a model file): `Warning::RankDeficient`, no standard errors, the moving DOF's coefficient still right |
 //! | a constant signal | here: `constant_signal_*` | `Error::NoInputWork`: the DOFs the force acts on do not move |
 //! | a dead force sensor (a zero force column, `forces = []`) | here: `dead_force_sensor_*`; tests/nonperiodic.rs: `dead_force_sensor_*`; tests/cli.rs: `dead_force_sensor_*` | `Error::NoInputWork` naming the record and the channels |
 //! | a force that does no net work, or whose work underflows | here: `force_in_phase_*`, `underflowing_input_work_*` | `Error::NoInputWork` for the window |
@@ -113,13 +113,20 @@ fn no_nan(report: &FitReport) {
 // A DOF that never moves
 // ---------------------------------------------------------------------------------
 
-/// DOF 2 is still (amplitude 0): its damper does no work in any record, so its column
-/// is zero. The report says the data cannot determine c[2]; c[1] is still right.
+/// DOF 2 is still (amplitude 0). Undeclared, that is a dead sensor: an error naming the
+/// record and the DOF. Declared held still, its damper does no work in any record, so
+/// its column is zero: the report says the data cannot determine c[2]; c[1] is still
+/// right.
 #[test]
 fn dof_that_never_moves_is_flagged_and_the_other_coefficient_is_right() {
+    let undeclared = [balanced([1.0, 0.0], 1.0)];
+    match identify(&ParametricRegressor::linear(&with_quadratic(per_dof_linear()), &undeclared), &exact(), &silent) {
+        Err(dampid::Error::DeadMotionSensor { dof, .. }) => assert_eq!(dof, 2),
+        other => panic!("{other:?}"),
+    }
     let records: Vec<Record> = [(1.0, 1.0), (0.5, 1.3), (1.5, 0.8)]
         .iter()
-        .map(|&(a, w)| balanced([a, 0.0], w))
+        .map(|&(a, w)| balanced([a, 0.0], w).with_fixed_dofs(vec![1]).unwrap())
         .collect();
     let report = identify(
         &ParametricRegressor::linear(&with_quadratic(per_dof_linear()), &records),
@@ -148,7 +155,7 @@ fn dof_that_never_moves_is_flagged_and_the_other_coefficient_is_right() {
 fn dof_that_never_moves_is_flagged_in_a_nonnegative_fit() {
     let records: Vec<Record> = [(1.0, 1.0), (0.5, 1.3), (1.5, 0.8)]
         .iter()
-        .map(|&(a, w)| balanced([a, 0.0], w))
+        .map(|&(a, w)| balanced([a, 0.0], w).with_fixed_dofs(vec![1]).unwrap())
         .collect();
     let mut settings = exact();
     settings.fit.constraints = Constraints::nonnegative();
@@ -185,7 +192,10 @@ fn dof_that_never_moves_at_an_offset_is_flagged_with_estimated_velocities() {
                 parts.displacements[(i, 1)] = 0.3;
             }
             parts.velocities = None;
-            Record::new(parts).unwrap()
+            Record::new(parts)
+                .unwrap()
+                .with_fixed_dofs(vec![1])
+                .unwrap()
         })
         .collect();
     for velocity in [

@@ -100,6 +100,9 @@ fn settings(
         VelocitySource::Measured,
     );
     settings.fit.constraints = constraints;
+    // The records' force phases are arbitrary, so their input work may be negative:
+    // these properties are of the algebra of the fit, not of a passive structure.
+    settings.fit.accept_negative_work = true;
     settings
 }
 

@@ -88,7 +88,7 @@ fn a_jittery_time_column_is_read_at_its_mean_step() {
     let preamble = job.preamble(None).to_string();
     assert!(preamble.contains("time column of 'drive'"), "{preamble}");
     assert!(preamble.contains("2.40e-5"), "{preamble}");
-    let check = check::run(&job, false).unwrap();
+    let check = check::run(&job, Default::default()).unwrap();
     assert_eq!(check.time_jitter.len(), 1);
     assert!(check.to_string().contains("2.40e-5"), "{check}");
 
@@ -187,7 +187,7 @@ fn the_window_length_used_is_reported() {
     );
     let windows = dampid::prep::window::span_windows(&job.records[0], 0, 0.25025, 0).unwrap();
     assert!((windows[0].span - 0.25).abs() < 1e-12, "{:?}", windows[0]);
-    let check = check::run(&job, false).unwrap();
+    let check = check::run(&job, Default::default()).unwrap();
     assert_eq!(check.non_periodic_window, Some(0.25025));
     assert_eq!(check.non_periodic_window_used.len(), 1);
     assert!((check.non_periodic_window_used[0] - 0.25).abs() < 1e-12);
@@ -199,7 +199,7 @@ fn the_window_length_used_is_reported() {
         preamble.contains("windows of 0.25 time units,"),
         "{preamble}"
     );
-    let check = check::run(&job, false).unwrap();
+    let check = check::run(&job, Default::default()).unwrap();
     assert!(check.non_periodic_window_used.is_empty());
     std::fs::remove_dir_all(dir).ok();
 }

@@ -189,8 +189,11 @@ fn force_scale_k_scales_every_coefficient_by_k() {
             Default::default(),
         )
         .unwrap();
+        let mut settings = job.settings.clone();
+        // k < 0 inverts the force: negative input work, refused unless accepted.
+        settings.fit.accept_negative_work = scale < 0.0;
         values(
-            &dampid::identify(&job.problem(), &job.settings, &silent)
+            &dampid::identify(&job.problem(), &settings, &silent)
                 .unwrap()
                 .report,
         )

@@ -213,15 +213,23 @@ pub(crate) fn python_call(call: String) -> Setting {
 /// folder, `path` relative to the working directory), returning its report; `str()`
 /// of it is the CLI's text.
 #[pyfunction]
-#[pyo3(signature = (path, accept_transient=false))]
-fn identify_file(py: Python<'_>, path: PathBuf, accept_transient: bool) -> PyResult<PyReport> {
+#[pyo3(signature = (path, accept_transient=false, accept_negative_work=false))]
+fn identify_file(
+    py: Python<'_>,
+    path: PathBuf,
+    accept_transient: bool,
+    accept_negative_work: bool,
+) -> PyResult<PyReport> {
+    let python = |yes: bool| if yes { "True" } else { "False" };
     let call = format!(
-        "dampid.identify_file({:?}, accept_transient={})",
+        "dampid.identify_file({:?}, accept_transient={}, accept_negative_work={})",
         path.display().to_string(),
-        if accept_transient { "True" } else { "False" }
+        python(accept_transient),
+        python(accept_negative_work)
     );
     let options = IdentifyOptions {
         accept_transient,
+        accept_negative_work,
         command_line: call.clone(),
         ..Default::default()
     };

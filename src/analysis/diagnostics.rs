@@ -176,6 +176,8 @@ pub struct Diagnostics {
     pub identifiability: Identifiability,
     /// With propagated weights: the model-adequacy check and plug-in standard errors.
     pub weighted: Option<WeightedDiagnostics>,
+    /// m − (free coefficients) − (nonlinear parameters), saturating at 0.
+    pub degrees_of_freedom: usize,
 }
 
 /// Diagnostics of a fit weighted by propagated residual variances.
@@ -200,27 +202,30 @@ pub struct WeightedDiagnostics {
 /// Computes the diagnostics of `fit` on `regressor` (on its weighted rows when the fit
 /// was weighted).
 pub fn diagnose(regressor: &Regressor, fit: &Fit, rank_tolerance: f64) -> Diagnostics {
-    diagnose_factored(regressor, fit, rank_tolerance, None)
+    diagnose_factored(regressor, fit, rank_tolerance, None, 0)
 }
 
 /// [`diagnose`], with the factorization of `regressor`'s rows when the fit made one
-/// ([`crate::fit::solve_factored`]), so that they are factored once.
+/// ([`crate::fit::solve_factored`]), so that they are factored once; `nonlinear`
+/// parameters estimated outside the fit use degrees of freedom too
+/// ([`crate::fit::FitSettings::nonlinear_parameters`]).
 pub(crate) fn diagnose_factored(
     regressor: &Regressor,
     fit: &Fit,
     rank_tolerance: f64,
     svd: Option<ScaledSvd>,
+    nonlinear: usize,
 ) -> Diagnostics {
     let Some(std) = &fit.residual_std else {
-        return diagnose_rows(regressor, fit, rank_tolerance, None, svd);
+        return diagnose_rows(regressor, fit, rank_tolerance, None, svd, nonlinear);
     };
     let weights = crate::fit::inverse_std(std);
     let Ok(weighted) = regressor.weighted(&weights) else {
-        return diagnose_rows(regressor, fit, rank_tolerance, None, svd);
+        return diagnose_rows(regressor, fit, rank_tolerance, None, svd, nonlinear);
     };
     // Residuals and their bias in physical units; everything else on the weighted rows.
     let physical = Residuals::of(regressor, fit);
-    let mut diagnostics = diagnose_rows(&weighted, fit, rank_tolerance, Some(std), None);
+    let mut diagnostics = diagnose_rows(&weighted, fit, rank_tolerance, Some(std), None, nonlinear);
     diagnostics.residuals = physical.residuals;
     diagnostics.relative_residual = physical.relative_residual;
     diagnostics.residual_bias = physical.residual_bias;
@@ -273,6 +278,7 @@ fn diagnose_rows(
     rank_tolerance: f64,
     residual_std: Option<&Vec<f64>>,
     svd: Option<ScaledSvd>,
+    nonlinear: usize,
 ) -> Diagnostics {
     let a = regressor.matrix();
     let (m, p) = a.shape();
@@ -301,7 +307,7 @@ fn diagnose_rows(
         Ok(svd) if free.len() == p => full_covariance(svd, m),
         _ => unit_covariance(a, &Scaling::of(a, regressor.rhs()), &free, rank_tolerance),
     };
-    let dof = m.saturating_sub(free.len());
+    let dof = m.saturating_sub(free.len() + nonlinear);
     let (std_errors, correlation) = unit
         .as_ref()
         .filter(|_| dof > 0)
@@ -347,7 +353,13 @@ fn diagnose_rows(
             regressor.columns().to_vec(),
             svd,
             rank_tolerance,
-            &IdentifiabilitySettings::default(),
+            &IdentifiabilitySettings {
+                nonlinear_parameters: nonlinear,
+                window_scatter: crate::analysis::replicates::window_scatter(regressor)
+                    .unwrap_or(0.0),
+                experiments: crate::analysis::replicates::experiments(regressor),
+                ..IdentifiabilitySettings::default()
+            },
         ),
         Err(_) => analyse(regressor, rank_tolerance),
     };
@@ -363,6 +375,7 @@ fn diagnose_rows(
         correlation,
         identifiability,
         weighted,
+        degrees_of_freedom: dof,
     }
 }
 

@@ -12,7 +12,7 @@
 //!   α_i = u_iᵀ b_s/σ_i with standard error s/σ_i. σ_i is *practically zero* when
 //!
 //!   ```text
-//!     σ_i < τ = max(tol·σ_1, κ·max(s, ε·σ_1), κ·ε)   or σ_i = 0,   κ = 3, ε = 1e-6,
+//!     σ_i < τ = max(tol·σ_1, κ·max(s, s_w, ε·σ_1), κ·ε)   or σ_i = 0,   κ = 3, ε = 1e-6,
 //!   ```
 //!
 //!   i.e. when the equation noise leaves that component uncertain by more than a third of
@@ -26,6 +26,12 @@
 //!   nothing then; when every column is zero (σ_1 = 0) it keeps τ above zero, so that
 //!   no coefficient is called determined by a zero regressor. Such a regressor is
 //!   refused before any fit by [`require_information`] ([`Error::NoInformation`]).
+//!   s_w is the scatter of a scaled row between the windows of one record, which are
+//!   replicates of one experiment ([`crate::analysis::replicates`]): quadrature and
+//!   velocity errors that differ from window to window make singular values that no
+//!   experiment supports, and hide from s when they enter A and b consistently. For the
+//!   same reason at most R singular values count, R the number of experiments (records
+//!   of whole-period windows, and each window of the non-periodic mode).
 //! - **Near-null directions.** For each practically zero σ_i, the coefficient change
 //!   Δθ_j ∝ v_ji/S_j leaves the fit (nearly) unchanged. It is normalised so that its
 //!   largest component is 1, components below 5% of it are dropped, and it is written
@@ -78,6 +84,21 @@ pub struct IdentifiabilitySettings {
     /// Components below this fraction of a direction's largest are dropped from its
     /// written form (default 0.05).
     pub drop: f64,
+    /// Parameters estimated from the same equations outside the linear fit (variable
+    /// projection's η, [`crate::fit::FitSettings::nonlinear_parameters`]): the noise
+    /// level s counts m − rank − this many degrees of freedom (default 0).
+    #[serde(default)]
+    pub nonlinear_parameters: usize,
+    /// s_w: the scatter of a column-scaled row between windows of one record
+    /// ([`crate::analysis::replicates`]); the threshold uses max(s, s_w) (default 0,
+    /// set by [`analyse_with`] and the fit's diagnostics from the regressor).
+    #[serde(default)]
+    pub window_scatter: f64,
+    /// The experiments behind the rows (records of replicate windows,
+    /// [`crate::analysis::replicates::experiments`]): at most this many singular values
+    /// are practically nonzero (0: no cap; set like `window_scatter`).
+    #[serde(default)]
+    pub experiments: usize,
 }
 
 impl Default for IdentifiabilitySettings {
@@ -86,6 +107,9 @@ impl Default for IdentifiabilitySettings {
             noise_factor: 3.0,
             precision: 1e-6,
             drop: 0.05,
+            nonlinear_parameters: 0,
+            window_scatter: 0.0,
+            experiments: 0,
         }
     }
 }
@@ -169,6 +193,14 @@ pub struct Identifiability {
     /// s: standard deviation of the scaled equations' residuals (`None` without
     /// redundancy).
     pub noise_level: Option<f64>,
+    /// s_w: the scatter of a scaled row between windows of one record, when it sets the
+    /// threshold (it exceeds s; [`crate::analysis::replicates`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub window_scatter: Option<f64>,
+    /// The number of experiments, when it and not the threshold caps the practical rank
+    /// (records whose windows are replicates).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub experiments: Option<usize>,
     /// τ: singular values below it are practically zero.
     pub threshold: f64,
     /// Singular values at or above τ.
@@ -214,9 +246,19 @@ pub fn analyse_with(
     settings: &IdentifiabilitySettings,
 ) -> Identifiability {
     let names = regressor.columns().to_vec();
+    let settings = IdentifiabilitySettings {
+        window_scatter: settings
+            .window_scatter
+            .max(crate::analysis::replicates::window_scatter(regressor).unwrap_or(0.0)),
+        experiments: match settings.experiments {
+            0 => crate::analysis::replicates::experiments(regressor),
+            given => given,
+        },
+        ..*settings
+    };
     match ScaledSvd::new(regressor.matrix(), regressor.rhs(), rank_tolerance) {
-        Ok(svd) => analyse_factored(names, &svd, rank_tolerance, settings),
-        Err(_) => unidentifiable(names, settings),
+        Ok(svd) => analyse_factored(names, &svd, rank_tolerance, &settings),
+        Err(_) => unidentifiable(names, &settings),
     }
 }
 
@@ -266,6 +308,8 @@ fn unidentifiable(names: Vec<String>, settings: &IdentifiabilitySettings) -> Ide
         unidentifiable: names.clone(),
         names,
         noise_level: None,
+        window_scatter: None,
+        experiments: None,
         threshold: settings.noise_factor * settings.precision,
         practical_rank: 0,
         null_directions,
@@ -295,22 +339,35 @@ pub(crate) fn analyse_factored(
         .iter()
         .filter(|s| **s > rank_tolerance * sigma1)
         .count();
-    let noise_level = (m > rank).then(|| {
+    let spent = rank + settings.nonlinear_parameters;
+    let noise_level = (m > spent).then(|| {
         let residual2: f64 = (0..rows)
             .map(|r| {
                 let fitted: f64 = (0..rank).map(|i| u[(r, i)] * ub[i]).sum();
                 (b_s[(r, 0)] - fitted).powi(2)
             })
             .sum();
-        (residual2 / (m - rank) as f64).sqrt()
+        (residual2 / (m - spent) as f64).sqrt()
     });
     let floor = settings.precision * sigma1;
     let absolute = settings.noise_factor * settings.precision;
+    let scatter = settings.window_scatter;
+    let window_scatter =
+        (scatter > noise_level.unwrap_or(0.0) && scatter > floor).then_some(scatter);
     let threshold = (rank_tolerance * sigma1)
-        .max(settings.noise_factor * noise_level.unwrap_or(0.0).max(floor))
+        .max(settings.noise_factor * noise_level.unwrap_or(0.0).max(floor).max(scatter))
         .max(absolute);
-    let practical: Vec<bool> = sigma.iter().map(|s| *s >= threshold && *s > 0.0).collect();
+    let cap = match settings.experiments {
+        0 => p,
+        n => n,
+    };
+    let practical: Vec<bool> = sigma
+        .iter()
+        .enumerate()
+        .map(|(i, s)| *s >= threshold && *s > 0.0 && i < cap)
+        .collect();
     let practical_rank = practical.iter().filter(|k| **k).count();
+    let experiments = (sigma.iter().skip(cap).any(|s| *s >= threshold)).then_some(cap);
 
     let variance_inflation = (0..p)
         .map(|j| (rank == p).then(|| (0..p).map(|i| (v[(j, i)] / sigma[i]).powi(2)).sum::<f64>()))
@@ -362,6 +419,8 @@ pub(crate) fn analyse_factored(
             .collect(),
         names,
         noise_level,
+        window_scatter,
+        experiments,
         threshold,
         practical_rank,
         variance_inflation,
@@ -505,6 +564,18 @@ impl fmt::Display for Identifiability {
                 "no redundancy, so no noise level; singular values below {:.3e} are practically zero",
                 self.threshold
             )?,
+        }
+        if let Some(w) = self.window_scatter {
+            writeln!(
+                f,
+                "the windows of one record are replicates: their scaled rows scatter by s_w = {w:.3e}, more than the residual shows, and set the threshold"
+            )?;
+        }
+        if let Some(n) = self.experiments {
+            writeln!(
+                f,
+                "the windows of one record repeat one experiment: {n} experiment(s) determine at most {n} combination(s), whatever the singular values above the threshold"
+            )?;
         }
         writeln!(
             f,

@@ -16,6 +16,8 @@ pub mod digest;
 pub mod equivalent;
 pub mod identifiability;
 pub mod measured_levels;
+pub mod outliers;
+pub(crate) mod replicates;
 pub mod solved;
 pub(crate) mod stats;
 pub mod velocity_noise;

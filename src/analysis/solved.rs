@@ -39,11 +39,20 @@ impl Solved {
 
 /// Solves `regressor` with `settings` and diagnoses the fit; the rows are factored
 /// once when the fit is plain least squares. A regressor whose every column is zero is
-/// [`crate::Error::NoInformation`].
+/// [`crate::Error::NoInformation`]; one whose input work is negative beyond its noise
+/// is [`crate::Error::NegativeInputWork`] unless `settings.accept_negative_work`
+/// ([`crate::regressor::passive`]).
 pub fn solved(regressor: &Regressor, settings: &FitSettings) -> Result<Solved> {
     require_information(regressor)?;
+    crate::regressor::passive::require_passive(regressor, settings.accept_negative_work)?;
     let (fit, factorization) = solve_factored(regressor, settings)?;
-    let diagnostics = diagnose_factored(regressor, &fit, settings.rank_tolerance, factorization);
+    let diagnostics = diagnose_factored(
+        regressor,
+        &fit,
+        settings.rank_tolerance,
+        factorization,
+        settings.nonlinear_parameters,
+    );
     Ok(Solved { fit, diagnostics })
 }
 

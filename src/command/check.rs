@@ -53,16 +53,28 @@ pub struct CheckReport {
     pub refused: Option<String>,
 }
 
-/// The check of `job` (its windows accepted as transient too when `accept_transient`):
+/// What `dampid check` takes besides the model file: what to accept whatever
+/// `[identification]` says.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct CheckOptions {
+    /// Windows that are not in steady state (reported, not refused).
+    pub accept_transient: bool,
+    /// Input work negative beyond its noise ([`crate::regressor::passive`]).
+    pub accept_negative_work: bool,
+}
+
+/// The check of `job` with `options` (windows accepted as transient, negative input
+/// work accepted, whatever `[identification]` says):
 /// the periods, the steady state, and the regressor at the initial values of any
 /// estimated parameters ([`Job::initial_regressor`]) with its conditioning and
 /// identifiability. Windows that are not in steady state are reported, with the
 /// refusal `dampid identify` would give.
-pub fn run(job: &Job, accept_transient: bool) -> Result<CheckReport> {
+pub fn run(job: &Job, options: CheckOptions) -> Result<CheckReport> {
     let mut settings = job.settings.clone();
     if let Some(steady) = &mut settings.steady_state {
-        steady.accept_transient |= accept_transient;
+        steady.accept_transient |= options.accept_transient;
     }
+    settings.fit.accept_negative_work |= options.accept_negative_work;
     let problem = job.problem();
     let steady = match &settings.steady_state {
         Some(thresholds) => problem.steady_state(&settings.regressor, thresholds)?,
@@ -96,7 +108,7 @@ pub fn run(job: &Job, accept_transient: bool) -> Result<CheckReport> {
             .into_iter()
             .map(|p| (p.name, p.initial))
             .collect(),
-        regressor: RegressorCheck::new(&regressor, &job.settings.fit)?,
+        regressor: RegressorCheck::new(&regressor, &settings.fit)?,
         refused,
     })
 }

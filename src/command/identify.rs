@@ -26,6 +26,9 @@ pub struct IdentifyOptions {
     /// Accept windows that are not in steady state (a warning instead of an error),
     /// whatever `[identification]` says.
     pub accept_transient: bool,
+    /// Fit input work that is negative beyond its noise
+    /// ([`crate::regressor::passive`]), whatever `[identification]` says.
+    pub accept_negative_work: bool,
     /// Percentile intervals from a bootstrap.
     pub bootstrap: Option<BootstrapSettings>,
     /// `--strict`: undetermined coefficients, accepted transients, a failed model check
@@ -55,6 +58,13 @@ impl IdentifyOptions {
                 ),
             ),
             (
+                "--accept-negative-work".to_string(),
+                given(
+                    self.accept_negative_work,
+                    "given (accept_negative_work = true whatever [identification] says)",
+                ),
+            ),
+            (
                 "--bootstrap".to_string(),
                 self.bootstrap.map_or("not given".to_string(), |b| {
                     format!(
@@ -77,6 +87,7 @@ impl IdentifyOptions {
         if let Some(steady) = &mut settings.steady_state {
             steady.accept_transient |= self.accept_transient;
         }
+        settings.fit.accept_negative_work |= self.accept_negative_work;
         settings.bootstrap = self.bootstrap;
         settings
     }

@@ -179,6 +179,17 @@ pub struct FitSettings {
     /// How the equations are weighted.
     #[serde(default)]
     pub weighting: Weighting,
+    /// Fit rows whose input work is negative beyond its noise (a passive structure
+    /// cannot give out energy, so [`crate::analysis::solved::solved`] refuses them
+    /// otherwise: [`crate::regressor::passive`]).
+    #[serde(default)]
+    pub accept_negative_work: bool,
+    /// Parameters estimated from the same equations outside this linear fit (the law
+    /// parameters η of variable projection): they use degrees of freedom too, so the
+    /// residual variance, the χ² check and the noise level of the identifiability
+    /// analysis count m − (free coefficients) − this many.
+    #[serde(default)]
+    pub nonlinear_parameters: usize,
 }
 
 impl Default for FitSettings {
@@ -188,6 +199,8 @@ impl Default for FitSettings {
             solver: SolverSettings::default(),
             rank_tolerance: 1e-10,
             weighting: Weighting::Auto,
+            accept_negative_work: false,
+            nonlinear_parameters: 0,
         }
     }
 }

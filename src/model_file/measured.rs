@@ -509,6 +509,24 @@ pub(super) fn read_record(
         }
     }
     .with_channel_names(force_names)?;
+    let record = match &spec.fixed_dofs {
+        None => record,
+        Some(fixed) => {
+            let mut dofs = Vec::with_capacity(fixed.get_ref().len());
+            for &dof in fixed.get_ref() {
+                let index = dof.checked_sub(1).filter(|d| *d < n).ok_or_else(|| {
+                    let e = Error::DofOutOfRange {
+                        what: format!("fixed DOF of record '{label}'"),
+                        dof,
+                        dofs: n,
+                    };
+                    ctx.typed_error_at(fixed, e)
+                })?;
+                dofs.push(index);
+            }
+            record.with_fixed_dofs(dofs)?
+        }
+    };
     Ok(ReadRecord {
         record,
         detected,

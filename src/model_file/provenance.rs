@@ -173,6 +173,7 @@ pub fn settings_in_effect(
                 "max_energy_mismatch" => toml_text(steady_state.max_energy_mismatch),
                 "max_state_mismatch" => toml_text(steady_state.max_state_mismatch),
                 "accept_transient" => toml_text(steady_state.accept_transient),
+                "accept_negative_work" => toml_text(fit.accept_negative_work),
                 _ => "– (see the model file)".into(),
             };
             (key, value)

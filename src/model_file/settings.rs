@@ -104,6 +104,7 @@ pub const IDENTIFICATION_KEYS: &[&str] = &[
     "max_energy_mismatch",
     "max_state_mismatch",
     "accept_transient",
+    "accept_negative_work",
 ];
 
 /// `[identification]` given as keys and values rather than in a model file (the Python
@@ -238,6 +239,7 @@ pub(super) fn identification_settings(
         ..IdentifySettings::default()
     };
     settings.fit.weighting = spec.weighting;
+    settings.fit.accept_negative_work = spec.accept_negative_work;
     settings.fit.constraints = Constraints {
         nonnegative: spec.nonnegative,
         bounds: spec

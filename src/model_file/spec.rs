@@ -113,6 +113,9 @@ pub struct IdentificationSpec {
     pub max_state_mismatch: f64,
     /// Identify from windows that are not steady (they are reported, not rejected).
     pub accept_transient: bool,
+    /// Fit rows whose input work is negative beyond its noise
+    /// ([`crate::regressor::passive`]).
+    pub accept_negative_work: bool,
 }
 
 impl Default for IdentificationSpec {
@@ -134,6 +137,7 @@ impl Default for IdentificationSpec {
             max_energy_mismatch: crate::prep::steady_state::DEFAULT_MAX_ENERGY_MISMATCH,
             max_state_mismatch: crate::prep::steady_state::DEFAULT_MAX_STATE_MISMATCH,
             accept_transient: false,
+            accept_negative_work: false,
         }
     }
 }

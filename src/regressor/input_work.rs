@@ -55,6 +55,7 @@ use crate::error::{Error, Result};
 use crate::prep::window::Window;
 use crate::record::{LoadDistribution, Record, col};
 use crate::regressor::Regressor;
+use crate::regressor::passive::WorkScale;
 
 /// η: a window of whole periods whose |net input work| is at most this share of its
 /// gross work ∫|vᵀr| dt takes no work in.
@@ -84,13 +85,22 @@ pub(crate) fn require_force(records: &[Record]) -> Result<()> {
 }
 
 /// Rule 2: the windows of whole periods `windows` of `records` and the rows of
-/// `regressor` built from them, one per window.
+/// `regressor` built from them, one per window. Returns the regressor with the gross
+/// work W_r and the sample intervals of each window, by record, for the passivity
+/// check ([`crate::regressor::passive`]).
 pub(crate) fn require_periodic_work(
     records: &[Record],
     windows: &[Window],
-    regressor: &Regressor,
-) -> Result<()> {
+    regressor: Regressor,
+) -> Result<Regressor> {
     let rhs = regressor.rhs();
+    let mut scale = WorkScale {
+        gross: Vec::with_capacity(windows.len()),
+        samples: Vec::with_capacity(windows.len()),
+        group: Vec::with_capacity(windows.len()),
+        names: records.iter().map(|r| r.label().to_string()).collect(),
+        unit: "record",
+    };
     for (w, &b) in windows.iter().zip(rhs) {
         let record = &records[w.record];
         let gross = Gross::of(record, w);
@@ -103,8 +113,11 @@ pub(crate) fn require_periodic_work(
                 reason,
             ));
         }
+        scale.gross.push(gross.work);
+        scale.samples.push(gross.intervals);
+        scale.group.push(w.record);
     }
-    Ok(())
+    regressor.with_work_scale(scale)
 }
 
 /// Rule 3: no record of fixed spans has a right-hand side that is zero in every window.
@@ -161,6 +174,8 @@ struct Gross {
     moved: bool,
     /// The largest |s| and |d_kᵀΔx| seen, for a message about underflow.
     largest: (f64, f64),
+    /// The sample intervals of the window.
+    intervals: usize,
 }
 
 impl Gross {
@@ -176,6 +191,7 @@ impl Gross {
             force_read: false,
             moved: false,
             largest: (0.0, 0.0),
+            intervals: end.saturating_sub(w.start),
         };
         for k in acting(record) {
             let s = col(record.forcing().signals.as_ref(), k);

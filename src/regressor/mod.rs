@@ -18,9 +18,12 @@
 //! With [`WorkForm::DerivativeFree`] the input work is ∫ rᵀ dx and (on raw samples)
 //! Coulomb columns are total variations of x ([`derivative_free`]).
 //!
-//! Every build ends by checking that the input work is there ([`input_work`]): a record
-//! whose force does no work (a dead sensor) is an error, not a row of zeros.
+//! Every build starts by checking that each motion channel moves ([`dead_motion`]) and
+//! ends by checking that the input work is there ([`input_work`]): a record whose force
+//! does no work (a dead sensor) is an error, not a row of zeros. The gross work of each
+//! row is kept ([`passive::WorkScale`]) for the passivity check before the fit.
 
+pub mod dead_motion;
 pub mod derivative_free;
 pub(crate) mod history;
 pub mod input_work;
@@ -28,8 +31,10 @@ mod kernel;
 pub mod nonlinear;
 pub mod nonperiodic;
 pub mod parametric;
+pub mod passive;
 mod periodic;
 pub mod robust;
+pub mod round_off;
 mod settings;
 pub mod source;
 pub mod stepped_sine;
@@ -153,6 +158,10 @@ pub struct Regressor {
     /// The expected velocity-noise bias of each entry, for a differencing velocity
     /// estimator ([`velocity_bias`]).
     velocity_bias: Option<VelocityBias>,
+    /// The gross work of each row and its record or sweep, for the passivity check.
+    work_scale: Option<passive::WorkScale>,
+    /// Columns whose every entry was round-off of its inputs ([`round_off`]), now zero.
+    round_off: Vec<String>,
 }
 
 impl Regressor {
@@ -172,6 +181,7 @@ impl Regressor {
             }
             Source::Rows(rows) => return Ok(rows.clone()),
         };
+        dead_motion::require_motion(records)?;
         let spec = match &settings.windows {
             Windows::Spans(spans) => {
                 settings.validate()?;
@@ -233,14 +243,21 @@ impl Regressor {
             )?;
             let mut regressor = Self::assemble(records, &windows, rows, columns)?;
             regressor.noise = Some(noise);
-            input_work::require_periodic_work(records, &windows, &regressor)?;
-            return Ok(regressor);
+            regressor.zero_round_off(model, records, &windows);
+            return input_work::require_periodic_work(records, &windows, regressor);
         }
         let (rows, bias) = periodic::rows(model, records, &windows, spec, settings, columns.len())?;
         let mut regressor = Self::assemble(records, &windows, rows, columns)?;
         regressor.velocity_bias = bias;
-        input_work::require_periodic_work(records, &windows, &regressor)?;
-        Ok(regressor)
+        regressor.zero_round_off(model, records, &windows);
+        input_work::require_periodic_work(records, &windows, regressor)
+    }
+
+    /// Entries that are round-off of their inputs set to zero ([`round_off`]), and the
+    /// columns left zero in every row named.
+    fn zero_round_off(&mut self, model: &DampingModel, records: &[Record], windows: &[Window]) {
+        let zeroed = round_off::zero_round_off(model, records, windows, &mut self.matrix);
+        self.round_off = zeroed.iter().map(|&k| self.columns[k].clone()).collect();
     }
 
     /// The regressor of one row per window: the frame every row builder shares.
@@ -319,7 +336,44 @@ impl Regressor {
             noise: None,
             nuisance: 0,
             velocity_bias: None,
+            work_scale: None,
+            round_off: Vec::new(),
         })
+    }
+
+    /// This regressor with the gross work of each row and its group
+    /// ([`passive::WorkScale`], one entry per row), for the passivity check.
+    pub fn with_work_scale(mut self, scale: passive::WorkScale) -> Result<Self> {
+        let rows = self.rhs.len();
+        for (what, found) in [
+            ("gross work entries vs regressor rows", scale.gross.len()),
+            ("sample counts vs regressor rows", scale.samples.len()),
+            ("row groups vs regressor rows", scale.group.len()),
+        ] {
+            if found != rows {
+                return Err(Error::mismatch(what, rows, found));
+            }
+        }
+        if let Some(&g) = scale.group.iter().find(|&&g| g >= scale.names.len()) {
+            return Err(Error::mismatch(
+                "row group vs group names",
+                scale.names.len(),
+                g,
+            ));
+        }
+        self.work_scale = Some(scale);
+        Ok(self)
+    }
+
+    /// The columns that were round-off of their inputs in every row and count as zero
+    /// ([`round_off`]).
+    pub fn round_off_columns(&self) -> &[String] {
+        &self.round_off
+    }
+
+    /// The gross work of each row and its group, when the builder knew them.
+    pub fn work_scale(&self) -> Option<&passive::WorkScale> {
+        self.work_scale.as_ref()
     }
 
     /// This regressor with its last `count` columns marked as nuisance unknowns
@@ -365,6 +419,8 @@ impl Regressor {
             }),
             ..b.clone()
         });
+        selected.work_scale = self.work_scale.as_ref().map(|s| s.select(indices));
+        selected.round_off = self.round_off.clone();
         Ok(selected)
     }
 

@@ -42,6 +42,7 @@ use crate::error::{Error, Result};
 use crate::model::DampingModel;
 use crate::prep::harmonic::residual;
 use crate::prep::harmonic::{HarmonicApproximation, SteppedSinePoint};
+use crate::regressor::passive::WorkScale;
 use crate::regressor::robust::{ChannelSensitivity, NoiseModel, RowNoise, WindowNoise};
 use crate::regressor::source::SteppedSineSource;
 pub use crate::regressor::structural_term::StructuralTerm;
@@ -255,7 +256,21 @@ pub(crate) fn build(
             });
         }
     }
-    Regressor::from_parts(matrix, rhs, columns, labels)?.with_noise(noise)
+    // The gross work π a X_f of each point (|sin φ| ≤ 1), by sweep, for the passivity
+    // check (crate::regressor::passive).
+    let scale = WorkScale {
+        gross: points
+            .iter()
+            .map(|p| std::f64::consts::PI * p.force_amplitude * p.amplitudes[p.force_dof])
+            .collect(),
+        samples: vec![0; points.len()],
+        group: swept.sweeps.clone(),
+        names: swept.sweep_names.clone(),
+        unit: "sweep",
+    };
+    Regressor::from_parts(matrix, rhs, columns, labels)?
+        .with_noise(noise)?
+        .with_work_scale(scale)
 }
 
 /// The columns (model terms, then `structural`) of each of `points`, as

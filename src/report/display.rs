@@ -238,7 +238,15 @@ impl fmt::Display for FitReport {
             }
         }
         if self.coefficients.iter().any(|c| c.std_error.is_some()) {
-            writeln!(f, "{}", self.std_error_basis)?;
+            let unchecked = self.noise.as_ref().is_some_and(|n| n.p_value.is_none());
+            if unchecked && self.std_error_basis == StandardErrorBasis::PlugIn {
+                writeln!(
+                    f,
+                    "standard errors are plug-in, from the propagated sensor noise: se = √diag((AᵀWA)⁻¹), W = diag(1/Var e_r); no degrees of freedom are left to check them (χ²)"
+                )?;
+            } else {
+                writeln!(f, "{}", self.std_error_basis)?;
+            }
         }
         if let Some(b) = bootstrap {
             writeln!(

@@ -10,6 +10,7 @@
 
 mod display;
 pub mod estimation;
+pub mod explains;
 pub mod html;
 pub mod provenance;
 pub mod records;
@@ -172,7 +173,9 @@ impl FitReport {
                 condition_number: diagnostics.condition_number,
             });
         }
-        if regressor.equations() == free {
+        if regressor.equations() == free
+            || (diagnostics.degrees_of_freedom == 0 && regressor.equations() > free)
+        {
             warnings.push(Warning::NoRedundancy {
                 equations: regressor.equations(),
             });
@@ -187,6 +190,11 @@ impl FitReport {
                 p_value,
             });
         }
+        warnings.extend(explains::explains_nothing(
+            regressor,
+            &fit,
+            diagnostics.relative_residual,
+        ));
         let identifiability = diagnostics.identifiability;
         if !identifiability.separable() {
             warnings.push(Warning::Unidentifiable {
@@ -204,6 +212,7 @@ impl FitReport {
                 constrained: fit.method == FitMethod::Constrained,
             });
         }
+        explains::round_off(regressor, diagnostics.rank, &mut warnings);
         let weighted = diagnostics.weighted.as_ref();
         let mut coefficients: Vec<CoefficientEstimate> = regressor
             .columns()
@@ -398,6 +407,9 @@ impl FitReport {
                 Warning::NotConverged { status } => {
                     failures.push(format!("the fit ended with status {status:?}"))
                 }
+                Warning::FitExplainsNothing { .. }
+                | Warning::InconsistentRecord { .. }
+                | Warning::RoundOffColumn { .. } => failures.push(w.to_string()),
                 _ => {}
             }
         }

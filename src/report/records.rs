@@ -66,6 +66,9 @@ pub struct RecordResidual {
     /// degrees of freedom outside the record).
     #[serde(default)]
     pub outlier_p_value: Option<f64>,
+    /// The fit without this record ([`crate::analysis::outliers`]), when it was made.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub left_out: Option<crate::analysis::outliers::LeftOut>,
 }
 
 impl RecordResidual {
@@ -117,6 +120,7 @@ pub fn per_record(
                     mean_residual: 0.0,
                     ratio_to_others: None,
                     outlier_p_value: None,
+                    left_out: None,
                 });
                 sums.push((0.0, 0.0));
                 out.len() - 1

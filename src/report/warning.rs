@@ -103,6 +103,40 @@ pub enum Warning {
         /// The records they belong to.
         records: Vec<String>,
     },
+    /// The fit explains nothing: its relative residual is at least
+    /// [`crate::report::explains::NOTHING_EXPLAINED`], or every coefficient sits on a
+    /// bound ([`crate::report::explains`]).
+    FitExplainsNothing {
+        /// ‖b − Aθ‖ / ‖b‖.
+        relative_residual: f64,
+        /// The coefficients, when every one sits on a bound (empty otherwise).
+        at_bounds: Vec<String>,
+    },
+    /// One record disagrees with the others: without it the rest fit far better and the
+    /// estimates move ([`crate::analysis::outliers`]).
+    InconsistentRecord {
+        /// The record's label.
+        record: String,
+        /// The others' weighted squared residual at the fit without the record, over
+        /// the whole fit's.
+        remaining_misfit: f64,
+        /// The record's RMS (weighted) residual at the fit of the others, over their
+        /// residual standard deviation (`None` when the others fit exactly).
+        deleted_residual: Option<f64>,
+        /// Its F test's upper-tail probability (`None` without degrees of freedom).
+        p_value: Option<f64>,
+        /// Each coefficient: its value without the record and the shift θ − θ₋ᵣ in
+        /// standard errors of the fit without it (when known).
+        shifts: Vec<(String, f64, Option<f64>)>,
+        /// The coefficients that are not determined with the record.
+        undetermined: Vec<String>,
+    },
+    /// Columns that are round-off of their inputs in every equation
+    /// ([`crate::regressor::round_off`]): the terms do no net work over whole periods.
+    RoundOffColumn {
+        /// The coefficients.
+        coefficients: Vec<String>,
+    },
     /// One record holds most of the residual ([`crate::report::records`]).
     RecordDominates {
         /// The record's label.
@@ -131,6 +165,9 @@ impl Warning {
                 | Warning::RankDeficient { .. }
                 | Warning::TransientAccepted { .. }
                 | Warning::ModelInadequate { .. }
+                | Warning::FitExplainsNothing { .. }
+                | Warning::InconsistentRecord { .. }
+                | Warning::RoundOffColumn { .. }
         )
     }
 }
@@ -268,6 +305,79 @@ impl fmt::Display for Warning {
                 write!(
                     f,
                     "{windows} window(s) not in steady state, accepted (dampid check shows them), in {}: over them the stored energy does not return to its start, so the estimates carry a bias the standard errors do not include; skip the transient (`skip` in [identification]) or record longer",
+                    list(&names)
+                )
+            }
+            Warning::FitExplainsNothing {
+                relative_residual,
+                at_bounds,
+            } => {
+                let names: Vec<&str> = at_bounds.iter().map(String::as_str).collect();
+                if names.is_empty() {
+                    write!(
+                        f,
+                        "the fit explains nothing: relative residual {relative_residual:.3} ≥ {}",
+                        super::explains::NOTHING_EXPLAINED
+                    )?;
+                } else {
+                    write!(
+                        f,
+                        "every coefficient sits on a bound ({}): the constraints, not the data, set the values (relative residual {relative_residual:.3})",
+                        list(&names)
+                    )?;
+                }
+                write!(
+                    f,
+                    "; the damping model does not account for the input work, so these are not estimates: check the signs, DOFs and units of the force and motion columns (over whole periods the input work is what the damping dissipates), the sensor kinds, and whether the model has the mechanism"
+                )
+            }
+            Warning::InconsistentRecord {
+                record,
+                remaining_misfit,
+                deleted_residual,
+                p_value,
+                shifts,
+                undetermined,
+            } => {
+                write!(
+                    f,
+                    "record '{record}' disagrees with the others: without it their squared residual falls to {remaining_misfit:.2e} of the whole fit's"
+                )?;
+                match (deleted_residual, p_value) {
+                    (Some(z), Some(p)) => write!(
+                        f,
+                        ", and its equations stand {z:.1} residual standard deviations off the fit of the others (P = {p:.1e})"
+                    )?,
+                    _ => write!(f, ", which then fit exactly")?,
+                }
+                let moved: Vec<String> = shifts
+                    .iter()
+                    .map(|(name, value, shift)| match shift {
+                        Some(z) => format!("{name} = {value:.4e} ({z:+.1} se)"),
+                        None => format!("{name} = {value:.4e}"),
+                    })
+                    .collect();
+                if !moved.is_empty() {
+                    write!(f, ", and without it {}", moved.join(", "))?;
+                }
+                if !undetermined.is_empty() {
+                    let names: Vec<&str> = undetermined.iter().map(String::as_str).collect();
+                    write!(
+                        f,
+                        "; with it the fit cannot separate {}: this record, not the design of the experiments, is the problem",
+                        list(&names)
+                    )?;
+                }
+                write!(
+                    f,
+                    "; check its units (`scale`), its force's DOF and sign, and whether its motion columns are displacements, velocities or accelerations as declared; identify without it to compare"
+                )
+            }
+            Warning::RoundOffColumn { coefficients } => {
+                let names: Vec<&str> = coefficients.iter().map(String::as_str).collect();
+                write!(
+                    f,
+                    "the column of {} is round-off of its inputs in every equation: the term does no net work over whole periods of these records (a spring-like force in phase with x, a constant force, or an element that does not move), so an energy balance cannot estimate it and its column counts as zero; remove the term, or give records where it dissipates",
                     list(&names)
                 )
             }

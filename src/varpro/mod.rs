@@ -167,8 +167,14 @@ fn run(
         fixed_weights::minimise(problem, fit, varpro, true)?
     };
     let best = problem.trial(&minimum.values)?;
-    let solved = crate::analysis::solved::solved(&best.regressor, fit)?;
-    let fit_report = FitReport::new(&best.regressor, solved.fit, solved.diagnostics);
+    // The law parameters use degrees of freedom of the same equations.
+    let fit_report = crate::analysis::outliers::reported(
+        &best.regressor,
+        &FitSettings {
+            nonlinear_parameters: minimum.values.len(),
+            ..fit.clone()
+        },
+    )?;
     let converged = minimum.converged && best.fit.status.is_usable();
     let dof = best
         .regressor

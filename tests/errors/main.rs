@@ -38,6 +38,8 @@
 //! | `TooLarge` | `budget::require` before allocations sized by input (simulated records, named `dofs` × `dofs` matrices, bootstrap replicates), `budget::Stopwatch`/`require_time` for work estimated past the time limit (simulation, bootstrap) | variants, simulate, cli (tests/) |
 //! | `OutputExists` | `io::output` (every file dampid writes): the target exists and `Overwrite::Refuse` | variants, data_files, outputs (tests/), `io::output` unit tests |
 //! | `Output` | `io::output`: the temporary file cannot be created, written or renamed | variants, data_files |
+//! | `NegativeInputWork` | `identify_regressor` and `RegressorCheck::new` (`regressor::passive`): input work negative beyond its noise in a record or sweep, or overall | variants, physics, physics (tests/) |
+//! | `DeadMotionSensor` | `Regressor::build` (`regressor::dead_motion`): a motion channel that never moves while others do | variants, physics, physics (tests/) |
 
 mod data_files;
 mod fit;
@@ -47,6 +49,7 @@ mod limits;
 mod messages;
 mod model;
 mod model_file;
+mod physics;
 mod prep;
 mod record;
 mod regressions;

@@ -107,6 +107,10 @@ pub(crate) enum Command {
         /// Identify from windows that are not in steady state (they are reported).
         #[arg(long)]
         accept_transient: bool,
+        /// Fit even when the input work is negative beyond its noise (a sign, DOF or
+        /// phase convention is then likely wrong); sets accept_negative_work.
+        #[arg(long)]
+        accept_negative_work: bool,
         /// Also give 95% percentile intervals from N bootstrap refits on windows
         /// resampled with replacement.
         #[arg(long, value_name = "N")]
@@ -131,6 +135,10 @@ pub(crate) enum Command {
         /// Do not fail on windows that are not in steady state.
         #[arg(long)]
         accept_transient: bool,
+        /// Do not fail on input work that is negative beyond its noise; sets
+        /// accept_negative_work.
+        #[arg(long)]
+        accept_negative_work: bool,
         /// Print the check as one JSON object.
         #[arg(long)]
         json: bool,

@@ -74,6 +74,7 @@ fn run(cli: Cli) -> anyhow::Result<u8> {
             report,
             force,
             accept_transient,
+            accept_negative_work,
             bootstrap,
             seed,
             strict,
@@ -87,6 +88,7 @@ fn run(cli: Cli) -> anyhow::Result<u8> {
             let job = load(&model)?;
             let options = IdentifyOptions {
                 accept_transient,
+                accept_negative_work,
                 bootstrap: bootstrap.map(|replicates| BootstrapSettings {
                     replicates,
                     seed,
@@ -112,10 +114,15 @@ fn run(cli: Cli) -> anyhow::Result<u8> {
         Command::Check {
             model,
             accept_transient,
+            accept_negative_work,
             json,
         } => {
             let job = load(&model)?;
-            let report = command::check::run(&job, accept_transient)
+            let options = command::check::CheckOptions {
+                accept_transient,
+                accept_negative_work,
+            };
+            let report = command::check::run(&job, options)
                 .context("the regressor cannot be fitted")?;
             print(&report, json, false)
         }

@@ -51,6 +51,10 @@ pub struct RecordSpec {
     /// … or driving frequency ω (rad per unit time); with neither, the period is
     /// detected from the force columns (`dampid::prep::period`).
     pub frequency: Option<f64>,
+    /// DOFs (from 1) held still in this experiment: their motion columns may read a
+    /// constant ([`crate::regressor::dead_motion`]).
+    #[serde(default)]
+    pub fixed_dofs: Option<Spanned<Vec<usize>>>,
 }
 
 /// A motion column: its name (`"x1"`), or `{ column = "qm", dof = 2, scale = 1e-3,

@@ -22,6 +22,14 @@
 //!
 //! one σ per quantity and sweep, a relative σ for a and X_i (noise on the logarithm)
 //! and an absolute one for φ_i. A sweep needs at least three points for it.
+//!
+//! **Duplicated points.** Two points that agree in every value to the last bit (ω, the
+//! force's DOF and amplitude, every X_i and φ_i) are one measurement written twice: a
+//! repeated measurement never agrees to 16 digits. Each copy would count as an
+//! independent equation (the χ² check's degrees of freedom and every standard error
+//! wrong), and copies appended after a sweep wreck its scatter (a table written twice
+//! over gave standard errors 30 000 times too large with "χ² check passes"). Such a
+//! table is refused, naming the two points.
 
 use serde::{Deserialize, Serialize};
 
@@ -180,8 +188,32 @@ impl SweptTable {
     }
 }
 
-/// One sweep index per point, each below the number of names, every sweep non-empty.
+/// One sweep index per point, each below the number of names, every sweep non-empty,
+/// and no point written twice (module doc).
 fn check_sweeps(table: &SteppedSineTable, sweeps: &[usize], names: &[String]) -> Result<()> {
+    let mut seen = std::collections::HashMap::new();
+    for (i, p) in table.points().iter().enumerate() {
+        let key: Vec<u64> = [p.frequency, p.force_amplitude, p.force_dof as f64]
+            .iter()
+            .chain(&p.amplitudes)
+            .chain(&p.phases)
+            .map(|x| x.to_bits())
+            .collect();
+        if let Some(first) = seen.insert(key, i) {
+            let points = table.points();
+            return Err(Error::choice(
+                "stepped-sine points",
+                format!(
+                    "'{}' and '{}' (points {} and {})",
+                    points[first].label,
+                    p.label,
+                    first + 1,
+                    i + 1
+                ),
+                "the two points agree in every value (frequency, force, amplitudes, phases) to the last digit: one measurement written twice, which would count as two independent equations (wrong degrees of freedom and standard errors); remove the copy",
+            ));
+        }
+    }
     if sweeps.len() != table.points().len() {
         return Err(Error::mismatch(
             "sweep indices vs stepped-sine points",

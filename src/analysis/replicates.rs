@@ -1,0 +1,96 @@
+//! Windows of one record are replicates. In steady state every window of whole periods
+//! of a record repeats the same experiment, so its rows of A differ only by noise and by
+//! the quadrature and velocity errors of each window (central differences at the
+//! record's ends, leakage), never by information. Those differences still give the
+//! column-scaled regressor singular values above round-off, and when the equations are
+//! nearly exact (the differences enter A and b consistently, so the residual hides
+//! them) the identifiability analysis would call coefficients determined that one
+//! experiment cannot separate: one record of a 2-mass chain with central differences
+//! (four windows, three dashpots) gave "every coefficient is determined" with standard
+//! errors of 10⁻¹² and c = 0.93 for a truth of 0.125.
+//!
+//! With ã_i the column-scaled row i (A_s = A S⁻¹, the matrix the analysis factors; the
+//! rows weighted by their propagated noise for a weighted fit) and u_R the direction of
+//! the mean of the rows of record R (windows of whole periods only; spans of the
+//! non-periodic mode legitimately differ),
+//!
+//! ```text
+//!   s_w = √( Σ_R Σ_{i∈R} ‖ã_i − (ã_iᵀu_R) u_R‖² / Σ_R (m_R − 1) ),
+//! ```
+//!
+//! over the records with two windows or more: the size of one row's scatter between
+//! replicates, across their common direction. Rows that differ only in scale (windows
+//! weighted differently) lie on one line and span one direction, so scale is not
+//! counted. A singular value below κ·s_w could be made by that scatter alone
+//! (Weyl: the singular values of A_s beyond the rank of its record means are at most
+//! ‖A_s − Ā_s‖₂, of the size of s_w times a few), so the analysis takes
+//! max(s, s_w) as the noise level of its threshold
+//! ([`crate::analysis::identifiability`]).
+//!
+//! And however the windows scatter, the records are the experiments: R records whose
+//! windows are replicates give at most R independent equations, so at most R
+//! combinations of the coefficients are determined ([`experiments`]; each window of
+//! the non-periodic mode counts as one). A 100-DOF chain driven in 5 experiments of 50
+//! windows each (models/chain100.toml) was said to determine 93 combinations of its 201
+//! coefficients; it determines at most 5.
+
+use crate::fit::scaling::Scaling;
+use crate::regressor::Regressor;
+
+/// s_w of `regressor` (module doc); `None` when no record has two windows of whole
+/// periods.
+pub(crate) fn window_scatter(regressor: &Regressor) -> Option<f64> {
+    let a = regressor.matrix();
+    let (m, p) = a.shape();
+    if m == 0 || p == 0 {
+        return None;
+    }
+    let scaling = Scaling::of(a, regressor.rhs());
+    let mut groups: Vec<(usize, Vec<usize>)> = Vec::new();
+    for (i, label) in regressor.rows().iter().enumerate() {
+        if label.cycles == 0 {
+            continue;
+        }
+        match groups.iter_mut().find(|(r, _)| *r == label.record_index) {
+            Some((_, rows)) => rows.push(i),
+            None => groups.push((label.record_index, vec![i])),
+        }
+    }
+    let (mut squares, mut dof) = (0.0, 0usize);
+    for (_, rows) in groups.iter().filter(|(_, rows)| rows.len() >= 2) {
+        let columns = &scaling.columns;
+        let row = |i: usize| (0..p).map(move |j| a[(i, j)] / columns[j]);
+        let mut mean = vec![0.0; p];
+        for &i in rows {
+            mean.iter_mut().zip(row(i)).for_each(|(m, x)| *m += x);
+        }
+        let norm = mean.iter().map(|m| m * m).sum::<f64>().sqrt();
+        if norm > 0.0 {
+            mean.iter_mut().for_each(|m| *m /= norm);
+        }
+        for &i in rows {
+            let along: f64 = row(i).zip(&mean).map(|(x, u)| x * u).sum();
+            squares += row(i)
+                .zip(&mean)
+                .map(|(x, u)| (x - along * u).powi(2))
+                .sum::<f64>();
+        }
+        dof += rows.len() - 1;
+    }
+    (dof > 0 && squares.is_finite()).then(|| (squares / dof as f64).sqrt())
+}
+
+/// The number of experiments behind the rows of `regressor`: one per record for its
+/// windows of whole periods (replicates), one per row otherwise (module doc).
+pub(crate) fn experiments(regressor: &Regressor) -> usize {
+    let mut records: Vec<usize> = Vec::new();
+    let mut others = 0;
+    for label in regressor.rows() {
+        if label.cycles == 0 {
+            others += 1;
+        } else if !records.contains(&label.record_index) {
+            records.push(label.record_index);
+        }
+    }
+    records.len() + others
+}
