@@ -120,7 +120,11 @@ fn no_nan(report: &FitReport) {
 #[test]
 fn dof_that_never_moves_is_flagged_and_the_other_coefficient_is_right() {
     let undeclared = [balanced([1.0, 0.0], 1.0)];
-    match identify(&ParametricRegressor::linear(&with_quadratic(per_dof_linear()), &undeclared), &exact(), &silent) {
+    match identify(
+        &ParametricRegressor::linear(&with_quadratic(per_dof_linear()), &undeclared),
+        &exact(),
+        &silent,
+    ) {
         Err(dampid::Error::DeadMotionSensor { dof, .. }) => assert_eq!(dof, 2),
         other => panic!("{other:?}"),
     }

@@ -41,7 +41,12 @@ fn chain_text() -> String {
 
 /// The measured chain's model file with `edit` applied to its text.
 fn chain(edit: impl Fn(String) -> String) -> dampid::Result<Job> {
-    parse(&edit(chain_text()), "measured_chain.toml", &models(), Default::default())
+    parse(
+        &edit(chain_text()),
+        "measured_chain.toml",
+        &models(),
+        Default::default(),
+    )
 }
 
 /// The model file's text with `edit` applied to the text of record `k` (from 1) only.
@@ -203,7 +208,13 @@ fn a_table_with_the_wrong_phase_convention_is_refused_per_sweep() {
             r#"response = "acceleration""#,
         ),
     ] {
-        let job = parse(&text.replace(from, to), "bolted.toml", &models(), Default::default()).unwrap();
+        let job = parse(
+            &text.replace(from, to),
+            "bolted.toml",
+            &models(),
+            Default::default(),
+        )
+        .unwrap();
         let result = fit(&job);
         let message = match &result {
             Err(e) => e.to_string(),

@@ -225,6 +225,7 @@ mod tests {
                 window: r,
                 start_time: 0.0,
                 cycles: 1,
+                frequency: None,
             })
             .collect();
         let names = (0..=groups.iter().copied().max().unwrap_or(0))
@@ -293,6 +294,7 @@ mod tests {
                     window: 0,
                     start_time: 0.0,
                     cycles: 1,
+                    frequency: None,
                 }]
             },
         )

@@ -33,7 +33,8 @@ fn inverted_forces_are_refused_with_the_share_and_the_record() {
         &ParametricRegressor::linear(&shared_model(), &[inverted()]),
         &measured(),
         &silent,
-    ).unwrap_err();
+    )
+    .unwrap_err();
     match &e {
         Error::NegativeInputWork {
             unit,
@@ -66,10 +67,11 @@ fn inverted_forces_are_refused_with_the_share_and_the_record() {
 fn a_dead_displacement_channel_names_the_record_and_the_dof() {
     for dof in 0..2 {
         let e = identify(
-        &ParametricRegressor::linear(&shared_model(), &[still(dof)]),
-        &measured(),
-        &silent,
-    ).unwrap_err();
+            &ParametricRegressor::linear(&shared_model(), &[still(dof)]),
+            &measured(),
+            &silent,
+        )
+        .unwrap_err();
         match &e {
             Error::DeadMotionSensor {
                 record,
@@ -90,10 +92,10 @@ fn a_dead_displacement_channel_names_the_record_and_the_dof() {
     let fixed = still(1).with_fixed_dofs(vec![1]).unwrap();
     assert!(!matches!(
         identify(
-        &ParametricRegressor::linear(&shared_model(), &[fixed]),
-        &measured(),
-        &silent,
-    ),
+            &ParametricRegressor::linear(&shared_model(), &[fixed]),
+            &measured(),
+            &silent,
+        ),
         Err(Error::DeadMotionSensor { .. })
     ));
     // A fixed DOF out of range is an error naming it from 1.

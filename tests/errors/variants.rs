@@ -155,8 +155,18 @@ fn every_variant_is_reachable() {
         .unwrap_err()
         .innermost()
         .clone(),
-        identify(&shared_model(), &[crate::physics::inverted()], &measured()).unwrap_err(),
-        identify(&shared_model(), &[crate::physics::still(0)], &measured()).unwrap_err(),
+        identify(
+            &ParametricRegressor::linear(&shared_model(), &[crate::physics::inverted()]),
+            &measured(),
+            &silent,
+        )
+        .unwrap_err(),
+        identify(
+            &ParametricRegressor::linear(&shared_model(), &[crate::physics::still(0)]),
+            &measured(),
+            &silent,
+        )
+        .unwrap_err(),
     ];
     let mut seen: Vec<&str> = errors.iter().map(Error::kind).collect();
     seen.sort_unstable();

@@ -122,8 +122,8 @@ fn run(cli: Cli) -> anyhow::Result<u8> {
                 accept_transient,
                 accept_negative_work,
             };
-            let report = command::check::run(&job, options)
-                .context("the regressor cannot be fitted")?;
+            let report =
+                command::check::run(&job, options).context("the regressor cannot be fitted")?;
             print(&report, json, false)
         }
         Command::Pod {
