@@ -27,6 +27,10 @@
 //! max(s, s_w) as the noise level of its threshold
 //! ([`crate::analysis::identifiability`]).
 //!
+//! The points of a stepped-sine table are not replicates: each is a steady state at its
+//! own frequency (and force), so each point counts as an experiment of its own and its
+//! row is left out of s_w, although a sweep's points share a record index.
+//!
 //! And however the windows scatter, the records are the experiments: R records whose
 //! windows are replicates give at most R independent equations, so at most R
 //! combinations of the coefficients are determined ([`experiments`]; each window of
@@ -35,7 +39,13 @@
 //! coefficients; it determines at most 5.
 
 use crate::fit::scaling::Scaling;
-use crate::regressor::Regressor;
+use crate::regressor::{Regressor, RowLabel};
+
+/// Whether the row of `label` repeats the other windows of its record: windows of whole
+/// periods do; spans of the non-periodic mode and stepped-sine points do not.
+fn replicated(label: &RowLabel) -> bool {
+    label.cycles > 0 && label.frequency.is_none()
+}
 
 /// s_w of `regressor` (module doc); `None` when no record has two windows of whole
 /// periods.
@@ -48,7 +58,7 @@ pub(crate) fn window_scatter(regressor: &Regressor) -> Option<f64> {
     let scaling = Scaling::of(a, regressor.rhs());
     let mut groups: Vec<(usize, Vec<usize>)> = Vec::new();
     for (i, label) in regressor.rows().iter().enumerate() {
-        if label.cycles == 0 {
+        if !replicated(label) {
             continue;
         }
         match groups.iter_mut().find(|(r, _)| *r == label.record_index) {
@@ -86,7 +96,7 @@ pub(crate) fn experiments(regressor: &Regressor) -> usize {
     let mut records: Vec<usize> = Vec::new();
     let mut others = 0;
     for label in regressor.rows() {
-        if label.cycles == 0 {
+        if !replicated(label) {
             others += 1;
         } else if !records.contains(&label.record_index) {
             records.push(label.record_index);

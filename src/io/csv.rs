@@ -1,4 +1,5 @@
-//! CSV files with a header row: every column numeric. Errors name the file, the 1-based
+//! CSV files with a header row: every column numeric (or, asked for by name, text
+//! labels such as a sweep's `FC1`: [`read_with_labels`]). Errors name the file, the 1-based
 //! data row and the column. Plain numeric files are parsed by `io/csv_fast.rs`
 //! (in parallel for files of [`PARALLEL_BLOCK`] bytes and more); anything it does not
 //! take (quoted fields, a bad cell) is read by the csv crate, which also words every
@@ -58,14 +59,38 @@ fn from_bytes(bytes: &[u8], file: String) -> Result<Table> {
 
 /// Reads CSV text with the csv crate: quoted fields, and the words of every error.
 pub(crate) fn general(bytes: &[u8], file: String) -> Result<Table> {
-    let reader = ::csv::ReaderBuilder::new()
-        .trim(::csv::Trim::All)
-        .comment(Some(b'#'))
-        .from_reader(bytes);
-    from_reader(reader, file)
+    from_reader(reader_of(bytes), file, &[]).map(|(table, _)| table)
 }
 
-fn from_reader<R: std::io::Read>(mut reader: ::csv::Reader<R>, file: String) -> Result<Table> {
+/// A CSV file whose columns `labels` hold text (a sweep named `FC1`, `RC3`): the
+/// numeric columns as a [`Table`] (the label columns left out), and each label
+/// column's fields in row order. A label column the file lacks is an error naming the
+/// known columns.
+pub fn read_with_labels(path: &Path, labels: &[&str]) -> Result<(Table, Vec<Vec<String>>)> {
+    let file = path.display().to_string();
+    super::require_data_file(path)?;
+    let bytes = std::fs::read(path).map_err(|e| Error::Data {
+        file: file.clone(),
+        row: 0,
+        column: String::new(),
+        message: e.to_string(),
+    })?;
+    from_reader(reader_of(&bytes), file, labels)
+}
+
+fn reader_of(bytes: &[u8]) -> ::csv::Reader<&[u8]> {
+    ::csv::ReaderBuilder::new()
+        .trim(::csv::Trim::All)
+        .comment(Some(b'#'))
+        .from_reader(bytes)
+}
+
+/// The table of `reader` and the text of its columns named in `labels`.
+fn from_reader<R: std::io::Read>(
+    mut reader: ::csv::Reader<R>,
+    file: String,
+    labels: &[&str],
+) -> Result<(Table, Vec<Vec<String>>)> {
     let data_error = |row: usize, column: &str, message: String| Error::Data {
         file: file.clone(),
         row,
@@ -105,7 +130,20 @@ fn from_reader<R: std::io::Read>(mut reader: ::csv::Reader<R>, file: String) -> 
         }
         first_of.insert(name, k);
     }
+    // Which label (if any) each column is.
+    let label_of: Vec<Option<usize>> = headers
+        .iter()
+        .map(|h| labels.iter().position(|l| l == h))
+        .collect();
+    if let Some(missing) = labels.iter().find(|l| !headers.iter().any(|h| h == *l)) {
+        return Err(data_error(
+            0,
+            missing,
+            format!("no column '{missing}' (columns: {})", headers.join(", ")),
+        ));
+    }
     let mut columns = vec![Vec::new(); headers.len()];
+    let mut texts = vec![Vec::new(); labels.len()];
     for (index, record) in reader.records().enumerate() {
         let row = index + 1;
         let record = record.map_err(|e| data_error(row, "", e.to_string()))?;
@@ -117,6 +155,10 @@ fn from_reader<R: std::io::Read>(mut reader: ::csv::Reader<R>, file: String) -> 
             ));
         }
         for (k, field) in record.iter().enumerate() {
+            if let Some(l) = label_of[k] {
+                texts[l].push(crate::format::printable(field).into_owned());
+                continue;
+            }
             let value: f64 = field
                 .parse()
                 .map_err(|_| data_error(row, &headers[k], format!("'{field}' is not a number")))?;
@@ -130,14 +172,28 @@ fn from_reader<R: std::io::Read>(mut reader: ::csv::Reader<R>, file: String) -> 
             columns[k].push(value);
         }
     }
-    if columns[0].is_empty() {
+    if columns.iter().all(Vec::is_empty) && texts.iter().all(Vec::is_empty) {
         return Err(data_error(0, "", "no data rows".into()));
     }
-    Ok(Table {
-        file,
-        headers,
-        columns,
-    })
+    // The label columns left out of the numeric table.
+    let (headers, columns): (Vec<String>, Vec<Vec<f64>>) = headers
+        .into_iter()
+        .zip(columns)
+        .zip(&label_of)
+        .filter(|(_, label)| label.is_none())
+        .map(|(pair, _)| pair)
+        .unzip();
+    if headers.is_empty() {
+        return Err(data_error(0, "", "no numeric column".into()));
+    }
+    Ok((
+        Table {
+            file,
+            headers,
+            columns,
+        },
+        texts,
+    ))
 }
 
 /// Writes `headers` and column-major `columns` as a CSV file at `path`, atomically

@@ -84,7 +84,17 @@ impl Context<'_> {
         base: &Path,
     ) -> Result<SteppedSineSource> {
         let path = base.join(&spec.file);
-        let table = crate::io::read_table(&path)?;
+        // A CSV sweep column may hold text (`FC1`, `RC3`); other formats hold numbers.
+        let csv = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("csv") || e.eq_ignore_ascii_case("txt"));
+        let (table, labels) = match &spec.sweep {
+            Some(name) if csv => {
+                let (table, mut labels) = crate::io::csv::read_with_labels(&path, &[name])?;
+                (table, labels.pop())
+            }
+            _ => (crate::io::read_table(&path)?, None),
+        };
         let file = table.file.clone();
         if spec.amplitudes.len() != n || spec.phases.len() != n {
             return Err(Error::mismatch(
@@ -182,23 +192,36 @@ impl Context<'_> {
         let (sweeps, sweep_names) = match &spec.sweep {
             None => (vec![0; rows], vec!["all points".to_string()]),
             Some(name) => {
-                let values = raw(&table, name)?;
-                let mut distinct: Vec<f64> = Vec::new();
-                let mut sweeps = Vec::with_capacity(rows);
-                for (r, v) in values.iter().enumerate() {
-                    if !v.is_finite() {
-                        return Err(data_error(&file, r + 1, name, "not a finite number"));
+                // Numbers name a sweep "level = 2"; text names it as written.
+                let numbers = match &labels {
+                    None => Some(raw(&table, name)?),
+                    Some(text) => text.iter().map(|t| t.parse::<f64>().ok()).collect(),
+                };
+                let keys: Vec<String> = match (&numbers, labels) {
+                    (Some(values), _) => {
+                        if let Some(r) = values.iter().position(|v| !v.is_finite()) {
+                            return Err(data_error(&file, r + 1, name, "not a finite number"));
+                        }
+                        values.iter().map(|v| format!("{name} = {v}")).collect()
                     }
-                    let s = match distinct.iter().position(|d| d == v) {
+                    (None, Some(text)) => text,
+                    (None, None) => Vec::new(),
+                };
+                if let Some(r) = keys.iter().position(String::is_empty) {
+                    return Err(data_error(&file, r + 1, name, "an empty sweep label"));
+                }
+                let mut names: Vec<String> = Vec::new();
+                let mut sweeps = Vec::with_capacity(rows);
+                for key in keys {
+                    let s = match names.iter().position(|n| *n == key) {
                         Some(s) => s,
                         None => {
-                            distinct.push(*v);
-                            distinct.len() - 1
+                            names.push(key);
+                            names.len() - 1
                         }
                     };
                     sweeps.push(s);
                 }
-                let names = distinct.iter().map(|v| format!("{name} = {v}")).collect();
                 (sweeps, names)
             }
         };

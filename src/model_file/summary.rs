@@ -211,6 +211,9 @@ pub struct SteppedSineSummary {
     pub sweeps: usize,
     /// Where the noise of the points came from.
     pub noise: crate::prep::harmonic::sweeps::NoiseOrigin,
+    /// Sweeps too short for their own scatter, given the pooled scatter of the others.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub pooled: Vec<String>,
 }
 
 impl SteppedSineSummary {
@@ -221,6 +224,12 @@ impl SteppedSineSummary {
             points: table.table.table.points().len(),
             sweeps: table.table.sweep_names.len(),
             noise: table.table.noise_origin,
+            pooled: table
+                .table
+                .pooled
+                .iter()
+                .map(|&s| table.table.sweep_names[s].clone())
+                .collect(),
         }
     }
 }
@@ -228,10 +237,14 @@ impl SteppedSineSummary {
 impl fmt::Display for SteppedSineSummary {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let noise = match self.noise {
-            crate::prep::harmonic::sweeps::NoiseOrigin::Given => "given per point",
-            crate::prep::harmonic::sweeps::NoiseOrigin::SweepScatter => {
-                "estimated from the scatter along each sweep"
+            crate::prep::harmonic::sweeps::NoiseOrigin::Given => "given per point".to_string(),
+            crate::prep::harmonic::sweeps::NoiseOrigin::SweepScatter if self.pooled.is_empty() => {
+                "estimated from the scatter along each sweep".to_string()
             }
+            crate::prep::harmonic::sweeps::NoiseOrigin::SweepScatter => format!(
+                "estimated from the scatter along each sweep ({}: fewer than 3 points, the pooled scatter of the others)",
+                self.pooled.join(", ")
+            ),
         };
         writeln!(
             f,

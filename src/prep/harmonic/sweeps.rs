@@ -21,7 +21,11 @@
 //! ```
 //!
 //! one σ per quantity and sweep, a relative σ for a and X_i (noise on the logarithm)
-//! and an absolute one for φ_i. A sweep needs at least three points for it.
+//! and an absolute one for φ_i. A sweep needs at least three points for it; a sweep with
+//! fewer (two points kept near resonance) takes the pooled scatter of the others,
+//! σ² = Σ_s (n_s − 2) σ_s² / Σ_s (n_s − 2) over the sweeps of three points or more
+//! (the same instrument measured them), and is named in [`SweptTable::pooled`]. Only a
+//! table without any sweep of three points is refused.
 //!
 //! **Duplicated points.** Two points that agree in every value to the last bit (ω, the
 //! force's DOF and amplitude, every X_i and φ_i) are one measurement written twice: a
@@ -70,6 +74,10 @@ pub struct SweptTable {
     pub noise: Vec<PointNoise>,
     /// Where the noise came from.
     pub noise_origin: NoiseOrigin,
+    /// The sweeps (indices) too short for their own scatter, given the pooled scatter
+    /// of the others (module doc).
+    #[serde(default)]
+    pub pooled: Vec<usize>,
 }
 
 impl SweptTable {
@@ -119,6 +127,7 @@ impl SweptTable {
             sweep_names,
             noise,
             noise_origin: NoiseOrigin::Given,
+            pooled: Vec::new(),
         })
     }
 
@@ -139,36 +148,65 @@ impl SweptTable {
             };
             points.len()
         ];
-        for (s, name) in sweep_names.iter().enumerate() {
+        // Each sweep's scatter (relative σ of a, then of each X_j, then σ of each φ_j),
+        // None for a sweep of fewer than three points.
+        let mut scatters: Vec<Option<(usize, Vec<f64>)>> = Vec::with_capacity(sweep_names.len());
+        for s in 0..sweep_names.len() {
             let mut members: Vec<usize> = (0..points.len()).filter(|&i| sweeps[i] == s).collect();
             if members.len() < 3 {
-                return Err(Error::choice(
-                    "stepped-sine noise",
-                    format!("sweep '{name}' with {} point(s)", members.len()),
-                    "the scatter along a sweep needs at least 3 points per sweep; give the noise per point (force_std, amplitude_std, phase_std columns)",
-                ));
+                scatters.push(None);
+                continue;
             }
             members.sort_by(|&a, &b| points[a].frequency.total_cmp(&points[b].frequency));
             let omega: Vec<f64> = members.iter().map(|&i| points[i].frequency).collect();
-            let log_force: Vec<f64> = members
-                .iter()
-                .map(|&i| points[i].force_amplitude.max(f64::MIN_POSITIVE).ln())
-                .collect();
-            let force = scatter(&omega, &log_force);
-            for &i in &members {
-                noise[i].force = force * points[i].force_amplitude;
+            let log = |value: &dyn Fn(usize) -> f64| -> Vec<f64> {
+                members
+                    .iter()
+                    .map(|&i| value(i).max(f64::MIN_POSITIVE).ln())
+                    .collect()
+            };
+            let mut sigma = vec![scatter(&omega, &log(&|i| points[i].force_amplitude))];
+            for j in 0..dofs {
+                sigma.push(scatter(&omega, &log(&|i| points[i].amplitudes[j])));
             }
             for j in 0..dofs {
-                let log_x: Vec<f64> = members
-                    .iter()
-                    .map(|&i| points[i].amplitudes[j].max(f64::MIN_POSITIVE).ln())
-                    .collect();
                 let phase = unwrap(members.iter().map(|&i| points[i].phases[j]));
-                let (sx, sp) = (scatter(&omega, &log_x), scatter(&omega, &phase));
-                for &i in &members {
-                    noise[i].amplitudes[j] = sx * points[i].amplitudes[j];
-                    noise[i].phases[j] = sp;
-                }
+                sigma.push(scatter(&omega, &phase));
+            }
+            scatters.push(Some((members.len() - 2, sigma)));
+        }
+        // The pooled scatter of the sweeps that have their own.
+        let weight: usize = scatters.iter().flatten().map(|(w, _)| w).sum();
+        if weight == 0 {
+            let name = &sweep_names[0];
+            return Err(Error::choice(
+                "stepped-sine noise",
+                format!(
+                    "sweep '{name}' with {} point(s)",
+                    sweeps.iter().filter(|&&s| s == 0).count()
+                ),
+                "the scatter along a sweep needs at least 3 points in one sweep at least (a shorter sweep takes the pooled scatter of the others); give the noise per point (force_std, amplitude_std, phase_std columns)",
+            ));
+        }
+        let pooled: Vec<f64> = (0..1 + 2 * dofs)
+            .map(|q| {
+                let sum: f64 = scatters
+                    .iter()
+                    .flatten()
+                    .map(|(w, sigma)| *w as f64 * sigma[q] * sigma[q])
+                    .sum();
+                (sum / weight as f64).sqrt()
+            })
+            .collect();
+        let short: Vec<usize> = (0..sweep_names.len())
+            .filter(|&s| scatters[s].is_none())
+            .collect();
+        for (i, point) in points.iter().enumerate() {
+            let sigma = scatters[sweeps[i]].as_ref().map_or(&pooled, |(_, s)| s);
+            noise[i].force = sigma[0] * point.force_amplitude;
+            for j in 0..dofs {
+                noise[i].amplitudes[j] = sigma[1 + j] * point.amplitudes[j];
+                noise[i].phases[j] = sigma[1 + dofs + j];
             }
         }
         Ok(SweptTable {
@@ -177,6 +215,7 @@ impl SweptTable {
             sweep_names,
             noise,
             noise_origin: NoiseOrigin::SweepScatter,
+            pooled: short,
         })
     }
 
