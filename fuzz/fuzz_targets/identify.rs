@@ -547,11 +547,11 @@ fuzz_target!(|input: Input| {
         let step = records.first().map_or(1.0, Record::step);
         settings.regressor = non_periodic(choice, n, step);
     }
-    if let Ok(report) = identify(
+    if let Ok(found) = identify(
         &ParametricRegressor::linear(&model, &records),
         &settings,
         &silent,
     ) {
-        support::check(&report);
+        support::check(&found.report);
     }
 });

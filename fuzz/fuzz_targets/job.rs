@@ -19,6 +19,7 @@
 
 #![no_main]
 
+use dampid::identify::{IdentifySettings, identify};
 use dampid::progress::silent;
 use dampid::regressor::ParametricRegressor;
 use std::path::{Component, Path};

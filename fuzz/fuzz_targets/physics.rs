@@ -283,8 +283,7 @@ fuzz_target!(|input: Input| {
         .iter()
         .map(|k| (1.0 + f64::from(k % 16)) / 64.0)
         .collect();
-    if input.experiments.is_empty() || input.experiments.len() > 8 || input.corruptions.len() > 3
-    {
+    if input.experiments.is_empty() || input.experiments.len() > 8 || input.corruptions.len() > 3 {
         return;
     }
     let noise = [0.0, 1e-4, 1e-3][usize::from(input.noise) % 3];
@@ -306,7 +305,10 @@ fuzz_target!(|input: Input| {
             start_time: 0.0,
             displacements: r.x,
             velocities: Some(r.v),
-            forcing: Forcing::on_dofs(Mat::from_fn(r.force.len(), 1, |i, _| r.force[i]), vec![r.dof]),
+            forcing: Forcing::on_dofs(
+                Mat::from_fn(r.force.len(), 1, |i, _| r.force[i]),
+                vec![r.dof],
+            ),
             period: 2.0 * std::f64::consts::PI / r.omega,
         });
         match record {
@@ -320,7 +322,11 @@ fuzz_target!(|input: Input| {
         Coefficients::PerElement("c".into()),
     ));
     let settings = settings(input.pipeline, input.nonnegative);
-    let report = match identify(&ParametricRegressor::linear(&model, &records), &settings, &silent) {
+    let report = match identify(
+        &ParametricRegressor::linear(&model, &records),
+        &settings,
+        &silent,
+    ) {
         Ok(found) => found.report,
         Err(e) => {
             assert!(

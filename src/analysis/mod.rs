@@ -17,7 +17,7 @@ pub mod equivalent;
 pub mod identifiability;
 pub mod measured_levels;
 pub mod outliers;
-pub(crate) mod replicates;
+pub mod replicates;
 pub mod solved;
 pub(crate) mod stats;
 pub mod velocity_noise;

@@ -49,7 +49,7 @@ fn replicated(label: &RowLabel) -> bool {
 
 /// s_w of `regressor` (module doc); `None` when no record has two windows of whole
 /// periods.
-pub(crate) fn window_scatter(regressor: &Regressor) -> Option<f64> {
+pub fn window_scatter(regressor: &Regressor) -> Option<f64> {
     let a = regressor.matrix();
     let (m, p) = a.shape();
     if m == 0 || p == 0 {
@@ -92,7 +92,7 @@ pub(crate) fn window_scatter(regressor: &Regressor) -> Option<f64> {
 
 /// The number of experiments behind the rows of `regressor`: one per record for its
 /// windows of whole periods (replicates), one per row otherwise (module doc).
-pub(crate) fn experiments(regressor: &Regressor) -> usize {
+pub fn experiments(regressor: &Regressor) -> usize {
     let mut records: Vec<usize> = Vec::new();
     let mut others = 0;
     for label in regressor.rows() {

@@ -334,7 +334,7 @@ pub(super) fn read_record(
         None => 1.0,
         Some(s) => {
             let scale = gain(ctx, s, "time", Some(*s.get_ref()), None)?.0;
-            if !(scale > 0.0) {
+            if !(scale.is_finite() && scale > 0.0) {
                 return Err(ctx.typed_error_at(
                     s,
                     Error::invalid(

@@ -29,7 +29,7 @@
 //! and 10⁻⁶ a: the columns are smooth in X and φ, so their relative error is about
 //! 10⁻⁶, negligible in a variance; b is exactly linear in a.
 //!
-//! **Residual receptance** ([`build`]): each point's response, and each
+//! **Residual receptance** ([`Regressor::build`](crate::regressor::Regressor::build)): each point's response, and each
 //! perturbed copy of it, is first corrected by its residual R_p of the out-of-band
 //! modes, Z_mode = Z − R_p a ([`crate::prep::harmonic::residual`]); the derivatives
 //! are still taken with respect to the measured a, X and φ, so the noise model
@@ -274,7 +274,7 @@ pub(crate) fn build(
 }
 
 /// The columns (model terms, then `structural`) of each of `points`, as
-/// [`build`] computes them: the dissipated energy per cycle per unit coefficient.
+/// [`Regressor::build`](crate::regressor::Regressor::build) computes them: the dissipated energy per cycle per unit coefficient.
 pub fn columns_of(
     model: &DampingModel,
     structural: &[StructuralTerm],
