@@ -19,7 +19,6 @@
 
 use crate::analysis::bootstrap::{Bootstrap, BootstrapSettings};
 use crate::analysis::equivalent::{EquivalentDamping, equivalent_damping};
-use crate::analysis::outliers::reported;
 use crate::analysis::velocity_noise;
 use crate::error::Result;
 use crate::fit::FitSettings;
@@ -27,6 +26,7 @@ use crate::model::DampingModel;
 use crate::prep::steady_state::{SteadyStateReport, SteadyStateSettings};
 use crate::progress::Progress;
 use crate::regressor::{ParametricRegressor, Regressor, RegressorSettings};
+use crate::report::outliers::reported;
 use crate::report::{FitReport, Warning};
 use crate::varpro::VarProSettings;
 

@@ -16,7 +16,6 @@ pub mod digest;
 pub mod equivalent;
 pub mod identifiability;
 pub mod measured_levels;
-pub mod outliers;
 pub mod replicates;
 pub mod solved;
 pub(crate) mod stats;

@@ -161,11 +161,19 @@ pub(crate) fn column_major(
 }
 
 /// Builds a table from the arrays read out of `file`: every column must have the same
-/// length.
+/// length. Scalars (one value: a gain, a sample rate stored beside the signals) are left
+/// out of a table of longer signals, so that a file `identify` reads by name is read
+/// whole by `init` and `pod` too.
 pub(crate) fn table_from_arrays(file: &str, arrays: Vec<NamedArray>) -> Result<Table> {
+    let longest = arrays
+        .iter()
+        .flat_map(|a| a.columns.iter().map(Vec::len))
+        .max()
+        .unwrap_or(0);
+    let scalar = |a: &NamedArray| longest > 1 && a.columns.iter().all(|c| c.len() == 1);
     let mut headers = Vec::new();
     let mut columns: Vec<Vec<f64>> = Vec::new();
-    for array in arrays {
+    for array in arrays.into_iter().filter(|a| !scalar(a)) {
         let k = array.columns.len();
         for (j, column) in array.columns.into_iter().enumerate() {
             headers.push(if k == 1 {
@@ -207,6 +215,37 @@ pub(crate) fn table_from_arrays(file: &str, arrays: Vec<NamedArray>) -> Result<T
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A scalar stored beside signals (a gain `gtau`) is left out of the whole table;
+    /// two signals of different lengths are still an error naming both.
+    #[test]
+    fn scalars_beside_signals_are_left_out() {
+        let array = |name: &str, columns: Vec<Vec<f64>>| NamedArray {
+            name: name.into(),
+            columns,
+        };
+        let table = table_from_arrays(
+            "f.mat",
+            vec![
+                array("qg", vec![vec![1.0, 2.0, 3.0]]),
+                array("gtau", vec![vec![0.5]]),
+                array("t", vec![vec![0.0, 0.1, 0.2]]),
+            ],
+        )
+        .unwrap();
+        assert_eq!(table.headers, ["qg", "t"]);
+        let only = table_from_arrays("f.mat", vec![array("gtau", vec![vec![0.5]])]).unwrap();
+        assert_eq!(only.headers, ["gtau"]);
+        let e = table_from_arrays(
+            "f.mat",
+            vec![
+                array("a", vec![vec![1.0, 2.0, 3.0]]),
+                array("b", vec![vec![1.0, 2.0]]),
+            ],
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("2 samples, but 'a' has 3"), "{e}");
+    }
 
     /// Every order and orientation puts element (s, p) of the oriented array in column
     /// p at sample s, whatever the block boundaries: checked against the flat-index

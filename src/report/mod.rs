@@ -12,6 +12,7 @@ mod display;
 pub mod estimation;
 pub mod explains;
 pub mod html;
+pub mod outliers;
 pub mod provenance;
 pub mod records;
 mod truth;

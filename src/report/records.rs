@@ -38,7 +38,7 @@ pub const DOMINANT_SHARE: f64 = 0.5;
 pub const DOMINANCE_RATIO: f64 = 3.0;
 
 /// Family-wise level of the records' outlier tests (divided by the number of records).
-pub const OUTLIER_LEVEL: f64 = 1e-3;
+pub use crate::report::outliers::OUTLIER_LEVEL;
 
 /// The residual of one record's equations.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -66,9 +66,9 @@ pub struct RecordResidual {
     /// degrees of freedom outside the record).
     #[serde(default)]
     pub outlier_p_value: Option<f64>,
-    /// The fit without this record ([`crate::analysis::outliers`]), when it was made.
+    /// The fit without this record ([`crate::report::outliers`]), when it was made.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub left_out: Option<crate::analysis::outliers::LeftOut>,
+    pub left_out: Option<crate::report::outliers::LeftOut>,
 }
 
 impl RecordResidual {

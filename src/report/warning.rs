@@ -113,7 +113,7 @@ pub enum Warning {
         at_bounds: Vec<String>,
     },
     /// One record disagrees with the others: without it the rest fit far better and the
-    /// estimates move ([`crate::analysis::outliers`]).
+    /// estimates move ([`crate::report::outliers`]).
     InconsistentRecord {
         /// The record's label.
         record: String,

@@ -168,7 +168,7 @@ fn run(
     };
     let best = problem.trial(&minimum.values)?;
     // The law parameters use degrees of freedom of the same equations.
-    let fit_report = crate::analysis::outliers::reported(
+    let fit_report = crate::report::outliers::reported(
         &best.regressor,
         &FitSettings {
             nonlinear_parameters: minimum.values.len(),

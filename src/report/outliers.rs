@@ -41,8 +41,11 @@ use serde::{Deserialize, Serialize};
 use crate::analysis::solved::solved;
 use crate::fit::FitSettings;
 use crate::regressor::Regressor;
-use crate::report::records::OUTLIER_LEVEL;
 use crate::report::{FitReport, INADEQUATE_P_VALUE, Warning};
+
+/// Family-wise level of the records' outlier tests (divided by the number of records),
+/// shared with each record's standardised residual ([`crate::report::records`]).
+pub const OUTLIER_LEVEL: f64 = 1e-3;
 
 /// Share of the whole fit's misfit at most left by removing an inconsistent record.
 pub const REMAINING_MISFIT: f64 = 0.01;
