@@ -5,7 +5,10 @@
 //! - adding a conservative force changes nothing: to the data (r + K₂x, whose work over a
 //!   period is ½Δ(xᵀK₂x) = 0) or to the simulated system (a cubic spring);
 //! - splitting records into single-cycle windows gives the same estimates as one window;
-//! - with a long transient and spectral velocities the estimates converge to the truth.
+//! - with a long transient and spectral velocities the estimates converge to the truth;
+//! - the default (noise-robust) pipeline is scale-invariant: the measured chain with
+//!   every displacement and force × s, s = 1e±80 and 1e±150, gives the dashpots of s = 1
+//!   and the friction × s, with their standard errors and the same χ² (issue 29, item 4).
 
 use dampid::prelude::*;
 use dampid::reference::{FOUR_MASS_C, FOUR_MASS_D, four_mass_model, four_mass_system};
@@ -279,4 +282,77 @@ fn splitting_records_into_cycles_gives_the_same_answer() {
     let (c1, d1) = estimates(&split);
     assert!((c1 - c0).abs() < 1e-5 * c0, "{c0} vs {c1}");
     assert!((d1 - d0).abs() < 1e-5 * d0, "{d0} vs {d1}");
+}
+
+/// The measured chain's model file (default pipeline: noise-robust rows, weighted) with
+/// every displacement and force column × `scale` (a gain in the file).
+fn measured_chain_at(scale: f64) -> dampid::model_file::Job {
+    let text = std::fs::read_to_string("models/measured_chain.toml").unwrap();
+    let text = text
+        .replace("quadrature = \"trapezoid\"\n", "")
+        .replace("velocity = \"spectral\"", "# velocity: the default")
+        .replace(
+            "displacements = [\"x1\", \"x2\", \"x3\"]",
+            &format!(
+                "displacements = [{{ column = \"x1\", scale = {scale:e} }}, {{ column = \"x2\", scale = {scale:e} }}, {{ column = \"x3\", scale = {scale:e} }}]"
+            ),
+        );
+    let mut text = text;
+    for dof in [1, 3] {
+        text = text.replace(
+            &format!("forces = [{{ column = \"f1\", dof = {dof} }}]"),
+            &format!("forces = [{{ column = \"f1\", dof = {dof}, scale = {scale:e} }}]"),
+        );
+    }
+    assert!(!text.contains("velocity = \"spectral\""));
+    dampid::model_file::parse(
+        &text,
+        "scaled.toml",
+        std::path::Path::new("models"),
+        Default::default(),
+    )
+    .unwrap()
+}
+
+/// Data scale changes no figure of the default pipeline: x and f × s leave every
+/// viscous coefficient (force per velocity) unchanged and scale the friction (a force)
+/// by s, with their standard errors, the relative residual and χ² unchanged, from
+/// s = 1e-150 to 1e150. Before the noise model kept standard deviations, s = 1e-80 gave
+/// standard errors of 1e159 and a different weighting.
+#[test]
+fn the_default_pipeline_is_scale_invariant() {
+    let fit = |s: f64| {
+        let job = measured_chain_at(s);
+        dampid::identify::identify(&job.problem(), &job.settings, &dampid::progress::silent)
+            .unwrap()
+            .report
+    };
+    let base = fit(1.0);
+    let base_chi2 = base.noise.as_ref().unwrap().chi_square;
+    for s in [1e-150, 1e-80, 1e80, 1e150] {
+        let scaled = fit(s);
+        for (b, c) in base.coefficients.iter().zip(&scaled.coefficients) {
+            let k = if c.name == "friction" { s } else { 1.0 };
+            let close = |x: f64, y: f64| (x - y).abs() <= 1e-9 * y.abs();
+            assert!(
+                close(c.value / k, b.value),
+                "{s:e}: {} = {} vs {}",
+                c.name,
+                c.value,
+                b.value
+            );
+            let (se, base_se) = (c.std_error.unwrap(), b.std_error.unwrap());
+            assert!(
+                close(se / k, base_se),
+                "{s:e}: se of {} = {se} vs {base_se}",
+                c.name
+            );
+        }
+        assert!((scaled.relative_residual - base.relative_residual).abs() < 1e-9);
+        let chi2 = scaled.noise.as_ref().unwrap().chi_square;
+        assert!(
+            (chi2 - base_chi2).abs() <= 1e-9 * base_chi2,
+            "{s:e}: χ² {chi2} vs {base_chi2}"
+        );
+    }
 }

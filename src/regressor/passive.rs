@@ -90,16 +90,26 @@ impl WorkScale {
 struct Sums {
     net: f64,
     gross: f64,
+    /// Σ (std_r / unit)², the variance in units of the first row's gross work (so that
+    /// data of any scale neither underflow nor overflow when squared).
     variance: f64,
+    unit: f64,
     samples: usize,
     rows: usize,
 }
 
 impl Sums {
-    fn add(&mut self, b: f64, gross: f64, variance: Option<f64>, samples: usize) {
+    fn add(&mut self, b: f64, gross: f64, std: Option<f64>, samples: usize) {
+        if self.rows == 0 {
+            self.unit = if gross > 0.0 && gross.is_finite() {
+                gross
+            } else {
+                1.0
+            };
+        }
         self.net += b;
         self.gross += gross;
-        self.variance += variance.unwrap_or(0.0);
+        self.variance += (std.unwrap_or(0.0) / self.unit).powi(2);
         self.samples += samples;
         self.rows += 1;
     }
@@ -107,7 +117,7 @@ impl Sums {
     /// The most negative net work the noise explains (a negative number).
     fn threshold(&self, noise: bool) -> f64 {
         let allowed = if noise {
-            (Z * self.variance.sqrt()).max(FLOOR * self.gross)
+            (Z * self.unit * self.variance.sqrt()).max(FLOOR * self.gross)
         } else {
             let n = self.samples.max(1) as f64;
             (Z / n.sqrt()).max(FLOOR) * self.gross
@@ -132,12 +142,12 @@ pub fn negative_groups(regressor: &Regressor) -> Vec<(String, f64)> {
     let mut all = Sums::default();
     let zero = vec![0.0; regressor.columns().len()];
     for (r, &b) in regressor.rhs().iter().enumerate() {
-        let variance = noise.map(|n| n.rows[r].variance(&zero));
+        let std = noise.map(|n| n.rows[r].std(&zero));
         let (gross, samples) = (scale.gross[r], scale.samples[r]);
         if let Some(g) = groups.get_mut(scale.group[r]) {
-            g.add(b, gross, variance, samples);
+            g.add(b, gross, std, samples);
         }
-        all.add(b, gross, variance, samples);
+        all.add(b, gross, std, samples);
     }
     let mut out: Vec<(String, f64)> = groups
         .iter()

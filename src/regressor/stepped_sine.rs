@@ -222,7 +222,7 @@ pub(crate) fn build(
             .collect();
         noise.rows.push(RowNoise {
             channels,
-            force_variance: (sigma.force * db_da).powi(2),
+            force_std: (sigma.force * db_da).abs(),
         });
         noise.windows.push(WindowNoise {
             record: swept.sweep_names[swept.sweeps[r]].clone(),

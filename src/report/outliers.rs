@@ -129,7 +129,7 @@ pub fn with_left_out(
     let weight = |i: usize, theta: &[f64]| -> f64 {
         regressor
             .noise()
-            .map(|noise| noise.rows[i].variance(theta).sqrt())
+            .map(|noise| noise.rows[i].std(theta))
             .filter(|s| s.is_finite() && *s > 0.0)
             .unwrap_or(1.0)
     };

@@ -130,7 +130,7 @@ pub struct NoiseModel {
 impl NoiseModel {
     /// The standard deviation of each equation's residual at coefficients `theta`.
     pub fn residual_std(&self, theta: &[f64]) -> Vec<f64> {
-        self.rows.iter().map(|r| r.variance(theta).sqrt()).collect()
+        self.rows.iter().map(|r| r.std(theta)).collect()
     }
 
     /// The rows `indices` (with repeats), for resampling.

@@ -185,7 +185,7 @@ pub(super) fn robust_row(
         }
         force_gradient.push((j, g));
     }
-    let force_variance = force_channel_variance(record, &force_gradient, &force_sigma);
+    let force_std = force_channel_std(record, &force_gradient, &force_sigma);
 
     // Columns.
     let mut columns = vec![0.0; model.coefficient_count()];
@@ -237,7 +237,7 @@ pub(super) fn robust_row(
         input,
         noise: RowNoise {
             channels,
-            force_variance,
+            force_std,
         },
         window: WindowNoise {
             record: record.label().to_string(),
@@ -254,37 +254,33 @@ pub(super) fn robust_row(
     })
 }
 
-/// Σ_k σ_{f,k}² Σ_i (Σ_j D_jk ∂b/∂r_{j,i})², over the DOFs j of `force_gradient`
-/// (the others' gradient is zero).
-fn force_channel_variance(
-    record: &Record,
-    force_gradient: &[(usize, Vec<f64>)],
-    sigma: &[f64],
-) -> f64 {
+/// √(Σ_k σ_{f,k}² Σ_i (Σ_j D_jk ∂b/∂r_{j,i})²), over the DOFs j of `force_gradient`
+/// (the others' gradient is zero): the standard deviation of the input work from the
+/// force channels' noise, formed without squaring data-sized numbers
+/// ([`super::sensitivity::norm`]).
+fn force_channel_std(record: &Record, force_gradient: &[(usize, Vec<f64>)], sigma: &[f64]) -> f64 {
     let forcing = record.forcing();
-    let mut total = 0.0;
+    let mut terms = Vec::new();
     for (k, s) in sigma.iter().enumerate() {
         if *s == 0.0 {
             continue;
         }
-        let sum_sq: f64 = match &forcing.distribution {
-            LoadDistribution::Dofs(dofs) => force_gradient
-                .iter()
-                .find(|(j, _)| *j == dofs[k])
-                .map_or(0.0, |(_, g)| g.iter().map(|g| g * g).sum()),
+        match &forcing.distribution {
+            LoadDistribution::Dofs(dofs) => {
+                if let Some((_, g)) = force_gradient.iter().find(|(j, _)| *j == dofs[k]) {
+                    terms.extend(g.iter().map(|g| s * g));
+                }
+            }
             LoadDistribution::Matrix(d) => {
                 let rows = force_gradient.first().map_or(0, |(_, g)| g.len());
-                (0..rows)
-                    .map(|i| {
-                        let g: f64 = force_gradient.iter().map(|(j, g)| d[(*j, k)] * g[i]).sum();
-                        g * g
-                    })
-                    .sum()
+                terms.extend((0..rows).map(|i| {
+                    let g: f64 = force_gradient.iter().map(|(j, g)| d[(*j, k)] * g[i]).sum();
+                    s * g
+                }));
             }
-        };
-        total += s * s * sum_sq;
+        }
     }
-    total
+    super::sensitivity::norm(&terms)
 }
 
 /// A matrix term: Σ_i w_i v̂_iᵀ C₀ v̂_i − Σ_i w_i Var(v̂_i) Σ_j C₀,jj σ_j².

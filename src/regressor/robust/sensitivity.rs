@@ -6,6 +6,15 @@
 //! ```
 //!
 //! with e = b − Σ θ_k A_k the equation's residual.
+//!
+//! **Scale.** Every entry of a whitened vector is of the size of (noise of x) × (force),
+//! s_x s_f, so their squares are of size (s_x s_f)²: data in units that put s_x s_f near
+//! 1e-160 (a force and a displacement of 1e-80 each) would square to below the smallest
+//! f64 and the variance would read 0, and above 1e154 to infinity. The force term is kept
+//! as a standard deviation and [`RowNoise::std`] forms the norm after dividing by the
+//! largest entry (as `hypot` does), so the standard deviation of a residual is right
+//! wherever it is itself a finite f64: the weighted fit, its χ² and its standard errors
+//! are then the same at any data scale.
 
 use serde::{Deserialize, Serialize};
 
@@ -25,14 +34,15 @@ pub struct ChannelSensitivity {
 pub struct RowNoise {
     /// Per displacement channel.
     pub channels: Vec<ChannelSensitivity>,
-    /// Variance of the input work from force-channel noise.
-    pub force_variance: f64,
+    /// Standard deviation of the input work from force-channel noise.
+    pub force_std: f64,
 }
 
 impl RowNoise {
-    /// Var e(θ), the residual's variance at coefficients `theta`.
-    pub fn variance(&self, theta: &[f64]) -> f64 {
-        let mut total = self.force_variance;
+    /// √Var e(θ), the residual's standard deviation at coefficients `theta`, formed
+    /// without squaring an entry of the data's size (module doc).
+    pub fn std(&self, theta: &[f64]) -> f64 {
+        let mut combined = Vec::new();
         let mut acc = Vec::new();
         for channel in &self.channels {
             let p = channel
@@ -49,10 +59,31 @@ impl RowNoise {
                     *a -= theta[*k] * z;
                 }
             }
-            total += acc.iter().map(|a| a * a).sum::<f64>();
+            combined.extend_from_slice(&acc);
         }
-        total
+        combined.push(self.force_std);
+        norm(&combined)
     }
+
+    /// Var e(θ) = [`RowNoise::std`]², for sums of variances over rows of one size.
+    pub fn variance(&self, theta: &[f64]) -> f64 {
+        self.std(theta).powi(2)
+    }
+}
+
+/// ‖values‖₂ without overflow or underflow of the squares: the largest magnitude m
+/// times √Σ (v/m)².
+pub(crate) fn norm(values: &[f64]) -> f64 {
+    let largest = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    if largest == 0.0 || !largest.is_finite() {
+        return largest;
+    }
+    largest
+        * values
+            .iter()
+            .map(|v| (v / largest).powi(2))
+            .sum::<f64>()
+            .sqrt()
 }
 
 #[cfg(test)]
@@ -69,8 +100,22 @@ mod tests {
                 input: vec![1.0, 0.0],
                 columns: vec![(0, vec![0.0, 2.0]), (1, vec![1.0, 1.0])],
             }],
-            force_variance: 0.25,
+            force_std: 0.5,
         };
-        assert!((row.variance(&[0.5, 2.0]) - (1.0 + 9.0 + 0.25)).abs() < 1e-15);
+        assert!((row.variance(&[0.5, 2.0]) - (1.0 + 9.0 + 0.25)).abs() < 1e-14);
+        // The same row at the data scales 1e-160 and 1e160: its standard deviation
+        // scales exactly where the squares would underflow or overflow.
+        for scale in [1e-160, 1e160] {
+            let scaled = RowNoise {
+                channels: vec![ChannelSensitivity {
+                    channel: 0,
+                    input: vec![scale, 0.0],
+                    columns: vec![(0, vec![0.0, 2.0 * scale]), (1, vec![scale, scale])],
+                }],
+                force_std: 0.5 * scale,
+            };
+            let std = scaled.std(&[0.5, 2.0]) / scale;
+            assert!((std - 10.25f64.sqrt()).abs() < 1e-14, "{scale}: {std}");
+        }
     }
 }
