@@ -185,3 +185,84 @@ fn a_two_point_sweep_takes_the_pooled_scatter() {
     .unwrap_err();
     assert!(e.to_string().contains("force_std"), "{e}");
 }
+
+/// `keep` selects points as a lab would, without editing the file: the points within
+/// 0.6 rad of resonance (|φ − π/2| ≤ 0.6, which leaves some sweeps with two points),
+/// a frequency band, some sweeps; each kept set is exactly the rows the condition
+/// names, counted from the generator, and the selection fits under both weightings.
+/// An unknown sweep, an empty band and a selection of nothing are errors naming `keep`.
+#[test]
+fn keep_selects_points_near_resonance_a_band_or_sweeps() {
+    let all = rows(Some((5, 0.005, 0.005)));
+    let file = write("keep.csv", &all, |l| format!("FC{l}"));
+    let half_pi = std::f64::consts::FRAC_PI_2;
+    let near: Vec<usize> = (0..all.len())
+        .filter(|&r| (all[r][4].to_radians() - half_pi).abs() <= 0.6)
+        .collect();
+    assert!(near.len() > 10 && near.len() < all.len());
+    for weighting in ["", "[identification]\nweighting = \"ordinary\""] {
+        let extra = format!(
+            "keep = {{ lag = [{}, {}] }}\n{weighting}",
+            half_pi - 0.6,
+            half_pi + 0.6
+        );
+        let job = job(&file, &extra);
+        let table = &job.stepped_sine.as_ref().unwrap().table;
+        let labels: Vec<String> = table
+            .table
+            .points()
+            .iter()
+            .map(|p| p.label.clone())
+            .collect();
+        let expected: Vec<String> = near.iter().map(|r| format!("row {}", r + 1)).collect();
+        assert_eq!(labels, expected);
+        let report = identify(&job.problem(), &job.settings, &silent)
+            .unwrap()
+            .report;
+        assert!(report.is_usable(), "{report}");
+    }
+    // A band of ±0.5 % of f_n in Hz, and two sweeps by name.
+    let fn_hz = K.sqrt() / std::f64::consts::TAU;
+    let (lo, hi) = (0.995 * fn_hz, 1.005 * fn_hz);
+    let band = job(&file, &format!("keep = {{ frequency_hz = [{lo}, {hi}] }}"));
+    let in_band = all.iter().filter(|r| lo <= r[1] && r[1] <= hi).count();
+    assert_eq!(
+        band.stepped_sine
+            .as_ref()
+            .unwrap()
+            .table
+            .table
+            .points()
+            .len(),
+        in_band
+    );
+    let two = job(&file, "keep = { sweeps = [\"FC2\", \"FC4\"] }");
+    let table = &two.stepped_sine.as_ref().unwrap().table;
+    assert_eq!(table.sweep_names, ["FC2", "FC4"]);
+    assert_eq!(table.table.points().len(), 30);
+    // Errors at `keep`.
+    for (extra, needle) in [
+        ("keep = { sweeps = [\"FC9\"] }", "FC9"),
+        (
+            "keep = { frequency_hz = [60.0, 50.0] }",
+            "keep.frequency_hz",
+        ),
+        (
+            "keep = { frequency_hz = [1.0, 2.0] }",
+            "none of the 75 points",
+        ),
+    ] {
+        let e = dampid::model_file::parse(
+            &model_text(&file, extra),
+            "lab.toml",
+            Path::new("."),
+            Default::default(),
+        )
+        .unwrap_err();
+        let message = e.to_string();
+        assert!(
+            message.contains(needle) && message.contains("lab.toml"),
+            "{message}"
+        );
+    }
+}

@@ -100,6 +100,10 @@ fn probes() -> Vec<(&'static str, String)> {
             format!("[stepped_sine]\nstructural = [{{ {k} = 1 }}]\n"),
         ),
         (
+            "## [stepped_sine]",
+            format!("[stepped_sine]\nkeep = {{ {k} = 1 }}\n"),
+        ),
+        (
             "## [harmonic_approximation]",
             format!("[harmonic_approximation]\n{k} = 1\n"),
         ),

@@ -24,6 +24,7 @@ pub use compared::ComparedModel;
 mod context;
 pub mod init;
 mod job;
+mod keep;
 mod locate;
 mod measured;
 mod preflight;

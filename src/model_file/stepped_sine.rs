@@ -249,6 +249,17 @@ impl Context<'_> {
                 }
             })
             .collect();
+        // The rows `keep` selects (all without it), before any noise is estimated.
+        let (points, sweeps, sweep_names, kept) = match &spec.keep {
+            None => (points, sweeps, sweep_names, (0..rows).collect::<Vec<_>>()),
+            Some(keep) => {
+                let kept = self.at(keep, |k| {
+                    super::keep::kept(k, &points, &sweeps, &sweep_names)
+                })?;
+                let (sweeps, names) = super::keep::sweeps_of(&sweeps, &sweep_names, &kept);
+                (super::keep::at(&points, &kept), sweeps, names, kept)
+            }
+        };
         let table_points = SteppedSineTable::new(points)?;
         let given = [
             spec.force_std.is_some(),
@@ -289,8 +300,9 @@ impl Context<'_> {
                 sa.push(std_column(&amplitude_std[*k], a.scale.unwrap_or(1.0))?);
                 sp.push(std_column(&phase_std[*k], p.scale.unwrap_or(1.0))?);
             }
-            let noise = (0..rows)
-                .map(|r| PointNoise {
+            let noise = kept
+                .iter()
+                .map(|&r| PointNoise {
                     force: sf[r],
                     amplitudes: (0..n).map(|j| sa[j][r] / omega[r].powi(order)).collect(),
                     phases: (0..n).map(|j| sp[j][r]).collect(),

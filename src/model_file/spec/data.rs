@@ -185,6 +185,26 @@ pub struct SteppedSineSpec {
     /// Bounds [lower, upper] of every sweep's r_m (default ± that bound × the sweep's
     /// lowest ω²).
     pub residual_mass: Option<Spanned<[f64; 2]>>,
+    /// The points to keep (all by default): a frequency band, a band of the
+    /// displacement's lag, some sweeps ([`KeepSpec`]).
+    pub keep: Option<Spanned<KeepSpec>>,
+}
+
+/// `keep = { frequency_hz = [48.5, 51.5], lag = [0.97, 2.17], sweeps = ["FC1", "RC2"] }`:
+/// the points of a `[stepped_sine]` table to identify from, every condition given
+/// holding (bounds inclusive).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct KeepSpec {
+    /// [lower, upper] of ω/2π in Hz (ω after the frequency column's gain).
+    pub frequency_hz: Option<[f64; 2]>,
+    /// [lower, upper] of the displacement's lag φ behind the force at the force's DOF,
+    /// in rad after the phase convention and `response` (π/2 at resonance; near
+    /// resonance: `[1.5708 - 0.6, 1.5708 + 0.6]`).
+    pub lag: Option<[f64; 2]>,
+    /// The sweeps, by the names dampid gives them (`FC1`, or `level = 2` for a
+    /// numeric sweep column).
+    pub sweeps: Option<Vec<String>>,
 }
 
 /// Which way a stepped-sine phase is counted.
