@@ -187,7 +187,7 @@ fn a_two_point_sweep_takes_the_pooled_scatter() {
 }
 
 /// `keep` selects points as a lab would, without editing the file: the points within
-/// 0.6 rad of resonance (|φ − π/2| ≤ 0.6, which leaves some sweeps with two points),
+/// 0.6 rad of resonance (|φ − π/2| ≤ 0.6, which leaves most sweeps one point),
 /// a frequency band, some sweeps; each kept set is exactly the rows the condition
 /// names, counted from the generator, and the selection fits under both weightings.
 /// An unknown sweep, an empty band and a selection of nothing are errors naming `keep`.
@@ -199,7 +199,9 @@ fn keep_selects_points_near_resonance_a_band_or_sweeps() {
     let near: Vec<usize> = (0..all.len())
         .filter(|&r| (all[r][4].to_radians() - half_pi).abs() <= 0.6)
         .collect();
-    assert!(near.len() > 10 && near.len() < all.len());
+    // About seven of the 75 (the points lie 0.43 % apart, the resonances are 0.6–1.5 %
+    // wide): most sweeps keep one point and take the pooled scatter of the last.
+    assert!(near.len() >= 5 && near.len() < all.len(), "{}", near.len());
     for weighting in ["", "[identification]\nweighting = \"ordinary\""] {
         let extra = format!(
             "keep = {{ lag = [{}, {}] }}\n{weighting}",

@@ -160,20 +160,25 @@ pub(crate) fn column_major(
     })
 }
 
-/// Builds a table from the arrays read out of `file`: every column must have the same
-/// length. Scalars (one value: a gain, a sample rate stored beside the signals) are left
-/// out of a table of longer signals, so that a file `identify` reads by name is read
-/// whole by `init` and `pod` too.
-pub(crate) fn table_from_arrays(file: &str, arrays: Vec<NamedArray>) -> Result<Table> {
+/// `arrays` less the scalars (one value: a gain, a sample rate stored beside the
+/// signals) when some array is longer: what a file read whole holds as a table, so that
+/// a file `identify` reads by name is read whole by `init` and `pod` too.
+pub(crate) fn without_scalars(arrays: Vec<NamedArray>) -> Vec<NamedArray> {
     let longest = arrays
         .iter()
         .flat_map(|a| a.columns.iter().map(Vec::len))
         .max()
         .unwrap_or(0);
     let scalar = |a: &NamedArray| longest > 1 && a.columns.iter().all(|c| c.len() == 1);
+    arrays.into_iter().filter(|a| !scalar(a)).collect()
+}
+
+/// Builds a table from the arrays read out of `file`: every column must have the same
+/// length.
+pub(crate) fn table_from_arrays(file: &str, arrays: Vec<NamedArray>) -> Result<Table> {
     let mut headers = Vec::new();
     let mut columns: Vec<Vec<f64>> = Vec::new();
-    for array in arrays.into_iter().filter(|a| !scalar(a)) {
+    for array in arrays {
         let k = array.columns.len();
         for (j, column) in array.columns.into_iter().enumerate() {
             headers.push(if k == 1 {
@@ -224,25 +229,20 @@ mod tests {
             name: name.into(),
             columns,
         };
-        let table = table_from_arrays(
-            "f.mat",
-            vec![
-                array("qg", vec![vec![1.0, 2.0, 3.0]]),
-                array("gtau", vec![vec![0.5]]),
-                array("t", vec![vec![0.0, 0.1, 0.2]]),
-            ],
-        )
+        let whole = |arrays| table_from_arrays("f.mat", without_scalars(arrays));
+        let table = whole(vec![
+            array("qg", vec![vec![1.0, 2.0, 3.0]]),
+            array("gtau", vec![vec![0.5]]),
+            array("t", vec![vec![0.0, 0.1, 0.2]]),
+        ])
         .unwrap();
         assert_eq!(table.headers, ["qg", "t"]);
-        let only = table_from_arrays("f.mat", vec![array("gtau", vec![vec![0.5]])]).unwrap();
+        let only = whole(vec![array("gtau", vec![vec![0.5]])]).unwrap();
         assert_eq!(only.headers, ["gtau"]);
-        let e = table_from_arrays(
-            "f.mat",
-            vec![
-                array("a", vec![vec![1.0, 2.0, 3.0]]),
-                array("b", vec![vec![1.0, 2.0]]),
-            ],
-        )
+        let e = whole(vec![
+            array("a", vec![vec![1.0, 2.0, 3.0]]),
+            array("b", vec![vec![1.0, 2.0]]),
+        ])
         .unwrap_err();
         assert!(e.to_string().contains("2 samples, but 'a' has 3"), "{e}");
     }

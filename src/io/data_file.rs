@@ -22,7 +22,7 @@ use std::path::{Path, PathBuf};
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
-use crate::io::arrays::{self, NamedArray, table_from_arrays};
+use crate::io::arrays::{self, NamedArray, table_from_arrays, without_scalars};
 use crate::io::mat;
 use crate::io::npy::{Header, data_error};
 use crate::io::npz::Npz;
@@ -196,7 +196,8 @@ impl DataFile {
                     .collect::<Vec<_>>() // the first error in order, whichever thread saw it first
                     .into_iter()
                     .collect::<Result<Vec<_>>>()?;
-                table_from_arrays(&self.file, arrays)
+                // Scalars beside the signals (gains) are not columns of the whole table.
+                table_from_arrays(&self.file, without_scalars(arrays))
             }
         }
     }
