@@ -426,16 +426,17 @@ fn point(x: f64, g: &[f64], theta: &[f64], std: Option<f64>, modal: &Modal) -> E
     }
 }
 
-impl fmt::Display for EquivalentDamping {
+impl fmt::Display for ModalSource {
+    /// Where the modal mass and stiffness came from, as the report says it.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let m = &self.modal;
-        let source = match &m.source {
-            ModalSource::System => "from [system]".to_string(),
+        match self {
+            ModalSource::System => write!(f, "from [system]"),
             ModalSource::LowestLevelFrf {
                 sweep,
                 points,
                 less_residual,
-            } => format!(
+            } => write!(
+                f,
                 "estimated from the frequency response of the lowest level ({sweep}, {points} points{})",
                 if *less_residual {
                     ", less the estimated residual receptance"
@@ -443,7 +444,14 @@ impl fmt::Display for EquivalentDamping {
                     ""
                 }
             ),
-        };
+        }
+    }
+}
+
+impl fmt::Display for EquivalentDamping {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let m = &self.modal;
+        let source = m.source.to_string();
         writeln!(
             f,
             "equivalent damping at ω_n = {:.6e} (modal mass {:.6e}, stiffness {:.6e}, {source}):",

@@ -22,7 +22,7 @@ use std::fmt::Write as _;
 
 use super::plots::{self, Curve, ZetaCurve};
 use super::{HtmlReport, escape};
-use crate::analysis::equivalent::{EquivalentDamping, ModalSource};
+use crate::analysis::equivalent::EquivalentDamping;
 use crate::error::Result;
 use crate::prep::harmonic::residual;
 
@@ -214,22 +214,7 @@ impl HtmlReport<'_> {
     /// The equivalent damping table, ± 1.96 standard deviations.
     fn equivalent_table(&self, equivalent: &EquivalentDamping) -> String {
         let m = &equivalent.modal;
-        let source = match &m.source {
-            ModalSource::System => "from [system]".to_string(),
-            ModalSource::LowestLevelFrf {
-                sweep,
-                points,
-                less_residual,
-            } => format!(
-                "estimated from the frequency response of the lowest level ({}, {points} points{})",
-                escape(sweep),
-                if *less_residual {
-                    ", less the estimated residual receptance"
-                } else {
-                    ""
-                }
-            ),
-        };
+        let source = escape(&m.source.to_string());
         let intervals = if self.report.estimation.is_some() {
             "Intervals ± 1.96 standard deviations from the joint covariance of the coefficients and the estimated nonlinear parameters (the law parameters through the change of the law, every unknown through its correlation with the coefficients)."
         } else {
