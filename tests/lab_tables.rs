@@ -74,6 +74,18 @@ fn job(file: &Path, extra: &str) -> dampid::model_file::Job {
     .unwrap()
 }
 
+/// The error message of the model file on `file` with `extra`.
+fn parse_error(file: &Path, extra: &str) -> String {
+    dampid::model_file::parse(
+        &model_text(file, extra),
+        "lab.toml",
+        Path::new("."),
+        Default::default(),
+    )
+    .unwrap_err()
+    .to_string()
+}
+
 /// Sweeps labelled `FC1` … `FC5` are named as written and give the same fit, bit for
 /// bit, as the same table with numeric labels (only the names differ).
 #[test]
@@ -102,14 +114,7 @@ fn text_sweep_labels_name_the_sweeps_as_written() {
     broken = broken.replacen("\nFC1,", "\n,", 1);
     let file = scratch("empty_label.csv");
     std::fs::write(&file, broken).unwrap();
-    let e = dampid::model_file::parse(
-        &model_text(&file, ""),
-        "lab.toml",
-        Path::new("."),
-        Default::default(),
-    )
-    .unwrap_err();
-    let message = e.to_string();
+    let message = parse_error(&file, "");
     assert!(
         message.contains("empty_label.csv") && message.contains("level"),
         "{message}"
@@ -176,14 +181,8 @@ fn a_two_point_sweep_takes_the_pooled_scatter() {
     }
     // No sweep with three points: refused, saying what to give.
     let two_each: Vec<[f64; 5]> = all.chunks(15).flat_map(|s| s[6..8].to_vec()).collect();
-    let e = dampid::model_file::parse(
-        &model_text(&write("two_each.csv", &two_each, |l| format!("{l}")), ""),
-        "lab.toml",
-        Path::new("."),
-        Default::default(),
-    )
-    .unwrap_err();
-    assert!(e.to_string().contains("force_std"), "{e}");
+    let message = parse_error(&write("two_each.csv", &two_each, |l| format!("{l}")), "");
+    assert!(message.contains("force_std"), "{message}");
 }
 
 /// `keep` selects points as a lab would, without editing the file: the points within
@@ -254,14 +253,7 @@ fn keep_selects_points_near_resonance_a_band_or_sweeps() {
             "none of the 75 points",
         ),
     ] {
-        let e = dampid::model_file::parse(
-            &model_text(&file, extra),
-            "lab.toml",
-            Path::new("."),
-            Default::default(),
-        )
-        .unwrap_err();
-        let message = e.to_string();
+        let message = parse_error(&file, extra);
         assert!(
             message.contains(needle) && message.contains("lab.toml"),
             "{message}"

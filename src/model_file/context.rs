@@ -25,7 +25,12 @@ impl Context<'_> {
         spanned: &Spanned<T>,
         message: impl std::fmt::Display,
     ) -> Error {
-        let (line, column) = self.position(spanned.span().start);
+        self.error_at_offset(Some(spanned.span().start), message)
+    }
+
+    /// An error at byte `offset` of the file, or about the file as a whole without one.
+    fn error_at_offset(&self, offset: Option<usize>, message: impl std::fmt::Display) -> Error {
+        let (line, column) = offset.map_or((0, 0), |offset| self.position(offset));
         Error::ModelFile {
             file: self.file.to_string(),
             line,
@@ -98,15 +103,7 @@ impl Context<'_> {
         key: &str,
         message: impl std::fmt::Display,
     ) -> Error {
-        let (line, column) = super::locate::find_key(self.text, section, key)
-            .map_or((0, 0), |offset| self.position(offset));
-        Error::ModelFile {
-            file: self.file.to_string(),
-            line,
-            column,
-            message: message.to_string(),
-            cause: None,
-        }
+        self.error_at_offset(super::locate::find_key(self.text, section, key), message)
     }
 
     /// `error` with the line and column of the key it concerns (`locate.rs`), searched
