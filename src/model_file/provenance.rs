@@ -146,6 +146,11 @@ pub fn settings_in_effect(
             periodic_only.clone(),
             toml_text(w.skip as i64),
         ),
+        Windows::Decay(d) => (
+            toml_text(d.cycles as i64),
+            "– (every whole cycle above the noise floor: [free_decay])".into(),
+            "– (does not apply: [free_decay] start)".into(),
+        ),
     };
     let none = || "– (none)".to_string();
     let constraints = &fit.constraints;

@@ -8,6 +8,7 @@
 //! velocities; nothing here builds a regressor or fits.
 
 pub(crate) mod fourier;
+pub mod free_decay;
 pub mod harmonic;
 pub mod motion;
 pub mod period;

@@ -25,6 +25,7 @@
 
 pub mod dead_motion;
 pub mod derivative_free;
+mod free_decay;
 pub(crate) mod history;
 pub mod input_work;
 mod kernel;
@@ -205,6 +206,20 @@ impl Regressor {
                 )?;
                 input_work::require_span_work(records, &regressor)?;
                 return Ok(regressor);
+            }
+            Windows::Decay(decay) => {
+                settings.validate()?;
+                history::refuse(
+                    model,
+                    "free-decay cycles",
+                    "a hysteretic element stores energy that depends on its internal state, which the stored energy of a mode (½mv² + ½mω²x²) cannot express",
+                )?;
+                history::refuse_structural(
+                    model,
+                    "free-decay cycles",
+                    "its force −ηk H[x] is defined per harmonic of a periodic motion, which a decay is not",
+                )?;
+                return free_decay::build(model, records, decay, settings.quadrature);
             }
             Windows::Cycles(spec) => spec,
         };

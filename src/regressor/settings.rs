@@ -12,6 +12,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
+use crate::prep::free_decay::DecaySettings;
 use crate::prep::quadrature::Quadrature;
 use crate::prep::velocity::VelocitySource;
 use crate::prep::window::WindowSpec;
@@ -27,6 +28,10 @@ pub enum Windows {
     /// change of stored energy and constant forces join the unknowns as nuisance
     /// columns ([`crate::regressor::nonperiodic`]).
     Spans(SpanWindows),
+    /// Whole cycles of a mode's free decay (records as
+    /// [`crate::prep::free_decay::isolate`] returns them): the stored energy lost over
+    /// each is known from the modal mass ([`crate::regressor::free_decay`]).
+    Decay(DecaySettings),
 }
 
 impl Default for Windows {
@@ -46,7 +51,7 @@ impl Windows {
     pub fn cycles(&self) -> Option<&WindowSpec> {
         match self {
             Windows::Cycles(spec) => Some(spec),
-            Windows::Spans(_) => None,
+            Windows::Spans(_) | Windows::Decay(_) => None,
         }
     }
 
@@ -54,14 +59,22 @@ impl Windows {
     pub fn cycles_mut(&mut self) -> Option<&mut WindowSpec> {
         match self {
             Windows::Cycles(spec) => Some(spec),
-            Windows::Spans(_) => None,
+            Windows::Spans(_) | Windows::Decay(_) => None,
+        }
+    }
+
+    /// The free-decay settings, or `None` for other windows.
+    pub fn decay(&self) -> Option<&DecaySettings> {
+        match self {
+            Windows::Decay(decay) => Some(decay),
+            _ => None,
         }
     }
 
     /// The fixed spans, or `None` for whole periods.
     pub fn spans(&self) -> Option<&SpanWindows> {
         match self {
-            Windows::Cycles(_) => None,
+            Windows::Cycles(_) | Windows::Decay(_) => None,
             Windows::Spans(spans) => Some(spans),
         }
     }
@@ -69,7 +82,7 @@ impl Windows {
     /// The fixed spans to edit, or `None` for whole periods.
     pub fn spans_mut(&mut self) -> Option<&mut SpanWindows> {
         match self {
-            Windows::Cycles(_) => None,
+            Windows::Cycles(_) | Windows::Decay(_) => None,
             Windows::Spans(spans) => Some(spans),
         }
     }
@@ -230,6 +243,19 @@ impl RegressorSettings {
                         "velocity",
                         self.velocity.name(),
                         "it needs a driving period; non-periodic windows take `measured` or `central_difference` velocities",
+                    ));
+                }
+                Ok(())
+            }
+            Windows::Decay(decay) => {
+                decay.validate()?;
+                if self.velocity != VelocitySource::Measured
+                    || self.quadrature == Quadrature::Spectral
+                {
+                    return Err(Error::choice(
+                        "velocity",
+                        self.velocity.name(),
+                        "a free decay's velocity is the mode's, integrated with its displacement (`measured`, over the `trapezoid` or `rectangular` rule)",
                     ));
                 }
                 Ok(())

@@ -96,17 +96,17 @@ pub(crate) fn build(
 }
 
 /// How each window's row is integrated.
-struct Rule<'a> {
-    quadrature: Quadrature,
-    velocity: VelocitySource,
-    work_form: WorkForm,
-    storage: &'a StorageModel,
+pub(crate) struct Rule<'a> {
+    pub(crate) quadrature: Quadrature,
+    pub(crate) velocity: VelocitySource,
+    pub(crate) work_form: WorkForm,
+    pub(crate) storage: &'a StorageModel,
 }
 
 /// One equation: damping columns and input work from the kernel over the window's
 /// samples, then the nuisance columns from its end states; known stored energy is
 /// subtracted from the input work.
-fn window_row(
+pub(crate) fn window_row(
     plan: &Plan<'_>,
     model: &DampingModel,
     record: &Record,

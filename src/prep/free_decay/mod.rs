@@ -1,0 +1,302 @@
+//! Free decay: one mode's ringdown, from a record with no force (or a force that ends,
+//! as a hammer's does) to the whole cycles that become equations.
+//!
+//! Over a window [t_a, t_b] of a free decay no force does work, and the energy balance
+//! of the non-periodic mode keeps its stored-energy terms:
+//!
+//! ```text
+//!   E(t_a) − E(t_b) = Σ_k θ_k ∫ v g_k(x, v) dt,     E = ½ m v² + V(x),
+//! ```
+//!
+//! With whole cycles between upward zero crossings of the displacement (x ≈ 0 at both
+//! ends) the potential energy is a small correction, ½ m ω² x² with the cycle's own
+//! frequency ([`cycles`]), and with the modal mass m known (given, or 1 for a unit modal
+//! mass: coefficients per unit mass, ζ exact) every term is known but the damping. A
+//! stiffness estimated beside the damping cannot work here: over cycles with their ends
+//! at the same phase, ½k[x²] and the damping work both follow the decay of the
+//! amplitude, so k and θ trade off (an SDOF ringdown gave a stiffness of 8.8 for a truth
+//! of 2.5·10⁵ that way).
+//!
+//! The steps, per record:
+//! 1. **Start**: after the force has ended (the last sample where any force channel
+//!    exceeds 5 % of its peak) or at a given time; a record with no force starts at once.
+//! 2. **Mode isolation** ([`band`]): a zero-phase band-pass around the mode (a band
+//!    given in cycles per time unit, or the largest spectral peak in a range, or in the
+//!    whole record, with the band [f_p/2, 2 f_p]) and integration of velocity and
+//!    acceleration signals in the frequency domain.
+//! 3. **Cycles** ([`cycles`]): windows of whole cycles with their frequency, amplitude
+//!    and energy decrement; cycles within [`DecaySettings::edge`] cycles of a record end
+//!    that cuts through motion are dropped (the filter's reflection there is not the
+//!    motion), and so is every cycle from the first whose amplitude is below
+//!    [`DecaySettings::floor`] times the band's noise amplitude on.
+//! 4. The **mode's record**: x and v of the band over the kept cycles (one DOF, the
+//!    velocities as measured, no force), one sample before the first crossing on, so that
+//!    [`cycles::windows`] finds the same cycles in it.
+
+pub mod band;
+pub mod cycles;
+pub mod extend;
+
+use faer::Mat;
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::record::{Forcing, Record, RecordParts, Sensor};
+pub use band::Band;
+pub use cycles::DecayCycle;
+
+/// Where each record's free decay starts.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Start {
+    /// After the force has ended (a hammer's impact), or at the first sample when the
+    /// record has no force.
+    Auto,
+    /// At this time (the record's time axis).
+    At(f64),
+}
+
+/// How the mode's band is chosen.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BandChoice {
+    /// This band (cycles per time unit).
+    Given(Band),
+    /// [f_p/2, 2 f_p] around the largest displacement-spectrum peak f_p in this range.
+    PeakIn(Band),
+    /// [f_p/2, 2 f_p] around the largest displacement-spectrum peak of the record.
+    Auto,
+}
+
+/// Free-decay settings.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct DecaySettings {
+    /// The mode's band.
+    pub band: BandChoice,
+    /// Modal mass m (1: a unit modal mass, coefficients per unit mass).
+    pub mass: f64,
+    /// Where each record's decay starts.
+    pub start: Start,
+    /// Whole cycles per equation (k ≥ 1).
+    pub cycles: usize,
+    /// Cycles of the mode dropped at a record end that cuts through motion.
+    pub edge: usize,
+    /// A cycle is kept while its amplitude is at least `floor` times the band's noise
+    /// amplitude.
+    pub floor: f64,
+}
+
+impl DecaySettings {
+    /// A unit modal mass, the band around the record's largest peak, automatic start,
+    /// one cycle per equation, 4 edge cycles, floor 10.
+    pub fn unit_mass() -> Self {
+        DecaySettings {
+            band: BandChoice::Auto,
+            mass: 1.0,
+            start: Start::Auto,
+            cycles: 1,
+            edge: 4,
+            floor: 10.0,
+        }
+    }
+
+    /// Checks the mass, cycles and floor.
+    pub fn validate(&self) -> Result<()> {
+        if !(self.mass.is_finite() && self.mass > 0.0) {
+            return Err(Error::invalid(
+                "mass",
+                self.mass,
+                "the modal mass of a free decay must be finite and positive (1 for a unit modal mass: coefficients per unit mass)",
+            ));
+        }
+        if self.cycles == 0 {
+            return Err(Error::invalid(
+                "cycles",
+                0.0,
+                "a free-decay equation spans at least one whole cycle",
+            ));
+        }
+        if !(self.floor.is_finite() && self.floor >= 0.0) {
+            return Err(Error::invalid(
+                "floor",
+                self.floor,
+                "must be finite and nonnegative (a multiple of the noise amplitude)",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// One record's free decay, isolated and cut into cycles.
+#[derive(Debug, Clone)]
+pub struct Decay {
+    /// The mode's record: x and v of the band over the kept cycles.
+    pub record: Record,
+    /// The band the mode was isolated in.
+    pub band: Band,
+    /// The sample of the source record where the decay starts.
+    pub start: usize,
+    /// The band's noise amplitude (a displacement).
+    pub noise_amplitude: f64,
+    /// The kept windows of whole cycles, in samples of [`Decay::record`].
+    pub cycles: Vec<DecayCycle>,
+    /// Cycles dropped at a record end that cuts through motion.
+    pub dropped_at_edges: usize,
+    /// Cycles dropped at the noise floor.
+    pub dropped_at_floor: usize,
+}
+
+/// The sample where `record`'s decay starts (module doc, step 1).
+fn start_sample(record: &Record, start: Start) -> Result<usize> {
+    let n = record.samples();
+    match start {
+        Start::At(t) => {
+            let at = ((t - record.start_time()) / record.step()).ceil();
+            if !(at.is_finite() && at >= 0.0 && (at as usize) < n) {
+                return Err(Error::invalid(
+                    "start",
+                    t,
+                    &format!(
+                        "must lie within record '{}' (time {} to {})",
+                        record.label(),
+                        record.start_time(),
+                        record.start_time() + (n - 1) as f64 * record.step()
+                    ),
+                ));
+            }
+            Ok(at as usize)
+        }
+        Start::Auto => {
+            let signals = &record.forcing().signals;
+            let mut end = 0;
+            for &k in record.active_channels() {
+                let column = signals.col_as_slice(k);
+                let peak = column.iter().fold(0.0_f64, |m, f| m.max(f.abs()));
+                if let Some(last) = column.iter().rposition(|f| f.abs() > 0.05 * peak) {
+                    end = end.max(last + 1);
+                }
+            }
+            Ok(end)
+        }
+    }
+}
+
+/// The measured signal of `record`'s one channel and its sensor.
+fn channel(record: &Record) -> Result<(Vec<f64>, Sensor)> {
+    if record.dofs() != 1 {
+        return Err(Error::invalid(
+            "free-decay record",
+            record.dofs() as f64,
+            &format!(
+                "record '{}' has {} motion channels; a free decay is read from one sensor of the mode (name its one displacement, velocity or acceleration column, with `dofs = 1`)",
+                record.label(),
+                record.dofs()
+            ),
+        ));
+    }
+    Ok(match record.measured_motion() {
+        Some(m) => (m.signals.col_as_slice(0).to_vec(), m.sensors[0]),
+        None => (
+            record.displacements().col(0).iter().copied().collect(),
+            Sensor::Displacement,
+        ),
+    })
+}
+
+/// Isolates the mode of `record` and cuts its decay into whole cycles (module doc).
+pub fn isolate(record: &Record, settings: &DecaySettings) -> Result<Decay> {
+    settings.validate()?;
+    let (signal, sensor) = channel(record)?;
+    let step = record.step();
+    let start = start_sample(record, settings.start)?;
+    let decay = &signal[start..];
+    let around = |f: f64| Band {
+        low: 0.5 * f,
+        high: (2.0 * f).min(0.45 / step),
+    };
+    let band = match settings.band {
+        BandChoice::Given(band) => band,
+        BandChoice::PeakIn(range) => {
+            around(band::peak_frequency(decay, sensor, step, Some(range))?)
+        }
+        BandChoice::Auto => around(band::peak_frequency(decay, sensor, step, None)?),
+    };
+    band.validate(step)?;
+    let period = 2.0 * std::f64::consts::PI / band.centre() / step;
+    let pad = (4.0 * period / band::TAPER).ceil() as usize;
+    let span = ((16.0 * period).ceil() as usize).min(signal.len());
+    let (x, v) = band::isolate(&signal, sensor, step, band, pad, span)?;
+    let noise_amplitude = band::noise_amplitude(band::noise_std(decay), sensor, step, band);
+    let all = cycles::windows(&x, &v, step, settings.mass, 1);
+    let n = signal.len();
+    let edge = (settings.edge as f64 * period).ceil() as usize;
+    // A record end cuts through motion unless the decay starts after a force (the motion
+    // before was filtered with it) or the record ends at the noise floor.
+    let cut_start = start == 0;
+    let mut dropped_at_edges = 0;
+    let mut kept: Vec<DecayCycle> = Vec::new();
+    let mut dropped_at_floor = 0;
+    for w in all.iter().filter(|w| w.start > start) {
+        if (cut_start && w.start < edge) || w.end + edge >= n {
+            dropped_at_edges += 1;
+            continue;
+        }
+        if dropped_at_floor > 0 || w.amplitude < settings.floor * noise_amplitude {
+            dropped_at_floor += 1;
+            continue;
+        }
+        kept.push(*w);
+    }
+    // Edge cycles at the end above the floor count as edge cycles; those below, at the floor.
+    let (Some(first), Some(last)) = (kept.first(), kept.last()) else {
+        return Err(Error::invalid(
+            "free decay",
+            noise_amplitude,
+            &format!(
+                "record '{}' has no whole cycle of the mode (band {:.4}–{:.4} cycles per time unit) between its start and its noise floor (amplitude {:.3e}): {} cycles in the band, {} at the record's ends, {} below {} × the noise amplitude",
+                record.label(),
+                band.low,
+                band.high,
+                noise_amplitude,
+                all.len(),
+                dropped_at_edges,
+                dropped_at_floor,
+                settings.floor
+            ),
+        ));
+    };
+    let (from, to) = (first.start - 1, last.end);
+    let length = to - from + 1;
+    let column = |s: &[f64]| Mat::from_fn(length, 1, |i, _| s[from + i]);
+    let mean_frequency = kept.iter().map(|w| w.frequency).sum::<f64>() / kept.len() as f64;
+    let mode = Record::new(RecordParts {
+        label: record.label().to_string(),
+        step,
+        start_time: record.start_time() + from as f64 * step,
+        displacements: column(&x),
+        velocities: Some(column(&v)),
+        forcing: Forcing::on_dofs(Mat::zeros(length, 0), Vec::new()),
+        period: 2.0 * std::f64::consts::PI / mean_frequency,
+    })?;
+    let cycles = of_record(&mode, settings);
+    Ok(Decay {
+        record: mode,
+        band,
+        start,
+        noise_amplitude,
+        cycles,
+        dropped_at_edges,
+        dropped_at_floor,
+    })
+}
+
+/// The windows of `settings.cycles` whole cycles of a mode's record (as [`isolate`]
+/// returns it): the one place the regressor and the backbone cut them.
+pub fn of_record(record: &Record, settings: &DecaySettings) -> Vec<DecayCycle> {
+    let x: Vec<f64> = record.displacements().col(0).iter().copied().collect();
+    let v: Vec<f64> = match record.velocities() {
+        Some(v) => v.col(0).iter().copied().collect(),
+        None => vec![0.0; x.len()],
+    };
+    cycles::windows(&x, &v, record.step(), settings.mass, settings.cycles)
+}
