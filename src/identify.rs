@@ -17,6 +17,7 @@
 //! [`crate::analysis::solved::solved`], [`crate::analysis::bootstrap::bootstrap`] and
 //! [`FitReport::new`].
 
+use crate::analysis::backbone::Backbone;
 use crate::analysis::bootstrap::{Bootstrap, BootstrapSettings};
 use crate::analysis::equivalent::{EquivalentDamping, equivalent_damping};
 use crate::analysis::velocity_noise;
@@ -25,7 +26,7 @@ use crate::fit::FitSettings;
 use crate::model::DampingModel;
 use crate::prep::steady_state::{SteadyStateReport, SteadyStateSettings};
 use crate::progress::Progress;
-use crate::regressor::{ParametricRegressor, Regressor, RegressorSettings};
+use crate::regressor::{ParametricRegressor, Regressor, RegressorSettings, Source, Windows};
 use crate::report::outliers::reported;
 use crate::report::{FitReport, Warning};
 use crate::varpro::VarProSettings;
@@ -131,6 +132,9 @@ pub struct Identification {
     /// The bootstrap, when one was run (its replicates, for research use; the report
     /// carries its intervals).
     pub bootstrap: Option<Bootstrap>,
+    /// The backbone of a free decay: amplitude, frequency, measured and fitted ζ per
+    /// window (`None` for other problems).
+    pub backbone: Option<Backbone>,
 }
 
 impl Identification {
@@ -190,6 +194,15 @@ pub fn identify(
         .with_velocity_noise(velocity_noise::assess(&regressor))
         .with_steady_state(steady.as_ref());
     let equivalent = equivalent(problem, &values, &report);
+    let backbone = match (&settings.regressor.windows, problem.source()) {
+        (Windows::Decay(decay), Source::Records(records)) => {
+            let theta: Vec<f64> = report.coefficients.iter().map(|c| c.value).collect();
+            Some(crate::analysis::backbone::backbone(
+                &model, &theta, records, decay,
+            )?)
+        }
+        _ => None,
+    };
     let bootstrap = match &settings.bootstrap {
         // Estimated parameters that are not an estimate have nothing to resample around.
         Some(_) if report.estimation.is_some() && !report.is_estimate() => {
@@ -213,6 +226,7 @@ pub fn identify(
         steady_state: steady,
         equivalent,
         bootstrap,
+        backbone,
     })
 }
 

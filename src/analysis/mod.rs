@@ -7,6 +7,7 @@
 //! [`crate::regressor::Regressor`] and a [`crate::fit::Fit`]; nothing in the chain
 //! before them imports them.
 
+pub mod backbone;
 pub mod bootstrap;
 pub mod check;
 pub mod compare;

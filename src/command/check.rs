@@ -40,6 +40,10 @@ pub struct CheckReport {
     /// What a `[stepped_sine]` table holds.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub stepped_sine: Option<SteppedSineSummary>,
+    /// What isolating each record's mode found, for a free decay: its band, its usable
+    /// amplitude range and the windows dropped at its ends and at the noise floor.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub free_decay: Vec<crate::prep::free_decay::DecaySummary>,
     /// The estimated nonlinear parameters (law parameters, a table's residual
     /// receptances), held at their initial values for the check: (name, value).
     #[serde(skip_serializing_if = "Vec::is_empty")]
@@ -103,6 +107,7 @@ pub fn run(job: &Job, options: CheckOptions) -> Result<CheckReport> {
         records: source.groups(),
         unit: source.unit(),
         stepped_sine: job.stepped_sine.as_ref().map(SteppedSineSummary::of),
+        free_decay: job.free_decay.clone(),
         held_at_initial: problem
             .parameters()
             .into_iter()
@@ -135,6 +140,11 @@ impl fmt::Display for CheckReport {
         match (&self.steady_state, self.non_periodic_window) {
             (Some(steady), _) => write!(f, "{steady}")?,
             (None, None) if self.stepped_sine.is_some() => {}
+            (None, None) if !self.free_decay.is_empty() => {
+                for decay in &self.free_decay {
+                    write!(f, "{decay}")?;
+                }
+            }
             (None, window) => {
                 let requested = window.unwrap_or(0.0);
                 let lengths = WindowLengths {

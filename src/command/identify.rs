@@ -166,6 +166,9 @@ impl fmt::Display for Identified<'_> {
             }
             None => {}
         }
+        if let Some(backbone) = &found.backbone {
+            write!(f, "{backbone}")?;
+        }
         Ok(())
     }
 }
@@ -186,6 +189,10 @@ impl Serialize for Identified<'_> {
             detected_periods: &'a [Option<crate::prep::period::PeriodEstimate>],
             pod: Option<Vec<crate::prep::pod::PodReport>>,
             equivalent_damping: &'a Option<Equivalent>,
+            #[serde(skip_serializing_if = "Vec::is_empty")]
+            free_decay: &'a Vec<crate::prep::free_decay::DecaySummary>,
+            #[serde(skip_serializing_if = "Option::is_none")]
+            backbone: &'a Option<crate::analysis::backbone::Backbone>,
         }
         Document {
             model: &job.title,
@@ -199,6 +206,8 @@ impl Serialize for Identified<'_> {
             detected_periods: &job.detected_periods,
             pod: job.pod.as_ref().map(|r| r.reports()),
             equivalent_damping: &found.equivalent,
+            free_decay: &job.free_decay,
+            backbone: &found.backbone,
         }
         .serialize(serializer)
     }

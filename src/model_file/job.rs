@@ -89,6 +89,8 @@ pub struct Job {
     pub units: Units,
     /// The data files of `[data]`, as resolved against the model file's folder.
     pub data_files: Vec<std::path::PathBuf>,
+    /// What isolating each record's mode found, for `[free_decay]` (empty otherwise).
+    pub free_decay: Vec<crate::prep::free_decay::DecaySummary>,
 }
 
 impl Job {
@@ -224,11 +226,24 @@ impl Context<'_> {
         {
             return Err(self.typed_error_at(&value, error));
         }
+        if let Some(decay) = &spec.free_decay {
+            if spec.data.is_none()
+                || spec.pod.is_some()
+                || spec.harmonic_approximation.is_some()
+                || spec.non_periodic.is_some()
+            {
+                return Err(self.error_at(
+                    decay,
+                    "[free_decay] reads ringdowns from [data]; it does not combine with [simulation], [stepped_sine], [pod], [harmonic_approximation] or [non_periodic]",
+                ));
+            }
+            self.refuse_periodic_keys_beside_free_decay()?;
+        }
         let steady_state = steady_state_settings(&spec.identification);
         steady_state
             .validate()
             .map_err(|e| self.whole_file_typed_error("[identification]", e))?;
-        settings.steady_state = Some(steady_state);
+        settings.steady_state = spec.free_decay.is_none().then_some(steady_state);
         let simulated = self.simulated_model(spec, &model, &law)?;
         let sources = self.sources(spec, &simulated, n, base, &matrix, progress)?;
         if let Some(np) = &spec.non_periodic {
@@ -254,11 +269,27 @@ impl Context<'_> {
         if sources.stepped_sine.is_some() {
             settings.regressor = RegressorSettings::harmonic_approximation();
         }
+        let mut free_decay = Vec::new();
+        let mut isolated_records = None;
+        if let Some(decay) = &spec.free_decay {
+            let (decay_settings, regressor) =
+                self.free_decay_settings(decay, &settings.regressor)?;
+            settings.regressor = regressor;
+            let decays = super::free_decay::isolated(&sources.records, &decay_settings)?;
+            free_decay = decays
+                .iter()
+                .zip(&sources.records)
+                .map(|(d, r)| d.summary(r))
+                .collect();
+            isolated_records = Some(decays.into_iter().map(|d| d.record).collect::<Vec<_>>());
+        }
         let source_windows = settings.regressor.clone();
         let source_records: Arc<[Record]> = sources.records.into();
         // A table's equations are its points: no records to identify from.
         let mut records = if sources.stepped_sine.is_some() {
             Arc::from(Vec::new())
+        } else if let Some(modes) = isolated_records {
+            Arc::from(modes)
         } else {
             Arc::clone(&source_records)
         };
@@ -350,6 +381,7 @@ impl Context<'_> {
                 .collect(),
             units,
             data_files,
+            free_decay,
         })
     }
 
@@ -503,9 +535,10 @@ impl Context<'_> {
         for (k, r) in list.iter().enumerate() {
             crate::cancel::check("reading the records")?;
             let read = self.at(r, |r| {
-                let mode = match &spec.non_periodic {
-                    None => Mode::Periodic,
-                    Some(np) => Mode::NonPeriodic(np.get_ref().high_pass.as_ref()),
+                let mode = match (&spec.non_periodic, &spec.free_decay) {
+                    (_, Some(_)) => Mode::FreeDecay,
+                    (None, None) => Mode::Periodic,
+                    (Some(np), None) => Mode::NonPeriodic(np.get_ref().high_pass.as_ref()),
                 };
                 read_record(self, r, n, (base, &mut files), mode)
             })?;

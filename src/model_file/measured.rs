@@ -294,6 +294,10 @@ fn motion_columns<'a>(
 pub(super) enum Mode<'a> {
     Periodic,
     NonPeriodic(Option<&'a Spanned<f64>>),
+    /// A ringdown: the isolation of its mode integrates its signals again
+    /// ([`crate::prep::free_decay`]); here a high-pass at two cycles per record length
+    /// only gives the record its provisional x and v.
+    FreeDecay,
 }
 
 /// The columns a record names: its time column, its motion columns, its forces.
@@ -475,6 +479,9 @@ pub(super) fn read_record(
             _ if sensors.iter().all(|s| *s == Sensor::Displacement) => Integration::WholePeriods,
             Mode::NonPeriodic(Some(cutoff)) => Integration::HighPass {
                 cutoff: *cutoff.get_ref(),
+            },
+            Mode::FreeDecay => Integration::HighPass {
+                cutoff: 2.0 / (step * rows.max(2) as f64),
             },
             Mode::NonPeriodic(None) => {
                 return Err(Error::missing(

@@ -22,6 +22,7 @@ mod candidates;
 mod compared;
 pub use compared::ComparedModel;
 mod context;
+mod free_decay;
 pub mod init;
 mod job;
 mod keep;

@@ -27,7 +27,8 @@ pub use data::{
     StructuralSpec,
 };
 pub use modes::{
-    HarmonicApproximationSpec, NonPeriodicSpec, OffsetsSpec, PhaseName, PodSpec, StorageSpec,
+    FreeDecaySpec, HarmonicApproximationSpec, NonPeriodicSpec, OffsetsSpec, PhaseName, PodSpec,
+    StartSpec, StorageSpec,
 };
 pub use simulation::{CubicSpec, ExperimentSpec, SimulationSpec, StringSimulationSpec, SystemSpec};
 pub use terms::{
@@ -68,6 +69,8 @@ pub struct ModelFileSpec {
     /// Identify from records that are not periodic, with stored energy and constant
     /// forces as extra unknowns (`dampid::regressor::nonperiodic`).
     pub non_periodic: Option<Spanned<NonPeriodicSpec>>,
+    /// Each record is a free decay (ringdown) of one mode (`dampid::prep::free_decay`).
+    pub free_decay: Option<Spanned<FreeDecaySpec>>,
     /// Read a measured stepped-sine table (`dampid::prep::harmonic::sweeps`) instead of
     /// records.
     pub stepped_sine: Option<Spanned<SteppedSineSpec>>,

@@ -100,6 +100,9 @@ impl fmt::Display for Preamble<'_> {
         for inputs in job.inputs.iter().filter(|i| !i.is_plain()) {
             write!(f, "{inputs}")?;
         }
+        for decay in &job.free_decay {
+            write!(f, "{decay}")?;
+        }
         if let Some(spans) = job.settings.regressor.windows.spans() {
             writeln!(
                 f,

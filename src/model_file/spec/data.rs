@@ -44,7 +44,8 @@ pub struct RecordSpec {
     /// Acceleration columns.
     #[serde(default)]
     pub accelerations: Vec<Spanned<ColumnSpec>>,
-    /// Force columns and the DOF each acts on.
+    /// Force columns and the DOF each acts on (none for a free decay).
+    #[serde(default)]
     pub forces: Vec<Spanned<ForceColumn>>,
     /// Driving period T …
     pub period: Option<f64>,

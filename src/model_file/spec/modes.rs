@@ -99,3 +99,33 @@ pub struct HarmonicApproximationSpec {
     /// Samples per synthesized period (default 512).
     pub samples_per_period: Option<usize>,
 }
+
+/// `[free_decay]`: each record is a ringdown of one mode (`dampid::prep::free_decay`).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FreeDecaySpec {
+    /// The modal mass m (1.0: a unit modal mass, coefficients per unit mass); required.
+    pub mass: Option<Spanned<f64>>,
+    /// The mode's band [low, high] in cycles per time unit.
+    pub band: Option<Spanned<[f64; 2]>>,
+    /// A range [low, high] to find the mode's spectral peak in (band [f_p/2, 2 f_p]).
+    pub peak_in: Option<Spanned<[f64; 2]>>,
+    /// `"auto"` (after the force has ended; the default) or a time.
+    pub start: Option<Spanned<StartSpec>>,
+    /// Whole cycles per window (default 1).
+    pub cycles: Option<usize>,
+    /// Cycles dropped at a record end that cuts through motion (default 4).
+    pub edge: Option<usize>,
+    /// Keep cycles whose amplitude is at least this many noise amplitudes (default 10).
+    pub floor: Option<Spanned<f64>>,
+}
+
+/// `start` of `[free_decay]`: `"auto"` or a time.
+#[derive(Debug, Deserialize)]
+#[serde(untagged)]
+pub enum StartSpec {
+    /// A time on the record's time axis.
+    Time(f64),
+    /// `"auto"`.
+    Named(String),
+}

@@ -25,9 +25,10 @@
 //!    whole record, with the band [f_p/2, 2 f_p]) and integration of velocity and
 //!    acceleration signals in the frequency domain.
 //! 3. **Cycles** ([`cycles`]): windows of whole cycles with their frequency, amplitude
-//!    and energy decrement; cycles within [`DecaySettings::edge`] cycles of a record end
-//!    that cuts through motion are dropped (the filter's reflection there is not the
-//!    motion), and so is every cycle from the first whose amplitude is below
+//!    and energy decrement; cycles within [`DecaySettings::edge`] cycles of the decay's
+//!    start or of the record's end are dropped (an impact's broadband force, a record
+//!    that starts in motion or a cut at the end ring through the band-pass for about
+//!    1/(τ f_lo)), and so is every cycle from the first whose amplitude is below
 //!    [`DecaySettings::floor`] times the band's noise amplitude on.
 //! 4. The **mode's record**: x and v of the band over the kept cycles (one DOF, the
 //!    velocities as measured, no force), one sample before the first crossing on, so that
@@ -79,7 +80,7 @@ pub struct DecaySettings {
     pub start: Start,
     /// Whole cycles per equation (k ≥ 1).
     pub cycles: usize,
-    /// Cycles of the mode dropped at a record end that cuts through motion.
+    /// Cycles of the mode dropped after the decay's start and before the record's end.
     pub edge: usize,
     /// A cycle is kept while its amplitude is at least `floor` times the band's noise
     /// amplitude.
@@ -144,6 +145,68 @@ pub struct Decay {
     pub dropped_at_edges: usize,
     /// Cycles dropped at the noise floor.
     pub dropped_at_floor: usize,
+}
+
+impl Decay {
+    /// What the isolation found, without the mode's samples.
+    pub fn summary(&self, source: &Record) -> DecaySummary {
+        let amplitudes = self.cycles.iter().map(|c| c.amplitude);
+        DecaySummary {
+            record: source.label().to_string(),
+            band: self.band,
+            start_time: source.start_time() + self.start as f64 * source.step(),
+            noise_amplitude: self.noise_amplitude,
+            cycles: self.cycles.len(),
+            dropped_at_edges: self.dropped_at_edges,
+            dropped_at_floor: self.dropped_at_floor,
+            largest: amplitudes.clone().fold(0.0, f64::max),
+            smallest: amplitudes.fold(f64::INFINITY, f64::min),
+        }
+    }
+}
+
+/// What isolating one record's decay found (for the text, the JSON and `dampid check`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DecaySummary {
+    /// The record's label.
+    pub record: String,
+    /// The band the mode was isolated in (cycles per time unit).
+    pub band: Band,
+    /// Where the decay starts (the record's time axis).
+    pub start_time: f64,
+    /// The band's noise amplitude (a displacement).
+    pub noise_amplitude: f64,
+    /// Windows kept.
+    pub cycles: usize,
+    /// Cycles dropped at a record end that cuts through motion.
+    pub dropped_at_edges: usize,
+    /// Cycles dropped at the noise floor.
+    pub dropped_at_floor: usize,
+    /// The largest amplitude of a kept window.
+    pub largest: f64,
+    /// The smallest amplitude of a kept window.
+    pub smallest: f64,
+}
+
+impl std::fmt::Display for DecaySummary {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        use crate::format::label;
+        writeln!(
+            f,
+            "free decay '{}': band {}–{} cycles per time unit, from time {}; {} windows, amplitude {} down to {} ({:.1}×); dropped {} at the record's ends and {} at the noise floor (amplitude {})",
+            self.record,
+            label(self.band.low),
+            label(self.band.high),
+            label(self.start_time),
+            self.cycles,
+            label(self.largest),
+            label(self.smallest),
+            self.largest / self.smallest,
+            self.dropped_at_edges,
+            self.dropped_at_floor,
+            label(self.noise_amplitude)
+        )
+    }
 }
 
 /// The sample where `record`'s decay starts (module doc, step 1).
@@ -230,14 +293,14 @@ pub fn isolate(record: &Record, settings: &DecaySettings) -> Result<Decay> {
     let all = cycles::windows(&x, &v, step, settings.mass, 1);
     let n = signal.len();
     let edge = (settings.edge as f64 * period).ceil() as usize;
-    // A record end cuts through motion unless the decay starts after a force (the motion
-    // before was filtered with it) or the record ends at the noise floor.
-    let cut_start = start == 0;
+    // The decay's start (a record that starts in motion, or the end of an impact, whose
+    // broadband force the band-pass spreads over about 1/(τ f_lo)) and a record end that
+    // cuts through motion ring through the filter: their first and last cycles go.
     let mut dropped_at_edges = 0;
     let mut kept: Vec<DecayCycle> = Vec::new();
     let mut dropped_at_floor = 0;
     for w in all.iter().filter(|w| w.start > start) {
-        if (cut_start && w.start < edge) || w.end + edge >= n {
+        if w.start < start + edge || w.end + edge >= n {
             dropped_at_edges += 1;
             continue;
         }

@@ -1,0 +1,168 @@
+//! `[free_decay]`: every record of `[data]` is a ringdown of one mode. The section's keys
+//! become [`DecaySettings`]; each record's mode is isolated and cut into whole cycles
+//! ([`crate::prep::free_decay::isolate`]) before the job's one `identify` reads it,
+//! with windows [`Windows::Decay`] and the mode's own velocity.
+
+use toml::Spanned;
+
+use super::context::Context;
+use super::spec::{FreeDecaySpec, StartSpec};
+use crate::error::{Error, Result};
+use crate::prep::free_decay::{Band, BandChoice, Decay, DecaySettings, Start, isolate};
+use crate::prep::quadrature::Quadrature;
+use crate::prep::velocity::VelocitySource;
+use crate::record::Record;
+use crate::regressor::{RegressorSettings, Windows};
+
+/// The keys of `[identification]` that a free decay does not read, and why.
+pub(super) const NOT_FOR_FREE_DECAY: &[(&str, &str)] = &[
+    ("cycles", "[free_decay] sets the whole cycles per window"),
+    (
+        "windows",
+        "a free decay's windows are its whole cycles above the noise floor",
+    ),
+    ("skip", "[free_decay] `start` sets where each decay starts"),
+    (
+        "velocity",
+        "a free decay's velocity is its mode's, integrated with its displacement",
+    ),
+    ("harmonics", "a decay has no drive and no harmonics"),
+    (
+        "noise",
+        "the noise-robust rows project whole periods of a drive; a decay has none",
+    ),
+    (
+        "max_energy_mismatch",
+        "a decay is not in steady state: the stored energy it loses is the equation",
+    ),
+    (
+        "max_state_mismatch",
+        "a decay is not in steady state: the stored energy it loses is the equation",
+    ),
+    (
+        "accept_transient",
+        "a decay is not in steady state: no steady-state check runs",
+    ),
+];
+
+impl Context<'_> {
+    /// The free-decay settings of `[free_decay]`, and the regressor settings of the job
+    /// (the quadrature and work form of `[identification]`).
+    pub(super) fn free_decay_settings(
+        &self,
+        spec: &Spanned<FreeDecaySpec>,
+        identification: &RegressorSettings,
+    ) -> Result<(DecaySettings, RegressorSettings)> {
+        let s = spec.get_ref();
+        let mass = s.mass.as_ref().ok_or_else(|| {
+            self.error_at(
+                spec,
+                "[free_decay] needs the modal mass: `mass = 1.0` for a unit modal mass (coefficients per unit mass, and ζ exact), or the mode's modal mass in the model's units (then the coefficients are in those units); a decay loses stored energy, and only a mass says how much",
+            )
+        })?;
+        let band = |b: &Spanned<[f64; 2]>| Band {
+            low: b.get_ref()[0],
+            high: b.get_ref()[1],
+        };
+        let choice = match (&s.band, &s.peak_in) {
+            (Some(_), Some(p)) => {
+                return Err(self.error_at(
+                    p,
+                    "give `band` (the mode's band) or `peak_in` (a range to find its peak in), not both",
+                ));
+            }
+            (Some(b), None) => BandChoice::Given(band(b)),
+            (None, Some(p)) => BandChoice::PeakIn(band(p)),
+            (None, None) => BandChoice::Auto,
+        };
+        for b in s.band.iter().chain(&s.peak_in) {
+            let value = band(b);
+            if !(value.low.is_finite()
+                && value.low > 0.0
+                && value.high.is_finite()
+                && value.high > value.low)
+            {
+                return Err(self.typed_error_at(
+                    b,
+                    Error::invalid(
+                        "band",
+                        value.low,
+                        &format!(
+                            "[{}, {}] is not a band: give [low, high] with 0 < low < high, in cycles per time unit",
+                            value.low, value.high
+                        ),
+                    ),
+                ));
+            }
+        }
+        let start = match s.start.as_ref().map(|s| (s, s.get_ref())) {
+            None => Start::Auto,
+            Some((_, StartSpec::Named(name))) if name == "auto" => Start::Auto,
+            Some((at, StartSpec::Named(name))) => {
+                return Err(self.typed_error_at(
+                    at,
+                    Error::UnknownName {
+                        what: "start".into(),
+                        name: name.clone(),
+                        known: "\"auto\" (after the force has ended), or a time".into(),
+                    },
+                ));
+            }
+            Some((_, StartSpec::Time(t))) => Start::At(*t),
+        };
+        let settings = DecaySettings {
+            band: choice,
+            mass: *mass.get_ref(),
+            start,
+            cycles: s.cycles.unwrap_or(1),
+            edge: s.edge.unwrap_or(4),
+            floor: s.floor.as_ref().map_or(10.0, |f| *f.get_ref()),
+        };
+        self.at(spec, |_| settings.validate())?;
+        if identification.quadrature == Quadrature::Spectral {
+            return Err(self.error_at(
+                spec,
+                "[identification] quadrature = \"spectral\" integrates whole periods of a drive; a free decay takes \"trapezoid\" or \"rectangular\"",
+            ));
+        }
+        let regressor = RegressorSettings {
+            windows: Windows::Decay(settings),
+            velocity: VelocitySource::Measured,
+            ..identification.clone()
+        };
+        Ok((settings, regressor))
+    }
+
+    /// The first `[identification]` key of the file that a free decay does not read, as
+    /// an error at its line.
+    pub(super) fn refuse_periodic_keys_beside_free_decay(&self) -> Result<()> {
+        #[derive(serde::Deserialize)]
+        struct Raw {
+            #[serde(default)]
+            identification: std::collections::BTreeMap<String, Spanned<toml::Value>>,
+        }
+        let Ok(raw) = toml::from_str::<Raw>(self.text) else {
+            return Ok(());
+        };
+        for (key, reason) in NOT_FOR_FREE_DECAY {
+            if let Some(value) = raw.identification.get(*key) {
+                return Err(self.typed_error_at(
+                    value,
+                    Error::choice(
+                        key,
+                        value.get_ref(),
+                        &format!(
+                            "[identification] {key} does not apply beside [free_decay]: {reason}; remove it"
+                        ),
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Each record's mode, isolated and cut into cycles; the error names the record.
+pub(super) fn isolated(records: &[Record], settings: &DecaySettings) -> Result<Vec<Decay>> {
+    records.iter().map(|r| isolate(r, settings)).collect()
+}
