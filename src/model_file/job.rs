@@ -275,7 +275,9 @@ impl Context<'_> {
             let (decay_settings, regressor) =
                 self.free_decay_settings(decay, &settings.regressor)?;
             settings.regressor = regressor;
-            let decays = super::free_decay::isolated(&sources.records, &decay_settings)?;
+            let decays = self.at(decay, |_| {
+                super::free_decay::isolated(&sources.records, &decay_settings)
+            })?;
             free_decay = decays
                 .iter()
                 .zip(&sources.records)

@@ -59,19 +59,19 @@ impl Band {
         2.0 * std::f64::consts::PI * (self.low * self.high).sqrt()
     }
 
-    /// Checks 0 < low < high < Nyquist = 1/(2h).
-    pub fn validate(&self, step: f64) -> Result<()> {
+    /// Checks 0 < low < high < Nyquist = 1/(2h); errors name `key` (`band`, `peak_in`).
+    pub fn validate(&self, step: f64, key: &str) -> Result<()> {
         let nyquist = 0.5 / step;
         if !(self.low.is_finite() && self.low > 0.0) {
             return Err(Error::invalid(
-                "band",
+                key,
                 self.low,
                 "its lower edge must be finite and positive (cycles per time unit)",
             ));
         }
         if !(self.high.is_finite() && self.high > self.low && self.high < nyquist) {
             return Err(Error::invalid(
-                "band",
+                key,
                 self.high,
                 &format!(
                     "its upper edge must lie above the lower edge {} and below the Nyquist frequency {nyquist} (cycles per time unit)",
@@ -117,7 +117,7 @@ pub fn isolate(
     pad: usize,
     span: usize,
 ) -> Result<(Vec<f64>, Vec<f64>)> {
-    band.validate(step)?;
+    band.validate(step, "band")?;
     let n = signal.len();
     if n < 3 {
         return Err(Error::Empty {
@@ -163,7 +163,10 @@ pub fn isolate(
             _ => (s / (i_omega * i_omega), s / i_omega),
         };
     }
-    // The DC and Nyquist bins are outside every band (zero): a real inverse needs them real.
+    // A real inverse needs the DC and Nyquist bins real: neither is in a band.
+    for bin in [0, xs.len() - 1] {
+        (xs[bin], vs[bin]) = (zero, zero);
+    }
     let mut x = inverse.make_output_vec();
     let mut v = inverse.make_output_vec();
     inverse
@@ -242,13 +245,18 @@ pub fn peak_frequency(
         let (_, median, _) = around.select_nth_unstable_by(middle, f64::total_cmp);
         magnitude(q) > 10.0 * *median
     };
-    let largest = |candidates: &mut dyn Iterator<Item = usize>| {
-        candidates.max_by(|&a, &b| magnitude(a).total_cmp(&magnitude(b)))
-    };
-    let peak = largest(&mut (first..=last).filter(|&q| {
-        magnitude(q) >= magnitude(q - 1) && magnitude(q) >= magnitude(q + 1) && prominent(q)
-    }))
-    .or_else(|| largest(&mut (first..=last)))
+    // The local maxima, largest first; the first prominent one of the 64 largest is the
+    // peak.
+    let mut maxima: Vec<usize> = (first..=last)
+        .filter(|&q| magnitude(q) >= magnitude(q - 1) && magnitude(q) >= magnitude(q + 1))
+        .collect();
+    maxima.sort_by(|&a, &b| magnitude(b).total_cmp(&magnitude(a)));
+    let peak = maxima
+        .iter()
+        .copied()
+        .take(64)
+        .find(|&q| prominent(q))
+        .or_else(|| maxima.first().copied())
         .filter(|&q| magnitude(q) > 0.0)
         .ok_or_else(|| {
             Error::invalid(

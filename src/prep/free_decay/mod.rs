@@ -280,11 +280,12 @@ pub fn isolate(record: &Record, settings: &DecaySettings) -> Result<Decay> {
     let band = match settings.band {
         BandChoice::Given(band) => band,
         BandChoice::PeakIn(range) => {
+            range.validate(step, "peak_in")?;
             around(band::peak_frequency(decay, sensor, step, Some(range))?)
         }
         BandChoice::Auto => around(band::peak_frequency(decay, sensor, step, None)?),
     };
-    band.validate(step)?;
+    band.validate(step, "band")?;
     let period = 2.0 * std::f64::consts::PI / band.centre() / step;
     let pad = (4.0 * period / band::TAPER).ceil() as usize;
     let span = ((16.0 * period).ceil() as usize).min(signal.len());
@@ -312,16 +313,23 @@ pub fn isolate(record: &Record, settings: &DecaySettings) -> Result<Decay> {
     }
     // Edge cycles at the end above the floor count as edge cycles; those below, at the floor.
     let (Some(first), Some(last)) = (kept.first(), kept.last()) else {
+        // Named by the key that would change it: the floor when cycles fell below it.
+        let (key, value) = if dropped_at_floor > 0 {
+            ("floor", settings.floor)
+        } else {
+            ("edge", settings.edge as f64)
+        };
         return Err(Error::invalid(
-            "free decay",
-            noise_amplitude,
+            key,
+            value,
             &format!(
-                "record '{}' has no whole cycle of the mode (band {:.4}–{:.4} cycles per time unit) between its start and its noise floor (amplitude {:.3e}): {} cycles in the band, {} at the record's ends, {} below {} × the noise amplitude",
+                "record '{}' has no whole cycle of the mode (band {:.4}–{:.4} cycles per time unit) between its start and its noise floor (amplitude {:.3e}): {} cycles in the band, {} before the decay's start, {} at the record's ends, {} below {} × the noise amplitude",
                 record.label(),
                 band.low,
                 band.high,
                 noise_amplitude,
                 all.len(),
+                all.iter().filter(|w| w.start <= start).count(),
                 dropped_at_edges,
                 dropped_at_floor,
                 settings.floor
