@@ -442,7 +442,8 @@ fn bad_free_decay_sections_are_typed_errors() {
             text.replacen(from, to, 1)
         }
     };
-    let cases: Vec<(Box<dyn Fn(String) -> String>, &[&str])> = vec![
+    type Edit = Box<dyn Fn(String) -> String>;
+    let cases: Vec<(Edit, &[&str])> = vec![
         (
             Box::new(replace("mass = 1.0 ", "# no mass ")),
             &[
@@ -496,7 +497,10 @@ fn bad_free_decay_sections_are_typed_errors() {
         ),
     ];
     for (edit, expected) in cases {
-        let error = hammer_job(edit).err().expect("an error").to_string();
+        let Err(error) = hammer_job(edit) else {
+            panic!("an error expected");
+        };
+        let error = error.to_string();
         for e in expected {
             assert!(error.contains(e), "'{e}' not in: {error}");
         }

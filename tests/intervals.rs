@@ -197,6 +197,7 @@ fn the_report_says_the_errors_are_scaled_and_why() {
         pod: None,
         steady: None,
         equivalent: None,
+        backbone: None,
         provenance: None,
         units: None,
     }

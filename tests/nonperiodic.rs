@@ -567,7 +567,7 @@ fn html_report_of_a_non_periodic_fit() {
         folder.to_str().unwrap(),
     ]);
     let page = std::fs::read_to_string(folder.join("report.html")).unwrap();
-    assert!(page.contains("nuisance unknowns of the non-periodic balance"));
+    assert!(page.contains("nuisance unknowns of the energy balance"));
     assert!(page.contains("dissipated + stored work"));
     assert!(page.matches("<svg").count() >= 3);
     std::fs::remove_dir_all(folder).ok();

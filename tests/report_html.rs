@@ -137,6 +137,7 @@ fn noise_robust_report_shows_the_noise_and_the_model_check() {
         pod: None,
         steady: None,
         equivalent: None,
+        backbone: None,
         provenance: None,
         units: None,
     }

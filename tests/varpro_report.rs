@@ -151,6 +151,7 @@ fn a_fit_that_is_not_an_estimate_shows_no_estimates() {
         pod: None,
         steady: None,
         equivalent: None,
+        backbone: None,
         provenance: None,
         units: None,
     }

@@ -321,6 +321,7 @@ impl PyReport {
                 pod: None,
                 steady: found.steady_state.as_ref(),
                 equivalent: found.equivalent.as_ref().map(Equivalent::as_result),
+                backbone: found.backbone.as_ref(),
                 provenance: Some(&provenance),
                 units: None,
             }

@@ -2,8 +2,17 @@
 //! frequency ω, the damping ratio the decay itself shows, and the one the fitted law
 //! gives at that amplitude and frequency.
 //!
-//! Measured ([`crate::prep::free_decay::cycles`]): the energy decrement of the window,
-//! ζ = ln(E_a/E_b) / (2ωΔt). Fitted: the law's dissipated energy per cycle of harmonic
+//! Measured: the energy decrement over the [`SPAN`] windows either side of the window
+//! and itself (fewer at a record's ends), from the first one's start a to the last
+//! one's end b, at their mean frequency ω̄,
+//!
+//! ```text
+//!   ζ = ln(E_a / E_b) / (2 ω̄ (t_b − t_a)),   f = ω̄ / 2π,
+//! ```
+//!
+//! the one-window decrement of [`crate::prep::free_decay::cycles`] averaged over
+//! 2·SPAN + 1 windows: the error of E at each end enters once per span instead of once
+//! per cycle. Fitted: the law's dissipated energy per cycle of harmonic
 //! motion x = X cos ωt, E_d(X, ω) = g(X, ω)ᵀθ (g the columns of the model per unit
 //! coefficient, [`crate::regressor::stepped_sine::columns_of`]), equals that of a
 //! viscous damper c_eq with π c_eq ω X² = E_d, so with the modal mass m
@@ -26,6 +35,9 @@ use crate::prep::harmonic::{HarmonicApproximation, SteppedSinePoint};
 use crate::record::Record;
 use crate::regressor::stepped_sine::columns_of;
 
+/// Windows either side that the measured decrement and frequency span.
+pub const SPAN: usize = 4;
+
 /// One window of a decay on the backbone.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct BackbonePoint {
@@ -39,7 +51,7 @@ pub struct BackbonePoint {
     pub amplitude: f64,
     /// Frequency f = ω/2π (cycles per time unit).
     pub frequency: f64,
-    /// The energy decrement's damping ratio.
+    /// The energy decrement's damping ratio over the windows around (module doc).
     pub measured: f64,
     /// The fitted law's ζ_eq(X, ω).
     pub fitted: f64,
@@ -83,13 +95,17 @@ pub fn backbone(
         for (j, (cycle, g)) in cycles.iter().zip(columns).enumerate() {
             let dissipated: f64 = g.iter().zip(theta).map(|(g, t)| g * t).sum();
             let omega = cycle.frequency;
+            let around = &cycles[j.saturating_sub(SPAN)..(j + SPAN + 1).min(cycles.len())];
+            let mean = around.iter().map(|c| c.frequency).sum::<f64>() / around.len() as f64;
+            let (first, last) = (around[0], around[around.len() - 1]);
+            let span = (last.end - first.start) as f64 * record.step();
             points.push(BackbonePoint {
                 record: record.label().to_string(),
                 window: j,
                 time: record.start_time() + cycle.start as f64 * record.step(),
                 amplitude: cycle.amplitude,
-                frequency: omega / (2.0 * std::f64::consts::PI),
-                measured: cycle.damping_ratio,
+                frequency: mean / (2.0 * std::f64::consts::PI),
+                measured: (first.energy_start / last.energy_end).ln() / (2.0 * mean * span),
                 fitted: dissipated
                     / (2.0
                         * std::f64::consts::PI
@@ -176,7 +192,8 @@ impl fmt::Display for Backbone {
         }
         writeln!(
             f,
-            "  (every window in the JSON's `backbone`; ζ measured is each window's energy decrement, ζ fitted the law's equivalent ratio at its amplitude and frequency)"
+            "  (every window in the JSON's `backbone`; ζ measured is the energy decrement over the {} windows around each, ζ fitted the law's equivalent ratio at its amplitude and frequency)",
+            2 * SPAN + 1
         )
     }
 }

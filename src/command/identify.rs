@@ -135,6 +135,7 @@ impl Identified<'_> {
             pod: job.pod.as_ref(),
             steady: found.steady_state.as_ref(),
             equivalent: found.equivalent.as_ref().map(Equivalent::as_result),
+            backbone: found.backbone.as_ref(),
             provenance,
             units: Some(&job.units),
         }

@@ -231,7 +231,7 @@ impl fmt::Display for FitReport {
         if !self.nuisance.is_empty() {
             writeln!(
                 f,
-                "stored energy and constant forces (nuisance unknowns of the non-periodic balance):"
+                "nuisance unknowns of the energy balance (stored energy, constant forces, a free decay's start energy):"
             )?;
             for c in &self.nuisance {
                 self.write_estimate(f, c, weighted, level)?;

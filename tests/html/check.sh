@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# Renders the HTML reports of three shipped models in headless Chromium and checks them
+# Renders the HTML reports of shipped models in headless Chromium and checks them
 # as a reader sees them (tests/html/checks.js measures, check.py judges): no console
 # errors, nothing wider than the viewport, every SVG text at least 12 px as shown, a
 # legend in every plot, and "not determined" on the walkthrough's first try; two
-# variable-projection pages besides, and the page of a 12-sweep, 41-point-per-sweep
+# variable-projection pages besides, a hammer ringdown's backbone, and the page of a 12-sweep, 41-point-per-sweep
 # stepped-sine table (made by the bolted-joint generator): under 8,000 px tall at
 # 1200 px wide, its sweeps named, the table file's SHA-256 listed, the ζ_eq(X) plot
 # shown. Installs Debian's chromium when it is missing. With SCREENSHOTS=1 it also
@@ -76,6 +76,20 @@ check four_mass_pod models/four_mass_pod.toml
 # (profile interval).
 check bolted_joint_residual models/bolted_joint_stepped_sine_residual.toml
 check four_mass_power models/four_mass_power.toml
+# A hammer ringdown (free decay): the backbone ζ(X), f(X) and the decay envelope.
+check ringdown models/ringdown.toml --expect "<h2>Free decay: backbone</h2>" \
+    --expect-plot "Equivalent viscous damping ratio ζ_eq(X)" \
+    --expect-plot "Backbone frequency f(X)" --expect-plot "Decay envelope X(t)"
+if [ "${SCREENSHOTS:-0}" = "1" ]; then
+    python3 - "$work/ringdown/report.html" "$work/ringdown/backbone.html" <<'PY'
+import sys
+page = open(sys.argv[1], encoding="utf-8").read()
+start = page.index("<h2>Free decay: backbone</h2>")
+end = page.index("<h2>Provenance</h2>")
+open(sys.argv[2], "w", encoding="utf-8").write(page[: page.index("</h1>") + 5] + page[start:end] + "</body></html>")
+PY
+    WIDTH=1200 screenshot ringdown "$work/ringdown/backbone.html" _backbone
+fi
 # A 12-sweep, 41-point-per-sweep table from the bolted-joint generator: the page is
 # organised by sweep (under 8,000 px tall at 1200 px wide), names the sweeps, lists the
 # table file with its SHA-256 and shows ζ_eq(X).

@@ -158,7 +158,7 @@ impl HtmlReport<'_> {
             if k == damping {
                 let _ = writeln!(
                     table,
-                    "<tr><th colspan=\"{width}\">stored energy and constant forces (nuisance unknowns of the non-periodic balance)</th></tr>"
+                    "<tr><th colspan=\"{width}\">nuisance unknowns of the energy balance (stored energy, constant forces, a free decay's start energy)</th></tr>"
                 );
             }
             let _ = write!(table, "<tr><td>{}</td>", escape(&c.name));

@@ -30,6 +30,7 @@
 //! equivalent damping. The plots are inline SVG (plots/); nothing is loaded from
 //! outside the file.
 
+mod backbone;
 mod bootstrap;
 mod coefficients;
 mod equivalent;
@@ -80,6 +81,8 @@ pub struct HtmlReport<'a> {
     /// The equivalent damping of a one-mode stepped-sine table, or why it was not
     /// computed (`None`: not a one-mode table).
     pub equivalent: Option<std::result::Result<&'a EquivalentDamping, &'a str>>,
+    /// The backbone of a free decay (`None`: not a free decay).
+    pub backbone: Option<&'a crate::analysis::backbone::Backbone>,
     /// Where the report came from (`None`: no provenance block).
     pub provenance: Option<&'a Provenance>,
     /// The units of the numbers (`None` or empty: none shown).
@@ -138,6 +141,7 @@ impl HtmlReport<'_> {
             page.push_str(&pom::section(reduction)?);
         }
         page.push_str(&self.equivalent_section()?);
+        page.push_str(&self.backbone_section()?);
         Ok(self.close(page))
     }
 

@@ -169,13 +169,6 @@ pub(crate) fn damping_ratio(
             "ζ measured at each sweep's level (phase slope at its π/2 crossing)".into(),
         ));
     }
-    let levels: Vec<(f64, f64)> = levels.iter().filter_map(|&(x, z)| log_x(x, z)).collect();
-    if !levels.is_empty() {
-        entries.push((
-            Mark::Level,
-            "ζ measured at each sweep's level (phase slope at its π/2 crossing)".into(),
-        ));
-    }
     let strip = legend_strip(&entries);
     chart_svg_of_height(SIZE.1 + strip, |root| {
         let (plot, below) = root.split_vertically(px(SIZE.1));

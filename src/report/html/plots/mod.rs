@@ -19,11 +19,13 @@ use plotters::prelude::*;
 use crate::error::{Error, Result};
 
 mod balance;
+mod decay;
 mod energy;
 mod laws;
 mod modes;
 
 pub(crate) use balance::{BalanceAxes, ResidualAxes, residuals, work_balance};
+pub(crate) use decay::{envelope, frequency};
 pub(crate) use energy::{ZetaCurve, damping_ratio, energy_per_cycle};
 pub(crate) use laws::force_laws;
 pub(crate) use modes::{energy_shares, mode_shapes};
