@@ -128,12 +128,21 @@ fn record_list<'py>(records: &Bound<'py, PyAny>) -> PyResult<Vec<Bound<'py, PyRe
 
 /// The records of the `list` (lent as `records`) in the mode of `settings`: every record
 /// needs its period over whole periods; over fixed spans, records of velocity or
-/// acceleration sensors are integrated again with `high_pass`, as a model file's are.
+/// acceleration sensors are integrated again with `high_pass`, as a model file's are; a
+/// free decay's records become their modes' ([`dampid::prep::free_decay::isolate`]).
 pub(crate) fn in_mode(
     list: &[Bound<'_, PyRecord>],
     records: &[Record],
     settings: &Settings,
 ) -> PyResult<Option<Vec<Record>>> {
+    if let Some(decay) = &settings.free_decay {
+        return records
+            .iter()
+            .map(|r| dampid::prep::free_decay::isolate(r, decay).map(|d| d.record))
+            .collect::<dampid::Result<Vec<_>>>()
+            .map(Some)
+            .py_err();
+    }
     if !settings.non_periodic {
         if let Some(e) = list.iter().find_map(|r| r.get().undetected()) {
             return Err(to_py(e.clone()));
@@ -164,7 +173,8 @@ pub(crate) fn timed<T: Send>(
 }
 
 /// `identify(model, records, **settings)`: settings are the `[identification]` keys,
-/// and `non_periodic={...}` the keys of `[non_periodic]`.
+/// `non_periodic={...}` the keys of `[non_periodic]` and `free_decay={...}` those of
+/// `[free_decay]`.
 #[pyfunction]
 #[pyo3(signature = (model, records, **settings))]
 fn identify(

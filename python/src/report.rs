@@ -223,6 +223,18 @@ impl PyReport {
             .map_err(|e| crate::error::argument(format!("the report does not serialize: {e}")))
     }
 
+    /// A free decay's backbone, one dict per window (record, window, time, amplitude,
+    /// frequency, measured and fitted ζ); `None` for other jobs.
+    #[getter]
+    fn backbone<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        let Some(backbone) = &self.identification.backbone else {
+            return Ok(None);
+        };
+        let text = serde_json::to_string(&backbone.points)
+            .map_err(|e| crate::error::argument(format!("the backbone does not serialize: {e}")))?;
+        Ok(Some(py.import("json")?.call_method1("loads", (text,))?))
+    }
+
     /// The JSON report as a dict (`json.loads(report.to_json())`).
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         py.import("json")?.call_method1("loads", (self.to_json()?,))

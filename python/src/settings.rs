@@ -3,12 +3,15 @@
 //! ([`dampid::model_file::identification`]): same keys, same values, same errors. The
 //! keyword `non_periodic={...}` is the model file's `[non_periodic]` section, read by
 //! [`dampid::model_file::non_periodic_identification`] against the model's text (its
-//! `dofs` and `[matrices]`).
+//! `dofs` and `[matrices]`), and `free_decay={...}` the `[free_decay]` section, read by
+//! [`dampid::model_file::free_decay_identification`].
 
 use dampid::identify::IdentifySettings;
 use dampid::model_file::{
-    IDENTIFICATION_KEYS, identification, non_periodic_identification, settings_in_effect,
+    IDENTIFICATION_KEYS, free_decay_identification, identification, non_periodic_identification,
+    settings_in_effect,
 };
+use dampid::prep::free_decay::DecaySettings;
 use dampid::report::provenance::{Setting, SettingSource};
 use dampid::report::units::Units;
 use pyo3::prelude::*;
@@ -26,6 +29,8 @@ pub struct Settings {
     /// `[non_periodic] high_pass`: the cut-off of the integration of velocity or
     /// acceleration records that are not periodic.
     pub high_pass: Option<f64>,
+    /// `[free_decay]`: each record a ringdown of one mode, isolated before identifying.
+    pub free_decay: Option<DecaySettings>,
     /// The keywords as given, `key=value, ...` (for the report's provenance).
     pub given: String,
     /// The keywords laid out as a model file's sections (`identification`,
@@ -57,15 +62,21 @@ pub fn settings(
 ) -> PyResult<Settings> {
     let mut table = toml::Table::new();
     let mut non_periodic = None;
+    let mut free_decay = None;
     let mut given = Vec::new();
     if let Some(kwargs) = kwargs {
         for (key, value) in kwargs.iter() {
             let key: String = key.extract()?;
-            if key != "non_periodic" && !IDENTIFICATION_KEYS.contains(&key.as_str()) {
+            if key != "non_periodic"
+                && key != "free_decay"
+                && !IDENTIFICATION_KEYS.contains(&key.as_str())
+            {
                 return Err(to_py(dampid::Error::UnknownName {
                     what: "setting ([identification] key)".into(),
                     name: key,
-                    known: [IDENTIFICATION_KEYS, &["non_periodic"]].concat().join(", "),
+                    known: [IDENTIFICATION_KEYS, &["non_periodic", "free_decay"]]
+                        .concat()
+                        .join(", "),
                 }));
             }
             given.push(format!("{key}={}", value.repr()?));
@@ -77,6 +88,13 @@ pub fn settings(
                     )));
                 };
                 non_periodic = Some(section);
+            } else if key == "free_decay" {
+                let toml::Value::Table(section) = value else {
+                    return Err(argument(format!(
+                        "free_decay = {value}: give a dict of the [free_decay] keys, e.g. free_decay={{\"mass\": 1.0}}"
+                    )));
+                };
+                free_decay = Some(section);
             } else {
                 table.insert(key, value);
             }
@@ -87,14 +105,31 @@ pub fn settings(
     if let Some(section) = &non_periodic {
         given_table.insert("non_periodic".into(), toml::Value::Table(section.clone()));
     }
-    let (identification, high_pass) = match &non_periodic {
-        None => (identification(&table).py_err()?, None),
-        Some(section) => non_periodic_identification(&table, section, model_text, file).py_err()?,
+    if let Some(section) = &free_decay {
+        given_table.insert("free_decay".into(), toml::Value::Table(section.clone()));
+    }
+    let (identification, high_pass, decay) = match (&non_periodic, &free_decay) {
+        (Some(_), Some(_)) => {
+            return Err(argument(
+                "give non_periodic={...} or free_decay={...}, not both".into(),
+            ));
+        }
+        (None, None) => (identification(&table).py_err()?, None, None),
+        (Some(section), None) => {
+            let (settings, high_pass) =
+                non_periodic_identification(&table, section, model_text, file).py_err()?;
+            (settings, high_pass, None)
+        }
+        (None, Some(section)) => {
+            let (settings, decay) = free_decay_identification(&table, section).py_err()?;
+            (settings, None, Some(decay))
+        }
     };
     Ok(Settings {
         identification,
         non_periodic: non_periodic.is_some(),
         high_pass,
+        free_decay: decay,
         given: given.join(", "),
         given_table,
     })

@@ -166,3 +166,47 @@ impl Context<'_> {
 pub(super) fn isolated(records: &[Record], settings: &DecaySettings) -> Result<Vec<Decay>> {
     records.iter().map(|r| isolate(r, settings)).collect()
 }
+
+/// `[identification]` and `[free_decay]` given as tables rather than in a model file
+/// (the Python package's `identify(model, records, free_decay={"mass": 1.0})`), read by
+/// the model file's own translation: same keys, same defaults, same errors (the typed
+/// error itself, without a position in a file the user did not write).
+pub fn free_decay_identification(
+    identification_table: &toml::Table,
+    free_decay: &toml::Table,
+) -> Result<(crate::identify::IdentifySettings, DecaySettings)> {
+    let mut document = toml::Table::new();
+    document.insert(
+        "identification".into(),
+        toml::Value::Table(identification_table.clone()),
+    );
+    document.insert("free_decay".into(), toml::Value::Table(free_decay.clone()));
+    let text = toml::to_string(&document)
+        .map_err(|e| Error::choice("free_decay", free_decay, &e.to_string()))?;
+    let unwrapped = |e: Error| match e {
+        Error::ModelFile {
+            cause: Some(cause), ..
+        } => *cause,
+        other => other,
+    };
+    let context = Context {
+        file: "free_decay",
+        text: &text,
+    };
+    context
+        .refuse_periodic_keys_beside_free_decay()
+        .map_err(unwrapped)?;
+    #[derive(serde::Deserialize)]
+    struct Section {
+        free_decay: Spanned<FreeDecaySpec>,
+    }
+    let section = toml::from_str::<Section>(&text)
+        .map_err(|e| Error::choice("free_decay", free_decay, e.message()))?;
+    let mut settings = super::identification(identification_table)?;
+    let (decay, regressor) = context
+        .free_decay_settings(&section.free_decay, &settings.regressor)
+        .map_err(unwrapped)?;
+    settings.regressor = regressor;
+    settings.steady_state = None;
+    Ok((settings, decay))
+}

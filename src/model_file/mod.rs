@@ -23,6 +23,7 @@ mod compared;
 pub use compared::ComparedModel;
 mod context;
 mod free_decay;
+pub use free_decay::free_decay_identification;
 pub mod init;
 mod job;
 mod keep;

@@ -1,0 +1,87 @@
+"""Free decay from NumPy arrays (`free_decay={...}`) and from a model file
+(`identify_file`), against a ringdown simulated here and the shipped hammer test."""
+
+import math
+import os
+
+import numpy as np
+
+import dampid
+
+F_HZ, STEP, SAMPLES, SUBSTEPS = 80.0, 1.0 / 12_800.0, 32_768, 4
+W = 2 * math.pi * F_HZ
+C_TRUE, D_TRUE = 2 * 0.001 * W, 5.0
+
+MODEL = """
+dofs = 1
+
+[[terms]]
+kind = "viscous"
+coefficient = "c"
+matrix = "identity"
+
+[[terms]]
+kind = "law"
+law = "power"
+exponent = 1.5
+coefficient = "d"
+elements = [[1, 0]]
+"""
+
+
+def ringdown(x0=3e-3):
+    """Accelerations of x'' + c x' + d|x'|^1.5 sgn x' + w^2 x = 0 from x0 at rest (RK4)."""
+    acc = lambda x, v: -C_TRUE * v - D_TRUE * abs(v) ** 1.5 * math.copysign(1.0, v) - W * W * x
+    x, v, h = x0, 0.0, STEP / SUBSTEPS
+    out = np.empty(SAMPLES)
+    for i in range(SAMPLES):
+        out[i] = acc(x, v)
+        for _ in range(SUBSTEPS):
+            k1 = (v, acc(x, v))
+            k2 = (v + 0.5 * h * k1[1], acc(x + 0.5 * h * k1[0], v + 0.5 * h * k1[1]))
+            k3 = (v + 0.5 * h * k2[1], acc(x + 0.5 * h * k2[0], v + 0.5 * h * k2[1]))
+            k4 = (v + h * k3[1], acc(x + h * k3[0], v + h * k3[1]))
+            x += h / 6 * (k1[0] + 2 * k2[0] + 2 * k3[0] + k4[0])
+            v += h / 6 * (k1[1] + 2 * k2[1] + 2 * k3[1] + k4[1])
+    return out
+
+
+def test_a_ringdown_from_numpy_arrays():
+    a = ringdown()
+    a = a + np.random.default_rng(1).normal(0.0, 0.01 * np.sqrt(np.mean(a * a)), a.size)
+    record = dampid.Record(a=a[:, None], step=STEP, forces=[], label="ringdown")
+    report = dampid.identify(dampid.Model.from_toml(MODEL), [record], free_decay={"mass": 1.0})
+    c, d = report.coefficients["c"], report.coefficients["d"]
+    assert abs(c / C_TRUE - 1) < 0.01, c
+    assert abs(d / D_TRUE - 1) < 0.01, d
+    backbone = report.backbone
+    assert len(backbone) > 100
+    top = max(backbone, key=lambda p: p["amplitude"])
+    assert abs(top["frequency"] / F_HZ - 1) < 0.01
+    assert 0.5 < top["measured"] / top["fitted"] < 2.0
+
+
+def test_free_decay_settings_are_checked_as_in_a_model_file():
+    record = dampid.Record(a=ringdown()[:4096, None], step=STEP, forces=[])
+    model = dampid.Model.from_toml(MODEL)
+    for kwargs, words in [
+        ({"free_decay": {}}, "needs the modal mass"),
+        ({"free_decay": {"mass": 1.0}, "cycles": 2}, "does not apply beside [free_decay]"),
+        ({"free_decay": {"mass": 1.0, "start": "later"}}, "unknown start"),
+    ]:
+        try:
+            dampid.identify(model, [record], **kwargs)
+        except ValueError as e:
+            assert words in str(e), str(e)
+        else:
+            raise AssertionError(f"{kwargs} was accepted")
+
+
+def test_the_shipped_hammer_test_from_its_file():
+    root = os.path.join(os.path.dirname(__file__), "..", "..")
+    report = dampid.identify_file(os.path.join(root, "models", "ringdown.toml"))
+    assert abs(report.coefficients["c"] / C_TRUE - 1) < 0.01
+    assert abs(report.coefficients["d"] / D_TRUE - 1) < 0.01
+    value, (low, high) = report.estimated_parameters["d.exponent"]
+    assert abs(value - 1.5) < 0.015 and low < 1.5 < high
+    assert report.backbone is not None
