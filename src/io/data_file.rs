@@ -67,9 +67,9 @@ pub fn read_npz(path: &Path) -> Result<Table> {
 pub struct DataFile {
     file: String,
     content: Content,
-    /// Variables of a MAT file that are not numeric arrays (not read, named in the
-    /// error for a column that is not there).
-    unread: usize,
+    /// What a MAT file holds (named in the error for a column that is not there, or
+    /// for a file with no numeric arrays).
+    contents: Option<Vec<mat::Entry>>,
 }
 
 impl DataFile {
@@ -80,7 +80,7 @@ impl DataFile {
         let extension = path
             .extension()
             .map(|e| e.to_string_lossy().to_ascii_lowercase());
-        let mut unread = 0;
+        let mut contents = None;
         let content = match extension.as_deref() {
             Some("npz") => {
                 let npz = Npz::open(path)?;
@@ -105,7 +105,7 @@ impl DataFile {
             }
             Some("mat") => {
                 let read = mat::variables(path)?;
-                unread = read.unread;
+                contents = Some(read.contents);
                 let slots = read
                     .variables
                     .into_iter()
@@ -130,7 +130,7 @@ impl DataFile {
         Ok(DataFile {
             file,
             content,
-            unread,
+            contents,
         })
     }
 
@@ -196,6 +196,18 @@ impl DataFile {
                     .collect::<Vec<_>>() // the first error in order, whichever thread saw it first
                     .into_iter()
                     .collect::<Result<Vec<_>>>()?;
+                if let (true, Some(contents)) = (arrays.is_empty(), &self.contents) {
+                    return Err(Error::Data {
+                        file: self.file.clone(),
+                        row: 0,
+                        column: String::new(),
+                        message: format!(
+                            "no numeric arrays to read: the file holds {}; {}",
+                            mat::holds(contents),
+                            mat::SUPPORTED
+                        ),
+                    });
+                }
                 // Scalars beside the signals (gains) are not columns of the whole table.
                 table_from_arrays(&self.file, without_scalars(arrays))
             }
@@ -221,14 +233,22 @@ impl DataFile {
             .filter_map(|s| s.columns.as_ref().ok())
             .flat_map(|(headers, _)| headers.iter().map(String::as_str))
             .collect();
-        let what = match self.unread {
-            0 => format!("column in {}", self.file),
-            n => format!(
-                "column in {} (which also holds {n} variable{} that {} not real numeric arrays but structs, cells, sparse, char or logical arrays, which are not read)",
+        let others: Vec<mat::Entry> = self
+            .contents
+            .iter()
+            .flatten()
+            .filter(|e| !e.columns && !e.description.ends_with(" struct"))
+            .cloned()
+            .collect();
+        let what = if others.is_empty() {
+            format!("column in {}", self.file)
+        } else {
+            format!(
+                "column in {} (which also holds {}, not read as columns: {})",
                 self.file,
-                if n == 1 { "" } else { "s" },
-                if n == 1 { "is" } else { "are" }
-            ),
+                mat::holds(&others),
+                mat::SUPPORTED
+            )
         };
         Err(Error::UnknownName {
             what,
