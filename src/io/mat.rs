@@ -194,7 +194,9 @@ fn flatten(path: String, value: Value, variables: &mut Vec<Variable>, contents: 
             contents.push(entry(None, false));
             variables.push(Variable {
                 name: path.clone(),
-                values: Err(format!("a {class} array ({description}); {SUPPORTED}")),
+                values: Err(format!(
+                    "a {class} array ({description}), not read: only real numeric 1-D or 2-D arrays are"
+                )),
             });
         }
     }
