@@ -8,9 +8,9 @@
 //! `support/stepped_sine_table.rs` (viscous c plus a power law d|ẋ|^1.5 sign ẋ) put into
 //! the 12-sweep layout of the lab's file, which must fit as its CSV export does.
 
-mod support;
 #[path = "support/mat_writer.rs"]
 mod mat_writer;
+mod support;
 #[path = "support/stepped_sine_table.rs"]
 mod table;
 
@@ -50,7 +50,10 @@ fn struct_fields_read_by_their_matlab_path() {
                 &format!("sweeps({k}).amplitude"),
             ])
             .unwrap();
-        assert_eq!(table.columns[0], [10.0, 11.0, 12.0, 13.0].map(|f| f + shift));
+        assert_eq!(
+            table.columns[0],
+            [10.0, 11.0, 12.0, 13.0].map(|f| f + shift)
+        );
         assert_eq!(table.columns[1], [1.0, 2.0, 3.0, 4.0].map(|a| a * k as f64));
     }
     assert_eq!(column("q"), [0.0, 1.0, 2.0, 3.0]);
@@ -66,7 +69,10 @@ fn struct_fields_read_by_their_matlab_path() {
         assert!(message.contains(class), "{message}");
     }
     // A name the file does not have lists the columns and what is not read.
-    let message = file.table(&["sweeps(4).frequency"]).unwrap_err().to_string();
+    let message = file
+        .table(&["sweeps(4).frequency"])
+        .unwrap_err()
+        .to_string();
     assert!(
         message.contains("sweeps(3).amplitude") && message.contains("c (1×2 cell)"),
         "{message}"
@@ -126,8 +132,10 @@ fn lab_file(name: &str) -> (PathBuf, Vec<(String, [Vec<f64>; 4])>) {
         fields.clone(),
         sweeps[..4].iter().map(|(_, c)| element(c)).collect(),
     );
-    let response_control =
-        Mat::Struct(fields, sweeps[4..].iter().map(|(_, c)| element(c)).collect());
+    let response_control = Mat::Struct(
+        fields,
+        sweeps[4..].iter().map(|(_, c)| element(c)).collect(),
+    );
     let file = scratch(name);
     write_mat(
         &file,
@@ -241,7 +249,11 @@ fn a_struct_of_struct_arrays_is_a_stepped_sine_table_of_one_sweep_per_element() 
     let out = dampid_ok(&["identify".as_ref(), model_file.as_os_str()]);
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("FRdata.ResponseControl(8)"), "{text}");
-    let json = dampid_json(&["identify".as_ref(), model_file.as_os_str(), "--json".as_ref()]);
+    let json = dampid_json(&[
+        "identify".as_ref(),
+        model_file.as_os_str(),
+        "--json".as_ref(),
+    ]);
     assert!(
         json.to_string().contains("FRdata.ForceControl(1)"),
         "{json}"

@@ -254,7 +254,10 @@ impl DataFile {
         for a in &shorter {
             left_out.push(match length(a) {
                 1 => format!("{} (a scalar)", a.name),
-                n => format!("{} ({n} samples; the longest arrays have {longest})", a.name),
+                n => format!(
+                    "{} ({n} samples; the longest arrays have {longest})",
+                    a.name
+                ),
             });
         }
         if let (true, Some(contents)) = (kept.is_empty(), &self.contents) {
@@ -339,7 +342,11 @@ impl DataFile {
                 .collect();
             return Err(error(format!(
                 "scale = \"{name}\": the file has no variable '{name}' (its scalars: {})",
-                if scalars.is_empty() { "none".to_string() } else { scalars.join(", ") }
+                if scalars.is_empty() {
+                    "none".to_string()
+                } else {
+                    scalars.join(", ")
+                }
             )));
         };
         let array = self.read(slot, npz.as_ref())?;

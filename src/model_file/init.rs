@@ -404,10 +404,7 @@ fn contents_comment(r: &InitRecord) -> String {
                 .as_ref()
                 .map(|t| format!(" {}", quoted(t)))
                 .unwrap_or_default();
-            s.push_str(&format!(
-                "#   {:width$}  {}{text}\n",
-                e.path, e.description
-            ));
+            s.push_str(&format!("#   {:width$}  {}{text}\n", e.path, e.description));
         }
         if r.contents.len() > SHOWN {
             s.push_str(&format!("#   … {} more\n", r.contents.len() - SHOWN));

@@ -154,14 +154,17 @@ fn named_scales(
         .into_iter()
         .flatten()
         .map(|c| (c.span(), c.get_ref().scale.as_ref()));
-    let forces = spec.forces.iter().map(|f| (f.span(), f.get_ref().scale.as_ref()));
+    let forces = spec
+        .forces
+        .iter()
+        .map(|f| (f.span(), f.get_ref().scale.as_ref()));
     for (span, scale) in motion.chain(forces) {
         if let Some(Scale::Variable(name)) = scale
             && !values.contains_key(name)
         {
-            let value = files.scalar(path, name).map_err(|e| {
-                ctx.typed_error_at(&Spanned::new(span.clone(), ()), e)
-            })?;
+            let value = files
+                .scalar(path, name)
+                .map_err(|e| ctx.typed_error_at(&Spanned::new(span.clone(), ()), e))?;
             values.insert(name.clone(), value);
         }
     }
@@ -169,7 +172,10 @@ fn named_scales(
 }
 
 /// A column's scale as a number: given, or the named scalar read by [`named_scales`].
-fn scale_value(scale: Option<&Scale>, named: &std::collections::HashMap<String, f64>) -> Option<f64> {
+fn scale_value(
+    scale: Option<&Scale>,
+    named: &std::collections::HashMap<String, f64>,
+) -> Option<f64> {
     match scale? {
         Scale::Value(v) => Some(*v),
         // Every named scale was read before (named_scales): NaN only if not, refused by `gain`.
@@ -461,7 +467,13 @@ pub(super) fn read_record(
             };
             ctx.typed_error_at(force, e)
         })?;
-        let g = gain(ctx, force, &f.column, scale_value(f.scale.as_ref(), &named), f.offset)?;
+        let g = gain(
+            ctx,
+            force,
+            &f.column,
+            scale_value(f.scale.as_ref(), &named),
+            f.offset,
+        )?;
         read(
             signals.col_mut(k),
             &f.column,

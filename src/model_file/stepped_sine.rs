@@ -28,8 +28,7 @@ use std::path::Path;
 use super::context::Context;
 use super::reduction::harmonic_settings;
 use super::spec::{
-    ColumnSpec, HarmonicApproximationSpec, PhaseConvention, Scale, SteppedSineSpec,
-    StructuralSpec,
+    ColumnSpec, HarmonicApproximationSpec, PhaseConvention, Scale, SteppedSineSpec, StructuralSpec,
 };
 use crate::error::{Error, Result};
 use crate::io::Table;

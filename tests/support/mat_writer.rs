@@ -55,7 +55,10 @@ fn matrix(name: &str, value: &Mat) -> Vec<u8> {
         Mat::Cell(items) => (1, [1, items.len()]),
     };
     let mut body = Vec::new();
-    body.extend(element(6, &[class.to_le_bytes(), 0u32.to_le_bytes()].concat()));
+    body.extend(element(
+        6,
+        &[class.to_le_bytes(), 0u32.to_le_bytes()].concat(),
+    ));
     let dims: Vec<u8> = dims
         .iter()
         .flat_map(|d| (*d as i32).to_le_bytes())
@@ -68,10 +71,7 @@ fn matrix(name: &str, value: &Mat) -> Vec<u8> {
             body.extend(element(9, &data));
         }
         Mat::Char(s) => {
-            let data: Vec<u8> = s
-                .encode_utf16()
-                .flat_map(|u| u.to_le_bytes())
-                .collect();
+            let data: Vec<u8> = s.encode_utf16().flat_map(|u| u.to_le_bytes()).collect();
             body.extend(element(4, &data));
         }
         Mat::Struct(fields, elements) => {

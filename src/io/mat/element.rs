@@ -36,7 +36,10 @@ pub(crate) enum Value {
         values: Vec<f64>,
     },
     /// A numeric array with an imaginary part.
-    Complex { class: &'static str, dims: Vec<usize> },
+    Complex {
+        class: &'static str,
+        dims: Vec<usize>,
+    },
     /// A char array, as text (rows joined by newlines when it has several).
     Char { dims: Vec<usize>, text: String },
     /// A struct or struct array: field names, and per element (column-major) one value
@@ -141,7 +144,9 @@ fn next<'a>(order: Order, bytes: &mut &'a [u8]) -> Result<Option<Element<'a>>, S
         // Small element: count in the upper half, type in the lower, data in 4 bytes.
         let count = (word >> 16) as usize;
         if count > 4 {
-            return Err(format!("a small data element claims {count} bytes (at most 4)"));
+            return Err(format!(
+                "a small data element claims {count} bytes (at most 4)"
+            ));
         }
         let element = Element {
             kind: word & 0xFFFF,
@@ -177,9 +182,9 @@ const COMPRESSED: u32 = 15;
 /// The bytes each value of a numeric data type takes, and its name.
 fn numeric_type(kind: u32) -> Option<usize> {
     Some(match kind {
-        1 | 2 => 1,    // miINT8, miUINT8
-        3 | 4 => 2,    // miINT16, miUINT16
-        5..=7 => 4,    // miINT32, miUINT32, miSINGLE
+        1 | 2 => 1,       // miINT8, miUINT8
+        3 | 4 => 2,       // miINT16, miUINT16
+        5..=7 => 4,       // miINT32, miUINT32, miSINGLE
         9 | 12 | 13 => 8, // miDOUBLE, miINT64, miUINT64
         _ => return None,
     })
@@ -191,10 +196,7 @@ fn numbers(order: Order, element: &Element) -> Result<Vec<f64>, String> {
         .ok_or_else(|| format!("data of type {} where numbers were expected", element.kind))?;
     let data = element.data;
     if !data.len().is_multiple_of(width) {
-        return Err(format!(
-            "{} bytes of {width}-byte numbers",
-            data.len()
-        ));
+        return Err(format!("{} bytes of {width}-byte numbers", data.len()));
     }
     crate::budget::require(
         "reading a MAT variable",
@@ -277,7 +279,10 @@ fn class_name(class: u32) -> &'static str {
 pub(crate) fn parse(bytes: &[u8]) -> Result<Vec<Variable>, String> {
     const HEADER: usize = 128;
     if bytes.len() < HEADER {
-        return Err(format!("{} bytes, shorter than the 128-byte header", bytes.len()));
+        return Err(format!(
+            "{} bytes, shorter than the 128-byte header",
+            bytes.len()
+        ));
     }
     let order = match &bytes[126..128] {
         b"IM" => Order { little: true },
@@ -287,7 +292,9 @@ pub(crate) fn parse(bytes: &[u8]) -> Result<Vec<Variable>, String> {
     let mut rest = &bytes[HEADER..];
     let mut variables = Vec::new();
     let mut index = 0;
-    while let Some(element) = next(order, &mut rest).map_err(|e| format!("variable {}: {e}", index + 1))? {
+    while let Some(element) =
+        next(order, &mut rest).map_err(|e| format!("variable {}: {e}", index + 1))?
+    {
         index += 1;
         let at = |e: String| format!("variable {index}: {e}");
         match element.kind {
@@ -460,9 +467,11 @@ fn matrix(order: Order, body: &[u8], depth: usize) -> Result<Variable, String> {
                 let mut element = Vec::with_capacity(fields.len());
                 for field in &fields {
                     let value = match next(order, &mut rest)? {
-                        Some(m) if m.kind == MATRIX => matrix(order, m.data, depth + 1)
-                            .map_err(|x| format!("'{name}'({})." , e + 1) + field + ": " + &x)?
-                            .value,
+                        Some(m) if m.kind == MATRIX => {
+                            matrix(order, m.data, depth + 1)
+                                .map_err(|x| format!("'{name}'({}).", e + 1) + field + ": " + &x)?
+                                .value
+                        }
                         _ => {
                             return Err(format!(
                                 "'{name}': element {} has no value for field '{field}'",
