@@ -98,12 +98,15 @@ fn sweep(force: f64, rng: &mut Normal) -> [Vec<f64>; 4] {
     columns
 }
 
+/// A sweep's path and its columns (f_hz, force, x, phase_deg).
+type Sweep = (String, [Vec<f64>; 4]);
+
 /// The sweeps of the lab's layout by path, and the MAT file that holds them:
 /// `FRdata.ForceControl(1..4)`, `FRdata.ResponseControl(1..8)`, each with `frequency`
 /// 1 × 41, `force`, `amplitude`, `phase` 41 × 1 and a `units` text.
-fn lab_file(name: &str) -> (PathBuf, Vec<(String, [Vec<f64>; 4])>) {
+fn lab_file(name: &str) -> (PathBuf, Vec<Sweep>) {
     let mut rng = Normal(30);
-    let sweeps: Vec<(String, [Vec<f64>; 4])> = LEVELS
+    let sweeps: Vec<Sweep> = LEVELS
         .iter()
         .enumerate()
         .map(|(k, &force)| {
@@ -187,6 +190,7 @@ fn job(text: &str) -> Result<dampid::model_file::Job> {
 /// to CSV with a text sweep column (to 1e-12 relative), within four standard errors of
 /// the truth; `sweeps` takes one struct array, a list, or the struct holding them.
 #[test]
+#[allow(clippy::needless_range_loop)] // point i of four columns side by side
 fn a_struct_of_struct_arrays_is_a_stepped_sine_table_of_one_sweep_per_element() {
     let (mat, sweeps) = lab_file("frdata.mat");
     let csv = scratch("frdata.csv");
