@@ -108,6 +108,54 @@ fn raw(table: &Table, name: &str) -> Result<Vec<f64>> {
     }
 }
 
+/// The columns `names` (and the sweep column) of the MAT file at `path`. A name the file
+/// lacks is a data error listing its columns and, when struct arrays hold fields of that
+/// name, how to read them as sweeps (`sweeps = "<path>"`).
+fn mat_columns(path: &Path, names: &[&str], sweep: Option<&str>) -> Result<Table> {
+    let data = crate::io::data_file::DataFile::open(path)?;
+    let mut wanted = names.to_vec();
+    wanted.extend(sweep);
+    match data.table(&wanted) {
+        Err(Error::UnknownName { name, known, .. }) => {
+            let suffix = format!(".{name}");
+            let arrays: Vec<String> = data
+                .contents()
+                .unwrap_or_default()
+                .iter()
+                .filter_map(|e| e.path.strip_suffix(&suffix))
+                .map(|element| match element.strip_suffix(')') {
+                    Some(indexed) => indexed
+                        .rsplit_once('(')
+                        .map_or(element, |(array, _)| array)
+                        .to_string(),
+                    None => element.to_string(),
+                })
+                .fold(Vec::new(), |mut list, a| {
+                    if !list.contains(&a) {
+                        list.push(a);
+                    }
+                    list
+                });
+            let hint = if arrays.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    "; the file's structs {} hold '{name}' fields: read each element as a sweep with `sweeps = {:?}` (docs/stepped_sine.md)",
+                    arrays.join(", "),
+                    arrays
+                )
+            };
+            Err(data_error(
+                &path.display().to_string(),
+                0,
+                &name,
+                format!("no column '{name}' (columns: {known}){hint}"),
+            ))
+        }
+        other => other,
+    }
+}
+
 impl Context<'_> {
     /// Reads `[stepped_sine]` for a model of `n` DOFs.
     pub(super) fn stepped_sine(
@@ -121,6 +169,22 @@ impl Context<'_> {
         let csv = path
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("csv") || e.eq_ignore_ascii_case("txt"));
+        let mat = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("mat"));
+        // The columns the table's keys name, each once.
+        let mut names: Vec<&str> = vec![&spec.frequency.column, &spec.force.column];
+        names.extend(spec.amplitudes.iter().map(|a| a.get_ref().column.as_str()));
+        names.extend(spec.phases.iter().map(|p| p.get_ref().column.as_str()));
+        names.extend(spec.force_std.as_deref());
+        names.extend(spec.amplitude_std.iter().flatten().map(String::as_str));
+        names.extend(spec.phase_std.iter().flatten().map(String::as_str));
+        let mut unique: Vec<&str> = Vec::new();
+        for name in names {
+            if !unique.contains(&name) {
+                unique.push(name);
+            }
+        }
         let (table, labels) = match (&spec.sweep, &spec.sweeps) {
             (Some(_), Some(sweeps)) => {
                 return Err(self.typed_error_at(
@@ -133,9 +197,6 @@ impl Context<'_> {
                 ));
             }
             (None, Some(sweeps)) => {
-                let mat = path
-                    .extension()
-                    .is_some_and(|e| e.eq_ignore_ascii_case("mat"));
                 if !mat {
                     return Err(self.typed_error_at(
                         sweeps,
@@ -146,18 +207,6 @@ impl Context<'_> {
                         ),
                     ));
                 }
-                let mut names: Vec<&str> = vec![&spec.frequency.column, &spec.force.column];
-                names.extend(spec.amplitudes.iter().map(|a| a.get_ref().column.as_str()));
-                names.extend(spec.phases.iter().map(|p| p.get_ref().column.as_str()));
-                names.extend(spec.force_std.as_deref());
-                names.extend(spec.amplitude_std.iter().flatten().map(String::as_str));
-                names.extend(spec.phase_std.iter().flatten().map(String::as_str));
-                let mut unique: Vec<&str> = Vec::new();
-                for name in names {
-                    if !unique.contains(&name) {
-                        unique.push(name);
-                    }
-                }
                 let (table, labels) =
                     crate::io::mat::sweep_table(&path, &sweeps.get_ref().list(), &unique)?;
                 (table, Some(labels))
@@ -166,6 +215,8 @@ impl Context<'_> {
                 let (table, mut labels) = crate::io::csv::read_with_labels(&path, &[name])?;
                 (table, labels.pop())
             }
+            // A MAT file: only the variables named (it may hold others of other lengths).
+            (sweep, None) if mat => (mat_columns(&path, &unique, sweep.as_deref())?, None),
             _ => (crate::io::read_table(&path)?, None),
         };
         // The sweep grouping: a column, or the struct-array elements of `sweeps`.

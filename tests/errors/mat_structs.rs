@@ -148,7 +148,8 @@ fn bad_sweep_fields_name_the_element_and_the_field() {
     }
 }
 
-/// A path that names no struct lists the file's structs; `sweeps` on a CSV file, or
+/// A path that names no struct lists the file's structs; a column that is a field of
+/// struct arrays, named without `sweeps`, says to give it; `sweeps` on a CSV file, or
 /// beside `sweep`, is `InvalidChoice` saying which to give.
 #[test]
 fn sweeps_that_name_no_struct_array_say_what_there_is() {
@@ -160,6 +161,13 @@ fn sweeps_that_name_no_struct_array_say_what_there_is() {
     let (_, _, column, message) = data_of(&parse(&file, "sweeps = \"FRdata\""));
     assert_eq!(column, "FRdata");
     assert!(message.contains("S (1×2 struct)"), "{message}");
+    // Without `sweeps`, a column named as a struct field says how to read the sweeps.
+    let (_, _, column, message) = data_of(&parse(&file, ""));
+    assert_eq!(column, "frequency");
+    assert!(
+        message.contains("S(2).frequency") && message.contains("`sweeps = [\"S\"]`"),
+        "{message}"
+    );
     let csv = scratch("table.csv");
     std::fs::write(
         &csv,
