@@ -26,6 +26,10 @@ use std::io::Read;
 /// measurement file; a crafted file could otherwise exhaust the stack).
 const MAX_DEPTH: usize = 64;
 
+/// The memory one parsed value takes at most beside its data (the enum, its dimensions
+/// and field list), for the budget check of files of many small values.
+const NODE_BYTES: u128 = 256;
+
 /// What a MAT variable (or a struct field's value) holds.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) enum Value {
@@ -292,20 +296,21 @@ pub(crate) fn parse(bytes: &[u8]) -> Result<Vec<Variable>, String> {
     let mut rest = &bytes[HEADER..];
     let mut variables = Vec::new();
     let mut index = 0;
+    let mut nodes = 0;
     while let Some(element) =
         next(order, &mut rest).map_err(|e| format!("variable {}: {e}", index + 1))?
     {
         index += 1;
         let at = |e: String| format!("variable {index}: {e}");
         match element.kind {
-            MATRIX => variables.push(matrix(order, element.data, 0).map_err(at)?),
+            MATRIX => variables.push(matrix(order, element.data, 0, &mut nodes).map_err(at)?),
             COMPRESSED => {
                 let inflated = inflate(element.data).map_err(at)?;
                 let mut inner: &[u8] = &inflated;
                 // One miMATRIX per compressed element (MATLAB's and SciPy's writers).
                 while let Some(e) = next(order, &mut inner).map_err(at)? {
                     if e.kind == MATRIX {
-                        variables.push(matrix(order, e.data, 0).map_err(at)?);
+                        variables.push(matrix(order, e.data, 0, &mut nodes).map_err(at)?);
                     }
                 }
             }
@@ -333,7 +338,18 @@ fn inflate(data: &[u8]) -> Result<Vec<u8>, String> {
 }
 
 /// Parses the body of an miMATRIX element, `depth` levels down.
-fn matrix(order: Order, body: &[u8], depth: usize) -> Result<Variable, String> {
+fn matrix(order: Order, body: &[u8], depth: usize, nodes: &mut usize) -> Result<Variable, String> {
+    // Each value (a struct field's, however empty) is held in memory: a file of many
+    // empty fields holds more than its bytes, so their number is checked too.
+    *nodes += 1;
+    if nodes.is_multiple_of(4096) {
+        crate::budget::require(
+            "the variables and struct fields of a MAT file",
+            (*nodes as u128).saturating_mul(NODE_BYTES),
+            "read a smaller file, or raise --max-memory",
+        )
+        .map_err(|e| e.to_string())?;
+    }
     if depth > MAX_DEPTH {
         return Err(format!("structs nested deeper than {MAX_DEPTH} levels"));
     }
@@ -468,7 +484,7 @@ fn matrix(order: Order, body: &[u8], depth: usize) -> Result<Variable, String> {
                 for field in &fields {
                     let value = match next(order, &mut rest)? {
                         Some(m) if m.kind == MATRIX => {
-                            matrix(order, m.data, depth + 1)
+                            matrix(order, m.data, depth + 1, nodes)
                                 .map_err(|x| format!("'{name}'({}).", e + 1) + field + ": " + &x)?
                                 .value
                         }
