@@ -232,7 +232,9 @@ pub(crate) fn parsed(path: &Path) -> Result<Vec<element::Variable>> {
 pub(crate) fn variables(path: &Path) -> Result<MatVariables> {
     let mut variables = Vec::new();
     let mut contents = Vec::new();
-    for v in parsed(path)? {
+    // A top-level array without a name is MATLAB's subsystem data (the storage of
+    // objects such as strings and tables), not a variable.
+    for v in parsed(path)?.into_iter().filter(|v| !v.name.is_empty()) {
         flatten(v.name, v.value, &mut variables, &mut contents);
     }
     Ok(MatVariables {

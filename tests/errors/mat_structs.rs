@@ -186,8 +186,9 @@ fn sweeps_that_name_no_struct_array_say_what_there_is() {
     }
 }
 
-/// A MAT file holding nothing that is read (a cell, a struct of text, a complex array)
-/// says what it holds, with classes and sizes, and what is read.
+/// A MAT file holding nothing that is read (a cell, a struct of text; an array without
+/// a name is MATLAB's subsystem data, not a variable) says what it holds, with classes
+/// and sizes, and what is read.
 #[test]
 fn a_file_of_unread_contents_says_what_it_holds() {
     let file = scratch("unread.mat");
@@ -202,6 +203,8 @@ fn a_file_of_unread_contents_says_what_it_holds() {
                 "meta",
                 Mat::fields(vec![("units", Mat::Char("m/s^2".into()))]),
             ),
+            // MATLAB's subsystem data: an array without a name, not a variable.
+            ("", Mat::column(&[1.0, 2.0, 3.0])),
         ],
     );
     let e = dampid::io::read_table(&file).unwrap_err();
