@@ -10,10 +10,8 @@ mod file_input;
 
 fuzz_target!(
     init: {
-        // read_mat turns matfile's panics on malformed files into typed errors
-        // (catch_unwind), but libfuzzer-sys's panic hook aborts before the unwind reaches
-        // it. The default hook lets a caught panic pass; one that escapes read_mat still
-        // ends the run, since libfuzzer-sys catches the unwind and aborts.
+        // The MAT parser (src/io/mat/element.rs) must not panic; the default hook
+        // prints a panic's message before libfuzzer-sys catches the unwind and aborts.
         let _ = std::panic::take_hook();
     },
     |bytes: &[u8]| {

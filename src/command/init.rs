@@ -34,8 +34,15 @@ pub fn run(files: &[PathBuf], out: &Path, overwrite: Overwrite) -> Result<Initia
     let records = files
         .iter()
         .map(|file| {
-            let table = crate::io::read_table(file)?;
-            Ok(InitRecord::guess(&path_in_model(file, out), &table))
+            // Every column the file gives (as `identify` reads it by name); a MAT file's
+            // variables and struct fields are listed in the model file's comments.
+            let data = crate::io::data_file::DataFile::open(file)?;
+            let contents = data.contents().map(<[_]>::to_vec);
+            let (table, left_out) = data.usable()?;
+            let mut record = InitRecord::guess(&path_in_model(file, out), &table);
+            record.left_out = left_out;
+            record.contents = contents.unwrap_or_default();
+            Ok(record)
         })
         .collect::<Result<Vec<_>>>()?;
     let model = init(records);

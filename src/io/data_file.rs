@@ -67,9 +67,9 @@ pub fn read_npz(path: &Path) -> Result<Table> {
 pub struct DataFile {
     file: String,
     content: Content,
-    /// Variables of a MAT file that are not numeric arrays (not read, named in the
-    /// error for a column that is not there).
-    unread: usize,
+    /// What a MAT file holds (named in the error for a column that is not there, or
+    /// for a file with no numeric arrays).
+    contents: Option<Vec<mat::Entry>>,
 }
 
 impl DataFile {
@@ -80,7 +80,7 @@ impl DataFile {
         let extension = path
             .extension()
             .map(|e| e.to_string_lossy().to_ascii_lowercase());
-        let mut unread = 0;
+        let mut contents = None;
         let content = match extension.as_deref() {
             Some("npz") => {
                 let npz = Npz::open(path)?;
@@ -105,7 +105,7 @@ impl DataFile {
             }
             Some("mat") => {
                 let read = mat::variables(path)?;
-                unread = read.unread;
+                contents = Some(read.contents);
                 let slots = read
                     .variables
                     .into_iter()
@@ -130,7 +130,7 @@ impl DataFile {
         Ok(DataFile {
             file,
             content,
-            unread,
+            contents,
         })
     }
 
@@ -196,10 +196,83 @@ impl DataFile {
                     .collect::<Vec<_>>() // the first error in order, whichever thread saw it first
                     .into_iter()
                     .collect::<Result<Vec<_>>>()?;
+                if let (true, Some(contents)) = (arrays.is_empty(), &self.contents) {
+                    return Err(Error::Data {
+                        file: self.file.clone(),
+                        row: 0,
+                        column: String::new(),
+                        message: format!(
+                            "no numeric arrays to read: the file holds {}; {}",
+                            mat::holds(contents),
+                            mat::SUPPORTED
+                        ),
+                    });
+                }
                 // Scalars beside the signals (gains) are not columns of the whole table.
                 table_from_arrays(&self.file, without_scalars(arrays))
             }
         }
+    }
+
+    /// What a MAT file holds (every variable, struct and field by path); `None` for
+    /// other formats.
+    pub fn contents(&self) -> Option<&[mat::Entry]> {
+        self.contents.as_deref()
+    }
+
+    /// Every column the file can give, for `dampid init` and `dampid pod`, which read
+    /// files whole: what [`DataFile::whole`] reads, except that arrays that cannot be
+    /// columns are skipped in every format, as are arrays that do not read (a
+    /// non-finite value), scalars beside signals, and, when the rest differ in length,
+    /// those shorter than the longest (a file that holds several tables, such as a MAT
+    /// file of structs). So every file whose columns `identify` reads by name is read
+    /// here. Returns the table and what was left out, each with why.
+    pub fn usable(self) -> Result<(Table, Vec<String>)> {
+        let (slots, npz) = match self.content {
+            Content::Table(table) => return Ok((table, Vec::new())),
+            Content::Arrays { slots, npz } => (slots, npz),
+        };
+        let mut left_out = Vec::new();
+        let mut arrays = Vec::new();
+        for (slot, read) in slots.iter().zip(
+            slots
+                .par_iter()
+                .map(|slot| read_slot(&self.file, slot, npz.as_ref()))
+                .collect::<Vec<_>>(),
+        ) {
+            match (&slot.columns, read) {
+                (Err(why), _) => left_out.push(format!("{} ({why})", slot.name)),
+                (Ok(_), Err(e)) => left_out.push(format!("{} ({e})", slot.name)),
+                (Ok(_), Ok(array)) => arrays.push(array),
+            }
+        }
+        // The longest arrays are the table (scalars beside signals are the shortest).
+        let length = |a: &NamedArray| a.columns.first().map_or(0, Vec::len);
+        let longest = arrays.iter().map(length).max().unwrap_or(0);
+        let (kept, shorter): (Vec<NamedArray>, Vec<NamedArray>) =
+            arrays.into_iter().partition(|a| length(a) == longest);
+        for a in &shorter {
+            left_out.push(match length(a) {
+                1 => format!("{} (a scalar)", a.name),
+                n => format!(
+                    "{} ({n} samples; the longest arrays have {longest})",
+                    a.name
+                ),
+            });
+        }
+        if let (true, Some(contents)) = (kept.is_empty(), &self.contents) {
+            return Err(Error::Data {
+                file: self.file.clone(),
+                row: 0,
+                column: String::new(),
+                message: format!(
+                    "no numeric arrays to read: the file holds {}; {}",
+                    mat::holds(contents),
+                    mat::SUPPORTED
+                ),
+            });
+        }
+        Ok((table_from_arrays(&self.file, kept)?, left_out))
     }
 
     /// The slot that holds the column `name`: an exact column name, or an unusable
@@ -221,20 +294,70 @@ impl DataFile {
             .filter_map(|s| s.columns.as_ref().ok())
             .flat_map(|(headers, _)| headers.iter().map(String::as_str))
             .collect();
-        let what = match self.unread {
-            0 => format!("column in {}", self.file),
-            n => format!(
-                "column in {} (which also holds {n} variable{} that {} not real numeric arrays but structs, cells, sparse, char or logical arrays, which are not read)",
+        let others: Vec<mat::Entry> = self
+            .contents
+            .iter()
+            .flatten()
+            .filter(|e| !e.columns && !e.description.ends_with(" struct"))
+            .cloned()
+            .collect();
+        let what = if others.is_empty() {
+            format!("column in {}", self.file)
+        } else {
+            format!(
+                "column in {} (which also holds {}, not read as columns: {})",
                 self.file,
-                if n == 1 { "" } else { "s" },
-                if n == 1 { "is" } else { "are" }
-            ),
+                mat::holds(&others),
+                mat::SUPPORTED
+            )
         };
         Err(Error::UnknownName {
             what,
             name: name.to_string(),
             known: known.join(", "),
         })
+    }
+
+    /// The value of the scalar variable `name` (one value: a gain stored beside the
+    /// signals), for `scale = "name"`. A variable that is not there, or holds more than
+    /// one value, is [`Error::Data`] naming the file and the variable; CSV and UFF files
+    /// hold no scalars.
+    pub fn scalar(&self, name: &str) -> Result<f64> {
+        let error = |message: String| Error::Data {
+            file: self.file.clone(),
+            row: 0,
+            column: name.to_string(),
+            message,
+        };
+        let Content::Arrays { slots, npz } = &self.content else {
+            return Err(error(format!(
+                "scale = \"{name}\" names a scalar variable of the data file, and only .mat and .npz files hold named scalars: give the number"
+            )));
+        };
+        let Some(slot) = slots.iter().find(|s| s.name == name) else {
+            let scalars: Vec<&str> = slots
+                .iter()
+                .filter(|s| matches!(&s.columns, Ok((_, Source::Mat(r, c, _))) if r * c == 1))
+                .map(|s| s.name.as_str())
+                .collect();
+            return Err(error(format!(
+                "scale = \"{name}\": the file has no variable '{name}' (its scalars: {})",
+                if scalars.is_empty() {
+                    "none".to_string()
+                } else {
+                    scalars.join(", ")
+                }
+            )));
+        };
+        let array = self.read(slot, npz.as_ref())?;
+        match array.columns.as_slice() {
+            [column] if column.len() == 1 => Ok(column[0]),
+            columns => Err(error(format!(
+                "scale = \"{name}\" names a variable of {} × {} values, not a scalar (one value)",
+                columns.first().map_or(0, Vec::len),
+                columns.len()
+            ))),
+        }
     }
 
     fn read(&self, slot: &Slot, npz: Option<&Npz>) -> Result<NamedArray> {
@@ -330,6 +453,23 @@ impl DataFiles {
         let table = file.table(names);
         self.files.insert(key, (Some(file), uses - 1));
         table
+    }
+
+    /// The scalar variable `name` of the file at `path` ([`DataFile::scalar`]), opening
+    /// the file on its first use and keeping it for the records that will read it.
+    pub fn scalar(&mut self, path: &Path, name: &str) -> Result<f64> {
+        let key = canonical(path);
+        let (open, uses) = self.files.remove(&key).unwrap_or((None, 1));
+        let file = match open {
+            Some(file) => file,
+            None => {
+                self.opened += 1;
+                DataFile::open(path)?
+            }
+        };
+        let value = file.scalar(name);
+        self.files.insert(key, (Some(file), uses));
+        value
     }
 
     /// How many files have been opened so far.

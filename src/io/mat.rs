@@ -1,15 +1,23 @@
 //! MATLAB `.mat` files, level 5 (MATLAB v5 to v7, compressed or not; v7.3 is HDF5 and is
-//! not read), with the matfile crate. Every real numeric 1-D or 2-D variable can become
-//! columns (as for NPY arrays: `x[1]`…`x[k]` for N × k); complex and other variables are
-//! kept with the reason they cannot, an error only when a record names them, and
-//! skipped by the whole-file read. A file cut short inside a data element is an error,
-//! not a table without that variable.
+//! not read), parsed by [`element`]. Every real numeric 1-D or 2-D array can become
+//! columns (as for NPY arrays: `x[1]`…`x[k]` for N × k), at the top level or inside
+//! structs and struct arrays nested to any depth, named by its MATLAB path:
+//! `s.a`, `FRdata.ResponseControl(3).amplitude` (1-based linear indices as MATLAB writes
+//! them; a 1 × 1 struct has none). Complex, N-D, logical, cell, sparse and object
+//! variables are kept with the reason they cannot be columns (an error only when a record
+//! names them, skipped by the whole-file read); char arrays are kept as text (units,
+//! descriptions) for messages and `dampid init`. A file cut short inside a data element
+//! is an error, not a table without that variable.
 
 use std::path::Path;
 
-use matfile::{MatFile, NumericData};
+mod element;
+mod sweeps;
+
+pub(crate) use sweeps::sweep_table;
 
 use crate::error::{Error, Result};
+use element::Value;
 
 /// One variable of a MAT file: its name and its values column-major with its
 /// dimensions (r, c), or why it cannot be table columns.
@@ -18,33 +26,8 @@ pub(crate) struct Variable {
     pub values: std::result::Result<(usize, usize, Vec<f64>), String>,
 }
 
-fn real_values(data: &NumericData) -> Option<Vec<f64>> {
-    macro_rules! convert {
-        ($real:expr, $imag:expr) => {
-            if $imag.is_some() {
-                None
-            } else {
-                Some($real.iter().map(|&v| v as f64).collect())
-            }
-        };
-    }
-    match data {
-        NumericData::Double { real, imag } => convert!(real, imag),
-        NumericData::Single { real, imag } => convert!(real, imag),
-        NumericData::Int8 { real, imag } => convert!(real, imag),
-        NumericData::UInt8 { real, imag } => convert!(real, imag),
-        NumericData::Int16 { real, imag } => convert!(real, imag),
-        NumericData::UInt16 { real, imag } => convert!(real, imag),
-        NumericData::Int32 { real, imag } => convert!(real, imag),
-        NumericData::UInt32 { real, imag } => convert!(real, imag),
-        NumericData::Int64 { real, imag } => convert!(real, imag),
-        NumericData::UInt64 { real, imag } => convert!(real, imag),
-    }
-}
-
-/// The file holds whole data elements: matfile 0.5 stops quietly at a data element cut
-/// short (a file copied or written incompletely), so that variable would vanish from the
-/// table. Each element is an 8-byte tag (type, byte count; a small element packs both
+/// The file holds whole data elements (a file copied or written incompletely would
+/// otherwise lose its last variable; checked first for this message). Each element is an 8-byte tag (type, byte count; a small element packs both
 /// and its data into 8 bytes) followed by its data, padded to 8 bytes unless compressed.
 /// Returns the number of data elements (variables) the file holds.
 fn complete(bytes: &[u8]) -> std::result::Result<usize, String> {
@@ -114,17 +97,113 @@ fn complete(bytes: &[u8]) -> std::result::Result<usize, String> {
     Ok(element - 1)
 }
 
-/// The numeric variables of a MAT file, and how many variables of other kinds it holds.
-pub(crate) struct MatVariables {
-    /// The numeric arrays (matfile's), usable or with the reason they are not.
-    pub variables: Vec<Variable>,
-    /// Data elements that are not numeric arrays (structs, cells, sparse, char or
-    /// logical arrays, function handles), which are not read.
-    pub unread: usize,
+/// What a MAT file holds, for messages and `dampid init`: one line per variable,
+/// struct and leaf field, by path.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Entry {
+    /// `FRdata.ResponseControl(3).amplitude`.
+    pub path: String,
+    /// `41×1 double`, `1×8 struct`, `1×4 char`.
+    pub description: String,
+    /// The text of a char array.
+    pub text: Option<String>,
+    /// Whether it can be table columns (a real numeric 1-D or 2-D array).
+    pub columns: bool,
 }
 
-/// Reads the variables of a `.mat` file.
-pub(crate) fn variables(path: &Path) -> Result<MatVariables> {
+/// The variables of a MAT file by path, and what it holds.
+pub(crate) struct MatVariables {
+    /// The numeric leaves, usable or with the reason they are not.
+    pub variables: Vec<Variable>,
+    /// Everything, in file order (module doc).
+    pub contents: Vec<Entry>,
+}
+
+/// What the MAT reader reads, for messages that say what a file holds instead.
+pub(crate) const SUPPORTED: &str = "read are real numeric 1-D or 2-D arrays (double, single, integer), at the top level or in structs and struct arrays, named by path (s.a, s(2).b); not read are cell, sparse, logical, complex and N-D arrays, objects, function handles, and MAT v7.3 (HDF5) files";
+
+/// A one-line list of what a file holds: `a (41×1 double), s (1×8 struct), …`.
+pub(crate) fn holds(contents: &[Entry]) -> String {
+    const SHOWN: usize = 12;
+    let mut list: Vec<String> = contents
+        .iter()
+        .take(SHOWN)
+        .map(|e| format!("{} ({})", e.path, e.description))
+        .collect();
+    if contents.len() > SHOWN {
+        list.push(format!("{} more", contents.len() - SHOWN));
+    }
+    if list.is_empty() {
+        "no variables".into()
+    } else {
+        list.join(", ")
+    }
+}
+
+/// The path of element `e` (0-based) of a struct array of `count` elements at `path`.
+pub(crate) fn element_path(path: &str, e: usize, count: usize) -> String {
+    if count == 1 {
+        path.to_string()
+    } else {
+        format!("{path}({})", e + 1)
+    }
+}
+
+/// Flattens `value` at `path` into leaves and entries (module doc).
+fn flatten(path: String, value: Value, variables: &mut Vec<Variable>, contents: &mut Vec<Entry>) {
+    let description = value.describe();
+    let entry = |text: Option<String>, columns: bool| Entry {
+        path: path.clone(),
+        description: description.clone(),
+        text,
+        columns,
+    };
+    match value {
+        Value::Struct {
+            fields, elements, ..
+        } => {
+            contents.push(entry(None, false));
+            let count = elements.len();
+            for (e, element) in elements.into_iter().enumerate() {
+                let at = element_path(&path, e, count);
+                for (field, value) in fields.iter().zip(element) {
+                    flatten(format!("{at}.{field}"), value, variables, contents);
+                }
+            }
+        }
+        Value::Char { text, .. } => contents.push(entry(Some(text), false)),
+        Value::Numeric { dims, values, .. } => {
+            let usable = dims.len() == 2;
+            contents.push(entry(None, usable));
+            variables.push(Variable {
+                name: path.clone(),
+                values: match dims.as_slice() {
+                    [r, c] => Ok((*r, *c, values)),
+                    size => Err(format!("size {size:?}: expected one or two dimensions")),
+                },
+            });
+        }
+        Value::Complex { .. } => {
+            contents.push(entry(None, false));
+            variables.push(Variable {
+                name: path.clone(),
+                values: Err("complex values: only real variables are read".to_string()),
+            });
+        }
+        Value::Other { class, .. } => {
+            contents.push(entry(None, false));
+            variables.push(Variable {
+                name: path.clone(),
+                values: Err(format!(
+                    "a {class} array ({description}), not read: only real numeric 1-D or 2-D arrays are"
+                )),
+            });
+        }
+    }
+}
+
+/// The bytes of a level-5 MAT file at `path`, checked whole ([`complete`]).
+fn bytes_of(path: &Path) -> Result<Vec<u8>> {
     let file = path.display().to_string();
     let error = |message: String| Error::Data {
         file: file.clone(),
@@ -134,35 +213,38 @@ pub(crate) fn variables(path: &Path) -> Result<MatVariables> {
     };
     super::require_data_file(path)?;
     let bytes = std::fs::read(path).map_err(|e| error(e.to_string()))?;
-    let elements = complete(&bytes).map_err(error)?;
-    // matfile 0.5 panics on some malformed files (a data element whose size is within 8
-    // of u32::MAX overflows its padding arithmetic; found by the `mat` fuzz target), so
-    // a panic in the parser is turned into the same typed error as a parse failure.
-    let parsed = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        MatFile::parse(bytes.as_slice())
-    }))
-    .map_err(|_| error("not a level-5 MAT file: the MAT parser failed on it".into()))?;
-    let mat =
-        parsed.map_err(|e| error(format!("not a level-5 MAT file (v7.3 files are HDF5): {e}")))?;
-    let arrays = mat.arrays();
-    Ok(MatVariables {
-        unread: elements.saturating_sub(arrays.len()),
-        variables: arrays
-            .iter()
-            .map(|a| {
-                let size = a.size();
-                let values = match (size.as_slice(), real_values(a.data())) {
-                    (_, None) => Err("complex values: only real variables are read".to_string()),
-                    ([r, c], Some(values)) => Ok((*r, *c, values)),
-                    (size, Some(_)) => {
-                        Err(format!("size {size:?}: expected one or two dimensions"))
-                    }
-                };
-                Variable {
-                    name: a.name().to_string(),
-                    values,
-                }
-            })
-            .collect(),
+    complete(&bytes).map_err(error)?;
+    Ok(bytes)
+}
+
+/// The variables of the MAT file at `path`, parsed ([`element::parse`]).
+pub(crate) fn parsed(path: &Path) -> Result<Vec<element::Variable>> {
+    let bytes = bytes_of(path)?;
+    element::parse(&bytes).map_err(|e| Error::Data {
+        file: path.display().to_string(),
+        row: 0,
+        column: String::new(),
+        message: format!("not a readable level-5 MAT file: {e}"),
     })
+}
+
+/// Reads the variables of a `.mat` file, flattened by path.
+pub(crate) fn variables(path: &Path) -> Result<MatVariables> {
+    let mut variables = Vec::new();
+    let mut contents = Vec::new();
+    // A top-level array without a name is MATLAB's subsystem data (the storage of
+    // objects such as strings and tables), not a variable.
+    for v in parsed(path)?.into_iter().filter(|v| !v.name.is_empty()) {
+        flatten(v.name, v.value, &mut variables, &mut contents);
+    }
+    Ok(MatVariables {
+        variables,
+        contents,
+    })
+}
+
+/// What the MAT file at `path` holds (every variable, struct and field by path), for
+/// `dampid init`.
+pub fn contents(path: &Path) -> Result<Vec<Entry>> {
+    variables(path).map(|v| v.contents)
 }

@@ -6,7 +6,7 @@
 //! | `.csv` | [`csv::read`] | header names |
 //! | `.npy` | [`npy::read_npy`] | the file stem (`x`, or `x[1]`…`x[k]` for N × k) |
 //! | `.npz` | [`read_npz`] (`io/npz.rs`) | each array's name, as above |
-//! | `.mat` | [`read_mat`] | each real numeric variable's name, as above |
+//! | `.mat` | [`read_mat`] | each real numeric variable's name, as above; struct fields by MATLAB path (`s.a`, `s(2).b`) |
 //! | `.uff`, `.unv` | [`uff::read`] | `t`, then per dataset 58 record `3+Z` (node, direction) and its ID line 1 |
 //!
 //! [`read_table`] reads a whole file; a model file's records go through

@@ -1,5 +1,5 @@
 //! Proper orthogonal decomposition of record files (`dampid pod`): read each file
-//! ([`crate::io::read_table`]), choose its displacement columns, and report the modes'
+//! (the columns named, or every column it gives: [`super::data_file::DataFile::usable`]), choose its displacement columns, and report the modes'
 //! energy shares λ_k / Σ λ (see [`crate::prep::pod`] for the decomposition).
 
 use std::fmt;
@@ -51,7 +51,16 @@ pub fn pod_of_files(
     }
     let mut blocks = Vec::new();
     for path in files {
-        let table = crate::io::read_table(path)?;
+        // Named columns are read as `identify` reads them; otherwise every column the
+        // file gives (arrays that cannot be columns, scalars and shorter arrays left out).
+        let file = super::data_file::DataFile::open(path)?;
+        let table = match columns {
+            Columns::Named(names) => {
+                let names: Vec<&str> = names.iter().map(String::as_str).collect();
+                file.into_table(&names)?
+            }
+            _ => file.usable()?.0,
+        };
         let names = chosen(&table, columns)?;
         let values = names
             .iter()

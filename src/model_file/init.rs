@@ -46,6 +46,11 @@ pub struct InitRecord {
     pub period: Option<PeriodEstimate>,
     /// Why no period was detected.
     pub no_period: Option<String>,
+    /// What a MAT file holds: every variable, struct and field by path (listed in the
+    /// comments; empty for other formats).
+    pub contents: Vec<crate::io::mat::Entry>,
+    /// Arrays of the file that are not columns of the record, each with why.
+    pub left_out: Vec<String>,
 }
 
 /// The annotated model file `init` writes, and what it found.
@@ -136,6 +141,8 @@ impl InitRecord {
             forces: Vec::new(),
             period: None,
             no_period: None,
+            contents: Vec::new(),
+            left_out: Vec::new(),
         };
         let mut forces = Vec::new();
         for name in &table.headers {
@@ -299,6 +306,7 @@ fn data_record(r: &InitRecord, dofs: usize) -> String {
         r.file,
         r.columns.join(", ")
     ));
+    s.push_str(&contents_comment(r));
     let unassigned = r.unassigned();
     if !unassigned.is_empty() {
         s.push_str(&format!(
@@ -371,6 +379,57 @@ fn data_record(r: &InitRecord, dofs: usize) -> String {
             why.replace('\n', " ")
         )),
         (None, None) => {}
+    }
+    s
+}
+
+/// The comment lines listing what a MAT file holds (path, size and class, a char
+/// array's text), what is left out of the columns, and the struct arrays that read as
+/// stepped-sine sweeps.
+fn contents_comment(r: &InitRecord) -> String {
+    const SHOWN: usize = 200;
+    let mut s = String::new();
+    if !r.contents.is_empty() {
+        s.push_str("# what the MAT file holds (path: size class):\n");
+        let width = r
+            .contents
+            .iter()
+            .take(SHOWN)
+            .map(|e| e.path.chars().count())
+            .max()
+            .unwrap_or(0);
+        for e in r.contents.iter().take(SHOWN) {
+            let text = e
+                .text
+                .as_ref()
+                .map(|t| format!(" {}", quoted(t)))
+                .unwrap_or_default();
+            s.push_str(&format!("#   {:width$}  {}{text}\n", e.path, e.description));
+        }
+        if r.contents.len() > SHOWN {
+            s.push_str(&format!("#   … {} more\n", r.contents.len() - SHOWN));
+        }
+        // Struct arrays of vectors: stepped-sine sweeps, read by `sweeps`.
+        let arrays: Vec<&str> = r
+            .contents
+            .iter()
+            .filter(|e| e.description.ends_with(" struct") && !e.description.starts_with("1×1 "))
+            .map(|e| e.path.as_str())
+            .collect();
+        if !arrays.is_empty() {
+            s.push_str(&format!(
+                "# struct arrays (a stepped-sine table of one sweep per element reads them as\n# [stepped_sine] file = {}, sweeps = {}, columns named by field; docs/stepped_sine.md): {}\n",
+                quoted(&r.file),
+                quoted_list(&arrays.iter().map(|a| a.to_string()).collect::<Vec<_>>()),
+                arrays.join(", ")
+            ));
+        }
+    }
+    if !r.left_out.is_empty() {
+        s.push_str(&format!(
+            "# not columns of this record: {}\n",
+            r.left_out.join("; ").replace('\n', " ")
+        ));
     }
     s
 }

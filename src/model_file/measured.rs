@@ -12,7 +12,7 @@ use serde::Serialize;
 use toml::Spanned;
 
 use super::context::Context;
-use super::spec::{ColumnSpec, RecordSpec};
+use super::spec::{ColumnSpec, RecordSpec, Scale};
 use crate::error::{Error, Result};
 use crate::io::Table;
 use crate::io::data_file::DataFiles;
@@ -140,6 +140,49 @@ fn gain<T>(
     Ok((scale, offset))
 }
 
+/// The scales of a record's columns given by name (`scale = "gtau"`): each named scalar
+/// variable of the record's data file, read once ([`DataFiles::scalar`]); an error at the
+/// entry that names a missing or non-scalar one.
+fn named_scales(
+    ctx: &Context,
+    spec: &RecordSpec,
+    path: &Path,
+    files: &mut DataFiles,
+) -> Result<std::collections::HashMap<String, f64>> {
+    let mut values = std::collections::HashMap::new();
+    let motion = [&spec.displacements, &spec.velocities, &spec.accelerations]
+        .into_iter()
+        .flatten()
+        .map(|c| (c.span(), c.get_ref().scale.as_ref()));
+    let forces = spec
+        .forces
+        .iter()
+        .map(|f| (f.span(), f.get_ref().scale.as_ref()));
+    for (span, scale) in motion.chain(forces) {
+        if let Some(Scale::Variable(name)) = scale
+            && !values.contains_key(name)
+        {
+            let value = files
+                .scalar(path, name)
+                .map_err(|e| ctx.typed_error_at(&Spanned::new(span.clone(), ()), e))?;
+            values.insert(name.clone(), value);
+        }
+    }
+    Ok(values)
+}
+
+/// A column's scale as a number: given, or the named scalar read by [`named_scales`].
+fn scale_value(
+    scale: Option<&Scale>,
+    named: &std::collections::HashMap<String, f64>,
+) -> Option<f64> {
+    match scale? {
+        Scale::Value(v) => Some(*v),
+        // Every named scale was read before (named_scales): NaN only if not, refused by `gain`.
+        Scale::Variable(name) => Some(named.get(name).copied().unwrap_or(f64::NAN)),
+    }
+}
+
 /// The columns of a record's table, each moved into the matrix that uses it.
 struct Columns {
     table: Table,
@@ -204,6 +247,7 @@ fn motion_columns<'a>(
     spec: &'a RecordSpec,
     n: usize,
     label: &str,
+    named: &std::collections::HashMap<String, f64>,
 ) -> Result<(Vec<MotionColumn<'a>>, Option<Vec<MotionColumn<'a>>>)> {
     let lists = [
         (Sensor::Displacement, &spec.displacements),
@@ -237,7 +281,8 @@ fn motion_columns<'a>(
                 };
                 return Err(ctx.typed_error_at(entry, e));
             }
-            let gain = gain(ctx, entry, &c.column, c.scale, c.offset)?;
+            let scale = scale_value(c.scale.as_ref(), named);
+            let gain = gain(ctx, entry, &c.column, scale, c.offset)?;
             slots[index] = Some(MotionColumn {
                 spec: entry,
                 sensor,
@@ -329,6 +374,7 @@ pub(super) fn read_record(
     let periodic = matches!(mode, Mode::Periodic);
     let (base, files) = files;
     let path = base.join(&spec.file);
+    let named = named_scales(ctx, spec, &path, files)?;
     let table = files.table(&path, &named_columns(spec))?;
     let label = spec
         .label
@@ -374,7 +420,7 @@ pub(super) fn read_record(
         .time
         .as_deref()
         .map_or(Ok(0.0), |t| table.column(t).map(|c| time_scale * c[0]))?;
-    let (motion, measured_velocities) = motion_columns(ctx, spec, n, &label)?;
+    let (motion, measured_velocities) = motion_columns(ctx, spec, n, &label, &named)?;
     // Each column moves from the table into its matrix and is freed there (cloned only
     // while another channel still names it), so reading a record holds the data once
     // plus one column, not twice.
@@ -425,7 +471,13 @@ pub(super) fn read_record(
             };
             ctx.typed_error_at(force, e)
         })?;
-        let g = gain(ctx, force, &f.column, f.scale, f.offset)?;
+        let g = gain(
+            ctx,
+            force,
+            &f.column,
+            scale_value(f.scale.as_ref(), &named),
+            f.offset,
+        )?;
         read(
             signals.col_mut(k),
             &f.column,

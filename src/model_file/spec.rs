@@ -23,8 +23,8 @@ use crate::fit::Relation;
 use crate::prep::quadrature::Quadrature;
 
 pub use data::{
-    ColumnSpec, DataSpec, ForceColumn, KeepSpec, PhaseConvention, RecordSpec, SteppedSineSpec,
-    StructuralSpec,
+    ColumnSpec, DataSpec, ForceColumn, KeepSpec, Paths, PhaseConvention, RecordSpec, Scale,
+    SteppedSineSpec, StructuralSpec,
 };
 pub use modes::{
     FreeDecaySpec, HarmonicApproximationSpec, NonPeriodicSpec, OffsetsSpec, PhaseName, PodSpec,

@@ -22,12 +22,13 @@
 //! (r_m), B_s the sweep's smallest measured receptance X/a
 //! ([`crate::prep::harmonic::residual::default_bounds`]).
 
+use std::collections::HashMap;
 use std::path::Path;
 
 use super::context::Context;
 use super::reduction::harmonic_settings;
 use super::spec::{
-    ColumnSpec, HarmonicApproximationSpec, PhaseConvention, SteppedSineSpec, StructuralSpec,
+    ColumnSpec, HarmonicApproximationSpec, PhaseConvention, Scale, SteppedSineSpec, StructuralSpec,
 };
 use crate::error::{Error, Result};
 use crate::io::Table;
@@ -48,9 +49,41 @@ fn data_error(file: &str, row: usize, column: &str, message: impl Into<String>) 
     }
 }
 
+/// The scale of `spec` as a number: given, or its named scalar in `named` (read from
+/// the data file first, [`named_scales`]).
+fn scale_of(spec: &ColumnSpec, named: &HashMap<String, f64>) -> f64 {
+    match &spec.scale {
+        None => 1.0,
+        Some(Scale::Value(v)) => *v,
+        // Every named scale was read before: NaN only if not, which `column` refuses.
+        Some(Scale::Variable(name)) => named.get(name).copied().unwrap_or(f64::NAN),
+    }
+}
+
+/// The named scales (`scale = "gtau"`) of `columns`: each a scalar variable of the data
+/// file at `path`, read once.
+fn named_scales(path: &Path, columns: &[&ColumnSpec]) -> Result<HashMap<String, f64>> {
+    let mut named = HashMap::new();
+    let mut file = None;
+    for c in columns {
+        if let Some(Scale::Variable(name)) = &c.scale
+            && !named.contains_key(name)
+        {
+            let open = match file.take() {
+                Some(open) => open,
+                None => crate::io::data_file::DataFile::open(path)?,
+            };
+            let value = open.scalar(name);
+            file = Some(open);
+            named.insert(name.clone(), value?);
+        }
+    }
+    Ok(named)
+}
+
 /// The column `spec` of `table`, with its gain, or a data error naming it.
-fn column(table: &Table, spec: &ColumnSpec) -> Result<Vec<f64>> {
-    let scale = spec.scale.unwrap_or(1.0);
+fn column(table: &Table, spec: &ColumnSpec, named: &HashMap<String, f64>) -> Result<Vec<f64>> {
+    let scale = scale_of(spec, named);
     let offset = spec.offset.unwrap_or(0.0);
     if !(scale.is_finite() && scale != 0.0 && offset.is_finite()) {
         return Err(Error::invalid(
@@ -75,6 +108,54 @@ fn raw(table: &Table, name: &str) -> Result<Vec<f64>> {
     }
 }
 
+/// The columns `names` (and the sweep column) of the MAT file at `path`. A name the file
+/// lacks is a data error listing its columns and, when struct arrays hold fields of that
+/// name, how to read them as sweeps (`sweeps = "<path>"`).
+fn mat_columns(path: &Path, names: &[&str], sweep: Option<&str>) -> Result<Table> {
+    let data = crate::io::data_file::DataFile::open(path)?;
+    let mut wanted = names.to_vec();
+    wanted.extend(sweep);
+    match data.table(&wanted) {
+        Err(Error::UnknownName { name, known, .. }) => {
+            let suffix = format!(".{name}");
+            let arrays: Vec<String> = data
+                .contents()
+                .unwrap_or_default()
+                .iter()
+                .filter_map(|e| e.path.strip_suffix(&suffix))
+                .map(|element| match element.strip_suffix(')') {
+                    Some(indexed) => indexed
+                        .rsplit_once('(')
+                        .map_or(element, |(array, _)| array)
+                        .to_string(),
+                    None => element.to_string(),
+                })
+                .fold(Vec::new(), |mut list, a| {
+                    if !list.contains(&a) {
+                        list.push(a);
+                    }
+                    list
+                });
+            let hint = if arrays.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    "; the file's structs {} hold '{name}' fields: read each element as a sweep with `sweeps = {:?}` (docs/stepped_sine.md)",
+                    arrays.join(", "),
+                    arrays
+                )
+            };
+            Err(data_error(
+                &path.display().to_string(),
+                0,
+                &name,
+                format!("no column '{name}' (columns: {known}){hint}"),
+            ))
+        }
+        other => other,
+    }
+}
+
 impl Context<'_> {
     /// Reads `[stepped_sine]` for a model of `n` DOFs.
     pub(super) fn stepped_sine(
@@ -88,13 +169,66 @@ impl Context<'_> {
         let csv = path
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("csv") || e.eq_ignore_ascii_case("txt"));
-        let (table, labels) = match &spec.sweep {
-            Some(name) if csv => {
+        let mat = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("mat"));
+        // The columns the table's keys name, each once.
+        let mut names: Vec<&str> = vec![&spec.frequency.column, &spec.force.column];
+        names.extend(spec.amplitudes.iter().map(|a| a.get_ref().column.as_str()));
+        names.extend(spec.phases.iter().map(|p| p.get_ref().column.as_str()));
+        names.extend(spec.force_std.as_deref());
+        names.extend(spec.amplitude_std.iter().flatten().map(String::as_str));
+        names.extend(spec.phase_std.iter().flatten().map(String::as_str));
+        let mut unique: Vec<&str> = Vec::new();
+        for name in names {
+            if !unique.contains(&name) {
+                unique.push(name);
+            }
+        }
+        let (table, labels) = match (&spec.sweep, &spec.sweeps) {
+            (Some(_), Some(sweeps)) => {
+                return Err(self.typed_error_at(
+                    sweeps,
+                    Error::choice(
+                        "stepped_sine.sweeps",
+                        "both `sweep` and `sweeps`",
+                        "give `sweep` (a column whose values group the points) or `sweeps` (the struct arrays of a MAT file whose elements are the sweeps), not both",
+                    ),
+                ));
+            }
+            (None, Some(sweeps)) => {
+                if !mat {
+                    return Err(self.typed_error_at(
+                        sweeps,
+                        Error::choice(
+                            "stepped_sine.sweeps",
+                            format!("{:?} on {}", sweeps.get_ref().list(), spec.file),
+                            "`sweeps` names struct arrays of a .mat file; in other files a column groups the points: `sweep = \"<column>\"`",
+                        ),
+                    ));
+                }
+                let (table, labels) =
+                    crate::io::mat::sweep_table(&path, &sweeps.get_ref().list(), &unique)?;
+                (table, Some(labels))
+            }
+            (Some(name), None) if csv => {
                 let (table, mut labels) = crate::io::csv::read_with_labels(&path, &[name])?;
                 (table, labels.pop())
             }
+            // A MAT file: only the variables named (it may hold others of other lengths).
+            (sweep, None) if mat => (mat_columns(&path, &unique, sweep.as_deref())?, None),
             _ => (crate::io::read_table(&path)?, None),
         };
+        // The sweep grouping: a column, or the struct-array elements of `sweeps`.
+        let sweep_key: Option<&str> = match (&spec.sweep, &spec.sweeps) {
+            (Some(name), _) => Some(name),
+            (None, Some(_)) => Some("sweeps"),
+            (None, None) => None,
+        };
+        let mut scaled: Vec<&ColumnSpec> = vec![&spec.frequency, &spec.force];
+        scaled.extend(spec.amplitudes.iter().map(toml::Spanned::get_ref));
+        scaled.extend(spec.phases.iter().map(toml::Spanned::get_ref));
+        let named = named_scales(&path, &scaled)?;
         let file = table.file.clone();
         if spec.amplitudes.len() != n || spec.phases.len() != n {
             return Err(Error::mismatch(
@@ -140,15 +274,15 @@ impl Context<'_> {
             // fill all n slots
             .map(|c| c.expect("n entries for n DOFs, each DOF once"))
             .collect();
-        let omega = column(&table, &spec.frequency)?;
-        let force = column(&table, &spec.force)?;
+        let omega = column(&table, &spec.frequency, &named)?;
+        let force = column(&table, &spec.force, &named)?;
         let amplitudes = by_dof
             .iter()
-            .map(|(a, _, _)| column(&table, a))
+            .map(|(a, _, _)| column(&table, a, &named))
             .collect::<Result<Vec<_>>>()?;
         let phases = by_dof
             .iter()
-            .map(|(_, p, _)| column(&table, p))
+            .map(|(_, p, _)| column(&table, p, &named))
             .collect::<Result<Vec<_>>>()?;
         let rows = table.rows();
         let order = spec.response.order() as i32;
@@ -189,7 +323,7 @@ impl Context<'_> {
             }
         }
         // Sweeps: distinct values of the sweep column in order of first appearance.
-        let (sweeps, sweep_names) = match &spec.sweep {
+        let (sweeps, sweep_names) = match sweep_key {
             None => (vec![0; rows], vec!["all points".to_string()]),
             Some(name) => {
                 // Numbers name a sweep "level = 2"; text names it as written.
@@ -292,13 +426,13 @@ impl Context<'_> {
             }
             let sf = std_column(
                 spec.force_std.as_deref().unwrap_or_default(),
-                spec.force.scale.unwrap_or(1.0),
+                scale_of(&spec.force, &named),
             )?;
             let mut sa = Vec::new();
             let mut sp = Vec::new();
             for (a, p, k) in &by_dof {
-                sa.push(std_column(&amplitude_std[*k], a.scale.unwrap_or(1.0))?);
-                sp.push(std_column(&phase_std[*k], p.scale.unwrap_or(1.0))?);
+                sa.push(std_column(&amplitude_std[*k], scale_of(a, &named))?);
+                sp.push(std_column(&phase_std[*k], scale_of(p, &named))?);
             }
             let noise = kept
                 .iter()
@@ -381,7 +515,11 @@ impl Context<'_> {
                 "the residual receptance is estimated for one-DOF tables (a driving-point measurement of one mode) only: a table of several DOFs needs a residual per response point and a cross term per pair, which dampid does not estimate",
             ));
         }
-        let Some(sweep) = &spec.sweep else {
+        let Some(sweep) = spec
+            .sweep
+            .as_deref()
+            .or(spec.sweeps.as_ref().map(|_| "sweeps"))
+        else {
             return Err(Error::choice(
                 "stepped_sine.residual",
                 format!("\"{kind}\" without a sweep column"),

@@ -1,6 +1,6 @@
 //! Data files: a column the file does not have is `UnknownName` (listing the columns it
 //! has), a bad cell is `Data` with file, row and column, and a MAT file whose sizes
-//! overflow the MAT parser is `Data` too, not a panic (both found by the `mat` fuzz
+//! overflowed the former MAT parser is `Data` too, not a panic (both found by the `mat` fuzz
 //! target).
 
 use dampid::io::Table;
@@ -50,7 +50,8 @@ fn read_mat_bytes(name: &str, bytes: &[u8]) -> Result<Table> {
 #[test]
 fn mat_file_whose_dimensions_overflow_is_a_data_error() {
     // Found by the `mat` fuzz target: a numeric matrix of 65536 × 65536 makes the MAT
-    // parser (matfile 0.5) multiply its dimensions as i32, a panic under overflow checks.
+    // parser then used (matfile 0.5) multiply its dimensions as i32, a panic under
+    // overflow checks; kept for io/mat/element.rs, which multiplies them checked.
     let mut bytes = mat_header();
     let tag = |kind: u32, size: u32| [kind.to_le_bytes(), size.to_le_bytes()].concat();
     bytes.extend(tag(14, 56)); // miMATRIX of 56 bytes:
@@ -71,8 +72,8 @@ fn mat_file_whose_dimensions_overflow_is_a_data_error() {
 #[test]
 fn mat_file_whose_element_size_overflows_is_a_data_error() {
     // Found by the `mat` fuzz target: a data element claiming 0xFFFFFFFF bytes made the
-    // MAT parser (matfile 0.5) overflow while rounding the size up to its padding, a
-    // panic under overflow checks. The header, then that one tag.
+    // MAT parser then used (matfile 0.5) overflow while rounding the size up to its
+    // padding, a panic under overflow checks. The header, then that one tag.
     let mut bytes = mat_header();
     bytes.extend_from_slice(&[0x0f, 0, 0, 0, 0xff, 0xff, 0xff, 0xff]); // miCOMPRESSED
     let result = read_mat_bytes("overflow", &bytes);
@@ -102,8 +103,8 @@ fn mat_matrix(class: u8, name: &str, n: i32, data: &[u8]) -> Vec<u8> {
 }
 
 /// A MAT file with a char variable beside a numeric one (issue 29, item 10): a column it
-/// does not have names the numeric variables and says that one variable is of a kind
-/// that is not read, instead of "known: " with nothing after it; a MAT v4 file is named
+/// does not have names the numeric variables and names the variable of a kind that is
+/// not read, with its size and class, instead of "known: " with nothing after it; a MAT v4 file is named
 /// as such, not "truncated".
 #[test]
 fn mat_variables_of_other_kinds_are_named_in_the_error() {
@@ -125,7 +126,7 @@ fn mat_variables_of_other_kinds_are_named_in_the_error() {
         [1.0, 2.0, 3.0]
     );
     let message = file.table(&["note"]).unwrap_err().to_string();
-    for needle in ["'note'", "1 variable", "char", "known: x"] {
+    for needle in ["'note'", "note (1×2 char)", "known: x"] {
         assert!(message.contains(needle), "'{needle}' not in {message}");
     }
     std::fs::remove_file(&path).ok();

@@ -66,8 +66,9 @@ pub struct ColumnSpec {
     pub column: String,
     /// DOF, 1-based (default: the entry's position in its list).
     pub dof: Option<usize>,
-    /// Gain: physical value = scale × column + offset (default 1).
-    pub scale: Option<f64>,
+    /// Gain: physical value = scale × column + offset (default 1); a number or the
+    /// name of a scalar variable of the data file.
+    pub scale: Option<Scale>,
     /// Offset in physical units (default 0).
     pub offset: Option<f64>,
 }
@@ -78,7 +79,7 @@ pub struct ColumnSpec {
 struct ColumnTable {
     column: String,
     dof: Option<usize>,
-    scale: Option<f64>,
+    scale: Option<Scale>,
     offset: Option<f64>,
 }
 
@@ -124,8 +125,9 @@ pub struct ForceColumn {
     pub column: String,
     /// DOF, 1-based.
     pub dof: usize,
-    /// Gain: force = scale × column + offset (default 1), e.g. 35.15 N/V.
-    pub scale: Option<f64>,
+    /// Gain: force = scale × column + offset (default 1), e.g. 35.15 N/V, or the name
+    /// of a scalar variable of the data file.
+    pub scale: Option<Scale>,
     /// Offset in force units (default 0).
     pub offset: Option<f64>,
 }
@@ -160,6 +162,11 @@ pub struct SteppedSineSpec {
     /// A column whose distinct values group the points in sweeps (one force or
     /// response level each); without it all points are one sweep.
     pub sweep: Option<String>,
+    /// Instead of `sweep`, for a MAT file: the struct arrays whose elements are the
+    /// sweeps (`"FRdata.ResponseControl"`, a list of them, or a struct holding them:
+    /// `"FRdata"`), each element one sweep labelled by its path, the columns its fields
+    /// (`crate::io::mat` sweeps).
+    pub sweeps: Option<Spanned<Paths>>,
     /// σ of the force amplitude per point (a column, same gain as `force`) …
     pub force_std: Option<String>,
     /// … σ of each amplitude (columns, the gains of `amplitudes`) …
@@ -206,6 +213,38 @@ pub struct KeepSpec {
     /// The sweeps, by the names dampid gives them (`FC1`, or `level = 2` for a
     /// numeric sweep column).
     pub sweeps: Option<Vec<String>>,
+}
+
+/// One path or a list of them (`sweeps = "FRdata.ResponseControl"` or
+/// `sweeps = ["FRdata.ForceControl", "FRdata.ResponseControl"]`).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(untagged)]
+pub enum Paths {
+    /// One path.
+    One(String),
+    /// Several.
+    Many(Vec<String>),
+}
+
+impl Paths {
+    /// The paths, as a list.
+    pub fn list(&self) -> Vec<String> {
+        match self {
+            Paths::One(p) => vec![p.clone()],
+            Paths::Many(p) => p.clone(),
+        }
+    }
+}
+
+/// A column's scale: a number, or the name of a scalar variable of the same data file
+/// (`scale = "gtau"`: a gain stored beside the signals in a `.mat` or `.npz` file).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(untagged)]
+pub enum Scale {
+    /// The factor.
+    Value(f64),
+    /// A scalar variable of the data file.
+    Variable(String),
 }
 
 /// Which way a stepped-sine phase is counted.
