@@ -4,7 +4,8 @@
 //!
 //! Measured: the energy decrement over the [`SPAN`] windows either side of the window
 //! and itself (fewer at a record's ends), from the first one's start a to the last
-//! one's end b, at their mean frequency ω̄,
+//! one's end b, at their mean frequency ω̄ (the frequency of the point, at which the
+//! fitted ζ_eq is evaluated too),
 //!
 //! ```text
 //!   ζ = ln(E_a / E_b) / (2 ω̄ (t_b − t_a)),   f = ω̄ / 2π,
@@ -53,7 +54,7 @@ pub struct BackbonePoint {
     pub frequency: f64,
     /// The energy decrement's damping ratio over the windows around (module doc).
     pub measured: f64,
-    /// The fitted law's ζ_eq(X, ω).
+    /// The fitted law's ζ_eq(X, ω̄) at the window's amplitude and the point's frequency.
     pub fitted: f64,
 }
 
@@ -78,11 +79,17 @@ pub fn backbone(
     let mut points = Vec::new();
     for record in records {
         let cycles = of_record(record, decay);
+        // The windows around each (module doc) and their mean frequency.
+        let around = |j: usize| &cycles[j.saturating_sub(SPAN)..(j + SPAN + 1).min(cycles.len())];
+        let means: Vec<f64> = (0..cycles.len())
+            .map(|j| around(j).iter().map(|c| c.frequency).sum::<f64>() / around(j).len() as f64)
+            .collect();
         let synthetic: Vec<SteppedSinePoint> = cycles
             .iter()
-            .map(|c| SteppedSinePoint {
+            .zip(&means)
+            .map(|(c, &omega)| SteppedSinePoint {
                 label: format!("{} X={}", record.label(), c.amplitude),
-                frequency: c.frequency,
+                frequency: omega,
                 force_dof: 0,
                 // Any force: the columns are the damping terms' alone.
                 force_amplitude: 1.0,
@@ -94,18 +101,17 @@ pub fn backbone(
         let columns = columns_of(model, &[], &approximation, &synthetic)?;
         for (j, (cycle, g)) in cycles.iter().zip(columns).enumerate() {
             let dissipated: f64 = g.iter().zip(theta).map(|(g, t)| g * t).sum();
-            let omega = cycle.frequency;
-            let around = &cycles[j.saturating_sub(SPAN)..(j + SPAN + 1).min(cycles.len())];
-            let mean = around.iter().map(|c| c.frequency).sum::<f64>() / around.len() as f64;
-            let (first, last) = (around[0], around[around.len() - 1]);
-            let span = (last.end - first.start) as f64 * record.step();
+            let omega = means[j];
+            let span = around(j);
+            let (first, last) = (span[0], span[span.len() - 1]);
+            let duration = (last.end - first.start) as f64 * record.step();
             points.push(BackbonePoint {
                 record: record.label().to_string(),
                 window: j,
                 time: record.start_time() + cycle.start as f64 * record.step(),
                 amplitude: cycle.amplitude,
-                frequency: mean / (2.0 * std::f64::consts::PI),
-                measured: (first.energy_start / last.energy_end).ln() / (2.0 * mean * span),
+                frequency: omega / (2.0 * std::f64::consts::PI),
+                measured: (first.energy_start / last.energy_end).ln() / (2.0 * omega * duration),
                 fitted: dissipated
                     / (2.0
                         * std::f64::consts::PI
