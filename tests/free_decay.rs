@@ -530,3 +530,22 @@ fn a_record_of_two_channels_is_refused() {
         "{error}"
     );
 }
+
+/// A force that acts until the record's end leaves no decay: the error says so, and a
+/// sensor that reads nothing has no mode to isolate.
+#[test]
+fn a_force_to_the_end_or_a_silent_sensor_is_refused() {
+    let n = 4096;
+    let a: Vec<f64> = (0..n).map(|i| (i as f64 * 0.04).sin()).collect();
+    let force: Vec<f64> = (0..n).map(|i| (i as f64 * 0.04).cos()).collect();
+    let driven = record("driven", &a, Sensor::Acceleration, 1e-3, Some(&force));
+    let error = isolate(&driven, &DecaySettings::unit_mass()).unwrap_err();
+    assert!(
+        matches!(error, dampid::Error::RecordTooShort { needed: 64, .. }),
+        "{error}"
+    );
+    assert!(error.to_string().contains("its free decay"), "{error}");
+    let silent = record("silent", &vec![0.0; n], Sensor::Acceleration, 1e-3, None);
+    let error = isolate(&silent, &DecaySettings::unit_mass()).unwrap_err();
+    assert!(error.to_string().contains("no spectral peak"), "{error}");
+}

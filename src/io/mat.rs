@@ -1,5 +1,5 @@
 //! MATLAB `.mat` files, level 5 (MATLAB v5 to v7, compressed or not; v7.3 is HDF5 and is
-//! not read), parsed by [`element`]. Every real numeric 1-D or 2-D array can become
+//! not read), parsed by `mat/element.rs`. Every real numeric 1-D or 2-D array can become
 //! columns (as for NPY arrays: `x[1]`…`x[k]` for N × k), at the top level or inside
 //! structs and struct arrays nested to any depth, named by its MATLAB path:
 //! `s.a`, `FRdata.ResponseControl(3).amplitude` (1-based linear indices as MATLAB writes

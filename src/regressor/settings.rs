@@ -30,7 +30,7 @@ pub enum Windows {
     Spans(SpanWindows),
     /// Whole cycles of a mode's free decay (records as
     /// [`crate::prep::free_decay::isolate`] returns them): the stored energy lost over
-    /// each is known from the modal mass ([`crate::regressor::free_decay`]).
+    /// each is known from the modal mass (`src/regressor/free_decay.rs`).
     Decay(DecaySettings),
 }
 

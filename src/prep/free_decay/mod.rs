@@ -13,7 +13,7 @@
 //! frequency ([`cycles`]), and with the modal mass m known (given, or 1 for a unit modal
 //! mass: coefficients per unit mass, ζ exact) every term is known but the damping. A
 //! stiffness estimated beside the damping cannot work here: over cycles with their ends
-//! at the same phase, ½k[x²] and the damping work both follow the decay of the
+//! at the same phase, ½k\[x²\] and the damping work both follow the decay of the
 //! amplitude, so k and θ trade off (an SDOF ringdown gave a stiffness of 8.8 for a truth
 //! of 2.5·10⁵ that way).
 //!
@@ -45,6 +45,10 @@ use crate::error::{Error, Result};
 use crate::record::{Forcing, Record, RecordParts, Sensor};
 pub use band::Band;
 pub use cycles::DecayCycle;
+
+/// Samples a decay needs at least after its start (a few cycles at the coarsest
+/// sampling a band-pass can use).
+const MIN_SAMPLES: usize = 64;
 
 /// Where each record's free decay starts.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -272,7 +276,18 @@ pub fn isolate(record: &Record, settings: &DecaySettings) -> Result<Decay> {
     let (signal, sensor) = channel(record)?;
     let step = record.step();
     let start = start_sample(record, settings.start)?;
-    let decay = &signal[start..];
+    let decay = &signal[start.min(signal.len())..];
+    if decay.len() < MIN_SAMPLES {
+        return Err(Error::RecordTooShort {
+            record: format!(
+                "{} (its free decay, from sample {} where the force has ended or `start` says)",
+                record.label(),
+                start + 1
+            ),
+            needed: MIN_SAMPLES,
+            available: decay.len(),
+        });
+    }
     let around = |f: f64| Band {
         low: 0.5 * f,
         high: (2.0 * f).min(0.45 / step),
@@ -311,7 +326,6 @@ pub fn isolate(record: &Record, settings: &DecaySettings) -> Result<Decay> {
         }
         kept.push(*w);
     }
-    // Edge cycles at the end above the floor count as edge cycles; those below, at the floor.
     let (Some(first), Some(last)) = (kept.first(), kept.last()) else {
         // Named by the key that would change it: the floor when cycles fell below it.
         let (key, value) = if dropped_at_floor > 0 {
