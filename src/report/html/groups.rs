@@ -66,9 +66,19 @@ impl HtmlReport<'_> {
         if report.estimation.is_some() {
             out.push_str("<p>At the estimated nonlinear parameters.</p>\n");
         }
-        let work = self.units().work();
+        // A free decay's rows are energies divided by the speed at their crossing
+        // (src/regressor/free_decay.rs): no unit of work.
+        let decay = self.backbone.is_some();
+        let work = if decay { None } else { self.units().work() };
         let stored = !report.nuisance.is_empty();
         let axes = match (self.equations(), stored) {
+            _ if decay => BalanceAxes {
+                title: "Energy balance since each record's first crossing",
+                input: "stored energy lost since the first crossing ÷ the speed there",
+                identified: "identified damping work + start energy ÷ the speed",
+                log: false,
+                unit: None,
+            },
             (Equations::Points, _) => BalanceAxes {
                 title: "Energy balance per point",
                 input: "input energy per cycle π a X sin φ",
