@@ -51,6 +51,19 @@ fn settings(decay: DecaySettings) -> IdentifySettings {
     }
 }
 
+/// The one `identify` of `law` on the modes' `records`, unit modal mass.
+fn fitted(
+    law: dampid::regressor::ParametricModel,
+    records: &[Record],
+) -> dampid::identify::Identification {
+    identify(
+        &ParametricRegressor::new(law, records),
+        &settings(DecaySettings::unit_mass()),
+        &silent,
+    )
+    .unwrap()
+}
+
 fn model(text: &str) -> dampid::model::DampingModel {
     dampid::model_file::parse_model(&format!("dofs = 1\n{text}"), "free_decay.toml").unwrap()
 }
@@ -93,12 +106,10 @@ fn a_viscous_and_power_law_ringdown_from_accelerations() {
     );
     let records = vec![decay.record.clone()];
     let model = model(VISCOUS_POWER);
-    let result = identify(
-        &ParametricRegressor::linear(&model, records.as_slice()),
-        &settings(DecaySettings::unit_mass()),
-        &silent,
-    )
-    .unwrap();
+    let result = fitted(
+        dampid::regressor::Parametric::fixed(model.clone()),
+        &records,
+    );
     let (c, d) = (
         result.coefficient("c").unwrap(),
         result.coefficient("d").unwrap(),
@@ -127,12 +138,10 @@ fn a_second_mode_in_the_signal_is_filtered_out() {
         let source = record("ringdown", signal, Sensor::Acceleration, truth.step, None);
         let decay = isolate(&source, &DecaySettings::unit_mass()).unwrap();
         let records = vec![decay.record];
-        let result = identify(
-            &ParametricRegressor::linear(&model, records.as_slice()),
-            &settings(DecaySettings::unit_mass()),
-            &silent,
-        )
-        .unwrap();
+        let result = fitted(
+            dampid::regressor::Parametric::fixed(model.clone()),
+            &records,
+        );
         found.push((
             result.coefficient("c").unwrap(),
             result.coefficient("d").unwrap(),
@@ -219,12 +228,7 @@ fn power_laws_with_estimated_exponents_and_their_backbones() {
     for (d, p) in [(5.0, 1.5), (2.0, 2.5)] {
         let truth = power_truth(d, p);
         let records = two_ringdowns(&truth, 1);
-        let found = identify(
-            &ParametricRegressor::new(model.clone(), records.as_slice()),
-            &settings(DecaySettings::unit_mass()),
-            &silent,
-        )
-        .unwrap();
+        let found = fitted(model.clone(), &records);
         let (c, d_hat) = (
             found.coefficient("c").unwrap(),
             found.coefficient("d").unwrap(),
@@ -265,12 +269,7 @@ fn intervals_cover_the_truth_over_seeds() {
     let seeds = 40;
     for seed in 0..seeds {
         let records = two_ringdowns(&truth, 100 + seed);
-        let found = identify(
-            &ParametricRegressor::new(model.clone(), records.as_slice()),
-            &settings(DecaySettings::unit_mass()),
-            &silent,
-        )
-        .unwrap();
+        let found = fitted(model.clone(), &records);
         let estimation = found.report.estimation.as_ref().unwrap();
         for (k, (name, value)) in [("c", truth.viscous), ("d", 5.0)].iter().enumerate() {
             let joint = estimation
@@ -320,12 +319,10 @@ coefficient = "mu"
 elements = [[1, 0]]
 "#,
     );
-    let found = identify(
-        &ParametricRegressor::linear(&model, records.as_slice()),
-        &settings(DecaySettings::unit_mass()),
-        &silent,
-    )
-    .unwrap();
+    let found = fitted(
+        dampid::regressor::Parametric::fixed(model.clone()),
+        &records,
+    );
     let (c, mu) = (
         found.coefficient("c").unwrap(),
         found.coefficient("mu").unwrap(),
@@ -364,12 +361,10 @@ fn an_impact_starts_the_decay_after_the_force() {
     let mut found = Vec::new();
     for source in [&hit, &cut] {
         let records = vec![isolate(source, &DecaySettings::unit_mass()).unwrap().record];
-        let result = identify(
-            &ParametricRegressor::linear(&model, records.as_slice()),
-            &settings(DecaySettings::unit_mass()),
-            &silent,
-        )
-        .unwrap();
+        let result = fitted(
+            dampid::regressor::Parametric::fixed(model.clone()),
+            &records,
+        );
         found.push([
             result.coefficient("c").unwrap(),
             result.coefficient("d").unwrap(),

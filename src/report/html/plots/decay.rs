@@ -16,21 +16,23 @@ use super::{
 };
 use crate::error::Result;
 
-/// Frequency against amplitude, X on a log axis (module doc).
-pub(crate) fn frequency(groups: &[Group]) -> Result<String> {
-    let logged: Vec<Group> = groups
+/// `groups` with each point mapped by `point` (`None`: off a log axis, left out).
+fn mapped(groups: &[Group], point: impl Fn((f64, f64)) -> Option<(f64, f64)>) -> Vec<Group> {
+    groups
         .iter()
         .map(|g| Group {
             name: g.name.clone(),
-            points: g
-                .points
-                .iter()
-                .filter(|(x, f)| *x > 0.0 && f.is_finite())
-                .map(|&(x, f)| (x.log10(), f))
-                .collect(),
+            points: g.points.iter().filter_map(|&p| point(p)).collect(),
             rest: g.rest,
         })
-        .collect();
+        .collect()
+}
+
+/// Frequency against amplitude, X on a log axis (module doc).
+pub(crate) fn frequency(groups: &[Group]) -> Result<String> {
+    let logged = mapped(groups, |(x, f)| {
+        (x > 0.0 && f.is_finite()).then(|| (x.log10(), f))
+    });
     scatter(
         &logged,
         "Backbone frequency f(X)",
@@ -41,19 +43,9 @@ pub(crate) fn frequency(groups: &[Group]) -> Result<String> {
 
 /// Amplitude against time, X on a log axis (module doc).
 pub(crate) fn envelope(groups: &[Group]) -> Result<String> {
-    let logged: Vec<Group> = groups
-        .iter()
-        .map(|g| Group {
-            name: g.name.clone(),
-            points: g
-                .points
-                .iter()
-                .filter(|(t, x)| t.is_finite() && *x > 0.0)
-                .map(|&(t, x)| (t, x.log10()))
-                .collect(),
-            rest: g.rest,
-        })
-        .collect();
+    let logged = mapped(groups, |(t, x)| {
+        (t.is_finite() && x > 0.0).then(|| (t, x.log10()))
+    });
     scatter(
         &logged,
         "Decay envelope X(t)",
