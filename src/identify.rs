@@ -45,7 +45,7 @@ use crate::varpro::VarProSettings;
 /// | `fit.rank_tolerance` | 1e-10 | singular values below it, relative to σ₁, count as zero |
 /// | `fit.solver` | tolerance 1e-10, 200 iterations, polish | the constrained solver |
 /// | `estimation` | tolerance 1e-8, 200 iterations, 95 %, profiles | the outer loop over estimated parameters ([`VarProSettings`]) |
-/// | `steady_state` | `None`: not checked | check the windows for steady state first, refusing transients unless accepted |
+/// | `steady_state` | `None`: not checked | check the windows for steady state first, refusing transients unless accepted (rows built apart carry their own check: [`crate::campaign`]) |
 /// | `bootstrap` | `None` | percentile intervals from refits of resampled windows (a table's whole sweeps) |
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct IdentifySettings {
@@ -166,9 +166,11 @@ pub fn identify(
     progress: Progress<'_>,
 ) -> Result<Identification> {
     settings.validate()?;
-    let steady = match &settings.steady_state {
-        Some(steady) => problem.steady_state(&settings.regressor, steady)?,
-        None => None,
+    let steady = match (&settings.steady_state, problem.source()) {
+        // Rows built apart carry the check made where they were built (crate::campaign).
+        (_, Source::Rows(rows)) => rows.steady_state().cloned(),
+        (Some(steady), _) => problem.steady_state(&settings.regressor, steady)?,
+        (None, _) => None,
     };
     if let Some(steady) = &steady {
         steady.enforce()?;

@@ -127,6 +127,7 @@
 
 pub mod analysis;
 pub mod budget;
+pub mod campaign;
 pub mod cancel;
 pub mod command;
 pub mod error;

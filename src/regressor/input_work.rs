@@ -99,7 +99,7 @@ pub(crate) fn require_periodic_work(
         samples: Vec::with_capacity(windows.len()),
         group: Vec::with_capacity(windows.len()),
         names: records.iter().map(|r| r.label().to_string()).collect(),
-        unit: "record",
+        unit: "record".into(),
     };
     for (w, &b) in windows.iter().zip(rhs) {
         let record = &records[w.record];

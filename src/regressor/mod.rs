@@ -36,8 +36,10 @@ pub mod passive;
 mod periodic;
 pub mod robust;
 pub mod round_off;
+mod serde_mat;
 mod settings;
 pub mod source;
+mod stack;
 pub mod stepped_sine;
 pub mod structural_term;
 pub mod velocity_bias;
@@ -54,6 +56,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 use crate::model::DampingModel;
+use crate::prep::steady_state::SteadyStateReport;
 use crate::prep::velocity::VelocitySource;
 use crate::prep::window::Window;
 use crate::record::Record;
@@ -145,9 +148,14 @@ impl std::fmt::Display for RowLabel {
     }
 }
 
-/// The regressor A (equations × coefficients), right-hand side b, and their labels.
-#[derive(Debug, Clone)]
+/// The regressor A (equations × coefficients), right-hand side b, and their labels,
+/// with what the fit and the report read beside them (the noise model, the gross work,
+/// the velocity-noise bias, the steady-state check of a campaign's rows). Serialisable,
+/// so that rows built on one machine are fitted on another bit for bit
+/// ([`crate::campaign`]).
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Regressor {
+    #[serde(with = "serde_mat")]
     matrix: Mat<f64>,
     rhs: Vec<f64>,
     columns: Vec<String>,
@@ -163,6 +171,9 @@ pub struct Regressor {
     work_scale: Option<passive::WorkScale>,
     /// Columns whose every entry was round-off of its inputs ([`round_off`]), now zero.
     round_off: Vec<String>,
+    /// The steady-state check of the windows behind the rows, when the rows were built
+    /// apart from the fit ([`crate::campaign::rows`]) and carry it.
+    steady_state: Option<SteadyStateReport>,
 }
 
 impl Regressor {
@@ -353,6 +364,7 @@ impl Regressor {
             velocity_bias: None,
             work_scale: None,
             round_off: Vec::new(),
+            steady_state: None,
         })
     }
 
@@ -436,6 +448,7 @@ impl Regressor {
         });
         selected.work_scale = self.work_scale.as_ref().map(|s| s.select(indices));
         selected.round_off = self.round_off.clone();
+        selected.steady_state = self.steady_state.as_ref().map(|s| s.select(indices));
         Ok(selected)
     }
 
@@ -489,5 +502,10 @@ impl Regressor {
     /// one whose bias is assessed ([`velocity_bias`]).
     pub fn velocity_bias(&self) -> Option<&VelocityBias> {
         self.velocity_bias.as_ref()
+    }
+    /// The steady-state check of the windows behind the rows, when they carry it
+    /// (rows built apart from the fit, [`crate::campaign::rows`]).
+    pub fn steady_state(&self) -> Option<&SteadyStateReport> {
+        self.steady_state.as_ref()
     }
 }

@@ -58,7 +58,7 @@ pub const Z: f64 = 5.0;
 pub const FLOOR: f64 = 1e-6;
 
 /// What the check needs beside b: the gross work of each row and how rows group.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct WorkScale {
     /// Per row: the gross work W_r ≥ |b_r| (module doc).
     pub gross: Vec<f64>,
@@ -69,7 +69,7 @@ pub struct WorkScale {
     /// The name of each group (record labels, sweep names).
     pub names: Vec<String>,
     /// `record` or `sweep`.
-    pub unit: &'static str,
+    pub unit: String,
 }
 
 impl WorkScale {
@@ -80,7 +80,7 @@ impl WorkScale {
             samples: indices.iter().map(|&i| self.samples[i]).collect(),
             group: indices.iter().map(|&i| self.group[i]).collect(),
             names: self.names.clone(),
-            unit: self.unit,
+            unit: self.unit.clone(),
         }
     }
 }
@@ -253,7 +253,7 @@ mod tests {
             samples: vec![samples; b.len()],
             group: groups.to_vec(),
             names,
-            unit: "record",
+            unit: "record".into(),
         })
         .unwrap()
     }

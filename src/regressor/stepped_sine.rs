@@ -266,7 +266,7 @@ pub(crate) fn build(
         samples: vec![0; points.len()],
         group: swept.sweeps.clone(),
         names: swept.sweep_names.clone(),
-        unit: "sweep",
+        unit: "sweep".into(),
     };
     Regressor::from_parts(matrix, rhs, columns, labels)?
         .with_noise(noise)?

@@ -42,11 +42,12 @@ use crate::regressor::settings::{NoiseTreatment, RegressorSettings};
 use crate::terms::{Coefficients, Term};
 
 /// The expected velocity-noise bias B of every entry of the regressor.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct VelocityBias {
     /// The estimator (its model-file name).
     pub estimator: String,
     /// B, equations × coefficients.
+    #[serde(with = "super::serde_mat")]
     pub matrix: Mat<f64>,
     /// σ_v / (ω σ): the estimator's velocity noise relative to that of the
     /// fundamental harmonic, the largest over the windows.

@@ -250,6 +250,16 @@ pub struct SteadyStateReport {
 }
 
 impl SteadyStateReport {
+    /// The windows `indices` (repeats allowed), as [`crate::regressor::Regressor::select_rows`]
+    /// selects the rows they are behind.
+    pub fn select(&self, indices: &[usize]) -> Self {
+        SteadyStateReport {
+            settings: self.settings,
+            energy_known: self.energy_known,
+            windows: indices.iter().map(|&i| self.windows[i].clone()).collect(),
+        }
+    }
+
     /// The windows that are not steady.
     pub fn rejected(&self) -> impl Iterator<Item = &WindowCheck> {
         self.windows.iter().filter(|w| !w.steady)

@@ -119,7 +119,7 @@ pub struct WindowNoise {
 }
 
 /// The noise model of a regressor: one [`RowNoise`] and one [`WindowNoise`] per row.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct NoiseModel {
     /// First-order noise sensitivities of each equation.
     pub rows: Vec<RowNoise>,
