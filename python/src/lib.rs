@@ -1,5 +1,6 @@
 //! dampid from Python: `Model`, `Record`, `identify`, `identify_file`, `Report`, and the
-//! campaign pair `regressor_rows` / `fit_rows` (docs/python.md).
+//! campaign trio `regressor_rows` / `stack_rows` / `fit_rows` with their `Rows`
+//! (docs/python.md).
 //!
 //! A front end like the `dampid` binary: it turns Python arguments into the library's
 //! (records lent from NumPy, keyword settings read as a model file's
@@ -290,7 +291,9 @@ fn dampid_python(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyReport>()?;
     m.add_function(wrap_pyfunction!(identify, m)?)?;
     m.add_function(wrap_pyfunction!(identify_file, m)?)?;
+    m.add_class::<campaign::PyRows>()?;
     m.add_function(wrap_pyfunction!(campaign::regressor_rows, m)?)?;
+    m.add_function(wrap_pyfunction!(campaign::stack_rows, m)?)?;
     m.add_function(wrap_pyfunction!(campaign::fit_rows, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -78,8 +78,9 @@ def test_html_of_identify_file_has_the_cli_sections(root, tmp_path):
 
 def test_html_of_fit_rows_names_the_rows(four_mass, model, tmp_path):
     records = records_of(four_mass)
-    a, b, labels = dampid.regressor_rows(model, records[0], noise="ignore")
-    report = dampid.fit_rows(model, a, b, labels, noise="ignore")
+    rows = dampid.regressor_rows(model, records[0], noise="ignore")
+    report = dampid.fit_rows(model, rows, noise="ignore")
+    a, b = rows.a, rows.b
     path = tmp_path / "rows.html"
     report.write_html(str(path))
     page = path.read_text()
