@@ -94,10 +94,15 @@ def batch_of(source, first, count, args):
     return simulate_batch(first, count, args.samples, args.seed)
 
 
+def settings_of(args):
+    """The identification settings: the pipeline's, with windows of --cycles periods."""
+    return dict(PIPELINES[args.pipeline], cycles=args.cycles)
+
+
 def rows_of(source, first, count, args):
     """The task: a batch of records → their rows, stacked (runs on a worker)."""
     model = dampid.Model.from_toml(MODEL)
-    settings = PIPELINES[args.pipeline]
+    settings = settings_of(args)
     parts = [dampid.regressor_rows(model, r, record_index=first + j, **settings)
              for j, r in enumerate(records_of(batch_of(source, first, count, args), args.pipeline))]
     return dampid.stack_rows(parts)
@@ -113,7 +118,7 @@ def fit_campaign(client, source, args):
         pairs = [level[i:i + 2] for i in range(0, len(level), 2)]
         level = [client.submit(dampid.stack_rows, pair) if len(pair) == 2 else pair[0] for pair in pairs]
     stacked = level[0].result()
-    return stacked, dampid.fit_rows(dampid.Model.from_toml(MODEL), stacked, **PIPELINES[args.pipeline])
+    return stacked, dampid.fit_rows(dampid.Model.from_toml(MODEL), stacked, **settings_of(args))
 
 
 def main(argv=None):
@@ -121,6 +126,7 @@ def main(argv=None):
     parser.add_argument("--records", type=int, default=200)
     parser.add_argument("--samples", type=int, default=400, help="samples per record (default 400)")
     parser.add_argument("--per-task", type=int, default=25, help="records per Dask task (default 25)")
+    parser.add_argument("--cycles", type=int, default=1, help="periods per window (default 1)")
     parser.add_argument("--pipeline", choices=sorted(PIPELINES), default="default")
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--workers", type=int, default=2, help="LocalCluster processes (without --scheduler)")
@@ -168,13 +174,13 @@ def main(argv=None):
     generated = time.perf_counter() - started
     model = dampid.Model.from_toml(MODEL)
     started = time.perf_counter()
-    single = dampid.identify(model, records, **PIPELINES[args.pipeline])
+    single = dampid.identify(model, records, **settings_of(args))
     single_seconds = time.perf_counter() - started
 
     # One core's throughput of the map (rows of each record, in this process).
     started = time.perf_counter()
     for k, r in enumerate(records):
-        dampid.regressor_rows(model, r, record_index=k, **PIPELINES[args.pipeline])
+        dampid.regressor_rows(model, r, record_index=k, **settings_of(args))
     rows_seconds = time.perf_counter() - started
 
     same = distributed.to_dict() == single.to_dict()

@@ -3,12 +3,14 @@
 //! weighted fit and the report read beside A and b), `stack_rows` joins parts in record
 //! order anywhere, and `fit_rows` fits them with the library's `identify`, bit for bit
 //! as `identify` of the records (docs/python.md, examples/python/campaign_dask.py).
-//! `Rows` pickle as CBOR bytes, so Dask or multiprocessing move them between processes.
+//! `Rows` pickle as zstd-compressed CBOR bytes, so Dask or multiprocessing move them
+//! between processes.
 
 use dampid::identify::identify as run;
 use dampid::progress::silent;
 use dampid::regressor::{ParametricRegressor, Regressor, RowLabel};
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1};
+use pyo3::buffer::PyBuffer;
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyList};
 
@@ -72,31 +74,68 @@ impl PyRows {
         self.regressor.columns().to_vec()
     }
 
-    /// The rows as bytes (CBOR): what pickling sends.
+    /// The rows as bytes (CBOR, zstd-compressed): what pickling sends.
     fn to_bytes<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
-        let mut bytes = Vec::new();
-        ciborium::into_writer(&self.regressor, &mut bytes)
-            .map_err(|e| argument(format!("rows could not be written as bytes: {e}")))?;
+        let failed = |e: &dyn std::fmt::Display| {
+            argument(format!("rows could not be written as bytes: {e}"))
+        };
+        let mut encoder = zstd::stream::Encoder::new(Vec::new(), 1).map_err(|e| failed(&e))?;
+        ciborium::into_writer(&self.regressor, &mut encoder).map_err(|e| failed(&e))?;
+        let bytes = encoder.finish().map_err(|e| failed(&e))?;
         Ok(PyBytes::new(py, &bytes))
     }
 
-    /// Rows from the bytes of `to_bytes`.
+    /// Rows from the bytes of `to_bytes` (`bytes`, or any buffer of them: a
+    /// `memoryview`, a `pickle.PickleBuffer`), read in place.
     #[staticmethod]
-    fn from_bytes(bytes: &[u8]) -> PyResult<Self> {
-        let regressor: Regressor = ciborium::from_reader(bytes).map_err(|e| {
+    fn from_bytes(bytes: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let not_rows = |e: String| {
             argument(format!(
                 "these bytes are not dampid rows (from Rows.to_bytes of this version): {e}"
             ))
-        })?;
+        };
+        let regressor: Regressor = match bytes.cast::<PyBytes>() {
+            Ok(b) => read(b.as_bytes()).map_err(not_rows)?,
+            Err(_) => {
+                let buffer = PyBuffer::<u8>::get(bytes).map_err(|_| {
+                    argument("Rows.from_bytes takes bytes or a buffer of bytes".into())
+                })?;
+                if !buffer.is_c_contiguous() {
+                    return Err(argument(
+                        "Rows.from_bytes needs a contiguous buffer of bytes".into(),
+                    ));
+                }
+                // SAFETY: a contiguous buffer of `len_bytes` bytes at `buf_ptr`, held
+                // alive by `buffer` for this scope; it is only read, with the GIL held,
+                // so no Python code runs to change it meanwhile.
+                let view = unsafe {
+                    std::slice::from_raw_parts(buffer.buf_ptr() as *const u8, buffer.len_bytes())
+                };
+                read(view).map_err(not_rows)?
+            }
+        };
         Ok(PyRows { regressor })
     }
 
-    /// Pickling: `Rows.from_bytes(rows.to_bytes())`.
-    fn __reduce__<'py>(
+    /// Pickling: `Rows.from_bytes(rows.to_bytes())`, the bytes in a `PickleBuffer` from
+    /// protocol 5 on: with a buffer callback (as Dask sends results) they travel out of
+    /// band, as their own frame, and are read in place on arrival, so the receiver never
+    /// holds a second copy of a large stack.
+    fn __reduce_ex__<'py>(
         slf: &Bound<'py, Self>,
-    ) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyBytes>,))> {
+        protocol: u32,
+    ) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyAny>,))> {
+        let py = slf.py();
         let from_bytes = slf.get_type().getattr("from_bytes")?;
-        Ok((from_bytes, (slf.get().to_bytes(slf.py())?,)))
+        let bytes = slf.get().to_bytes(py)?.into_any();
+        let payload = if protocol >= 5 {
+            py.import("pickle")?
+                .getattr("PickleBuffer")?
+                .call1((bytes,))?
+        } else {
+            bytes
+        };
+        Ok((from_bytes, (payload,)))
     }
 
     fn __len__(&self) -> usize {
@@ -120,6 +159,12 @@ impl PyRows {
             }
         )
     }
+}
+
+/// Rows from their bytes (zstd-compressed CBOR), decompressed as they are read.
+fn read(bytes: &[u8]) -> Result<Regressor, String> {
+    let decoder = zstd::stream::Decoder::new(bytes).map_err(|e| e.to_string())?;
+    ciborium::from_reader(decoder).map_err(|e| e.to_string())
 }
 
 /// The NumPy dtype of row labels: the library's `RowLabel` fields.
@@ -212,19 +257,21 @@ pub(crate) fn fit_rows(
     let py_model = model.get();
     let settings = settings::settings(settings, &py_model.text, &py_model.file)?;
     let names = py_model.model.coefficient_names();
-    let regressor = match b {
-        None => match rows.cast::<PyRows>() {
-            Ok(one) => one.get().regressor.clone(),
-            Err(_) => {
-                let parts = rows_list(rows).map_err(|_| {
-                    argument(
-                        "rows must be a dampid.Rows, a list of them, or a matrix A with b".into(),
-                    )
-                })?;
-                py.detach(|| Regressor::stack(parts)).py_err()?
-            }
-        },
-        Some(b) => hand_made(rows, b, labels, names.clone())?,
+    // One Rows is fitted in place (a campaign's may be large); a list is stacked first.
+    let built;
+    let regressor: &Regressor = match (b, rows.cast::<PyRows>()) {
+        (None, Ok(one)) => &one.get().regressor,
+        (None, Err(_)) => {
+            let parts = rows_list(rows).map_err(|_| {
+                argument("rows must be a dampid.Rows, a list of them, or a matrix A with b".into())
+            })?;
+            built = py.detach(|| Regressor::stack(parts)).py_err()?;
+            &built
+        }
+        (Some(b), _) => {
+            built = hand_made(rows, b, labels, names.clone())?;
+            &built
+        }
     };
     if regressor.columns() != names.as_slice() {
         return Err(to_py(dampid::Error::InvalidChoice {
@@ -236,7 +283,7 @@ pub(crate) fn fit_rows(
         }));
     }
     let mut seconds = 0.0;
-    let problem = ParametricRegressor::linear(&py_model.model, &regressor);
+    let problem = ParametricRegressor::linear(&py_model.model, regressor);
     let found = timed(py, &mut seconds, || {
         run(&problem, &settings.identification, &silent)
     })

@@ -50,6 +50,8 @@ pub use settings::{NoiseTreatment, RegressorSettings, SpanWindows, Windows, Work
 pub use source::{KnownModal, Source, SteppedSineSource};
 use velocity_bias::VelocityBias;
 
+use std::sync::Arc;
+
 use faer::Mat;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -160,7 +162,8 @@ pub struct Regressor {
     rhs: Vec<f64>,
     columns: Vec<String>,
     rows: Vec<RowLabel>,
-    noise: Option<NoiseModel>,
+    /// Shared, not copied, by the clones of a regressor (a campaign's may be large).
+    noise: Option<Arc<NoiseModel>>,
     /// The last `nuisance` columns are stored-energy and offset unknowns
     /// ([`crate::regressor::nonperiodic`]), not damping coefficients.
     nuisance: usize,
@@ -173,7 +176,7 @@ pub struct Regressor {
     round_off: Vec<String>,
     /// The steady-state check of the windows behind the rows, when the rows were built
     /// apart from the fit ([`crate::campaign::rows`]) and carry it.
-    steady_state: Option<SteadyStateReport>,
+    steady_state: Option<Arc<SteadyStateReport>>,
 }
 
 impl Regressor {
@@ -268,7 +271,7 @@ impl Regressor {
                 settings.work_form,
             )?;
             let mut regressor = Self::assemble(records, &windows, rows, columns)?;
-            regressor.noise = Some(noise);
+            regressor.noise = Some(Arc::new(noise));
             regressor.zero_round_off(model, records, &windows);
             return input_work::require_periodic_work(records, &windows, regressor);
         }
@@ -426,7 +429,7 @@ impl Regressor {
                 noise.rows.len(),
             ));
         }
-        self.noise = Some(noise);
+        self.noise = Some(Arc::new(noise));
         Ok(self)
     }
 
@@ -438,7 +441,7 @@ impl Regressor {
         let rhs = indices.iter().map(|&i| self.rhs[i]).collect();
         let rows = indices.iter().map(|&i| self.rows[i].clone()).collect();
         let mut selected = Self::from_parts(matrix, rhs, self.columns.clone(), rows)?;
-        selected.noise = self.noise.as_ref().map(|n| n.select(indices));
+        selected.noise = self.noise.as_ref().map(|n| Arc::new(n.select(indices)));
         selected.nuisance = self.nuisance;
         selected.velocity_bias = self.velocity_bias.as_ref().map(|b| VelocityBias {
             matrix: Mat::from_fn(indices.len(), b.matrix.ncols(), |r, k| {
@@ -448,7 +451,7 @@ impl Regressor {
         });
         selected.work_scale = self.work_scale.as_ref().map(|s| s.select(indices));
         selected.round_off = self.round_off.clone();
-        selected.steady_state = self.steady_state.as_ref().map(|s| s.select(indices));
+        selected.steady_state = (self.steady_state.as_ref()).map(|s| Arc::new(s.select(indices)));
         Ok(selected)
     }
 
@@ -492,7 +495,7 @@ impl Regressor {
     }
     /// The noise model, when the noise-robust pipeline built the rows.
     pub fn noise(&self) -> Option<&NoiseModel> {
-        self.noise.as_ref()
+        self.noise.as_deref()
     }
     /// How many trailing columns are nuisance unknowns (0 for periodic regressors).
     pub fn nuisance_count(&self) -> usize {
@@ -506,6 +509,6 @@ impl Regressor {
     /// The steady-state check of the windows behind the rows, when they carry it
     /// (rows built apart from the fit, [`crate::campaign::rows`]).
     pub fn steady_state(&self) -> Option<&SteadyStateReport> {
-        self.steady_state.as_ref()
+        self.steady_state.as_deref()
     }
 }

@@ -14,6 +14,8 @@
 //! steady-state settings), and either all carry a noise model, a velocity bias, gross
 //! work and a steady-state check, or none does.
 
+use std::sync::Arc;
+
 use faer::Mat;
 
 use crate::error::{Error, Result};
@@ -32,7 +34,7 @@ impl Regressor {
             row.record_index += first;
         }
         if let Some(steady) = &mut self.steady_state {
-            for window in &mut steady.windows {
+            for window in &mut Arc::make_mut(steady).windows {
                 window.record_index += first;
             }
         }
@@ -49,7 +51,7 @@ impl Regressor {
                 steady.windows.len(),
             ));
         }
-        self.steady_state = Some(steady);
+        self.steady_state = Some(Arc::new(steady));
         Ok(self)
     }
 
