@@ -36,6 +36,10 @@ use record::{Lent, PyRecord};
 use report::{PyReport, Source};
 use settings::Settings;
 
+/// The Rust side's allocator, as the `dampid` binary's (python/Cargo.toml says why).
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 /// A damping model: the `[[terms]]` of a model file.
 #[pyclass(name = "Model", module = "dampid", frozen)]
 pub(crate) struct PyModel {
