@@ -20,6 +20,8 @@
 //! where `threads` is the size of rayon's global pool (set with `RAYON_NUM_THREADS`),
 //! so runs with different thread counts keep separate criterion histories.
 //! `benches/compare_numpy.sh` runs this next to the baseline and prints the ratios.
+//! The bench prints the instruction set its loops use ("simd: avx2"); `DAMPID_SIMD=avx2`
+//! (or avx512, baseline) forces a level the CPU has.
 
 use std::f64::consts::PI;
 use std::hint::black_box;
@@ -30,6 +32,7 @@ use criterion::{
 };
 use dampid::prelude::*;
 use dampid::reference::dashpot_chain_model;
+use dampid::terms::simd::{self, Level};
 use faer::Mat;
 use rayon::prelude::*;
 
@@ -168,7 +171,28 @@ fn check_against_baseline_formula() {
     }
 }
 
+/// The instruction set of the packed loops: `DAMPID_SIMD` (avx512, avx2, baseline)
+/// forces a level the CPU has; printed as "simd: <level>" for compare_numpy.sh.
+fn choose_simd_level() {
+    if let Ok(name) = std::env::var("DAMPID_SIMD") {
+        let level = Level::ALL
+            .into_iter()
+            .find(|l| l.name() == name)
+            .unwrap_or_else(|| panic!("DAMPID_SIMD={name}: not one of avx512, avx2, baseline"));
+        assert!(
+            simd::force(Some(level)),
+            "DAMPID_SIMD={name}: this CPU cannot run it"
+        );
+    }
+    println!(
+        "simd: {} (widest on this CPU: {})",
+        simd::level().name(),
+        Level::detected().name()
+    );
+}
+
 fn bench_build_row(c: &mut Criterion) {
+    choose_simd_level();
     check_against_baseline_formula();
 
     let threads = rayon::current_num_threads();
