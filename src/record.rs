@@ -458,7 +458,6 @@ fn channel_ranges(m: MatRef<'_, f64>) -> Vec<(f64, f64)> {
 }
 
 /// Column j of a column-major matrix view as a slice.
-
 pub(crate) fn col<'a>(m: MatRef<'a, f64>, j: usize) -> &'a [f64] {
     // cannot fail: faer's Mat (every matrix a record holds) has unit row stride, and so
     // have its column and row-range views, the only views passed here.
