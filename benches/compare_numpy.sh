@@ -5,7 +5,9 @@
 #      thread count;
 #   2. regressor building (benches/regressor.rs) against the baseline's build_row, at
 #      1 and 2 threads, with dampid's effective bandwidth (bytes of V / time) as a
-#      fraction of the roof measured in step 1;
+#      fraction of the roof measured in step 1, and the instruction set of dampid's
+#      loops (the bench's "simd: avx512|avx2|baseline" line; DAMPID_SIMD=avx2 forces a
+#      level the CPU has);
 #   3. the nonnegative fit with 2001 coefficients and 4002 equations
 #      (benches/fit.rs, constrained_fit/interior/p2001) against the baseline's scipy
 #      NNLS (--solve --dofs 1000), with both errors max |θ̂ − θ|.
@@ -72,7 +74,7 @@ for t in $threads_list; do
             --json "$out/numpy_n${n}_N${samples}_t${t}.json" >/dev/null
     done
     echo "== dampid (criterion): RAYON_NUM_THREADS=$t"
-    RAYON_NUM_THREADS="$t" cargo bench --bench regressor -- "build_row/t${t}/"
+    RAYON_NUM_THREADS="$t" cargo bench --bench regressor -- "build_row/t${t}/" | tee "$out/regressor_t${t}.log"
 done
 
 if [[ -z "${SKIP_FIT:-}" ]]; then
@@ -113,6 +115,11 @@ def criterion(*parts):
     return median, best
 
 
+simd = {}
+for t in threads:
+    with open(f"{out}/regressor_t{t}.log") as f:
+        simd[t] = next((line.split()[1] for line in f if line.startswith("simd: ")), "?")
+
 roof = {}
 print("| threads | streaming read, GB/s (median) | streaming read, GB/s (fastest) |")
 print("|---|---|---|")
@@ -123,8 +130,8 @@ for t in threads:
 print()
 print("| size (n x N) | threads | NumPy s (min of 3) | dampid s (criterion median) "
       "| NumPy / dampid | dampid s (fastest sample) | NumPy / dampid, best vs best "
-      "| dampid GB/s of V (fastest) | fraction of streaming read |")
-print("|---|---|---|---|---|---|---|---|---|")
+      "| dampid GB/s of V (fastest) | fraction of streaming read | simd |")
+print("|---|---|---|---|---|---|---|---|---|---|")
 for n, samples in sizes:
     for t in threads:
         with open(f"{out}/numpy_n{n}_N{samples}_t{t}.json") as f:
@@ -132,7 +139,7 @@ for n, samples in sizes:
         median, best = criterion("build_row", f"t{t}", f"n{n}_N{samples}")
         gbps = 8 * n * samples / best / 1e9
         print(f"| {n} x {samples} | {t} | {numpy_s:.4f} | {median:.4f} | {numpy_s / median:.2f} "
-              f"| {best:.4f} | {numpy_s / best:.2f} | {gbps:.2f} | {gbps / roof[t]:.0%} |")
+              f"| {best:.4f} | {numpy_s / best:.2f} | {gbps:.2f} | {gbps / roof[t]:.0%} | {simd[t]} |")
 
 if not skip_fit:
     with open(f"{out}/numpy_solve_dofs1000.json") as f:

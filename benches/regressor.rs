@@ -20,6 +20,8 @@
 //! where `threads` is the size of rayon's global pool (set with `RAYON_NUM_THREADS`),
 //! so runs with different thread counts keep separate criterion histories.
 //! `benches/compare_numpy.sh` runs this next to the baseline and prints the ratios.
+//! The bench prints the instruction set its loops use ("simd: avx2"); `DAMPID_SIMD=avx2`
+//! (or avx512, baseline) forces a level the CPU has.
 
 use std::f64::consts::PI;
 use std::hint::black_box;
@@ -30,6 +32,7 @@ use criterion::{
 };
 use dampid::prelude::*;
 use dampid::reference::dashpot_chain_model;
+use dampid::terms::simd::{self, Level};
 use faer::Mat;
 use rayon::prelude::*;
 
@@ -46,8 +49,8 @@ const SIZES: [(usize, usize); 3] = [(1000, 100_000), (100, 100_000), (1000, 10_0
 /// Velocities V (N × n) and the dense force F (N × n), generated like the baseline's
 /// `make_data`: v_i(t) = Σ_{k ∈ {1,3,5}} a_{k,i} cos(k t + φ_{k,i}) with φ uniform on
 /// [0, 2π) and a uniform on [0.5, 1.5) times 1, 0.2, 0.05; F zero except column
-/// n − 1 = cos t.
-fn make_data(samples: usize, dofs: usize, seed: u64) -> (Mat<f64>, Mat<f64>) {
+/// n − 1 = cos t. The displacements X are V's integral, x_i(t) = Σ_k a_{k,i}/k sin(k t + φ_{k,i}).
+fn make_data(samples: usize, dofs: usize, seed: u64) -> (Mat<f64>, Mat<f64>, Mat<f64>) {
     let mut rng = SplitMix64(seed);
     let phase: Vec<[f64; 3]> = (0..dofs)
         .map(|_| std::array::from_fn(|_| rng.uniform(0.0, 2.0 * PI)))
@@ -56,32 +59,45 @@ fn make_data(samples: usize, dofs: usize, seed: u64) -> (Mat<f64>, Mat<f64>) {
     let amp: Vec<[f64; 3]> = (0..dofs)
         .map(|_| std::array::from_fn(|k| rng.uniform(0.5, 1.5) * scale[k]))
         .collect();
-    let mut v = Mat::<f64>::zeros(samples, dofs);
-    v.par_col_iter_mut().enumerate().for_each(|(i, col)| {
-        let col = col.try_as_col_major_mut().unwrap().as_slice_mut();
-        for (s, out) in col.iter_mut().enumerate() {
-            let t = s as f64 * STEP;
-            *out = (0..3)
-                .map(|k| amp[i][k] * ((2 * k + 1) as f64 * t + phase[i][k]).cos())
-                .sum();
-        }
-    });
+    let harmonics = |integral: bool| {
+        let mut m = Mat::<f64>::zeros(samples, dofs);
+        m.par_col_iter_mut().enumerate().for_each(|(i, col)| {
+            let col = col.try_as_col_major_mut().unwrap().as_slice_mut();
+            for (s, out) in col.iter_mut().enumerate() {
+                let t = s as f64 * STEP;
+                *out = (0..3)
+                    .map(|k| {
+                        let order = (2 * k + 1) as f64;
+                        let angle = order * t + phase[i][k];
+                        if integral {
+                            amp[i][k] / order * angle.sin()
+                        } else {
+                            amp[i][k] * angle.cos()
+                        }
+                    })
+                    .sum();
+            }
+        });
+        m
+    };
+    let (x, v) = (harmonics(true), harmonics(false));
     let mut f = Mat::<f64>::zeros(samples, dofs);
     for (s, out) in f.col_as_slice_mut(dofs - 1).iter_mut().enumerate() {
         *out = (s as f64 * STEP).cos();
     }
-    (v, f)
+    (x, v, f)
 }
 
-/// The record for (V, F). The linear and quadratic laws never read displacements, but
-/// `Record::new` requires them: zeros are enough and change nothing in the row.
-fn make_record(v: Mat<f64>, f: Mat<f64>) -> Record {
+/// The record for (X, V, F). The linear and quadratic laws never read displacements,
+/// but `Record::new` requires them, and a column of zeros would be refused as a dead
+/// sensor (`Error::DeadMotionSensor`).
+fn make_record(x: Mat<f64>, v: Mat<f64>, f: Mat<f64>) -> Record {
     let (samples, dofs) = v.shape();
     Record::new(RecordParts {
         label: format!("n={dofs} N={samples}"),
         step: STEP,
         start_time: 0.0,
-        displacements: Mat::zeros(samples, dofs),
+        displacements: x,
         velocities: Some(v),
         forcing: Forcing::generalized(f),
         period: samples as f64 * STEP,
@@ -135,9 +151,9 @@ fn baseline_row(v: &Mat<f64>, f: &Mat<f64>) -> (Vec<f64>, f64) {
 /// Panics unless the regressor row equals the baseline's formulas to relative 1e-10.
 fn check_against_baseline_formula() {
     for (dofs, samples) in [(7, 1000), (50, 5000), (1, 3001)] {
-        let (v, f) = make_data(samples, dofs, 1);
+        let (x, v, f) = make_data(samples, dofs, 1);
         let (expected_row, expected_b) = baseline_row(&v, &f);
-        let record = make_record(v, f);
+        let record = make_record(x, v, f);
         let reg =
             Regressor::build(&make_model(dofs), &[record], &settings()).expect("regressor builds");
         assert_eq!(reg.equations(), 1, "one window expected");
@@ -155,7 +171,28 @@ fn check_against_baseline_formula() {
     }
 }
 
+/// The instruction set of the packed loops: `DAMPID_SIMD` (avx512, avx2, baseline)
+/// forces a level the CPU has; printed as "simd: <level>" for compare_numpy.sh.
+fn choose_simd_level() {
+    if let Ok(name) = std::env::var("DAMPID_SIMD") {
+        let level = Level::ALL
+            .into_iter()
+            .find(|l| l.name() == name)
+            .unwrap_or_else(|| panic!("DAMPID_SIMD={name}: not one of avx512, avx2, baseline"));
+        assert!(
+            simd::force(Some(level)),
+            "DAMPID_SIMD={name}: this CPU cannot run it"
+        );
+    }
+    println!(
+        "simd: {} (widest on this CPU: {})",
+        simd::level().name(),
+        Level::detected().name()
+    );
+}
+
 fn bench_build_row(c: &mut Criterion) {
+    choose_simd_level();
     check_against_baseline_formula();
 
     let threads = rayon::current_num_threads();
@@ -175,8 +212,8 @@ fn bench_build_row(c: &mut Criterion) {
         let mut record: Option<Record> = None;
         group.bench_function(id, |b| {
             let record = record.get_or_insert_with(|| {
-                let (v, f) = make_data(samples, dofs, 0);
-                make_record(v, f)
+                let (x, v, f) = make_data(samples, dofs, 0);
+                make_record(x, v, f)
             });
             let records = std::slice::from_ref(&*record);
             b.iter(|| Regressor::build(black_box(&model), black_box(records), &settings).unwrap());

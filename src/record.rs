@@ -193,6 +193,10 @@ pub struct Record {
     /// DOFs (0-based) declared held still in this record: their motion channels may
     /// read a constant ([`crate::regressor::dead_motion`]).
     fixed_dofs: Vec<usize>,
+    /// (max − min, max |s|) of each motion channel the dead-sensor check tests, found
+    /// once here so that a build does not read the whole record again
+    /// ([`Record::motion_ranges`]).
+    motion_ranges: Vec<(f64, f64)>,
 }
 
 impl Record {
@@ -249,12 +253,17 @@ impl Record {
         let active_channels = (0..signals.ncols())
             .filter(|&k| signals.col_as_slice(k).iter().any(|s| *s != 0.0))
             .collect();
+        let mut motion_ranges = channel_ranges(parts.displacements.as_ref());
+        if let Some(v) = &parts.velocities {
+            motion_ranges.extend(channel_ranges(v.as_ref()));
+        }
         Ok(Record {
             parts,
             active_channels,
             channel_names: Vec::new(),
             measured: None,
             fixed_dofs: Vec::new(),
+            motion_ranges,
         })
     }
 
@@ -292,6 +301,9 @@ impl Record {
             .iter()
             .any(|s| *s != Sensor::Displacement)
             .then_some(motion);
+        if let Some(measured) = &self.measured {
+            self.motion_ranges = channel_ranges(measured.signals.as_ref());
+        }
         Ok(self)
     }
 
@@ -338,6 +350,14 @@ impl Record {
         }
         self.fixed_dofs = dofs;
         Ok(self)
+    }
+
+    /// (max − min, max |s|) of each motion channel the dead-sensor check tests
+    /// ([`crate::regressor::dead_motion`]): the columns of the measured signals
+    /// ([`Record::measured_motion`]) when there are some, otherwise those of the
+    /// displacements followed by those of the measured velocities, if any.
+    pub(crate) fn motion_ranges(&self) -> &[(f64, f64)] {
+        &self.motion_ranges
     }
 
     /// The DOFs (0-based) declared held still in this record.
@@ -406,6 +426,35 @@ impl Record {
     pub fn into_parts(self) -> RecordParts {
         self.parts
     }
+}
+
+/// (max − min, max |s|) of each column of `m` (finite, as [`Record::new`] checks
+/// first), with 8 independent minima and maxima so that the loop runs packed.
+fn channel_ranges(m: MatRef<'_, f64>) -> Vec<(f64, f64)> {
+    (0..m.ncols())
+        .map(|j| {
+            let s = col(m, j);
+            if s.is_empty() {
+                return (0.0, 0.0);
+            }
+            let mut lo = [f64::INFINITY; 8];
+            let mut hi = [f64::NEG_INFINITY; 8];
+            let mut chunks = s.chunks_exact(8);
+            for chunk in &mut chunks {
+                for k in 0..8 {
+                    lo[k] = if chunk[k] < lo[k] { chunk[k] } else { lo[k] };
+                    hi[k] = if chunk[k] > hi[k] { chunk[k] } else { hi[k] };
+                }
+            }
+            let rest = chunks.remainder();
+            let lo = lo.iter().chain(rest).fold(f64::INFINITY, |a, &b| a.min(b));
+            let hi = hi
+                .iter()
+                .chain(rest)
+                .fold(f64::NEG_INFINITY, |a, &b| a.max(b));
+            (hi - lo, lo.abs().max(hi.abs()))
+        })
+        .collect()
 }
 
 /// Column j of a column-major matrix view as a slice.

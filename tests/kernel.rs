@@ -216,7 +216,7 @@ fn fused_kernel_matches_direct_sums() {
 }
 
 fn matches_direct_sums(model: &DampingModel) {
-    // 120 periods of 628.3 samples: windows of 10 periods cross many 4096-sample blocks,
+    // 120 periods of 628.3 samples: windows of 10 periods cross blocks of 8192 samples,
     // one window of 110 periods crosses more than one wave of blocks.
     let record = record(76_000);
     for (quadrature, windows) in [

@@ -31,10 +31,8 @@
 //! looks like a DOF that barely moves, which the noise model of the default pipeline
 //! carries into wide standard errors.
 
-use faer::MatRef;
-
 use crate::error::{Error, Result};
-use crate::record::{Record, Sensor, col};
+use crate::record::{Record, Sensor};
 
 /// ρ: a channel whose range is at most this share of its level and of its kind's
 /// largest range never moves.
@@ -44,37 +42,41 @@ pub const STILL_RANGE: f64 = 1e-12;
 /// that never moves while another channel does (module doc).
 pub(crate) fn require_motion(records: &[Record]) -> Result<()> {
     for record in records {
-        let mut channels: Vec<(usize, Sensor, &[f64])> = Vec::new();
-        match record.measured_motion() {
-            Some(measured) => channels.extend(
-                measured
-                    .sensors
-                    .iter()
-                    .enumerate()
-                    .map(|(j, s)| (j, *s, col(measured.signals.as_ref(), j))),
-            ),
+        // (DOF, sensor) of each channel, in the order of `Record::motion_ranges`.
+        let channels: Vec<(usize, Sensor)> = match record.measured_motion() {
+            Some(measured) => measured.sensors.iter().copied().enumerate().collect(),
             None => {
-                push_all(&mut channels, record.displacements(), Sensor::Displacement);
-                if let Some(v) = record.velocities() {
-                    push_all(&mut channels, v, Sensor::Velocity);
-                }
+                let kinds = if record.velocities().is_some() {
+                    &[Sensor::Displacement, Sensor::Velocity][..]
+                } else {
+                    &[Sensor::Displacement][..]
+                };
+                kinds
+                    .iter()
+                    .flat_map(|&s| (0..record.dofs()).map(move |j| (j, s)))
+                    .collect()
             }
-        }
-        let ranges: Vec<(f64, f64)> = channels.iter().map(|(_, _, s)| range(s)).collect();
+        };
+        let ranges = record.motion_ranges();
         if !ranges.iter().any(|(r, _)| *r > 0.0) {
             continue;
         }
-        for (c, &(dof, sensor, _)) in channels.iter().enumerate() {
+        // The largest range of each sensor kind.
+        let mut kinds: Vec<(Sensor, f64)> = Vec::new();
+        for (&(_, sensor), &(own, _)) in channels.iter().zip(ranges) {
+            match kinds.iter_mut().find(|(s, _)| *s == sensor) {
+                Some((_, largest)) => *largest = largest.max(own),
+                None => kinds.push((sensor, own)),
+            }
+        }
+        for (&(dof, sensor), &(own, level)) in channels.iter().zip(ranges) {
             if record.fixed_dofs().contains(&dof) {
                 continue;
             }
-            let (own, level) = ranges[c];
-            let kind = channels
+            let kind = kinds
                 .iter()
-                .zip(&ranges)
-                .filter(|((_, s, _), _)| *s == sensor)
-                .map(|(_, (r, _))| *r)
-                .fold(0.0f64, f64::max);
+                .find(|(s, _)| *s == sensor)
+                .map_or(0.0, |(_, largest)| *largest);
             if own <= STILL_RANGE * level.max(kind) {
                 let reason = if own == 0.0 {
                     format!("it reads {} in every sample", level_text(level))
@@ -94,23 +96,6 @@ pub(crate) fn require_motion(records: &[Record]) -> Result<()> {
         }
     }
     Ok(())
-}
-
-fn push_all<'a>(channels: &mut Vec<(usize, Sensor, &'a [f64])>, m: MatRef<'a, f64>, s: Sensor) {
-    channels.extend((0..m.ncols()).map(|j| (j, s, col(m, j))));
-}
-
-/// (max − min, max |s|) of a channel.
-fn range(s: &[f64]) -> (f64, f64) {
-    let (lo, hi) = s
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
-            (lo.min(*x), hi.max(*x))
-        });
-    if s.is_empty() {
-        return (0.0, 0.0);
-    }
-    (hi - lo, lo.abs().max(hi.abs()))
 }
 
 fn level_text(level: f64) -> String {

@@ -14,16 +14,16 @@
 //! about 4 cycles), and the compiler may not reorder floating-point adds. Here sample i
 //! goes to accumulator i mod 16 and the partial sums are added at the end, so
 //! the adds are independent and the loop compiles to packed SIMD (sixteen lanes fill
-//! four AVX2 registers). Each sum runs under `pulp`'s run-time dispatch: AVX2 where the
-//! CPU has it, SSE2 otherwise. Every lane does the same operations in the same order
-//! either way, so the result is bitwise the same on every x86-64 CPU and every run; it
-//! differs from the sequential sum only by round-off.
+//! two AVX-512 or four AVX2 registers). Each sum runs under the run-time dispatch of
+//! [`crate::terms::simd`]: AVX-512 where the CPU has it, else AVX2, else SSE2. Every
+//! lane does the same operations in the same order at every level, so the result is
+//! bitwise the same on every x86-64 CPU and every run; it differs from the sequential
+//! sum only by round-off.
 //!
 //! Public so that a custom [`crate::terms::Law`] can use them in its power sums.
 
-use pulp::{Arch, Simd, WithSimd};
-
 use crate::terms::law::{ElementMotion, Weights};
+use crate::terms::simd::{self, Kernel};
 
 /// Number of independent accumulators.
 pub const LANES: usize = 16;
@@ -80,19 +80,19 @@ trait Loop {
 }
 
 /// Runs `op` compiled for the best instruction set the CPU has. (The loop must be
-/// inlined into pulp's target-feature function: a closure is not, a trait method marked
-/// `inline(always)` is.)
+/// inlined into the level's target-feature function: a closure is not, a trait method
+/// marked `inline(always)` is.)
 #[inline(always)]
 fn dispatch(op: impl Loop) -> f64 {
     struct Op<L>(L);
-    impl<L: Loop> WithSimd for Op<L> {
+    impl<L: Loop> Kernel for Op<L> {
         type Output = f64;
         #[inline(always)]
-        fn with_simd<S: Simd>(self, _: S) -> f64 {
+        fn run(self) -> f64 {
             self.0.run()
         }
     }
-    Arch::new().dispatch(Op(op))
+    simd::dispatch(Op(op))
 }
 
 /// The partial sums added in lane order. (Of the orders tried, this is the one with

@@ -18,6 +18,7 @@ pub mod law;
 pub mod laws;
 pub mod matrix_term;
 pub mod on_elements;
+pub mod simd;
 pub mod structural;
 
 use std::sync::Arc;

@@ -28,12 +28,11 @@
 
 use std::ops::Range;
 
-use pulp::{Arch, Simd, WithSimd};
-
 use crate::record::col;
 use crate::regressor::kernel::WindowSamples;
 use crate::regressor::kernel::plan::Sum;
 use crate::terms::lanes::{self, LANES};
+use crate::terms::simd::{self, Kernel};
 use crate::terms::{PowerForm, Weights};
 
 /// Members in one loop at most: their accumulators (8 × 16 values) stay on the stack.
@@ -142,7 +141,7 @@ pub(crate) fn group_sums(
                 weights: piece.weights,
                 ahead: ahead.map_or(&[][..], v),
             };
-            let totals = Arch::new().dispatch(fused);
+            let totals = simd::dispatch(fused);
             for (out, total) in out.iter_mut().zip(totals) {
                 *out += total;
             }
@@ -158,11 +157,11 @@ struct Fused<'a, 'm> {
     ahead: &'a [f64],
 }
 
-impl WithSimd for Fused<'_, '_> {
+impl Kernel for Fused<'_, '_> {
     type Output = [f64; MAX_MEMBERS];
 
     #[inline(always)]
-    fn with_simd<S: Simd>(self, _: S) -> Self::Output {
+    fn run(self) -> Self::Output {
         let Fused {
             members,
             weights,

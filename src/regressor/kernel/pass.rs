@@ -38,13 +38,15 @@ use crate::regressor::kernel::plan::{Plan, Sum};
 use crate::terms::lanes;
 use crate::terms::{ElementMotion, Weights};
 
-/// Samples per block: 32 KiB per velocity column, so the columns a segment reads
-/// together stay in the core's L2 cache.
+/// Samples per block: 64 KiB per velocity column, so the two columns a group reads and
+/// the next one being prefetched stay in the core's L2 cache (512 KiB on the 2-core
+/// EPYC of BENCHMARKS.md §1, where 8192 took 8–20 % less time than 4096 on 1000 × 1e5
+/// at 1 thread, interleaved runs; `DAMPID_BLOCK` overrides it).
 pub(crate) static BLOCK_SIZE: std::sync::LazyLock<usize> = std::sync::LazyLock::new(|| {
     std::env::var("DAMPID_BLOCK")
         .ok()
         .and_then(|s| s.parse().ok())
-        .unwrap_or(4096)
+        .unwrap_or(8192)
 });
 
 /// Partial sums held at once (8 MiB): a wave takes as many blocks as fit, at least

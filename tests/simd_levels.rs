@@ -1,0 +1,219 @@
+//! The packed loops give bitwise the same sums at every instruction-set level the CPU
+//! can run (`dampid::terms::simd`: AVX-512, AVX2, baseline SSE2): each level is forced
+//! in turn and
+//!
+//! - whole regressors are compared bitwise, for a model with linear dashpots on
+//!   arbitrary DOF pairs and to ground, quadratic and Coulomb dampers per DOF, a power
+//!   law with a non-integer exponent (shared, with element weights), a law without a
+//!   closed power form (its own `power_sum`), a sparse matrix term (entries one by one)
+//!   and a dense one (the Gram matrix), and force channels through a load matrix, under
+//!   rectangular (uniform weights), trapezoid and spectral (per-sample weights) rules
+//!   and with measured and central-difference velocities;
+//! - `terms::lanes` (`sum`, `sum_of_difference`, `dot`) are compared bitwise on every
+//!   length from 0 to 69, with per-sample and uniform weights.
+//!
+//! The level is process-wide, so this file holds one test.
+
+use dampid::prelude::*;
+use dampid::terms::lanes;
+use dampid::terms::simd::{self, Level};
+use dampid::terms::{Element, Weights};
+use faer::Mat;
+
+const DOFS: usize = 36;
+
+/// Deterministic pseudo-random numbers in [-1, 1).
+fn noise(seed: u64) -> impl FnMut() -> f64 {
+    let mut state = seed;
+    move || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
+}
+
+fn record(samples: usize) -> Record {
+    let h = 0.01;
+    let mut r = noise(11);
+    let phases: Vec<f64> = (0..DOFS).map(|_| 3.0 * r()).collect();
+    let x = Mat::from_fn(samples, DOFS, |i, j| {
+        (i as f64 * h + phases[j]).sin() + 0.1 * (3.0 * i as f64 * h).cos()
+    });
+    let v = Mat::from_fn(samples, DOFS, |i, j| {
+        (i as f64 * h + phases[j]).cos() - 0.3 * (3.0 * i as f64 * h + j as f64).sin()
+    });
+    let signals = Mat::from_fn(samples, 3, |i, c| match c {
+        1 => 0.0,
+        _ => (i as f64 * h * (c + 1) as f64).cos(),
+    });
+    let distribution = Mat::from_fn(DOFS, 3, |j, c| {
+        if (j + c) % 5 == 0 {
+            1.0 + c as f64
+        } else {
+            0.0
+        }
+    });
+    Record::new(RecordParts {
+        label: "levels".into(),
+        step: h,
+        start_time: 0.0,
+        displacements: x,
+        velocities: Some(v),
+        forcing: Forcing::distributed(signals, distribution),
+        period: 2.0 * std::f64::consts::PI,
+    })
+    .unwrap()
+}
+
+fn model() -> DampingModel {
+    let pairs = vec![
+        Element::between(5, 0),
+        Element::between(3, 17),
+        Element::between(35, 2),
+        Element::to_ground(11),
+        Element::between(20, 21),
+    ];
+    let mut r = noise(3);
+    let sparse = Mat::from_fn(DOFS, DOFS, |j, k| match (j, k) {
+        _ if j == k => 2.0,
+        _ if j + 1 == k => -0.7,
+        (30, 0) => 0.4,
+        _ => 0.0,
+    });
+    DampingModel::new()
+        .with(Term::on_elements(
+            Linear,
+            pairs.clone(),
+            Coefficients::PerElement("lin".into()),
+        ))
+        .with(Term::per_dof(
+            Quadratic,
+            DOFS,
+            Coefficients::PerElement("quad".into()),
+        ))
+        .with(Term::per_dof(
+            Coulomb,
+            DOFS,
+            Coefficients::PerElement("coul".into()),
+        ))
+        .with(Term::weighted(
+            PowerLaw::new(0.7).unwrap(),
+            pairs.clone(),
+            vec![0.5, 1.0, 2.0, 0.25, 1.5],
+            Coefficients::Shared("pow".into()),
+        ))
+        .with(Term::on_elements(
+            Custom::new("v|v|^0.3", |_, v: f64| v * v.abs().powf(0.3)),
+            pairs,
+            Coefficients::Shared("custom".into()),
+        ))
+        .with(Term::viscous("sparse", sparse))
+        .with(Term::viscous("dense", Mat::from_fn(DOFS, DOFS, |_, _| r())))
+}
+
+/// Every regressor of the cases below, built at the current level.
+fn regressors(model: &DampingModel, record: &Record) -> Vec<Regressor> {
+    let cases = [
+        (
+            Quadrature::Rectangular,
+            WindowSpec::cycles(4),
+            VelocitySource::Measured,
+        ),
+        (
+            Quadrature::Trapezoid,
+            WindowSpec::cycles(3),
+            VelocitySource::Measured,
+        ),
+        (
+            Quadrature::Spectral,
+            WindowSpec::cycles(1).first(2),
+            VelocitySource::Measured,
+        ),
+        (
+            Quadrature::Trapezoid,
+            WindowSpec::cycles(2),
+            VelocitySource::CentralDifference,
+        ),
+    ];
+    cases
+        .into_iter()
+        .map(|(quadrature, windows, velocity)| {
+            let settings = RegressorSettings {
+                windows: windows.skipping(3).into(),
+                quadrature,
+                velocity,
+                ..RegressorSettings::default()
+            };
+            Regressor::build(model, std::slice::from_ref(record), &settings).unwrap()
+        })
+        .collect()
+}
+
+/// `lanes` on every length from 0 to 69, per-sample and uniform weights.
+fn lane_sums() -> Vec<f64> {
+    let mut out = Vec::new();
+    let g = |v: f64| v * v * v.abs();
+    for len in 0..70 {
+        let w: Vec<f64> = (0..len).map(|i| 0.5 + (i % 3) as f64 * 0.3).collect();
+        let a: Vec<f64> = (0..len).map(|i| (i as f64 * 0.7).sin()).collect();
+        let b: Vec<f64> = (0..len).map(|i| (i as f64 * 0.3).cos()).collect();
+        for weights in [Weights::PerSample(&w), Weights::Uniform(0.25)] {
+            out.push(lanes::sum(weights, &a, g));
+            out.push(lanes::sum_of_difference(weights, &a, &b, g));
+            out.push(lanes::dot(weights, &a, &b));
+        }
+    }
+    out
+}
+
+#[test]
+fn every_level_gives_bitwise_the_same_sums() {
+    let levels: Vec<Level> = Level::ALL
+        .into_iter()
+        .filter(|level| level.available())
+        .collect();
+    eprintln!(
+        "levels compared: {:?} (detected: {})",
+        levels.iter().map(|l| l.name()).collect::<Vec<_>>(),
+        Level::detected().name()
+    );
+    let model = model();
+    let record = record(5_000);
+    let mut first: Option<(Level, Vec<Regressor>, Vec<f64>)> = None;
+    for level in levels {
+        assert!(simd::force(Some(level)), "{} is available", level.name());
+        assert_eq!(simd::level(), level);
+        let built = regressors(&model, &record);
+        let sums = lane_sums();
+        match &first {
+            None => first = Some((level, built, sums)),
+            Some((reference, built_then, sums_then)) => {
+                let (a, b) = (reference.name(), level.name());
+                for (case, (one, other)) in built_then.iter().zip(&built).enumerate() {
+                    let (rows, columns) = one.matrix().shape();
+                    assert_eq!(other.matrix().shape(), (rows, columns));
+                    for r in 0..rows {
+                        for k in 0..columns {
+                            let (x, y) = (one.matrix()[(r, k)], other.matrix()[(r, k)]);
+                            assert_eq!(
+                                x.to_bits(),
+                                y.to_bits(),
+                                "case {case}, row {r}, column {} ({}): {a} {x} vs {b} {y}",
+                                k,
+                                one.columns()[k]
+                            );
+                        }
+                        let (x, y) = (one.rhs()[r], other.rhs()[r]);
+                        assert_eq!(x.to_bits(), y.to_bits(), "case {case}, b[{r}]: {x} vs {y}");
+                    }
+                }
+                for (i, (x, y)) in sums_then.iter().zip(&sums).enumerate() {
+                    assert_eq!(x.to_bits(), y.to_bits(), "lane sum {i}: {a} {x} vs {b} {y}");
+                }
+            }
+        }
+    }
+    assert!(simd::force(None));
+    assert_eq!(simd::level(), Level::detected());
+}
