@@ -15,6 +15,11 @@
 //!   layout, as a Rust caller holds it; and the same with `Record::new` of a copy of the
 //!   parts inside the timing (Python's `dampid.Record` is in its timing).
 //!
+//! - `small RECORDS SAMPLES`: RECORDS records of 4 DOFs × SAMPLES samples (defaults 200
+//!   and 1000; the same signals as `large` at ω = 0.55 … 0.70, about five periods), one
+//!   `identify` of the list with the defaults (steady-state check included): records
+//!   per second, the fixed cost of small records (issue 32).
+//!
 //! `cargo run --release --example python_overhead -- large 100 100000 5`
 
 use std::path::Path;
@@ -104,6 +109,52 @@ fn main() -> Result<(), dampid::Error> {
                 best(repeats, || run(&[Record::new(parts.clone())?]));
             println!(
                 "rust large {n} {samples}: {seconds:.6} s (cpu {cpu:.4} s), with the record built {with_record:.6} s (cpu {with_record_cpu:.4} s), c = {:?}, d = {:?}",
+                report.coefficient("c").unwrap_or(f64::NAN),
+                report.coefficient("d").unwrap_or(f64::NAN)
+            );
+        }
+        Some("small") => {
+            let (count, samples, repeats) = (number(1, 200), number(2, 1000), number(3, 3));
+            let (n, h) = (4, 0.05);
+            let records = (0..count)
+                .map(|k| {
+                    let omega = 0.55 + 0.15 * k as f64 / count.max(1) as f64;
+                    let x = Mat::from_fn(samples, n, |i, j| {
+                        (1.0 + j as f64 / n as f64)
+                            * (omega * (i as f64 * h) + 0.01 * j as f64).sin()
+                    });
+                    let f = Mat::from_fn(samples, 1, |i, _| (omega * (i as f64 * h)).cos());
+                    Record::new(RecordParts {
+                        label: format!("small {k}"),
+                        step: h,
+                        start_time: 0.0,
+                        displacements: x,
+                        velocities: None,
+                        forcing: Forcing::on_dofs(f, vec![0]),
+                        period: 2.0 * std::f64::consts::PI / omega,
+                    })
+                })
+                .collect::<Result<Vec<_>, _>>()?;
+            let model = DampingModel::new()
+                .with(Term::per_dof(Linear, n, Coefficients::Shared("c".into())))
+                .with(Term::per_dof(
+                    Quadratic,
+                    n,
+                    Coefficients::Shared("d".into()),
+                ));
+            let settings = dampid::model_file::identification(&Default::default())?;
+            let (seconds, cpu, report) = best(repeats, || {
+                identify(
+                    &ParametricRegressor::linear(&model, &records),
+                    &settings,
+                    &silent,
+                )
+                .map(|i| i.report)
+            });
+            let report = report?;
+            println!(
+                "rust small {count} x {n} DOFs x {samples}: {seconds:.6} s (cpu {cpu:.4} s), {:.0} records/s, c = {:?}, d = {:?}",
+                count as f64 / seconds,
                 report.coefficient("c").unwrap_or(f64::NAN),
                 report.coefficient("d").unwrap_or(f64::NAN)
             );

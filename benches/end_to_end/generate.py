@@ -10,9 +10,13 @@ samples per period (T = N h, N = 400, 500, 800, 1000) and the energy balance hol
 exactly; seeded Gaussian noise of 10⁻⁴ of each signal's RMS is added to x, v and f.
 Each record is an uncompressed .npz (np.savez) with t (n,), x (n × 100), v (n × 100)
 and f (n,): 2·10⁵ samples, 323 MB, 1.29 GB in all. Also writes the model files
-chain100_{measured,central_difference,harmonic_projection}.toml next to the data.
+chain100_{measured,central_difference,harmonic_projection}.toml next to the data, and
+the one-record case of issue 32 (record_1 alone, N = 400, windows of one period, one
+coefficient per element: 101 chain and 100 ground dashpots, 201 coefficients,
+accept_transient = true): one_record_{measured,harmonic_projection}.toml.
 
-    python generate.py OUT_DIR
+    python generate.py OUT_DIR           # the 4 records (1.29 GB)
+    python generate.py OUT_DIR --one     # record_1 only (323 MB), for one_record.sh
 """
 
 import sys
@@ -107,17 +111,59 @@ def model(velocity, periods):
     return "\n".join(lines)
 
 
+def one_record_model(velocity, period):
+    """The one-record case: record_1, windows of one period, a coefficient per element."""
+    x = ", ".join(f'"x[{i}]"' for i in range(1, DOFS + 1))
+    v = ", ".join(f'"v[{i}]"' for i in range(1, DOFS + 1))
+    lines = [
+        "# One-record benchmark (benches/end_to_end/one_record.sh): record_1 of generate.py,",
+        f"# velocity = {velocity}, one coefficient per element (101 + 100), windows of one period.",
+        f'title = "100-mass chain, one record of 2e5 samples, 201 coefficients ({velocity})"',
+        f"dofs = {DOFS}",
+        "",
+        "[[terms]]",
+        'kind = "law"',
+        'law = "linear"',
+        'elements = "chain"',
+        'per_element = "c_chain"',
+        "",
+        "[[terms]]",
+        'kind = "law"',
+        'law = "linear"',
+        'elements = "each_dof"',
+        'per_element = "c_ground"',
+        "",
+        "[identification]",
+        f'velocity = "{velocity}"',
+        "cycles = 1",
+        "accept_transient = true",
+        "",
+        "[[data.records]]",
+        'file = "record_1.npz"',
+        'time = "t"',
+        f"displacements = [{x}]",
+    ]
+    if velocity == "measured":
+        lines.append(f"velocities = [{v}]")
+    lines += ['forces = [{ column = "f", dof = 1 }]', f"period = {period!r}", ""]
+    return "\n".join(lines)
+
+
 def main():
     out = Path(sys.argv[1])
     out.mkdir(parents=True, exist_ok=True)
     rng = np.random.default_rng(17)
     periods = []
-    for r, per_period in enumerate(PER_PERIOD, start=1):
+    count = 1 if "--one" in sys.argv else len(PER_PERIOD)
+    for r, per_period in enumerate(PER_PERIOD[:count], start=1):
         t, x, v, f, period = record(per_period, rng)
         np.savez(out / f"record_{r}.npz", t=t, x=x, v=v, f=f)
         periods.append(period)
-    for velocity in ["measured", "central_difference", "harmonic_projection"]:
-        (out / f"chain100_{velocity}.toml").write_text(model(velocity, periods))
+    if count == len(PER_PERIOD):
+        for velocity in ["measured", "central_difference", "harmonic_projection"]:
+            (out / f"chain100_{velocity}.toml").write_text(model(velocity, periods))
+    for velocity in ["measured", "harmonic_projection"]:
+        (out / f"one_record_{velocity}.toml").write_text(one_record_model(velocity, periods[0]))
 
 
 if __name__ == "__main__":

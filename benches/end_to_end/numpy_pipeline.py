@@ -8,7 +8,10 @@ ground dashpots of generate.py's model, and solve by scipy.linalg.lstsq. No nois
 correction nor weighting (dampid's noise-robust rows do more per window).
 
     python numpy_pipeline.py DATA_DIR            # the whole pipeline
-    python numpy_pipeline.py DATA_DIR --load     # numpy.load of every array only
+    python numpy_pipeline.py DATA_DIR --load [--repeats R] [--one]
+        # numpy.load of every array only, read fully ({k: z[k] for k in z.files}),
+        # R times in this one process (default 5), best and every time printed;
+        # --one: record_1.npz alone
 
 Prints the elapsed wall time of each stage and the total, in seconds, and the
 coefficients.
@@ -81,11 +84,18 @@ def main():
     data = Path(sys.argv[1])
     files = [data / f"record_{r}.npz" for r in PERIODS]
     if "--load" in sys.argv:
-        start = time.perf_counter()
-        arrays = load_all(files)
-        elapsed = time.perf_counter() - start
-        size = sum(a.nbytes for record in arrays for a in record.values())
-        print(f"numpy.load of every array: {elapsed:.3f} s ({size / 1e9:.2f} GB)")
+        if "--one" in sys.argv:
+            files = files[:1]
+        repeats = int(sys.argv[sys.argv.index("--repeats") + 1]) if "--repeats" in sys.argv else 5
+        times = []
+        for _ in range(repeats):
+            start = time.perf_counter()
+            arrays = load_all(files)
+            times.append(time.perf_counter() - start)
+            size = sum(a.nbytes for record in arrays for a in record.values())
+            del arrays
+        runs = ", ".join(f"{t:.3f}" for t in times)
+        print(f"numpy.load of every array: best {min(times):.3f} s of {runs} ({size / 1e9:.2f} GB)")
         return
     start = time.perf_counter()
     stages, theta = pipeline(files)

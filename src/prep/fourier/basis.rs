@@ -9,6 +9,21 @@ use faer::{Mat, MatRef};
 use super::Phasor;
 use crate::error::{Error, Result};
 
+/// Samples whose phasor recurrences run side by side ([`HarmonicBasis::row_table`]).
+const LANES: usize = 4;
+
+/// How many R factors each thread keeps ([`HarmonicBasis::r_factor`]).
+const CACHED_FACTORS: usize = 8;
+
+/// (ω bits, h bits, m, S) of a basis.
+type FactorKey = (u64, u64, usize, Vec<usize>);
+
+thread_local! {
+    /// The last R factors this thread computed, oldest first.
+    static FACTORS: std::cell::RefCell<Vec<(FactorKey, Mat<f64>)>> =
+        const { std::cell::RefCell::new(Vec::new()) };
+}
+
 /// A harmonic basis on the times t_i = i h, i = 0..m, with harmonic orders S.
 pub(crate) struct HarmonicBasis {
     omega: f64,
@@ -133,15 +148,46 @@ impl HarmonicBasis {
 
     /// rows × (2|S|+1) design matrix [1, cos k₁ωt, sin k₁ωt, cos k₂ωt, …] at t_i = i h.
     pub(crate) fn design(&self, rows: usize) -> Mat<f64> {
-        let mut design = Mat::zeros(rows, self.columns());
-        for i in 0..rows {
-            design[(i, 0)] = 1.0;
-            self.for_each_phasor(i, |q, cos, sin| {
-                design[(i, 2 * q + 1)] = cos;
-                design[(i, 2 * q + 2)] = sin;
-            });
+        let p = self.columns();
+        let table = self.row_table(rows);
+        Mat::from_fn(rows, p, |i, k| table[i * p + k])
+    }
+
+    /// The design rows at t_i = i h, i = 0..rows, row after row (rows × p, row-major):
+    /// the values of [`HarmonicBasis::for_each_phasor`], computed for [`LANES`] samples
+    /// at a time (independent recurrences side by side, each with the same arithmetic
+    /// as alone, so the same values bit for bit, without waiting on one chain).
+    fn row_table(&self, rows: usize) -> Vec<f64> {
+        let p = self.columns();
+        let highest = *self.orders.last().unwrap_or(&0);
+        let mut table = vec![0.0; rows * p];
+        for block in (0..rows).step_by(LANES) {
+            let lanes = (rows - block).min(LANES);
+            let (mut s1, mut c1) = ([0.0; LANES], [1.0; LANES]);
+            for l in 0..lanes {
+                let angle = self.omega * (block + l) as f64 * self.step;
+                (s1[l], c1[l]) = angle.sin_cos();
+            }
+            let (mut c, mut s) = ([1.0; LANES], [0.0; LANES]);
+            let mut q = 0;
+            for k in 1..=highest {
+                for l in 0..LANES {
+                    (c[l], s[l]) = (c[l] * c1[l] - s[l] * s1[l], s[l] * c1[l] + c[l] * s1[l]);
+                }
+                if self.orders[q] == k {
+                    for l in 0..lanes {
+                        let row = (block + l) * p;
+                        table[row + 2 * q + 1] = c[l];
+                        table[row + 2 * q + 2] = s[l];
+                    }
+                    q += 1;
+                }
+            }
+            for l in 0..lanes {
+                table[(block + l) * p] = 1.0;
+            }
         }
-        design
+        table
     }
 
     /// Calls `f(q, cos k_q ωt_i, sin k_q ωt_i)` for every order of S at t_i = i h, from
@@ -178,6 +224,11 @@ impl HarmonicBasis {
             let (s, c) = ((m - 1.0) * alpha / 2.0).sin_cos();
             (c * ratio, s * ratio)
         };
+        // C and S at every order the entries read (k − l ≤ 0 and k + l ≤ 2K): 3K + 1
+        // evaluations instead of two per entry, the same values.
+        let highest = *self.orders.last().unwrap_or(&0) as i64;
+        let table: Vec<(f64, f64)> = (-highest..=2 * highest).map(sums).collect();
+        let sums = |order: i64| table[(order + highest) as usize];
         let p = self.columns();
         let mut g = Mat::zeros(p, p);
         g[(0, 0)] = m;
@@ -206,29 +257,55 @@ impl HarmonicBasis {
     /// From the Cholesky factor of the closed-form Gram matrix (the harmonic basis over
     /// whole periods is nearly orthogonal, so BᵀB is well conditioned), or from a QR
     /// of the design if Cholesky fails.
+    ///
+    /// R depends on (ω, h, m, S) alone, and the windows and spans of one record repeat
+    /// them (the same m, or m ± 1), so each thread keeps the last [`CACHED_FACTORS`]
+    /// factors and returns a copy of one it has: the same values, without the O(p³)
+    /// factorisation (p = 2|S| + 1 reaches 201 with the noise floor's K_max = 100).
     pub(crate) fn r_factor(&self) -> Mat<f64> {
-        match self.gram().llt(faer::Side::Lower) {
+        let key = (
+            self.omega.to_bits(),
+            self.step.to_bits(),
+            self.samples,
+            self.orders.clone(),
+        );
+        let cached = FACTORS.with(|f| {
+            f.borrow()
+                .iter()
+                .find(|(k, _)| *k == key)
+                .map(|(_, r)| r.clone())
+        });
+        if let Some(r) = cached {
+            return r;
+        }
+        let r = match self.gram().llt(faer::Side::Lower) {
             Ok(llt) => llt.L().transpose().to_owned(),
             Err(_) => self.design(self.samples).qr().thin_R().to_owned(),
-        }
+        };
+        FACTORS.with(|f| {
+            let mut f = f.borrow_mut();
+            if f.len() >= CACHED_FACTORS {
+                f.remove(0);
+            }
+            f.push((key, r.clone()));
+        });
+        r
     }
 
     /// Bᵀ values for `values` (m × n), by the phasor recurrence.
-    fn transpose_times(&self, values: MatRef<'_, f64>) -> Mat<f64> {
-        let n = values.ncols();
-        let mut out = Mat::zeros(self.columns(), n);
-        let mut row = vec![0.0; self.columns()];
-        for i in 0..self.samples {
-            row[0] = 1.0;
-            self.for_each_phasor(i, |q, cos, sin| {
-                row[2 * q + 1] = cos;
-                row[2 * q + 2] = sin;
-            });
-            for c in 0..n {
-                let x = values[(i, c)];
-                if x != 0.0 {
-                    for (k, b) in row.iter().enumerate() {
-                        out[(k, c)] += b * x;
+    fn transpose_times(&self, values: MatRef<'_, f64>, table: &[f64]) -> Mat<f64> {
+        let (n, p) = (values.ncols(), self.columns());
+        let rows = self.samples.min(values.nrows()).min(table.len() / p.max(1));
+        let mut out = Mat::zeros(p, n);
+        // Per column, the sum over the samples in their order (as one row at a time
+        // would add them), the p accumulators side by side.
+        for c in 0..n {
+            let x = crate::record::col(values, c);
+            let sums = out.col_as_slice_mut(c);
+            for (i, &xi) in x[..rows].iter().enumerate() {
+                if xi != 0.0 {
+                    for (sum, b) in sums.iter_mut().zip(&table[i * p..(i + 1) * p]) {
+                        *sum += b * xi;
                     }
                 }
             }
@@ -295,6 +372,21 @@ impl HarmonicBasis {
     /// to its first sample (added back to a_0), so that a constant signal gives exactly
     /// zero harmonics and a large offset costs no accuracy.
     pub(crate) fn fit_with(&self, r: &Mat<f64>, values: MatRef<'_, f64>) -> Mat<f64> {
+        let table = self.row_table(self.samples.min(values.nrows()));
+        self.fit_with_table(r, values, &table)
+    }
+
+    /// [`HarmonicBasis::fit`] and the design over the fitted samples, from one table of
+    /// the design rows (the same values as `fit` and `design` apart).
+    pub(crate) fn fit_and_design(&self, values: MatRef<'_, f64>) -> (Mat<f64>, Mat<f64>) {
+        let rows = self.samples.min(values.nrows());
+        let table = self.row_table(rows);
+        let p = self.columns();
+        let coefficients = self.fit_with_table(&self.r_factor(), values, &table);
+        (coefficients, Mat::from_fn(rows, p, |i, k| table[i * p + k]))
+    }
+
+    fn fit_with_table(&self, r: &Mat<f64>, values: MatRef<'_, f64>, table: &[f64]) -> Mat<f64> {
         let first: Vec<f64> = (0..values.ncols())
             .map(|j| {
                 if values.nrows() > 0 {
@@ -307,7 +399,7 @@ impl HarmonicBasis {
         let shifted = Mat::from_fn(values.nrows(), values.ncols(), |i, j| {
             values[(i, j)] - first[j]
         });
-        let mut c = self.transpose_times(shifted.as_ref());
+        let mut c = self.transpose_times(shifted.as_ref(), table);
         r.transpose().solve_lower_triangular_in_place(c.as_mut());
         r.solve_upper_triangular_in_place(c.as_mut());
         for (j, offset) in first.iter().enumerate() {

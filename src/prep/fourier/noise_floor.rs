@@ -126,15 +126,22 @@ pub(super) fn select_with(
         Vec::new()
     };
     let spectrum = spectrum.filter(|s| s.covers(&orders) && s.covers_between(&bins));
-    let coefficients = match spectrum {
-        Some(spectrum) => spectrum.fit(&orders),
-        None => basis.fit(x),
+    // By least squares with bins between the harmonics: the design once, for the fit
+    // and its residual.
+    let (coefficients, design) = match spectrum {
+        Some(spectrum) => (spectrum.fit(&orders), None),
+        None if periods >= 2 => {
+            let (c, design) = basis.fit_and_design(x);
+            (c, Some(design))
+        }
+        None => (basis.fit(x), None),
     };
     let between = if periods >= 2 {
-        Some(match spectrum {
-            Some(spectrum) => spectrum.between_powers(&coefficients),
-            None => {
-                let residual = x - basis.design(m) * &coefficients;
+        Some(match (spectrum, design) {
+            (Some(spectrum), _) => spectrum.between_powers(&coefficients),
+            (None, design) => {
+                let design = design.unwrap_or_else(|| basis.design(m));
+                let residual = x - design * &coefficients;
                 between_harmonics(residual.as_ref(), step, omega, periods, &bins)
             }
         })
@@ -185,17 +192,25 @@ pub(super) fn select_with(
     })
 }
 
-/// The median of `values` (reordered), or None when empty.
+/// The median of `values` (reordered), or None when empty: by selection, O(n), the
+/// same values as a sort would put in the middle.
 fn median(values: &mut [f64]) -> Option<f64> {
     if values.is_empty() {
         return None;
     }
-    values.sort_by(f64::total_cmp);
     let mid = values.len() / 2;
-    Some(if values.len() % 2 == 1 {
-        values[mid]
+    let odd = values.len() % 2 == 1;
+    let (below, &mut upper, _) = values.select_nth_unstable_by(mid, f64::total_cmp);
+    Some(if odd {
+        upper
     } else {
-        0.5 * (values[mid - 1] + values[mid])
+        // even count: the lower middle is the largest of those below
+        let lower = below
+            .iter()
+            .copied()
+            .max_by(f64::total_cmp)
+            .unwrap_or(upper);
+        0.5 * (lower + upper)
     })
 }
 
@@ -227,19 +242,55 @@ fn between_harmonics(
     let mut sums = vec![vec![(0.0, 0.0); n]; bins.len()];
     let base = omega / periods as f64 * step;
     let row: Vec<&[f64]> = (0..n).map(|c| crate::record::col(residual, c)).collect();
-    for i in 0..m {
-        let (s1, c1) = (base * i as f64).sin_cos();
-        let (mut cos, mut sin) = (1.0, 0.0);
+    // LANES samples' recurrences side by side (each with its own arithmetic, so the
+    // same values); the block's cosines and sines at the bins kept, then every sum
+    // (bin, channel) takes its terms in sample order, the sums interleaved so that no
+    // addition waits on the one before.
+    const LANES: usize = 4;
+    let count = bins.len();
+    let mut flat = vec![0.0; 2 * count * n];
+    let mut phasors = vec![(0.0, 0.0); LANES * count];
+    let mut values = vec![0.0; n];
+    for block in (0..m).step_by(LANES) {
+        let lanes = (m - block).min(LANES);
+        let (mut s1, mut c1) = ([0.0; LANES], [1.0; LANES]);
+        for l in 0..lanes {
+            (s1[l], c1[l]) = (base * (block + l) as f64).sin_cos();
+        }
+        let (mut cos, mut sin) = ([1.0; LANES], [0.0; LANES]);
         let mut b = 0;
         for j in 1..=highest {
-            (cos, sin) = (cos * c1 - sin * s1, sin * c1 + cos * s1);
+            for l in 0..LANES {
+                (cos[l], sin[l]) = (
+                    cos[l] * c1[l] - sin[l] * s1[l],
+                    sin[l] * c1[l] + cos[l] * s1[l],
+                );
+            }
             if bins[b] == j {
-                for (sum, r) in sums[b].iter_mut().zip(&row) {
-                    sum.0 += cos * r[i];
-                    sum.1 += sin * r[i];
+                for l in 0..LANES {
+                    phasors[l * count + b] = (cos[l], sin[l]);
                 }
                 b += 1;
             }
+        }
+        for l in 0..lanes {
+            for (value, r) in values.iter_mut().zip(&row) {
+                *value = r[block + l];
+            }
+            for (sums, &(cos, sin)) in flat
+                .chunks_exact_mut(2 * n)
+                .zip(&phasors[l * count..(l + 1) * count])
+            {
+                for (sum, r) in sums.chunks_exact_mut(2).zip(&values) {
+                    sum[0] += cos * r;
+                    sum[1] += sin * r;
+                }
+            }
+        }
+    }
+    for (b, per_channel) in sums.iter_mut().enumerate() {
+        for (c, sum) in per_channel.iter_mut().enumerate() {
+            *sum = (flat[2 * (b * n + c)], flat[2 * (b * n + c) + 1]);
         }
     }
     let scale = 2.0 / m as f64;
@@ -251,4 +302,35 @@ fn between_harmonics(
                 .collect()
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::median;
+
+    /// The median by selection equals the middle of the sorted values (odd and even
+    /// counts, ties), bit for bit.
+    #[test]
+    fn median_by_selection_is_the_sorted_middle() {
+        let mut state = 12345u64;
+        for len in 1..40 {
+            let values: Vec<f64> = (0..len)
+                .map(|_| {
+                    state = state.wrapping_mul(6364136223846793005).wrapping_add(1);
+                    ((state >> 33) % 17) as f64 * 0.37
+                })
+                .collect();
+            let mut sorted = values.clone();
+            sorted.sort_by(f64::total_cmp);
+            let mid = len / 2;
+            let expected = if len % 2 == 1 {
+                sorted[mid]
+            } else {
+                0.5 * (sorted[mid - 1] + sorted[mid])
+            };
+            let mut shuffled = values.clone();
+            assert_eq!(median(&mut shuffled), Some(expected), "{values:?}");
+        }
+        assert_eq!(median(&mut []), None);
+    }
 }

@@ -8,18 +8,21 @@ use crate::prep::velocity::VelocitySource;
 use crate::prep::window::Window;
 use crate::record::{LoadDistribution, Record};
 
-use super::projection::{StateProjection, project_periods, snap};
+use super::projection::{StateProjection, snap};
 use super::{
     ComparedPeriods, Decisive, MIN_NEIGHBOUR, MIN_SAMPLES_PER_PERIOD, NON_HARMONIC_MARGIN,
     SteadyStateSettings, StoredEnergy, WindowCheck,
 };
 
+/// A compared span: (origin in samples, periods k', what it is).
+pub(super) type Span = (f64, usize, ComparedPeriods);
+
 /// Which periods to compare for `window` of `record`: each (origin in samples,
 /// periods k', what it is), or why none can be.
-fn compared_spans(
+pub(super) fn compared_spans(
     record: &Record,
     window: &Window,
-) -> std::result::Result<Vec<(f64, usize, ComparedPeriods)>, String> {
+) -> std::result::Result<Vec<Span>, String> {
     let length = record.period() / record.step();
     if length < MIN_SAMPLES_PER_PERIOD {
         return Err(format!(
@@ -56,13 +59,17 @@ fn unjudged(mut check: WindowCheck, reason: String) -> WindowCheck {
     check
 }
 
-/// The check of `window` of `record`.
+/// The check of `window` of `record`, from its compared spans ([`compared_spans`]) and
+/// their projections (`projections[i]` that of `spans[i]`, projected once per record
+/// and span however many windows compare it).
 pub(super) fn check_window(
     record: &Record,
     window: &Window,
     quadrature: Quadrature,
     energy: Option<&StoredEnergy>,
     settings: &SteadyStateSettings,
+    spans: &std::result::Result<Vec<Span>, String>,
+    projections: &[&Result<StateProjection>],
 ) -> Result<WindowCheck> {
     let h = record.step();
     let input_work = input_work(record, window, quadrature)?;
@@ -83,24 +90,24 @@ pub(super) fn check_window(
         steady: true,
         reason: String::new(),
     };
-    let spans = match compared_spans(record, window) {
+    let spans = match spans {
         Ok(spans) => spans,
-        Err(reason) => return Ok(unjudged(check, reason)),
+        Err(reason) => return Ok(unjudged(check, reason.clone())),
     };
     // A period is steady when it matches one of its neighbours: the better comparison
     // decides.
     let mut best: Option<WindowCheck> = None;
-    for (origin, periods, compared) in spans {
-        let projection = match project_periods(record, origin, periods, &[0, periods - 1]) {
+    for (&(origin, periods, compared), projection) in spans.iter().zip(projections) {
+        let projection = match projection {
             Ok(p) => p,
             Err(e @ Error::InvalidParameter { .. }) => {
                 return Ok(unjudged(check, format!("cannot be judged: {e}")));
             }
-            Err(e) => return Err(e),
+            Err(e) => return Err(e.clone()),
         };
         let judged = judge(
             check.clone(),
-            &projection,
+            projection,
             origin,
             periods,
             window.cycles,
@@ -143,31 +150,6 @@ fn state(p: &StateProjection, index: usize, at: f64) -> (Vec<f64>, Vec<f64>, Vec
     (x, v, row)
 }
 
-/// Half the range of x̂ (and of v̂) over the samples of both projected periods, the
-/// largest over the channels.
-fn amplitudes(p: &StateProjection) -> (f64, f64) {
-    let (mut ax, mut av) = (0.0f64, 0.0f64);
-    for period in &p.periods {
-        let rows: Vec<Vec<f64>> = (0..period.samples)
-            .map(|i| p.row(i as f64 * p.step))
-            .collect();
-        for c in &period.channels {
-            let range = |coefficients: &[f64]| {
-                let (lo, hi) =
-                    rows.iter()
-                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), r| {
-                            let y: f64 = r.iter().zip(coefficients).map(|(a, b)| a * b).sum();
-                            (lo.min(y), hi.max(y))
-                        });
-                0.5 * (hi - lo)
-            };
-            ax = ax.max(range(&c.displacement));
-            av = av.max(range(&c.velocity));
-        }
-    }
-    (ax, av)
-}
-
 /// Formats a noise-relative mismatch.
 pub(super) fn sigmas_text(sigmas: f64) -> String {
     if sigmas.is_finite() && sigmas < 1e4 {
@@ -205,7 +187,7 @@ fn judge(
     let scale = cycles as f64 / (periods - 1) as f64;
     let (x_a, v_a, row_a) = state(p, 0, origin);
     let (x_b, v_b, row_b) = state(p, 1, origin + periods as f64 * length);
-    let (amp_x, amp_v) = amplitudes(p);
+    let (amp_x, amp_v) = p.amplitudes();
     let zero = vec![0.0; row_a.len()];
     let scaled = |g: &[f64], s: f64| g.iter().map(|a| a * s).collect::<Vec<f64>>();
     // per channel: (quantity, DOF, δ, sd, amplitude)

@@ -68,6 +68,7 @@
 mod energy;
 mod judge;
 pub mod projection;
+mod table;
 
 use std::fmt;
 
@@ -461,13 +462,55 @@ pub fn check(
             cut.push((record, window));
         }
     }
+    // The spans each window compares; a span is projected once, however many windows
+    // compare it (a one-period window's next period is the next window's previous).
+    let plans: Vec<_> = cut
+        .iter()
+        .map(|(record, window)| judge::compared_spans(record, window))
+        .collect();
+    let mut spans: Vec<(usize, f64, usize)> = Vec::new();
+    let mut known = std::collections::HashMap::new();
+    let span_ids: Vec<Vec<usize>> = plans
+        .iter()
+        .enumerate()
+        .map(|(k, plan)| {
+            let Ok(plan) = plan else { return Vec::new() };
+            let record = cut[k].1.record;
+            plan.iter()
+                .map(|&(origin, periods, _)| {
+                    *known
+                        .entry((record, origin.to_bits(), periods))
+                        .or_insert_with(|| {
+                            spans.push((k, origin, periods));
+                            spans.len() - 1
+                        })
+                })
+                .collect()
+        })
+        .collect();
+    let projections = spans
+        .par_iter()
+        .map(|&(k, origin, periods)| {
+            crate::cancel::check("the steady-state check")?;
+            Ok(projection::project_periods(
+                cut[k].0,
+                origin,
+                periods,
+                &[0, periods - 1],
+            ))
+        })
+        .collect::<Result<Vec<_>>>()?;
     // Each window is judged on its own; rayon's collect keeps window order, so the
     // report is the same at any thread count.
     let windows = cut
         .par_iter()
-        .map(|(record, window)| {
+        .zip(plans.par_iter().zip(span_ids.par_iter()))
+        .map(|((record, window), (plan, ids))| {
             crate::cancel::check("the steady-state check")?;
-            judge::check_window(record, window, quadrature, energy, settings)
+            let projected: Vec<_> = ids.iter().map(|&i| &projections[i]).collect();
+            judge::check_window(
+                record, window, quadrature, energy, settings, plan, &projected,
+            )
         })
         .collect::<Result<Vec<_>>>()?;
     Ok(SteadyStateReport {

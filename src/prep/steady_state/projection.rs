@@ -37,12 +37,22 @@
 //! Cov [c_x; c_v] = σ̂_j² [I; J] S (RᵀR)⁻¹ Sᵀ [I; J]ᵀ. Their non-harmonic RMS is given
 //! as the displacement it would be at the drive frequency, r_j/ω^d (d = 1 for velocity,
 //! 2 for acceleration), which overstates content above ω and understates it below.
+//!
+//! **Cost.** Every product is a pass over a channel's samples against a table of the
+//! basis held once per span (`table.rs`): the fits, the whole span's residual and the
+//! half ranges of x̂ and v̂ over each period (the amplitudes the mismatches are relative
+//! to) cost O(m p) per channel, and the covariance is computed once per period and
+//! sensor kind (σ̂_j² times a unit covariance shared by the channels of that kind).
 
-use faer::{Mat, MatRef};
+use std::sync::Arc;
+
+use faer::Mat;
 
 use crate::error::{Error, Result};
 use crate::prep::fourier::{HarmonicBasis, select_harmonics};
-use crate::record::{Record, Sensor};
+use crate::record::{Record, Sensor, col};
+
+use super::table::HarmonicTable;
 
 /// One channel over one period: coefficients of x̂ and v̂ in the basis b(t), and their
 /// joint covariance.
@@ -52,8 +62,15 @@ pub struct ChannelProjection {
     pub displacement: Vec<f64>,
     /// c_v: the velocity's coefficients in the same basis (its a₀ is 0).
     pub velocity: Vec<f64>,
-    /// Cov [c_x; c_v] (2p × 2p).
-    pub covariance: Mat<f64>,
+    /// Cov [c_x; c_v] / σ̂_j² (2p × 2p), shared by the period's channels of one sensor
+    /// kind.
+    pub unit_covariance: Arc<Mat<f64>>,
+    /// σ̂_j², the channel's noise variance per sample.
+    pub noise_variance: f64,
+    /// ½ range of x̂ over the period's samples.
+    pub half_range_displacement: f64,
+    /// ½ range of v̂ over the period's samples.
+    pub half_range_velocity: f64,
 }
 
 impl ChannelProjection {
@@ -61,16 +78,17 @@ impl ChannelProjection {
     pub fn variance(&self, g_x: &[f64], g_v: &[f64]) -> f64 {
         let p = g_x.len();
         let g = |k: usize| if k < p { g_x[k] } else { g_v[k - p] };
+        let unit = &*self.unit_covariance;
         let mut sum = 0.0;
         for a in 0..2 * p {
             let ga = g(a);
             if ga != 0.0 {
                 for b in 0..2 * p {
-                    sum += ga * self.covariance[(a, b)] * g(b);
+                    sum += ga * unit[(a, b)] * g(b);
                 }
             }
         }
-        sum.max(0.0)
+        (self.noise_variance * sum).max(0.0)
     }
 }
 
@@ -124,6 +142,20 @@ impl StateProjection {
     pub fn row_at_sample(&self, first: usize, at: f64) -> Vec<f64> {
         self.row((at - first as f64) * self.step)
     }
+
+    /// Half the range of x̂ (and of v̂) over the samples of every projected period, the
+    /// largest over the channels.
+    pub fn amplitudes(&self) -> (f64, f64) {
+        self.periods
+            .iter()
+            .flat_map(|p| &p.channels)
+            .fold((0.0f64, 0.0f64), |(ax, av), c| {
+                (
+                    ax.max(c.half_range_displacement),
+                    av.max(c.half_range_velocity),
+                )
+            })
+    }
 }
 
 /// A sample position within round-off of a whole number is that number.
@@ -169,18 +201,20 @@ pub fn project_periods(
     let omega = 2.0 * std::f64::consts::PI / period;
     let orders = selection.kept.clone();
     let sigma = selection.noise_std.clone();
-    // Step 3: the whole span on S.
-    let basis = HarmonicBasis::with_orders(omega, orders.clone(), step, whole.nrows())?;
-    let coefficients = basis.fit(whole);
-    let fitted = basis.design(whole.nrows()) * &coefficients;
-    let p = basis.columns();
-    let dof = whole.nrows().saturating_sub(p).max(1);
+    // Step 3: the whole span on S, one pass per channel for the fit and one for its
+    // residual.
+    let m = whole.nrows();
+    let basis = HarmonicBasis::with_orders(omega, orders.clone(), step, m)?;
+    let table = HarmonicTable::new(&basis, m);
+    let p = table.columns();
+    let dof = m.saturating_sub(p).max(1);
     let mut non_harmonic = Vec::with_capacity(x.ncols());
     let mut residual_ratio = Vec::with_capacity(x.ncols());
+    let mut buffer = vec![0.0; m];
     for j in 0..x.ncols() {
-        let rss: f64 = (0..whole.nrows())
-            .map(|i| (whole[(i, j)] - fitted[(i, j)]).powi(2))
-            .sum();
+        let samples = &col(x, j)[first..end];
+        let coefficients = table.fit(samples);
+        let rss = table.residual_sum_of_squares(&coefficients, samples, &mut buffer);
         let mean_square = rss / dof as f64;
         let as_displacement = omega.powi(sensors[j].order() as i32);
         non_harmonic.push((mean_square - sigma[j] * sigma[j]).max(0.0).sqrt() / as_displacement);
@@ -190,17 +224,28 @@ pub fn project_periods(
             mean_square / (sigma[j] * sigma[j])
         });
     }
-    // Step 2: each requested period.
+    // Step 2: each requested period; periods of the same length share their table.
+    let mut tables: Vec<(usize, HarmonicTable)> = Vec::new();
     let projections = which
         .iter()
         .map(|&k| {
             let (first, end) = samples_in(origin + k as f64 * length, length, record.samples());
+            let rows = end - first;
+            let table = match tables.iter().position(|(r, _)| *r == rows) {
+                Some(t) => t,
+                None => {
+                    let basis = HarmonicBasis::with_orders(omega, orders.clone(), step, rows)?;
+                    tables.push((rows, HarmonicTable::new(&basis, rows)));
+                    tables.len() - 1
+                }
+            };
             project_period(
-                x.subrows(first, end - first),
+                &tables[table].1,
+                x,
                 first,
+                rows,
                 omega,
                 &orders,
-                step,
                 &sigma,
                 &sensors,
             )
@@ -247,29 +292,26 @@ fn to_displacement(sensor: Sensor, orders: &[usize], omega: f64) -> Mat<f64> {
     s
 }
 
-/// One period's samples `x` (from record sample `first`) projected on `orders`.
+/// The `rows` samples of every channel of `x` from record sample `first` projected on
+/// `orders` with the period's `table`.
+#[allow(clippy::too_many_arguments)]
 fn project_period(
-    x: MatRef<'_, f64>,
+    table: &HarmonicTable,
+    x: faer::MatRef<'_, f64>,
     first: usize,
+    rows: usize,
     omega: f64,
     orders: &[usize],
-    step: f64,
     sigma: &[f64],
     sensors: &[Sensor],
 ) -> Result<PeriodProjection> {
-    let basis = HarmonicBasis::with_orders(omega, orders.to_vec(), step, x.nrows())?;
-    let r = basis.r_factor();
-    let p = basis.columns();
-    // (RᵀR)⁻¹ = R⁻¹ R⁻ᵀ
-    let mut r_inverse = Mat::<f64>::identity(p, p);
-    r.solve_upper_triangular_in_place(r_inverse.as_mut());
-    let gram_inverse = &r_inverse * r_inverse.transpose();
+    let p = table.columns();
+    let gram_inverse = table.gram_inverse();
     if !(0..p).all(|k| gram_inverse[(k, k)].is_finite()) {
         return Err(Error::Numerical {
             stage: "steady-state check".into(),
             detail: format!(
-                "the harmonic projection of the {} samples from sample {first} is singular",
-                x.nrows()
+                "the harmonic projection of the {rows} samples from sample {first} is singular"
             ),
         });
     }
@@ -283,26 +325,42 @@ fn project_period(
         map[(p + 2 * q + 1, 2 * q + 2)] = qw;
         map[(p + 2 * q + 2, 2 * q + 1)] = -qw;
     }
-    let c = basis.fit_with(&r, x);
+    // [I; J] S and its unit covariance [I; J] S (RᵀR)⁻¹ Sᵀ [I; J]ᵀ, once per sensor
+    // kind present.
+    let mut kinds: Vec<(Sensor, Mat<f64>, Arc<Mat<f64>>)> = Vec::new();
+    for &sensor in sensors {
+        if !kinds.iter().any(|(s, _, _)| *s == sensor) {
+            let full = &map * to_displacement(sensor, orders, omega);
+            let unit = &full * &gram_inverse * full.transpose();
+            kinds.push((sensor, full, Arc::new(unit)));
+        }
+    }
+    let mut buffer = vec![0.0; rows];
     let channels = (0..x.ncols())
         .map(|j| {
-            // [I; J] S: measured coefficients to [c_x; c_v].
-            let full = &map * to_displacement(sensors[j], orders, omega);
-            let unit = &full * &gram_inverse * full.transpose();
+            // cannot fail: every sensor of `sensors` was added to `kinds` above
+            let (_, full, unit) = kinds
+                .iter()
+                .find(|(s, _, _)| *s == sensors[j])
+                .expect("each sensor kind has its map");
+            let c = table.fit(&col(x, j)[first..first + rows]);
             let stacked: Vec<f64> = (0..2 * p)
-                .map(|a| (0..p).map(|k| full[(a, k)] * c[(k, j)]).sum())
+                .map(|a| (0..p).map(|k| full[(a, k)] * c[k]).sum())
                 .collect();
-            let variance = sigma[j] * sigma[j];
+            let (displacement, velocity) = (stacked[..p].to_vec(), stacked[p..].to_vec());
             ChannelProjection {
-                displacement: stacked[..p].to_vec(),
-                velocity: stacked[p..].to_vec(),
-                covariance: Mat::from_fn(2 * p, 2 * p, |a, b| variance * unit[(a, b)]),
+                half_range_displacement: table.half_range(&displacement, &mut buffer),
+                half_range_velocity: table.half_range(&velocity, &mut buffer),
+                displacement,
+                velocity,
+                unit_covariance: Arc::clone(unit),
+                noise_variance: sigma[j] * sigma[j],
             }
         })
         .collect();
     Ok(PeriodProjection {
         first,
-        samples: x.nrows(),
+        samples: rows,
         channels,
     })
 }
