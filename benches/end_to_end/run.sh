@@ -2,7 +2,9 @@
 # End-to-end benchmark (issue 17): `dampid identify` on 4 records of 100 DOFs × 2·10⁵
 # samples (1.29 GB of .npz, whole samples per period) for the three velocity sources,
 # with wall time and peak memory (/usr/bin/time -v, maximum resident set size), and in
-# the same run the NumPy/SciPy pipeline (numpy_pipeline.py) and numpy.load alone.
+# the same run the NumPy/SciPy pipeline (numpy_pipeline.py) and numpy.load alone (timed
+# in-process, best of several reads, every array read fully). The one-record case of
+# issue 32 (201 coefficients, one-period windows) is one_record.sh.
 # Not run in CI (too big).
 #
 #   cargo build --release --bin dampid
@@ -53,7 +55,8 @@ timed() {
 
 for run in $(seq "$repeats"); do
     echo "--- run $run"
-    timed "numpy.load (every array)" "$py" "$here/numpy_pipeline.py" "$data" --load
+    # numpy.load in-process, best of 3 reads of every array (no interpreter start-up)
+    "$py" "$here/numpy_pipeline.py" "$data" --load --repeats 3
     for velocity in measured central_difference harmonic_projection; do
         timed "dampid identify velocity=$velocity" "$bin" identify "$data/chain100_$velocity.toml" --json
     done

@@ -62,8 +62,10 @@
 //! mismatch |δ|/σ(δ) ("3.1 σ") and says in words why it is or is not steady.
 //!
 //! Files: `projection.rs` (the projection of periods, the one place that turns samples
-//! into coefficients and covariances), `judge.rs` (one window), `energy.rs` (stored
-//! energy and its gradient).
+//! into coefficients and covariances), `table.rs` (a span's basis held once, and the
+//! passes over a channel's samples against it), `judge.rs` (one window), `energy.rs`
+//! (stored energy and its gradient). [`check`] projects each compared span once per
+//! record, however many windows compare it.
 
 mod energy;
 mod judge;
