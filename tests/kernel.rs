@@ -20,50 +20,12 @@ use faer::Mat;
 
 mod support;
 
+use support::mixed_record::{mixed_record, noise};
+
 const DOFS: usize = 40;
 
-/// Deterministic pseudo-random numbers in [-1, 1).
-fn noise(seed: u64) -> impl FnMut() -> f64 {
-    let mut state = seed;
-    move || {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (state >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-    }
-}
-
 fn record(samples: usize) -> Record {
-    let h = 0.01;
-    let mut r = noise(7);
-    let phases: Vec<f64> = (0..DOFS).map(|_| 3.0 * r()).collect();
-    let x = Mat::from_fn(samples, DOFS, |i, j| {
-        (i as f64 * h + phases[j]).sin() + 0.1 * (3.0 * i as f64 * h).cos()
-    });
-    let v = Mat::from_fn(samples, DOFS, |i, j| {
-        (i as f64 * h + phases[j]).cos() - 0.3 * (3.0 * i as f64 * h + j as f64).sin()
-    });
-    let signals = Mat::from_fn(samples, 3, |i, c| match c {
-        1 => 0.0,
-        _ => (i as f64 * h * (c + 1) as f64).cos(),
-    });
-    let distribution = Mat::from_fn(DOFS, 3, |j, c| {
-        if (j + c) % 7 == 0 {
-            1.0 + c as f64
-        } else {
-            0.0
-        }
-    });
-    Record::new(RecordParts {
-        label: "kernel".into(),
-        step: h,
-        start_time: 0.0,
-        displacements: x,
-        velocities: Some(v),
-        forcing: Forcing::distributed(signals, distribution),
-        period: 2.0 * std::f64::consts::PI,
-    })
-    .unwrap()
+    mixed_record(DOFS, samples, 7, 7, "kernel")
 }
 
 fn pairs() -> Vec<Element> {
