@@ -414,6 +414,24 @@ pub enum Error {
         /// What was found (its range against the other channels').
         reason: String,
     },
+
+    /// A record's signal is too large or too small for double precision to carry its
+    /// products through the energy balance ([`crate::prep::data_scale`]).
+    #[error(
+        "record '{record}': the largest {signal} is {}, {reason}; give the data in other units: multiply the `scale` of its {signal} channels in the model file by about 1e{factor_exponent} (every coefficient then scales with them)", number(*.magnitude)
+    )]
+    DataScale {
+        /// The record's label.
+        record: String,
+        /// `displacement`, `velocity` or `force`.
+        signal: String,
+        /// Its largest magnitude, in the record's units.
+        magnitude: f64,
+        /// Which product leaves double precision.
+        reason: String,
+        /// The power of ten that brings that product to order one.
+        factor_exponent: i32,
+    },
 }
 
 /// ` ('a' (…), 'b' (…))`, at most eight named, for [`Error::NegativeInputWork`].
@@ -522,6 +540,7 @@ pub const KINDS: &[&str] = &[
     "output",
     "negative_input_work",
     "dead_motion_sensor",
+    "data_scale",
 ];
 
 impl Error {
@@ -561,6 +580,7 @@ impl Error {
             Error::Output { .. } => "output",
             Error::NegativeInputWork { .. } => "negative_input_work",
             Error::DeadMotionSensor { .. } => "dead_motion_sensor",
+            Error::DataScale { .. } => "data_scale",
         }
     }
 

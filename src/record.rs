@@ -197,6 +197,21 @@ pub struct Record {
     /// once here so that a build does not read the whole record again
     /// ([`Record::motion_ranges`]).
     motion_ranges: Vec<(f64, f64)>,
+    /// The largest |value| of the displacements, the measured velocities and the
+    /// forces, found once here ([`Record::magnitudes`]).
+    magnitudes: Magnitudes,
+}
+
+/// The largest magnitude of each kind of signal a record holds, in its own units: what
+/// [`crate::prep::data_scale`] compares with the range of double precision.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Magnitudes {
+    /// max |x| over every displacement channel and sample.
+    pub displacement: f64,
+    /// max |v| over the measured velocities, if the record holds them.
+    pub velocity: Option<f64>,
+    /// max |f| over every force channel (0 for a record without force).
+    pub force: f64,
 }
 
 impl Record {
@@ -249,13 +264,21 @@ impl Record {
             check_finite("velocities", v.as_ref())?;
         }
         parts.forcing.validate(samples, dofs)?;
-        let signals = &parts.forcing.signals;
-        let active_channels = (0..signals.ncols())
-            .filter(|&k| signals.col_as_slice(k).iter().any(|s| *s != 0.0))
+        let force_ranges = channel_ranges(parts.forcing.signals.as_ref());
+        let active_channels = (0..force_ranges.len())
+            .filter(|&k| force_ranges[k].1 > 0.0)
             .collect();
+        let largest = |ranges: &[(f64, f64)]| ranges.iter().fold(0.0, |m: f64, r| m.max(r.1));
         let mut motion_ranges = channel_ranges(parts.displacements.as_ref());
+        let mut magnitudes = Magnitudes {
+            displacement: largest(&motion_ranges),
+            velocity: None,
+            force: largest(&force_ranges),
+        };
         if let Some(v) = &parts.velocities {
-            motion_ranges.extend(channel_ranges(v.as_ref()));
+            let ranges = channel_ranges(v.as_ref());
+            magnitudes.velocity = Some(largest(&ranges));
+            motion_ranges.extend(ranges);
         }
         Ok(Record {
             parts,
@@ -264,6 +287,7 @@ impl Record {
             measured: None,
             fixed_dofs: Vec::new(),
             motion_ranges,
+            magnitudes,
         })
     }
 
@@ -358,6 +382,11 @@ impl Record {
     /// displacements followed by those of the measured velocities, if any.
     pub(crate) fn motion_ranges(&self) -> &[(f64, f64)] {
         &self.motion_ranges
+    }
+
+    /// The largest magnitude of the displacements, measured velocities and forces.
+    pub fn magnitudes(&self) -> Magnitudes {
+        self.magnitudes
     }
 
     /// The DOFs (0-based) declared held still in this record.

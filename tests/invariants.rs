@@ -356,3 +356,28 @@ fn the_default_pipeline_is_scale_invariant() {
         );
     }
 }
+
+/// Beyond the scale double precision carries, the default pipeline refuses the data with
+/// units advice instead of a wrong figure: s = 1e153 used to give every dashpot but one
+/// "0 at lower bound" with no error, s = 1e-160 a steady-state refusal of a steady
+/// window, s = 1e-152 and 1e200 an infinite or NaN column. The refusal comes before the
+/// steady-state check.
+#[test]
+fn the_default_pipeline_refuses_data_beyond_double_precision() {
+    for s in [1e153, 1e200, 1e-152, 1e-160, 1e-200] {
+        let job = measured_chain_at(s);
+        let e =
+            dampid::identify::identify(&job.problem(), &job.settings, &dampid::progress::silent)
+                .unwrap_err();
+        match e.innermost() {
+            dampid::Error::DataScale { record, signal, .. } => {
+                assert!(record.starts_with("a="), "{s:e}: {record}");
+                assert!(
+                    signal == "displacement" || signal == "force",
+                    "{s:e}: {signal}"
+                );
+            }
+            other => panic!("{s:e}: {other}"),
+        }
+    }
+}

@@ -14,6 +14,7 @@ use toml::Spanned;
 use super::context::Context;
 use super::spec::{ColumnSpec, RecordSpec, Scale};
 use crate::error::{Error, Result};
+use crate::format::number;
 use crate::io::Table;
 use crate::io::data_file::DataFiles;
 use crate::prep::motion::{Integration, SensorParts, record_from_sensors};
@@ -64,12 +65,12 @@ impl fmt::Display for RecordInputs {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(f, "record '{}':", self.record)?;
         if self.time_scale != 1.0 {
-            writeln!(f, "  time = {} × time column", self.time_scale)?;
+            writeln!(f, "  time = {} × time column", number(self.time_scale))?;
         }
         for g in &self.gains {
-            write!(f, "  {} = {} × '{}'", g.quantity, g.scale, g.column)?;
+            write!(f, "  {} = {} × '{}'", g.quantity, number(g.scale), g.column)?;
             if g.offset != 0.0 {
-                write!(f, " + {}", g.offset)?;
+                write!(f, " + {}", number(g.offset))?;
             }
             writeln!(f)?;
         }

@@ -7,6 +7,7 @@
 //! Everything here reads records and settings and returns records, windows, weights or
 //! velocities; nothing here builds a regressor or fits.
 
+pub mod data_scale;
 pub(crate) mod fourier;
 pub mod free_decay;
 pub mod harmonic;

@@ -197,6 +197,7 @@ impl Regressor {
             Source::Rows(rows) => return Ok(rows.clone()),
         };
         dead_motion::require_motion(records)?;
+        crate::prep::data_scale::require_representable(records)?;
         let spec = match &settings.windows {
             Windows::Spans(spans) => {
                 settings.validate()?;

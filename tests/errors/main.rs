@@ -40,6 +40,7 @@
 //! | `Output` | `io::output`: the temporary file cannot be created, written or renamed | variants, data_files |
 //! | `NegativeInputWork` | `identify_regressor` and `RegressorCheck::new` (`regressor::passive`): input work negative beyond its noise in a record or sweep, or overall | variants, physics, physics (tests/) |
 //! | `DeadMotionSensor` | `Regressor::build` (`regressor::dead_motion`): a motion channel that never moves while others do | variants, physics, physics (tests/) |
+//! | `DataScale` | `Regressor::build` and `steady_state::check` (`prep::data_scale`): a record's largest displacement, velocity or force outside 2^±505 | variants, physics, invariants (tests/) |
 
 mod data_files;
 mod fit;

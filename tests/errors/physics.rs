@@ -27,6 +27,69 @@ pub fn still(dof: usize) -> Record {
     .unwrap()
 }
 
+/// The fixture with every displacement, velocity and force × `s`.
+pub fn scaled(s: f64) -> Record {
+    record_with(|p| {
+        p.displacements = Mat::from_fn(N, 2, |i, j| s * p.displacements[(i, j)]);
+        p.velocities = p
+            .velocities
+            .as_ref()
+            .map(|v| Mat::from_fn(N, 2, |i, j| s * v[(i, j)]));
+        let f = forces(N);
+        p.forcing = Forcing::generalized(Mat::from_fn(N, 2, |i, j| s * f[(i, j)]));
+    })
+    .unwrap()
+}
+
+/// Data beyond 2^±505 are refused naming the record, the signal and its magnitude, with
+/// the factor that brings them to order one; data at 1e±100 fit, with the coefficient
+/// unchanged (x and f scale alike).
+#[test]
+fn data_beyond_double_precision_are_refused_with_units_advice() {
+    let fit = |s: f64| {
+        identify(
+            &ParametricRegressor::linear(&shared_model(), &[scaled(s)]),
+            &measured(),
+            &silent,
+        )
+    };
+    let base = fit(1.0).unwrap().report.coefficients[0].value;
+    for s in [1e-100, 1e100] {
+        let c = fit(s).unwrap().report.coefficients[0].value;
+        assert!(
+            (c - base).abs() <= 1e-9 * base.abs(),
+            "{s:e}: {c} vs {base}"
+        );
+    }
+    for (s, signal) in [
+        (1e160, "displacement"),
+        (1e300, "displacement"),
+        (1e-160, "displacement"),
+        (1e-300, "displacement"),
+    ] {
+        let e = fit(s).unwrap_err();
+        match &e {
+            Error::DataScale {
+                record,
+                signal: named,
+                magnitude,
+                ..
+            } => {
+                assert_eq!((record.as_str(), named.as_str()), ("fixture", signal));
+                assert!(*magnitude > 1e-3 * s && *magnitude < 1e3 * s, "{e}");
+                let text = e.to_string();
+                assert!(
+                    text.contains("other units") && text.contains("`scale`"),
+                    "{e}"
+                );
+                let factor = format!("by about 1e{}", -(magnitude.log10().round() as i32));
+                assert!(text.contains(&factor), "{text} lacks {factor}");
+            }
+            other => panic!("{s:e}: {other}"),
+        }
+    }
+}
+
 #[test]
 fn inverted_forces_are_refused_with_the_share_and_the_record() {
     let e = identify(

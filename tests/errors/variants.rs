@@ -167,6 +167,12 @@ fn every_variant_is_reachable() {
             &silent,
         )
         .unwrap_err(),
+        identify(
+            &ParametricRegressor::linear(&shared_model(), &[crate::physics::scaled(1e200)]),
+            &measured(),
+            &silent,
+        )
+        .unwrap_err(),
     ];
     let mut seen: Vec<&str> = errors.iter().map(Error::kind).collect();
     seen.sort_unstable();

@@ -454,6 +454,7 @@ pub fn check(
     settings: &SteadyStateSettings,
 ) -> Result<SteadyStateReport> {
     settings.validate()?;
+    crate::prep::data_scale::require_representable(records)?;
     let spec = windows;
     let mut cut = Vec::new();
     for (index, record) in records.iter().enumerate() {
