@@ -18,9 +18,19 @@ const CACHED_FACTORS: usize = 8;
 /// (ω bits, h bits, m, S) of a basis.
 type FactorKey = (u64, u64, usize, Vec<usize>);
 
+/// How many design tables each thread keeps ([`HarmonicBasis::row_table`]), and the
+/// largest it keeps, in values (1 MiB): a small record's periods repeat a table whose
+/// recurrence costs more than the fit it serves, a long window's table is read once.
+const CACHED_TABLES: usize = 4;
+const CACHED_TABLE_VALUES: usize = 1 << 17;
+
 thread_local! {
     /// The last R factors this thread computed, oldest first.
     static FACTORS: std::cell::RefCell<Vec<(FactorKey, Mat<f64>)>> =
+        const { std::cell::RefCell::new(Vec::new()) };
+    /// The last small design tables this thread computed, oldest first, keyed by
+    /// (ω bits, h bits, rows, S).
+    static TABLES: std::cell::RefCell<Vec<(FactorKey, std::sync::Arc<[f64]>)>> =
         const { std::cell::RefCell::new(Vec::new()) };
 }
 
@@ -157,7 +167,44 @@ impl HarmonicBasis {
     /// the values of [`HarmonicBasis::for_each_phasor`], computed for [`LANES`] samples
     /// at a time (independent recurrences side by side, each with the same arithmetic
     /// as alone, so the same values bit for bit, without waiting on one chain).
-    fn row_table(&self, rows: usize) -> Vec<f64> {
+    ///
+    /// The table depends on (ω, h, rows, S) alone, and the periods of one record (or of
+    /// records at one frequency) repeat them, so each thread keeps the last
+    /// [`CACHED_TABLES`] tables of at most [`CACHED_TABLE_VALUES`] values and shares one
+    /// it has: the same values, without the recurrence.
+    fn row_table(&self, rows: usize) -> std::sync::Arc<[f64]> {
+        let small = rows.saturating_mul(self.columns()) <= CACHED_TABLE_VALUES;
+        if !small {
+            return self.compute_row_table(rows).into();
+        }
+        let key = (
+            self.omega.to_bits(),
+            self.step.to_bits(),
+            rows,
+            self.orders.clone(),
+        );
+        let cached = TABLES.with(|t| {
+            t.borrow()
+                .iter()
+                .find(|(k, _)| *k == key)
+                .map(|(_, table)| table.clone())
+        });
+        if let Some(table) = cached {
+            return table;
+        }
+        let table: std::sync::Arc<[f64]> = self.compute_row_table(rows).into();
+        TABLES.with(|t| {
+            let mut t = t.borrow_mut();
+            if t.len() >= CACHED_TABLES {
+                t.remove(0);
+            }
+            t.push((key, table.clone()));
+        });
+        table
+    }
+
+    /// [`HarmonicBasis::row_table`] computed.
+    fn compute_row_table(&self, rows: usize) -> Vec<f64> {
         let p = self.columns();
         let highest = *self.orders.last().unwrap_or(&0);
         let mut table = vec![0.0; rows * p];
