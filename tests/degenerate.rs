@@ -7,8 +7,9 @@
 //! | a DOF that never moves | here: `dof_that_never_moves_*`; tests/physics.rs, tests/errors/ (`physics`) | `Error::DeadMotionSensor` naming the record and the DOF (a dead sensor); declared held still (`Record::with_fixed_dofs`, `fixed_dofs` in a model file): `Warning::RankDeficient`, no standard errors, the moving DOF's coefficient still right |
 //! | a constant signal | here: `constant_signal_*` | `Error::NoInputWork`: the DOFs the force acts on do not move |
 //! | a dead force sensor (a zero force column, `forces = []`) | here: `dead_force_sensor_*`; tests/nonperiodic.rs: `dead_force_sensor_*`; tests/cli.rs: `dead_force_sensor_*` | `Error::NoInputWork` naming the record and the channels |
-//! | a force that does no net work, or whose work underflows | here: `force_in_phase_*`, `underflowing_input_work_*` | `Error::NoInputWork` for the window |
-//! | an all-zero regressor (a zero matrix or weight for every term, damping work that underflows) | here: `zero_regressor_*`, `underflowing_damping_work_*`; tests/cli.rs | `Error::NoInformation` naming the coefficients |
+//! | a force that does no net work | here: `force_in_phase_*` | `Error::NoInputWork` for the window |
+//! | data so small or large that their products leave double precision (work or damping work that underflows) | here: `underflowing_input_work_*`, `underflowing_damping_work_*`; tests/invariants.rs, tests/errors/physics.rs | `Error::DataScale` naming the record, the signal and the factor |
+//! | an all-zero regressor (a zero matrix or weight for every term) | here: `zero_regressor_*`; tests/cli.rs | `Error::NoInformation` naming the coefficients |
 //! | an all-zero regressor column | here: `all_zero_regressor_column_*`, `zero_element_weight_*` | `Warning::RankDeficient`, the coefficient "not determined"; the other coefficients still right |
 //! | duplicated experiments | here: `duplicated_experiments_*` | `Warning::RankDeficient` (and `NoRedundancy`): copies add no information |
 //! | NaN or Inf anywhere | tests/errors/: `record::nan_in_displacements_*`, `record::inf_in_force_signals_*`, `record::negative_inf_in_force_signals_*`, `record::nan_in_measured_velocities_*`, `record::nan_in_load_distribution_*`, `record::nan_start_time_*`, `record::nan_step_*`, `record::infinite_step_*`, `record::nonpositive_or_non_finite_period_*`, `model::nan_in_damping_matrix_*`, `regressor::custom_law_returning_nan_*`, `regressor::overflowing_regressor_column_*`, `regressor::regressor_parts_are_checked`, `fit::nan_bound_or_fixed_value_*`, `data_files::bad_data_cell_names_row_and_column` | `Error::NonFinite`, `Error::InvalidParameter` or `Error::Data` with the position |
@@ -397,11 +398,12 @@ fn force_in_phase_with_the_displacement_is_no_input_work() {
 }
 
 /// Data in units so small that force times displacement underflows: x and r scaled by
-/// 1e-170 give products near 1e-340, below the smallest f64 (4.9e-324), so b = 0 and the
-/// gross work is 0 although the force reads and the DOFs move. `NoInputWork` says it
-/// underflows, and that other units fix it.
+/// 1e-170 give products near 1e-340, below the smallest f64 (4.9e-324), so b would be 0
+/// although the force reads and the DOFs move. The record is refused before any product
+/// is formed (`prep::data_scale`), naming its displacements and the factor to bring them
+/// to order one. (Before that check, `NoInputWork` said the work underflows.)
 #[test]
-fn underflowing_input_work_is_no_input_work() {
+fn underflowing_input_work_is_refused_as_out_of_scale() {
     let records: Vec<Record> = [([1.0, 0.5], 1.0), ([0.4, 1.2], 1.3)]
         .iter()
         .map(|&(a, w)| {
@@ -424,11 +426,15 @@ fn underflowing_input_work_is_no_input_work() {
     )
     .unwrap_err();
     match &err {
-        Error::NoInputWork { window, reason, .. } => {
-            assert_eq!(*window, Some(0));
-            assert!(reason.contains("underflows"), "{err}");
+        Error::DataScale {
+            signal,
+            factor_exponent,
+            ..
+        } => {
+            assert_eq!(signal, "displacement");
+            assert!((168..=172).contains(factor_exponent), "{err}");
         }
-        other => panic!("expected NoInputWork, got {other:?}"),
+        other => panic!("expected DataScale, got {other:?}"),
     }
 }
 
@@ -486,9 +492,10 @@ fn zero_regressor_is_no_information() {
 
 /// Motion so small that the damping work underflows while the input work does not:
 /// x and v scaled by 1e-170 make every v·f(v) near 1e-340, zero in f64, while r scaled by
-/// 1e+170 keeps vᵀr of order one. A = 0 exactly: `NoInformation`, not a fit.
+/// 1e+170 keeps vᵀr of order one. Such motion is refused before any product is formed
+/// (`prep::data_scale`), naming the displacements: a fit would see A = 0 exactly.
 #[test]
-fn underflowing_damping_work_is_no_information() {
+fn underflowing_damping_work_is_refused_as_out_of_scale() {
     let records: Vec<Record> = [([1.0, 0.5], 1.0), ([0.4, 1.2], 1.3), ([1.1, 0.9], 0.7)]
         .iter()
         .map(|&(a, w)| {
@@ -511,7 +518,7 @@ fn underflowing_damping_work_is_no_information() {
     )
     .unwrap_err();
     assert!(
-        matches!(&err, Error::NoInformation { coefficients, .. } if coefficients == "c[1] and c[2]"),
+        matches!(&err, Error::DataScale { signal, .. } if signal == "displacement"),
         "{err:?}"
     );
 }
