@@ -47,6 +47,7 @@ mod minimum;
 mod outer;
 mod problem;
 mod profile;
+mod sweep_blocks;
 
 use crate::analysis::bootstrap::{Bootstrap, BootstrapSettings};
 use crate::error::{Error, Result};

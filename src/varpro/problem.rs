@@ -4,8 +4,8 @@
 //!
 //! A trial's regressor comes from a builder η → A(η), b: the problem's
 //! [`ParametricRegressor::regressor`] (the law's model at η on records, or a stepped-sine
-//! table rebuilt with its residual receptances at η), or, in a bootstrap replicate,
-//! the resampled rows of it.
+//! table rebuilt with its residual receptances at η, one sweep at a time:
+//! `sweep_blocks.rs`), or, in a bootstrap replicate, the resampled rows of it.
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -41,11 +41,12 @@ impl<'a> Problem<'a> {
         regressor: &'a RegressorSettings,
         fit: &'a FitSettings,
     ) -> Self {
-        Self::with_builder(
-            problem.parameters(),
-            Box::new(move |eta: &[f64]| problem.regressor(eta, regressor)),
-            fit,
-        )
+        // a table with residual unknowns per sweep rebuilds only the sweeps that moved
+        let build: Box<TrialBuilder<'a>> = match super::sweep_blocks::SweepBlocks::of(problem) {
+            Some(blocks) => Box::new(move |eta: &[f64]| blocks.regressor(eta)),
+            None => Box::new(move |eta: &[f64]| problem.regressor(eta, regressor)),
+        };
+        Self::with_builder(problem.parameters(), build, fit)
     }
 
     /// A problem whose trial at η fits the regressor `build(η)`.

@@ -1,0 +1,144 @@
+//! Trials of a stepped-sine table with per-sweep residual unknowns, rebuilt one sweep
+//! at a time.
+//!
+//! With η = (η_law, ρ₁, …, ρ_S), ρ_s the residual unknowns of sweep s (r_k, or r_k and
+//! r_m), point p of sweep s has the equation of its mode's response
+//! Z_mode = Z_p − R_p(ρ_s) a_p ([`crate::prep::harmonic::residual`]):
+//!
+//! ```text
+//!   A_p(η) θ = b_p,   A_p = A(η_law; X_mode,p(ρ_s), φ_mode,p(ρ_s)),   b_p = π a_p X_p sin φ_p,
+//! ```
+//!
+//! so the rows of sweep s (with the forward-difference rows of their noise model) are a
+//! function of (η_law, ρ_s) alone: the regressor is block structured, each ρ_s touching
+//! only its sweep's rows. A trial at η therefore reuses every sweep whose (η_law, ρ_s)
+//! was built before (compared bit for bit) and synthesizes only the others: a forward
+//! difference in ρ_s rebuilds one sweep instead of the table (1/S of a build), and a
+//! trial whose η_law did not move (the nested searches of the law parameters' profile
+//! intervals, the joint covariance's differences in ρ) only the sweeps whose ρ_s moved.
+//! A point's rows depend on that point alone (one synthesized period each), so the
+//! assembled regressor is the one a whole build at η gives, to the last bit
+//! (tests/varpro_sweep_blocks.rs); the estimates and intervals do not change.
+//!
+//! Each sweep keeps its [`CAPACITY`] most recent blocks (a Levenberg–Marquardt
+//! iteration asks for the base point, one difference per parameter and a step).
+
+use std::sync::{Arc, Mutex};
+
+use crate::error::Result;
+use crate::regressor::stepped_sine::{PointRows, assemble, point_rows};
+use crate::regressor::{ParametricRegressor, Regressor, SteppedSineSource};
+
+/// Blocks kept per sweep.
+const CAPACITY: usize = 8;
+
+/// The key of a sweep's block: the bits of η_law then of the sweep's unknowns.
+type Key = Vec<u64>;
+
+/// The trial builder of a table with residual unknowns (module doc).
+pub(super) struct SweepBlocks<'a> {
+    problem: &'a ParametricRegressor<'a>,
+    source: &'a SteppedSineSource,
+    /// Law parameters (the first of η).
+    law: usize,
+    /// Residual unknowns per sweep.
+    per_sweep: usize,
+    /// The points of each sweep, in table order.
+    members: Vec<Vec<usize>>,
+    /// Each point's place in its sweep.
+    places: Vec<usize>,
+    /// Per sweep: the most recent blocks, newest last.
+    cache: Mutex<Vec<Vec<(Key, Arc<Vec<PointRows>>)>>>,
+}
+
+impl<'a> SweepBlocks<'a> {
+    /// The builder of `problem` when its source is a table with residual unknowns per
+    /// sweep, else `None`.
+    pub fn of(problem: &'a ParametricRegressor<'a>) -> Option<Self> {
+        let source = problem.source().stepped_sine()?;
+        let sweeps = source.table.sweep_names.len();
+        let per_sweep = source.residual.per_sweep();
+        if per_sweep == 0 || source.residual_parameters.len() != per_sweep * sweeps {
+            return None;
+        }
+        let mut members = vec![Vec::new(); sweeps];
+        let mut places = Vec::with_capacity(source.table.sweeps.len());
+        for (p, &s) in source.table.sweeps.iter().enumerate() {
+            places.push(members[s].len());
+            members[s].push(p);
+        }
+        Some(SweepBlocks {
+            problem,
+            source,
+            law: problem.law().parameters().len(),
+            per_sweep,
+            members,
+            places,
+            cache: Mutex::new(vec![Vec::new(); sweeps]),
+        })
+    }
+
+    /// The regressor at `eta` (every parameter), as
+    /// [`ParametricRegressor::regressor`] builds it.
+    pub fn regressor(&self, eta: &[f64]) -> Result<Regressor> {
+        let model = self.problem.model(eta)?;
+        // cannot fail: `model` checked the length of `eta`.
+        let residual = self
+            .source
+            .per_point(&eta[self.law..])?
+            .expect("a table with residual unknowns");
+        let sweeps = self.members.len();
+        let key = |s: usize| -> Key {
+            eta[..self.law]
+                .iter()
+                .chain(&eta[self.law + s * self.per_sweep..self.law + (s + 1) * self.per_sweep])
+                .map(|v| v.to_bits())
+                .collect()
+        };
+        let keys: Vec<Key> = (0..sweeps).map(key).collect();
+        let mut blocks: Vec<Option<Arc<Vec<PointRows>>>> = {
+            // cannot fail: no code panics while holding the lock.
+            let cache = self.cache.lock().expect("cache lock");
+            keys.iter()
+                .zip(cache.iter())
+                .map(|(k, kept)| {
+                    kept.iter()
+                        .find(|(at, _)| at == k)
+                        .map(|(_, b)| Arc::clone(b))
+                })
+                .collect()
+        };
+        let missing: Vec<usize> = (0..sweeps).filter(|&s| blocks[s].is_none()).collect();
+        if !missing.is_empty() {
+            let indices: Vec<usize> = missing
+                .iter()
+                .flat_map(|&s| self.members[s].iter().copied())
+                .collect();
+            let r: Vec<f64> = indices.iter().map(|&p| residual[p]).collect();
+            let mut built = point_rows(&model, self.source, &indices, Some(&r))?.into_iter();
+            // cannot fail: no code panics while holding the lock.
+            let mut cache = self.cache.lock().expect("cache lock");
+            for &s in &missing {
+                let block = Arc::new(built.by_ref().take(self.members[s].len()).collect());
+                let kept = &mut cache[s];
+                if kept.len() >= CAPACITY {
+                    kept.remove(0);
+                }
+                kept.push((keys[s].clone(), Arc::clone(&block)));
+                blocks[s] = Some(block);
+            }
+        }
+        let rows: Vec<&PointRows> = self
+            .source
+            .table
+            .sweeps
+            .iter()
+            .zip(&self.places)
+            .map(|(&s, &place)| {
+                // cannot fail: every sweep's block was found or built above.
+                &blocks[s].as_ref().expect("every sweep built")[place]
+            })
+            .collect();
+        assemble(&model, self.source, &rows)
+    }
+}
