@@ -28,7 +28,7 @@ use faer::prelude::Solve;
 
 use crate::error::{Error, Result};
 
-use super::minimum::{Minimum, Residuals};
+use super::minimum::{Minimum, Residuals, Shifted};
 use super::{NonlinearParameter, VarProSettings};
 
 /// Forward-difference step in the unit box.
@@ -47,9 +47,12 @@ fn squared(r: &[f64]) -> f64 {
     r.iter().map(|e| e * e).sum()
 }
 
-/// Minimises ‖r(η)‖² over the box of `parameters` (see the module doc).
+/// Minimises ‖r(η)‖² over the box of `parameters` (see the module doc); `shifted`, when
+/// given, answers the Jacobian's differences it can (the columns of a table's residual
+/// unknowns, `sweep_blocks.rs`), the others are whole trials.
 pub(super) fn levenberg_marquardt(
     residuals: Residuals<'_>,
+    shifted: Option<Shifted<'_>>,
     parameters: &[NonlinearParameter],
     settings: &VarProSettings,
     multistart: bool,
@@ -100,6 +103,7 @@ pub(super) fn levenberg_marquardt(
             break;
         }
         let mut jacobian = Mat::<f64>::zeros(m, q);
+        let eta = eta_of(&u);
         for j in 0..q {
             let h = if u[j] + DIFFERENCE_STEP <= 1.0 {
                 DIFFERENCE_STEP
@@ -108,7 +112,15 @@ pub(super) fn levenberg_marquardt(
             };
             let mut moved = u.clone();
             moved[j] += h;
-            let rj = residuals(&eta_of(&moved))?;
+            let at = eta_of(&moved);
+            let cheap = match shifted {
+                Some(shifted) => shifted(&eta, j, at[j] - eta[j])?,
+                None => None,
+            };
+            let rj = match cheap {
+                Some(rj) => rj,
+                None => residuals(&at)?,
+            };
             if rj.len() != m {
                 return Err(Error::mismatch(
                     "projected residual length between trials",

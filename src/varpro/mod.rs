@@ -163,7 +163,13 @@ fn run(
 ) -> Result<(Regressor, FitReport)> {
     let specs = problem.parameters();
     let minimum = if specs.len() == 1 {
-        outer::minimise(&|eta: &[f64]| problem.residuals(eta), specs, varpro, true)?
+        outer::minimise(
+            &|eta: &[f64]| problem.residuals(eta),
+            None,
+            specs,
+            varpro,
+            true,
+        )?
     } else {
         fixed_weights::minimise(problem, fit, varpro, true)?
     };

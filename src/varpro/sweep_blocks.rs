@@ -26,6 +26,7 @@
 use std::sync::{Arc, Mutex};
 
 use crate::error::Result;
+use crate::model::DampingModel;
 use crate::regressor::stepped_sine::{PointRows, assemble, point_rows};
 use crate::regressor::{ParametricRegressor, Regressor, SteppedSineSource};
 
@@ -81,6 +82,58 @@ impl<'a> SweepBlocks<'a> {
     /// The regressor at `eta` (every parameter), as
     /// [`ParametricRegressor::regressor`] builds it.
     pub fn regressor(&self, eta: &[f64]) -> Result<Regressor> {
+        let (model, blocks) = self.blocks(eta)?;
+        let rows: Vec<&PointRows> = self
+            .source
+            .table
+            .sweeps
+            .iter()
+            .zip(&self.places)
+            .map(|(&s, &place)| &blocks[s][place])
+            .collect();
+        assemble(&model, self.source, &rows)
+    }
+
+    /// ∂A/∂η_j at `eta` for a residual unknown j (`None` for a law parameter): the
+    /// rows of its sweep (table row, ∂A_p/∂η_j) alone, every other row's being zero,
+    ///
+    /// ```text
+    ///   ∂A_p/∂η_j = (∂R_p/∂η_j) ∂A_p/∂R,   ∂R_p/∂r_k = 1,   ∂R_p/∂r_m = −1/ω_p²,
+    /// ```
+    ///
+    /// ∂A_p/∂R in closed form from the point's forward differences in X and φ
+    /// ([`PointRows::residual_derivative`]); b does not depend on R.
+    pub fn derivative(&self, eta: &[f64], j: usize) -> Result<Option<Vec<(usize, Vec<f64>)>>> {
+        if j < self.law || j >= eta.len() {
+            return Ok(None);
+        }
+        let (s, which) = (
+            (j - self.law) / self.per_sweep,
+            (j - self.law) % self.per_sweep,
+        );
+        let (_, blocks) = self.blocks(eta)?;
+        let points = self.source.table.table.points();
+        Ok(Some(
+            self.members[s]
+                .iter()
+                .enumerate()
+                .map(|(place, &p)| {
+                    let point = &points[p];
+                    let factor = if which == 0 {
+                        1.0
+                    } else {
+                        -1.0 / (point.frequency * point.frequency)
+                    };
+                    let d = blocks[s][place].residual_derivative(point);
+                    (p, d.into_iter().map(|x| factor * x).collect())
+                })
+                .collect(),
+        ))
+    }
+
+    /// The model at `eta` and the rows of every sweep, built where not kept.
+    #[allow(clippy::type_complexity)]
+    fn blocks(&self, eta: &[f64]) -> Result<(DampingModel, Vec<Arc<Vec<PointRows>>>)> {
         let model = self.problem.model(eta)?;
         // cannot fail: `model` checked the length of `eta`.
         let residual = self
@@ -128,17 +181,11 @@ impl<'a> SweepBlocks<'a> {
                 blocks[s] = Some(block);
             }
         }
-        let rows: Vec<&PointRows> = self
-            .source
-            .table
-            .sweeps
-            .iter()
-            .zip(&self.places)
-            .map(|(&s, &place)| {
-                // cannot fail: every sweep's block was found or built above.
-                &blocks[s].as_ref().expect("every sweep built")[place]
-            })
+        // cannot fail: every sweep's block was found or built above.
+        let blocks = blocks
+            .into_iter()
+            .map(|b| b.expect("every sweep built"))
             .collect();
-        assemble(&model, self.source, &rows)
+        Ok((model, blocks))
     }
 }
