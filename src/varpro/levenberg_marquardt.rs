@@ -5,7 +5,9 @@
 //! (A θ̂ − b)_r / s_r) and its Jacobian J by forward differences of whole trials, step
 //! δu = 10⁻⁶ (backward at the upper bound; the Golub–Pereyra derivative of the
 //! projected residual, so no Kaufman term is dropped and constrained inner fits are
-//! differentiated as they are), each iteration solves
+//! differentiated as they are; the columns of a table's residual unknowns, when the
+//! caller gives them, from the fit of A(η) + δη_j ∂A/∂η_j instead of a whole trial,
+//! `sweep_blocks.rs`), each iteration solves
 //!
 //! ```text
 //!   (JᵀJ + λ (diag JᵀJ + ε I)) δ = −Jᵀ r,      ε = 10⁻¹² max diag JᵀJ,

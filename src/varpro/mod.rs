@@ -17,7 +17,10 @@
 //! inner fit held fixed during the search and refreshed once at its end
 //! (`fixed_weights.rs`). Each trial rebuilds the
 //! whole regressor of the model the builder makes for η (measured on the four-mass chain: a build costs about as much as the fit itself,
-//! and rebuilding only the affected columns would need the kernel's plan per column).
+//! and rebuilding only the affected columns would need the kernel's plan per column),
+//! except a stepped-sine table with residual unknowns per sweep, which rebuilds only
+//! the sweeps whose unknowns moved and gives the Jacobian columns of those unknowns in
+//! closed form to the searches whose row weights are fixed (`sweep_blocks.rs`).
 //!
 //! Uncertainty, with ν = m − p − q degrees of freedom (m equations, p linear and q
 //! nonlinear parameters):

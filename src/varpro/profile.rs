@@ -24,10 +24,12 @@ use argmin::solver::brent::BrentRoot;
 use statrs::distribution::{ChiSquared, ContinuousCDF, FisherSnedecor};
 
 use super::minimum::Cost;
+use super::minimum::Shifted;
 use super::outer::minimise;
-use super::problem::{Problem, Variance};
+use super::problem::{Problem, Variance, weighted_residuals};
 use super::{NonlinearParameter, ProfileInterval, VarProSettings};
 use crate::error::{Error, Result};
+use crate::fit::Weighting;
 
 struct Excess<'a> {
     profile: Cost<'a>,
@@ -117,8 +119,31 @@ pub(super) fn interval(
                 })
                 .collect()
         };
-        // differences of whole trials: the weights of the propagated fit move with η
-        let best = minimise(&inner, None, &start, settings, false)?;
+        // the Jacobian's columns of a table's residual unknowns for an unweighted fit:
+        // the fit of A(η) + h ∂A/∂η_k (`sweep_blocks.rs`); a weighted fit differences
+        // whole trials (its weights move with η, which the closed form leaves out)
+        let shifted = |rest: &[f64], k: usize, h: f64| -> Result<Option<Vec<f64>>> {
+            let eta = full(t[0], rest);
+            let base = problem.regressor(&eta)?;
+            let k = if k >= j { k + 1 } else { k };
+            let Some(moved) = problem.shifted(&base, &eta, k, h)? else {
+                return Ok(None);
+            };
+            let fit = crate::fit::solve(&moved, problem.fit())?;
+            Ok(Some(weighted_residuals(
+                &moved,
+                &fit.coefficients,
+                fit.residual_std.as_deref(),
+            )))
+        };
+        let unweighted = problem.fit().weighting == Weighting::Ordinary;
+        let best = minimise(
+            &inner,
+            unweighted.then_some(&shifted as Shifted<'_>),
+            &start,
+            settings,
+            false,
+        )?;
         solved.borrow_mut().push((t[0], best.values.clone()));
         problem.cost(&full(t[0], &best.values))
     };

@@ -189,3 +189,129 @@ impl<'a> SweepBlocks<'a> {
         Ok((model, blocks))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use super::*;
+    use crate::model_file::{Job, parse};
+
+    /// The shipped residual example (7 sweeps, R = −2e-6 m/N) with its power law's
+    /// exponent estimated too.
+    fn job() -> Job {
+        let text = std::fs::read_to_string("models/bolted_joint_stepped_sine_residual.toml")
+            .unwrap()
+            .replace(
+                "exponent = 1.5 ",
+                "exponent = { estimate = true, initial = 1.4, lower = 0.5, upper = 3.0 } ",
+            );
+        assert!(text.contains("estimate = true"));
+        parse(
+            &text,
+            "residual.toml",
+            Path::new("models"),
+            Default::default(),
+        )
+        .unwrap()
+    }
+
+    fn same(a: &Regressor, b: &Regressor) {
+        let (ma, mb) = (a.matrix(), b.matrix());
+        assert_eq!((ma.nrows(), ma.ncols()), (mb.nrows(), mb.ncols()));
+        for r in 0..ma.nrows() {
+            for k in 0..ma.ncols() {
+                assert_eq!(ma[(r, k)].to_bits(), mb[(r, k)].to_bits(), "A[{r}, {k}]");
+            }
+        }
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(a.rhs()), bits(b.rhs()));
+        assert_eq!(format!("{:?}", a.noise()), format!("{:?}", b.noise()));
+        assert_eq!(a.rows(), b.rows());
+    }
+
+    /// A trial assembled from cached and rebuilt sweeps is the whole build, bit for
+    /// bit, along a sequence that moves one sweep's r_k, the exponent, then comes back.
+    #[test]
+    fn blocks_equal_whole_builds() {
+        let job = job();
+        let problem = job.problem();
+        let blocks = SweepBlocks::of(&problem).unwrap();
+        let settings = &job.settings.regressor;
+        let mut eta = problem.initial_values();
+        assert_eq!(eta.len(), 1 + 7);
+        for (s, v) in eta[1..].iter_mut().enumerate() {
+            *v = -2e-6 + 1e-7 * s as f64;
+        }
+        let mut moved = eta.clone();
+        moved[3] += 3e-7;
+        let mut exponent = moved.clone();
+        exponent[0] = 1.55;
+        for at in [&eta, &moved, &exponent, &eta, &moved] {
+            same(
+                &blocks.regressor(at).unwrap(),
+                &problem.regressor(at, settings).unwrap(),
+            );
+        }
+    }
+
+    /// ∂A/∂r_k in closed form against central differences of whole builds: the rows of
+    /// sweep k to 10⁻⁵ of their largest entry, every other row exactly zero.
+    #[test]
+    fn residual_derivative_matches_central_differences() {
+        let job = job();
+        let problem = job.problem();
+        let blocks = SweepBlocks::of(&problem).unwrap();
+        let settings = &job.settings.regressor;
+        let mut eta = problem.initial_values();
+        eta[0] = 1.5;
+        for v in &mut eta[1..] {
+            *v = -2e-6;
+        }
+        for j in [1, 4, 7] {
+            let derivative = blocks.derivative(&eta, j).unwrap().unwrap();
+            let h = 1e-9;
+            let at = |d: f64| {
+                let mut e = eta.clone();
+                e[j] += d;
+                problem.regressor(&e, settings).unwrap()
+            };
+            let (up, down) = (at(h), at(-h));
+            let m = up.matrix().nrows();
+            let p = up.matrix().ncols();
+            let mut closed = vec![vec![0.0; p]; m];
+            for (row, d) in &derivative {
+                closed[*row] = d.clone();
+            }
+            let sweep = j - 1;
+            assert_eq!(
+                derivative.len(),
+                job.stepped_sine
+                    .as_ref()
+                    .unwrap()
+                    .table
+                    .sweeps
+                    .iter()
+                    .filter(|&&s| s == sweep)
+                    .count()
+            );
+            for k in 0..p {
+                let largest = closed.iter().map(|d| d[k].abs()).fold(0.0, f64::max);
+                assert!(largest > 0.0);
+                for r in 0..m {
+                    let central = (up.matrix()[(r, k)] - down.matrix()[(r, k)]) / (2.0 * h);
+                    if derivative.iter().all(|(row, _)| *row != r) {
+                        assert_eq!(central, 0.0, "row {r} outside sweep {sweep}");
+                    } else {
+                        assert!(
+                            (closed[r][k] - central).abs() <= 1e-5 * largest,
+                            "row {r} column {k}: {} vs {central}",
+                            closed[r][k]
+                        );
+                    }
+                }
+            }
+            assert!(blocks.derivative(&eta, 0).unwrap().is_none());
+        }
+    }
+}
