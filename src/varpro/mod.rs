@@ -32,7 +32,8 @@
 //!   an end beyond the parameter's bound is reported open;
 //! - the linear coefficients (and η, as Wald errors) get the covariance of the full
 //!   Jacobian J = [∂r/∂θ, ∂r/∂η] at the optimum (`joint.rs`), σ²(JᵀJ)⁻¹, so their intervals
-//!   include the uncertainty of η; ∂r/∂η by central differences of rebuilt regressors.
+//!   include the uncertainty of η; ∂r/∂η by central differences of rebuilt regressors
+//!   (a table's sweeps rebuilt one at a time, `sweep_blocks.rs`).
 //!
 //! An outer loop that does not converge (iteration limit) is data, as [`crate::fit::FitStatus`]
 //! is: [`crate::report::FitReport::is_estimate`] is false, and the report shows the last
