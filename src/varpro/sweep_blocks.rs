@@ -36,6 +36,12 @@ const CAPACITY: usize = 8;
 /// The key of a sweep's block: the bits of η_law then of the sweep's unknowns.
 type Key = Vec<u64>;
 
+/// The rows of one sweep's points, in the sweep's order.
+type Block = Arc<Vec<PointRows>>;
+
+/// ∂A/∂η_j on the rows it touches: (table row, ∂A_p/∂η_j per column).
+pub(super) type RowDerivatives = Vec<(usize, Vec<f64>)>;
+
 /// The trial builder of a table with residual unknowns (module doc).
 pub(super) struct SweepBlocks<'a> {
     problem: &'a ParametricRegressor<'a>,
@@ -49,7 +55,7 @@ pub(super) struct SweepBlocks<'a> {
     /// Each point's place in its sweep.
     places: Vec<usize>,
     /// Per sweep: the most recent blocks, newest last.
-    cache: Mutex<Vec<Vec<(Key, Arc<Vec<PointRows>>)>>>,
+    cache: Mutex<Vec<Vec<(Key, Block)>>>,
 }
 
 impl<'a> SweepBlocks<'a> {
@@ -103,7 +109,7 @@ impl<'a> SweepBlocks<'a> {
     ///
     /// ∂A_p/∂R in closed form from the point's forward differences in X and φ
     /// ([`PointRows::residual_derivative`]); b does not depend on R.
-    pub fn derivative(&self, eta: &[f64], j: usize) -> Result<Option<Vec<(usize, Vec<f64>)>>> {
+    pub fn derivative(&self, eta: &[f64], j: usize) -> Result<Option<RowDerivatives>> {
         if j < self.law || j >= eta.len() {
             return Ok(None);
         }
@@ -132,8 +138,7 @@ impl<'a> SweepBlocks<'a> {
     }
 
     /// The model at `eta` and the rows of every sweep, built where not kept.
-    #[allow(clippy::type_complexity)]
-    fn blocks(&self, eta: &[f64]) -> Result<(DampingModel, Vec<Arc<Vec<PointRows>>>)> {
+    fn blocks(&self, eta: &[f64]) -> Result<(DampingModel, Vec<Block>)> {
         let model = self.problem.model(eta)?;
         // cannot fail: `model` checked the length of `eta`.
         let residual = self
@@ -149,7 +154,7 @@ impl<'a> SweepBlocks<'a> {
                 .collect()
         };
         let keys: Vec<Key> = (0..sweeps).map(key).collect();
-        let mut blocks: Vec<Option<Arc<Vec<PointRows>>>> = {
+        let mut blocks: Vec<Option<Block>> = {
             // cannot fail: no code panics while holding the lock.
             let cache = self.cache.lock().expect("cache lock");
             keys.iter()
@@ -298,15 +303,15 @@ mod tests {
             for k in 0..p {
                 let largest = closed.iter().map(|d| d[k].abs()).fold(0.0, f64::max);
                 assert!(largest > 0.0);
-                for r in 0..m {
+                for (r, d) in closed.iter().enumerate() {
                     let central = (up.matrix()[(r, k)] - down.matrix()[(r, k)]) / (2.0 * h);
                     if derivative.iter().all(|(row, _)| *row != r) {
                         assert_eq!(central, 0.0, "row {r} outside sweep {sweep}");
                     } else {
                         assert!(
-                            (closed[r][k] - central).abs() <= 1e-5 * largest,
+                            (d[k] - central).abs() <= 1e-5 * largest,
                             "row {r} column {k}: {} vs {central}",
-                            closed[r][k]
+                            d[k]
                         );
                     }
                 }
