@@ -52,6 +52,7 @@ use crate::regressor::{Regressor, RegressorSettings, RowLabel};
 const STEP: f64 = 1e-6;
 
 /// One row: the columns and the input work.
+#[derive(Debug, Clone)]
 struct Row {
     columns: Vec<f64>,
     input: f64,
@@ -112,16 +113,56 @@ pub(crate) fn build(
     source: &SteppedSineSource,
     residual: &[f64],
 ) -> Result<Regressor> {
-    let (structural, swept, approximation) =
-        (&source.structural, &source.table, &source.approximation);
     let residual = source.per_point(residual)?;
-    let residual = residual.as_deref();
-    approximation.validate()?;
-    let table = &swept.table;
-    let dofs = table.dofs();
+    let indices: Vec<usize> = (0..source.table.table.points().len()).collect();
+    let rows = point_rows(model, source, &indices, residual.as_deref())?;
+    assemble(model, source, &rows.iter().collect::<Vec<_>>())
+}
+
+/// The rows of one point: its equation, then its rows with a + h, and X_i + h and
+/// φ_i + h for each DOF (the forward differences of the noise model), each computed
+/// from the point corrected by its residual receptance. A point's rows depend on that
+/// point alone, so rows computed for some points and assembled with others' give the
+/// regressor [`build`] gives (`varpro/sweep_blocks.rs` rebuilds one sweep at a time).
+#[derive(Debug, Clone)]
+pub(crate) struct PointRows {
+    rows: Vec<Row>,
+}
+
+impl PointRows {
+    /// ∂A/∂R of the point's equation (its columns), R its residual receptance: the
+    /// mode's response Z − R a moves by −a dR, as it does when the measured response of
+    /// the force DOF f moves by dX_f = −a cos φ_f dR and dφ_f = (a sin φ_f / X_f) dR, so
+    ///
+    /// ```text
+    ///   ∂A/∂R = −a cos φ_f ∂A/∂X_f + (a sin φ_f / X_f) ∂A/∂φ_f,
+    /// ```
+    ///
+    /// with ∂A/∂X_f, ∂A/∂φ_f the forward differences of the noise model (relative error
+    /// about 10⁻⁶). b does not depend on R. `point` is the point as measured.
+    pub(crate) fn residual_derivative(&self, point: &SteppedSinePoint) -> Vec<f64> {
+        let f = point.force_dof;
+        let steps: Vec<f64> = perturbed(point).into_iter().map(|(_, h)| h).collect();
+        let base = &self.rows[0].columns;
+        let (x, phi, a) = (point.amplitudes[f], point.phases[f], point.force_amplitude);
+        let (dx, dphi) = (-a * phi.cos(), a * phi.sin() / x);
+        let (rx, rp) = (&self.rows[2 + 2 * f], &self.rows[3 + 2 * f]);
+        (0..base.len())
+            .map(|k| {
+                dx * (rx.columns[k] - base[k]) / steps[2 + 2 * f]
+                    + dphi * (rp.columns[k] - base[k]) / steps[3 + 2 * f]
+            })
+            .collect()
+    }
+}
+
+/// The checked columns of `model` and the table's structural terms on `source`.
+fn checked_columns(model: &DampingModel, source: &SteppedSineSource) -> Result<Vec<String>> {
+    source.approximation.validate()?;
+    let dofs = source.table.table.dofs();
     model.validate_terms(dofs)?;
     let mut columns = model.coefficient_names();
-    for s in structural {
+    for s in &source.structural {
         s.validate(dofs)?;
         if columns.contains(&s.coefficient) {
             return Err(Error::DuplicateCoefficient {
@@ -130,52 +171,94 @@ pub(crate) fn build(
         }
         columns.push(s.coefficient.clone());
     }
-    let points = table.points();
-    // Per point: the point, a + h, then X_i + h and φ_i + h for each DOF.
-    let per_point = 2 + 2 * dofs;
-    let mut expanded = Vec::with_capacity(points.len() * per_point);
-    let mut steps = Vec::with_capacity(points.len() * per_point);
+    Ok(columns)
+}
+
+/// The finite-difference steps of `p`'s rows after its equation (a, then X_i and φ_i
+/// per DOF), and the perturbed copies of `p` they belong to.
+fn perturbed(p: &SteppedSinePoint) -> Vec<(SteppedSinePoint, f64)> {
+    let dofs = p.dofs();
+    let mut out = Vec::with_capacity(2 + 2 * dofs);
+    out.push((p.clone(), 1.0));
+    let mut q = p.clone();
+    let h = STEP * p.force_amplitude.max(f64::MIN_POSITIVE);
+    q.force_amplitude += h;
+    out.push((q, h));
+    let largest = p.amplitudes.iter().fold(0.0f64, |m, x| m.max(*x));
+    for j in 0..dofs {
+        let mut q = p.clone();
+        let h = STEP * p.amplitudes[j].max(largest).max(f64::MIN_POSITIVE);
+        q.amplitudes[j] += h;
+        out.push((q, h));
+        let mut q = p.clone();
+        q.phases[j] += STEP;
+        out.push((q, STEP));
+    }
+    out
+}
+
+/// The [`PointRows`] of the table's points `indices` (table order not required), each
+/// point's response first corrected by `residual[i]` for `indices[i]` (`None`: as
+/// measured). One synthesis of all their perturbed copies.
+pub(crate) fn point_rows(
+    model: &DampingModel,
+    source: &SteppedSineSource,
+    indices: &[usize],
+    residual: Option<&[f64]>,
+) -> Result<Vec<PointRows>> {
+    checked_columns(model, source)?;
+    let points = source.table.table.points();
     if let Some(r) = residual
-        && r.len() != points.len()
+        && r.len() != indices.len()
     {
         return Err(Error::mismatch(
             "residual receptances vs stepped-sine points",
-            points.len(),
+            indices.len(),
             r.len(),
         ));
     }
-    for p in points {
-        expanded.push(p.clone());
-        steps.push(1.0);
-        let mut q = p.clone();
-        let h = STEP * p.force_amplitude.max(f64::MIN_POSITIVE);
-        q.force_amplitude += h;
-        expanded.push(q);
-        steps.push(h);
-        let largest = p.amplitudes.iter().fold(0.0f64, |m, x| m.max(*x));
-        for j in 0..dofs {
-            let mut q = p.clone();
-            let h = STEP * p.amplitudes[j].max(largest).max(f64::MIN_POSITIVE);
-            q.amplitudes[j] += h;
-            expanded.push(q);
-            steps.push(h);
-            let mut q = p.clone();
-            q.phases[j] += STEP;
-            expanded.push(q);
-            steps.push(STEP);
+    let per_point = 2 + 2 * source.table.table.dofs();
+    let mut expanded = Vec::with_capacity(indices.len() * per_point);
+    for (i, &p) in indices.iter().enumerate() {
+        for (q, _) in perturbed(&points[p]) {
+            expanded.push(match residual {
+                Some(r) => residual::correct(&q, r[i])?,
+                None => q,
+            });
         }
     }
-    if let Some(r) = residual {
-        for (k, q) in expanded.iter_mut().enumerate() {
-            *q = residual::correct(q, r[k / per_point])?;
-        }
+    let all = rows(model, &source.structural, &expanded, &source.approximation)?;
+    let mut all = all.into_iter();
+    Ok((0..indices.len())
+        .map(|_| PointRows {
+            rows: all.by_ref().take(per_point).collect(),
+        })
+        .collect())
+}
+
+/// The regressor of `source` from the rows of every point in table order (`rows[p]`
+/// of point p, from [`point_rows`] for `model`), with its noise model, labels and work
+/// scale (see [`build`]).
+pub(crate) fn assemble(
+    model: &DampingModel,
+    source: &SteppedSineSource,
+    rows: &[&PointRows],
+) -> Result<Regressor> {
+    let columns = checked_columns(model, source)?;
+    let swept = &source.table;
+    let table = &swept.table;
+    let dofs = table.dofs();
+    let points = table.points();
+    if rows.len() != points.len() {
+        return Err(Error::mismatch(
+            "rows vs stepped-sine points",
+            points.len(),
+            rows.len(),
+        ));
     }
-    let all = rows(model, structural, &expanded, approximation)?;
     let p_count = columns.len();
-    let matrix = Mat::from_fn(points.len(), p_count, |r, k| all[r * per_point].columns[k]);
-    let rhs: Vec<f64> = (0..points.len())
-        .map(|r| all[r * per_point].input)
-        .collect();
+    let matrix = Mat::from_fn(points.len(), p_count, |r, k| rows[r].rows[0].columns[k]);
+    let rhs: Vec<f64> = (0..points.len()).map(|r| rows[r].rows[0].input).collect();
     // Each point's place in its sweep.
     let mut count = vec![0usize; swept.sweep_names.len()];
     let places: Vec<usize> = swept
@@ -191,11 +274,13 @@ pub(crate) fn build(
         windows: Vec::with_capacity(points.len()),
     };
     for r in 0..points.len() {
-        let base = &all[r * per_point];
+        let own = &rows[r].rows;
+        let steps: Vec<f64> = perturbed(&points[r]).into_iter().map(|(_, h)| h).collect();
+        let base = &own[0];
         let sigma = &swept.noise[r];
         let derivative = |offset: usize| {
-            let row = &all[r * per_point + offset];
-            let h = steps[r * per_point + offset];
+            let row = &own[offset];
+            let h = steps[offset];
             (
                 (row.input - base.input) / h,
                 row.columns

@@ -129,7 +129,8 @@ pub(super) fn bootstrap(
             start.clone(),
             Box::new(|eta: &[f64]| problem.regressor(eta)?.select_rows(&rows)),
             problem.fit(),
-        );
+        )
+        .with_derivatives_of(problem, &rows);
         let outcome = match refit(&replicate, varpro, full_rank) {
             Ok(outcome) => outcome,
             Err(Error::Numerical { .. }) => Outcome::Unusable,
@@ -197,7 +198,13 @@ fn refit(replicate: &Problem<'_>, varpro: &VarProSettings, full_rank: usize) -> 
     let fit = replicate.fit();
     let parameters = replicate.parameters();
     let minimum = if parameters.len() == 1 {
-        levenberg_marquardt(&|eta| replicate.residuals(eta), parameters, varpro, false)?
+        levenberg_marquardt(
+            &|eta| replicate.residuals(eta),
+            None,
+            parameters,
+            varpro,
+            false,
+        )?
     } else {
         fixed_weights::minimise(replicate, fit, varpro, false)?
     };

@@ -54,8 +54,23 @@ pub(super) fn minimise(
 ) -> Result<Minimum> {
     let parameters = problem.parameters();
     if fit.weighting == Weighting::Ordinary {
+        // the Jacobian's columns of a table's residual unknowns: the fit of
+        // A(η) + h ∂A/∂η_j (`sweep_blocks.rs`)
+        let shifted = |eta: &[f64], j: usize, h: f64| -> Result<Option<Vec<f64>>> {
+            let base = problem.regressor(eta)?;
+            let Some(rows) = problem.shifted(&base, eta, j, h)? else {
+                return Ok(None);
+            };
+            let fit = crate::fit::solve(&rows, fit)?;
+            Ok(Some(weighted_residuals(
+                &rows,
+                &fit.coefficients,
+                fit.residual_std.as_deref(),
+            )))
+        };
         return levenberg_marquardt(
             &|eta| problem.residuals(eta),
+            Some(&shifted),
             parameters,
             settings,
             multistart,
@@ -94,7 +109,7 @@ pub(super) fn minimise(
                 fit.residual_std.as_deref(),
             ))
         };
-        return levenberg_marquardt(&unweighted, parameters, settings, multistart);
+        return levenberg_marquardt(&unweighted, None, parameters, settings, multistart);
     };
     let ordinary = FitSettings {
         weighting: Weighting::Ordinary,
@@ -105,13 +120,31 @@ pub(super) fn minimise(
         let fit = crate::fit::solve(&rows, &ordinary)?;
         Ok(weighted_residuals(&rows, &fit.coefficients, None))
     };
+    // the Jacobian's columns of a table's residual unknowns: the fixed-weight fit of
+    // A(η) + h ∂A/∂η_j (`sweep_blocks.rs`)
+    let fixed_shifted =
+        |weights: &[f64], eta: &[f64], j: usize, h: f64| -> Result<Option<Vec<f64>>> {
+            let base = regressor(eta)?;
+            let Some(moved) = problem.shifted(&base, eta, j, h)? else {
+                return Ok(None);
+            };
+            let rows = moved.weighted(weights)?;
+            let fit = crate::fit::solve(&rows, &ordinary)?;
+            Ok(Some(weighted_residuals(&rows, &fit.coefficients, None)))
+        };
     // the first search only has to reach the basin: the refinement converges to
     // `tolerance`
     let loose = VarProSettings {
         tolerance: settings.tolerance.sqrt(),
         ..*settings
     };
-    let first = levenberg_marquardt(&|eta| fixed(&weights, eta), parameters, &loose, multistart)?;
+    let first = levenberg_marquardt(
+        &|eta| fixed(&weights, eta),
+        Some(&|eta, j, h| fixed_shifted(&weights, eta, j, h)),
+        parameters,
+        &loose,
+        multistart,
+    )?;
     if !first.converged {
         return Ok(first);
     }
@@ -126,7 +159,13 @@ pub(super) fn minimise(
             ..p.clone()
         })
         .collect();
-    let second = levenberg_marquardt(&|eta| fixed(&weights, eta), &from_first, settings, false)?;
+    let second = levenberg_marquardt(
+        &|eta| fixed(&weights, eta),
+        Some(&|eta, j, h| fixed_shifted(&weights, eta, j, h)),
+        &from_first,
+        settings,
+        false,
+    )?;
     Ok(Minimum {
         iterations: first.iterations + second.iterations,
         ..second

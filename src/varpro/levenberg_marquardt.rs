@@ -5,7 +5,9 @@
 //! (A θ̂ − b)_r / s_r) and its Jacobian J by forward differences of whole trials, step
 //! δu = 10⁻⁶ (backward at the upper bound; the Golub–Pereyra derivative of the
 //! projected residual, so no Kaufman term is dropped and constrained inner fits are
-//! differentiated as they are), each iteration solves
+//! differentiated as they are; the columns of a table's residual unknowns, when the
+//! caller gives them, from the fit of A(η) + δη_j ∂A/∂η_j instead of a whole trial,
+//! `sweep_blocks.rs`), each iteration solves
 //!
 //! ```text
 //!   (JᵀJ + λ (diag JᵀJ + ε I)) δ = −Jᵀ r,      ε = 10⁻¹² max diag JᵀJ,
@@ -28,7 +30,7 @@ use faer::prelude::Solve;
 
 use crate::error::{Error, Result};
 
-use super::minimum::{Minimum, Residuals};
+use super::minimum::{Minimum, Residuals, Shifted};
 use super::{NonlinearParameter, VarProSettings};
 
 /// Forward-difference step in the unit box.
@@ -47,9 +49,12 @@ fn squared(r: &[f64]) -> f64 {
     r.iter().map(|e| e * e).sum()
 }
 
-/// Minimises ‖r(η)‖² over the box of `parameters` (see the module doc).
+/// Minimises ‖r(η)‖² over the box of `parameters` (see the module doc); `shifted`, when
+/// given, answers the Jacobian's differences it can (the columns of a table's residual
+/// unknowns, `sweep_blocks.rs`), the others are whole trials.
 pub(super) fn levenberg_marquardt(
     residuals: Residuals<'_>,
+    shifted: Option<Shifted<'_>>,
     parameters: &[NonlinearParameter],
     settings: &VarProSettings,
     multistart: bool,
@@ -100,6 +105,7 @@ pub(super) fn levenberg_marquardt(
             break;
         }
         let mut jacobian = Mat::<f64>::zeros(m, q);
+        let eta = eta_of(&u);
         for j in 0..q {
             let h = if u[j] + DIFFERENCE_STEP <= 1.0 {
                 DIFFERENCE_STEP
@@ -108,7 +114,15 @@ pub(super) fn levenberg_marquardt(
             };
             let mut moved = u.clone();
             moved[j] += h;
-            let rj = residuals(&eta_of(&moved))?;
+            let at = eta_of(&moved);
+            let cheap = match shifted {
+                Some(shifted) => shifted(&eta, j, at[j] - eta[j])?,
+                None => None,
+            };
+            let rj = match cheap {
+                Some(rj) => rj,
+                None => residuals(&at)?,
+            };
             if rj.len() != m {
                 return Err(Error::mismatch(
                     "projected residual length between trials",

@@ -10,6 +10,10 @@ pub(super) type Cost<'a> = &'a dyn Fn(&[f64]) -> Result<f64>;
 /// The projected residual r(η) of one trial (its squared norm is the cost).
 pub(super) type Residuals<'a> = &'a dyn Fn(&[f64]) -> Result<Vec<f64>>;
 
+/// The projected residual at η + h e_j (η, j, h) from a cheaper model of the trial
+/// there (`None`: difference whole trials).
+pub(super) type Shifted<'a> = &'a dyn Fn(&[f64], usize, f64) -> Result<Option<Vec<f64>>>;
+
 /// Where the outer loop ended.
 pub(super) struct Minimum {
     pub values: Vec<f64>,

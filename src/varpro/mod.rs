@@ -17,7 +17,10 @@
 //! inner fit held fixed during the search and refreshed once at its end
 //! (`fixed_weights.rs`). Each trial rebuilds the
 //! whole regressor of the model the builder makes for η (measured on the four-mass chain: a build costs about as much as the fit itself,
-//! and rebuilding only the affected columns would need the kernel's plan per column).
+//! and rebuilding only the affected columns would need the kernel's plan per column),
+//! except a stepped-sine table with residual unknowns per sweep, which rebuilds only
+//! the sweeps whose unknowns moved and gives the Jacobian columns of those unknowns in
+//! closed form to the searches whose row weights are fixed (`sweep_blocks.rs`).
 //!
 //! Uncertainty, with ν = m − p − q degrees of freedom (m equations, p linear and q
 //! nonlinear parameters):
@@ -29,7 +32,8 @@
 //!   an end beyond the parameter's bound is reported open;
 //! - the linear coefficients (and η, as Wald errors) get the covariance of the full
 //!   Jacobian J = [∂r/∂θ, ∂r/∂η] at the optimum (`joint.rs`), σ²(JᵀJ)⁻¹, so their intervals
-//!   include the uncertainty of η; ∂r/∂η by central differences of rebuilt regressors.
+//!   include the uncertainty of η; ∂r/∂η by central differences of rebuilt regressors
+//!   (a table's sweeps rebuilt one at a time, `sweep_blocks.rs`).
 //!
 //! An outer loop that does not converge (iteration limit) is data, as [`crate::fit::FitStatus`]
 //! is: [`crate::report::FitReport::is_estimate`] is false, and the report shows the last
@@ -47,6 +51,7 @@ mod minimum;
 mod outer;
 mod problem;
 mod profile;
+mod sweep_blocks;
 
 use crate::analysis::bootstrap::{Bootstrap, BootstrapSettings};
 use crate::error::{Error, Result};
@@ -162,7 +167,13 @@ fn run(
 ) -> Result<(Regressor, FitReport)> {
     let specs = problem.parameters();
     let minimum = if specs.len() == 1 {
-        outer::minimise(&|eta: &[f64]| problem.residuals(eta), specs, varpro, true)?
+        outer::minimise(
+            &|eta: &[f64]| problem.residuals(eta),
+            None,
+            specs,
+            varpro,
+            true,
+        )?
     } else {
         fixed_weights::minimise(problem, fit, varpro, true)?
     };

@@ -17,7 +17,7 @@ use argmin::solver::brent::BrentOpt;
 use crate::error::{Error, Result};
 
 use super::levenberg_marquardt::levenberg_marquardt;
-use super::minimum::{Minimum, Residuals};
+use super::minimum::{Minimum, Residuals, Shifted};
 use super::{NonlinearParameter, VarProSettings};
 
 struct Scalar<'a>(Residuals<'a>);
@@ -55,9 +55,11 @@ fn ended(status: &TerminationStatus) -> (bool, String) {
 
 /// Minimises ‖`residuals`‖² over the box of `parameters`, starting from their initial
 /// values (and, with several parameters and `multistart`, from the best of a coarse
-/// set of starts).
+/// set of starts); `shifted` answers the Levenberg–Marquardt Jacobian's differences it
+/// can.
 pub(super) fn minimise(
     residuals: Residuals<'_>,
+    shifted: Option<Shifted<'_>>,
     parameters: &[NonlinearParameter],
     settings: &VarProSettings,
     multistart: bool,
@@ -84,5 +86,5 @@ pub(super) fn minimise(
             reason,
         });
     }
-    levenberg_marquardt(residuals, parameters, settings, multistart)
+    levenberg_marquardt(residuals, shifted, parameters, settings, multistart)
 }

@@ -4,9 +4,10 @@
 //!
 //! A trial's regressor comes from a builder η → A(η), b: the problem's
 //! [`ParametricRegressor::regressor`] (the law's model at η on records, or a stepped-sine
-//! table rebuilt with its residual receptances at η), or, in a bootstrap replicate,
-//! the resampled rows of it.
+//! table rebuilt with its residual receptances at η, one sweep at a time:
+//! `sweep_blocks.rs`), or, in a bootstrap replicate, the resampled rows of it.
 
+use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use crate::analysis::diagnostics::REJECTION_P_VALUE;
@@ -14,6 +15,8 @@ use crate::error::Result;
 use crate::fit::{Fit, FitSettings};
 use crate::regressor::{NonlinearParameter, ParametricRegressor, Regressor, RegressorSettings};
 use crate::report::FitReport;
+
+use super::sweep_blocks::SweepBlocks;
 
 /// The regressor at η (η in the order of the problem's parameters).
 pub type TrialBuilder<'a> = dyn Fn(&[f64]) -> Result<Regressor> + Send + Sync + 'a;
@@ -24,6 +27,10 @@ pub(super) struct Problem<'a> {
     build: Box<TrialBuilder<'a>>,
     fit: &'a FitSettings,
     evaluations: AtomicU64,
+    /// The sweep blocks of a table with residual unknowns (∂A/∂η_j in closed form for
+    /// those), and the rows of the full regressor this problem's rows are (a bootstrap
+    /// replicate's; `None`: all, in order).
+    derivatives: Option<(Arc<SweepBlocks<'a>>, Option<Vec<usize>>)>,
 }
 
 /// The regressor and the fit at one η, and its cost.
@@ -41,11 +48,26 @@ impl<'a> Problem<'a> {
         regressor: &'a RegressorSettings,
         fit: &'a FitSettings,
     ) -> Self {
-        Self::with_builder(
-            problem.parameters(),
-            Box::new(move |eta: &[f64]| problem.regressor(eta, regressor)),
-            fit,
-        )
+        // a table with residual unknowns per sweep rebuilds only the sweeps that moved
+        match SweepBlocks::of(problem) {
+            Some(blocks) => {
+                let blocks = Arc::new(blocks);
+                let builder = Arc::clone(&blocks);
+                Problem {
+                    derivatives: Some((blocks, None)),
+                    ..Self::with_builder(
+                        problem.parameters(),
+                        Box::new(move |eta: &[f64]| builder.regressor(eta)),
+                        fit,
+                    )
+                }
+            }
+            None => Self::with_builder(
+                problem.parameters(),
+                Box::new(move |eta: &[f64]| problem.regressor(eta, regressor)),
+                fit,
+            ),
+        }
     }
 
     /// A problem whose trial at η fits the regressor `build(η)`.
@@ -59,7 +81,77 @@ impl<'a> Problem<'a> {
             build,
             fit,
             evaluations: AtomicU64::new(0),
+            derivatives: None,
         }
+    }
+
+    /// This problem, whose regressor at η is the rows `rows` of `parent`'s (a bootstrap
+    /// replicate), with the closed-form derivatives of `parent`.
+    pub fn with_derivatives_of(mut self, parent: &Problem<'a>, rows: &[usize]) -> Self {
+        self.derivatives = parent
+            .derivatives
+            .as_ref()
+            .map(|(blocks, _)| (Arc::clone(blocks), Some(rows.to_vec())));
+        self
+    }
+
+    /// A(η) + h ∂A/∂η_j with b, labels and noise model of `base` = A(η), when ∂A/∂η_j
+    /// is known in closed form (a residual unknown of a table, `sweep_blocks.rs`);
+    /// `None` otherwise (the caller differences whole trials). Its fit differs from the
+    /// trial at η + h e_j by O(h²) in A, and its noise model is that at η: for a fit
+    /// whose row weights are fixed (`fixed_weights.rs`) or absent.
+    pub fn shifted(
+        &self,
+        base: &Regressor,
+        eta: &[f64],
+        j: usize,
+        h: f64,
+    ) -> Result<Option<Regressor>> {
+        let Some((blocks, selection)) = &self.derivatives else {
+            return Ok(None);
+        };
+        let Some(derivative) = blocks.derivative(eta, j)? else {
+            return Ok(None);
+        };
+        let mut matrix = base.matrix().clone();
+        let p = matrix.ncols();
+        let mut add = |row: usize, d: &[f64]| {
+            for (k, x) in d.iter().enumerate().take(p) {
+                matrix[(row, k)] += h * x;
+            }
+        };
+        match selection {
+            None => {
+                for (row, d) in &derivative {
+                    add(*row, d);
+                }
+            }
+            Some(rows) => {
+                let mut of_row: Vec<Option<usize>> =
+                    vec![None; rows.iter().max().map_or(0, |m| m + 1)];
+                for (i, (row, _)) in derivative.iter().enumerate() {
+                    if let Some(slot) = of_row.get_mut(*row) {
+                        *slot = Some(i);
+                    }
+                }
+                for (i, &row) in rows.iter().enumerate() {
+                    if let Some(Some(k)) = of_row.get(row) {
+                        add(i, &derivative[*k].1);
+                    }
+                }
+            }
+        }
+        let mut moved = Regressor::from_parts(
+            matrix,
+            base.rhs().to_vec(),
+            base.columns().to_vec(),
+            base.rows().to_vec(),
+        )?
+        .with_nuisance_count(base.nuisance_count())?;
+        if let Some(noise) = base.noise() {
+            moved = moved.with_noise(noise.clone())?;
+        }
+        Ok(Some(moved))
     }
 
     /// The nonlinear parameters.

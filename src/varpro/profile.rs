@@ -9,20 +9,27 @@
 //!
 //! Each end is the root of P(η_j) − φ̂ − Δ between η̂_j and the bound, found by Brent's
 //! root finder (argmin) to 10⁻⁶ of the bound interval; with several parameters every
-//! P evaluation is a nested outer optimisation of the others, started at their optimum.
+//! P evaluation is a nested outer optimisation of the others, started at their values
+//! at the nearest η_j solved so far (the optimum first: a continuation along the
+//! profile, which saves most of the nested iterations; the nested minimum is the same
+//! to the outer tolerance, so the ends move in their last digits, BENCHMARKS.md §14).
 //! An end where P is still below φ̂ + Δ at the bound is open (`None`): the data do not
 //! bound the parameter on that side within the bounds given. An optimum on a bound
 //! closes that side at the bound.
+
+use std::cell::RefCell;
 
 use argmin::core::{CostFunction, Error as ArgminError, Executor, State};
 use argmin::solver::brent::BrentRoot;
 use statrs::distribution::{ChiSquared, ContinuousCDF, FisherSnedecor};
 
 use super::minimum::Cost;
+use super::minimum::Shifted;
 use super::outer::minimise;
-use super::problem::{Problem, Variance};
+use super::problem::{Problem, Variance, weighted_residuals};
 use super::{NonlinearParameter, ProfileInterval, VarProSettings};
 use crate::error::{Error, Result};
+use crate::fit::Weighting;
 
 struct Excess<'a> {
     profile: Cost<'a>,
@@ -84,13 +91,60 @@ pub(super) fn interval(
         eta.insert(j, t);
         eta
     };
+    // the profile points solved so far, (η_j, the others' values), the optimum first
+    let solved: RefCell<Vec<(f64, Vec<f64>)>> = RefCell::new(vec![(
+        optimum[j],
+        others.iter().map(|p| p.initial).collect(),
+    )]);
     let profile = |t: &[f64]| -> Result<f64> {
         if others.is_empty() {
             return problem.cost(t);
         }
         let inner = |rest: &[f64]| problem.residuals(&full(t[0], rest));
-        // started at the optimum's values of the others: no multistart
-        let best = minimise(&inner, &others, settings, false)?;
+        // started at the others' values of the nearest point solved (continuation): no
+        // multistart
+        let start: Vec<NonlinearParameter> = {
+            let solved = solved.borrow();
+            // cannot fail: `solved` holds the optimum at least.
+            let (_, nearest) = solved
+                .iter()
+                .min_by(|a, b| (a.0 - t[0]).abs().total_cmp(&(b.0 - t[0]).abs()))
+                .expect("the optimum is solved");
+            others
+                .iter()
+                .zip(nearest)
+                .map(|(p, &v)| NonlinearParameter {
+                    initial: v,
+                    ..p.clone()
+                })
+                .collect()
+        };
+        // the Jacobian's columns of a table's residual unknowns for an unweighted fit:
+        // the fit of A(η) + h ∂A/∂η_k (`sweep_blocks.rs`); a weighted fit differences
+        // whole trials (its weights move with η, which the closed form leaves out)
+        let shifted = |rest: &[f64], k: usize, h: f64| -> Result<Option<Vec<f64>>> {
+            let eta = full(t[0], rest);
+            let base = problem.regressor(&eta)?;
+            let k = if k >= j { k + 1 } else { k };
+            let Some(moved) = problem.shifted(&base, &eta, k, h)? else {
+                return Ok(None);
+            };
+            let fit = crate::fit::solve(&moved, problem.fit())?;
+            Ok(Some(weighted_residuals(
+                &moved,
+                &fit.coefficients,
+                fit.residual_std.as_deref(),
+            )))
+        };
+        let unweighted = problem.fit().weighting == Weighting::Ordinary;
+        let best = minimise(
+            &inner,
+            unweighted.then_some(&shifted as Shifted<'_>),
+            &start,
+            settings,
+            false,
+        )?;
+        solved.borrow_mut().push((t[0], best.values.clone()));
         problem.cost(&full(t[0], &best.values))
     };
     let spec = &parameters[j];
