@@ -278,6 +278,20 @@ pub fn free_decay_identification(
     }
     let section = toml::from_str::<Section>(&text)
         .map_err(|e| Error::choice("free_decay", free_decay, e.message()))?;
+    let spec = section.free_decay.get_ref();
+    if let Some(key) = [
+        ("mode_shape", spec.mode_shape.is_some()),
+        ("modal_filter", spec.modal_filter.is_some()),
+    ]
+    .iter()
+    .find_map(|(key, given)| given.then_some(*key))
+    {
+        return Err(Error::choice(
+            key,
+            "given to free_decay={...}",
+            "a modal filter of several sensors is read from model files only (dampid.identify_file); here each record holds one sensor of the mode",
+        ));
+    }
     let mut settings = super::identification(identification_table)?;
     let (decay, regressor) = context
         .free_decay_settings(&section.free_decay, &settings.regressor)

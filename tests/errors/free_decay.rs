@@ -124,3 +124,22 @@ fn sensors_of_mixed_kinds_are_refused() {
         "{cause:?}"
     );
 }
+
+/// The Python package's `free_decay={...}` (records of one sensor) refuses the modal
+/// filter's keys rather than ignoring them.
+#[test]
+fn the_tables_of_the_python_package_refuse_a_modal_filter() {
+    let mut section = toml::Table::new();
+    section.insert("mass".into(), toml::Value::Float(1.0));
+    section.insert(
+        "mode_shape".into(),
+        toml::Value::Array(vec![toml::Value::Float(1.0), toml::Value::Float(0.5)]),
+    );
+    let error =
+        dampid::model_file::free_decay_identification(&toml::Table::new(), &section).unwrap_err();
+    assert!(
+        matches!(error, Error::InvalidChoice { ref name, .. } if name == "mode_shape"),
+        "{error}"
+    );
+    assert!(error.to_string().contains("identify_file"), "{error}");
+}
