@@ -216,7 +216,7 @@ impl Context<'_> {
             Some(record) => Err(self.typed_error_at(
                 shape,
                 Error::mismatch(
-                    &format!(
+                    format!(
                         "mode_shape entries vs motion channels of record '{}' (one value per sensor, in the record's order)",
                         record.label()
                     ),

@@ -6,7 +6,7 @@
 //! and 3 linearly; the sensors read y = Φ q̈ (accelerations) plus noise. Independent of
 //! dampid.
 
-#![allow(dead_code)]
+#![allow(dead_code, clippy::needless_range_loop)]
 
 use super::ringdown::{Ringdown, linear_mode_acceleration, with_noise};
 

@@ -110,7 +110,7 @@ pub fn project(
         ModalFilter::Shape(shape) => {
             if shape.len() != s {
                 return Err(Error::mismatch(
-                    &format!(
+                    format!(
                         "mode_shape entries vs motion channels of record '{}'",
                         record.label()
                     ),
