@@ -3,7 +3,10 @@
 # 0.2 s): `dampid identify` on the shipped hammer test (models/ringdown.toml: file read,
 # mode isolation, 398 cycles, the exponent estimated by variable projection with its
 # profile interval, the backbone), the same with the exponent fixed, and the SciPy anchor
-# (benches/free_decay/scipy_backbone.py, in-process, best of 7) in the same sitting.
+# (benches/free_decay/scipy_backbone.py, in-process, best of 7) in the same sitting; and
+# the same hammer test read by three accelerometers (benches/free_decay/three_sensors.py:
+# 65,536 samples × 3 channels) through the modal filter, with the given mode shape and
+# with the record's POD, exponent estimated.
 #
 # Usage: benches/free_decay/run.sh      (needs a Python with NumPy and SciPy: $PYTHON)
 set -euo pipefail
@@ -29,4 +32,7 @@ best() {
 uptime
 best models/ringdown.toml "dampid identify, exponent estimated (whole process)"
 best "$work/fixed.toml" "dampid identify, exponent fixed (whole process)"
+"$python" benches/free_decay/three_sensors.py "$work"
+best "$work/sensors.toml" "dampid identify, 3 sensors, mode_shape, exponent estimated (whole process)"
+best "$work/sensors_pod.toml" "dampid identify, 3 sensors, POD, exponent estimated (whole process)"
 "$python" benches/free_decay/scipy_backbone.py

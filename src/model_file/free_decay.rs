@@ -8,7 +8,9 @@ use toml::Spanned;
 use super::context::Context;
 use super::spec::{FreeDecaySpec, StartSpec};
 use crate::error::{Error, Result};
-use crate::prep::free_decay::{Band, BandChoice, Decay, DecaySettings, Start, isolate};
+use crate::prep::free_decay::{
+    Band, BandChoice, Decay, DecaySettings, ModalFilter, Start, isolate_with,
+};
 use crate::prep::quadrature::Quadrature;
 use crate::prep::velocity::VelocitySource;
 use crate::record::Record;
@@ -162,9 +164,83 @@ impl Context<'_> {
     }
 }
 
-/// Each record's mode, isolated and cut into cycles; the error names the record.
-pub(super) fn isolated(records: &[Record], settings: &DecaySettings) -> Result<Vec<Decay>> {
-    records.iter().map(|r| isolate(r, settings)).collect()
+/// Each record's mode, isolated (through `filter` when given) and cut into cycles; the
+/// error names the record.
+pub(super) fn isolated(
+    records: &[Record],
+    filter: Option<&ModalFilter>,
+    settings: &DecaySettings,
+) -> Result<Vec<Decay>> {
+    records
+        .iter()
+        .map(|r| isolate_with(r, filter, settings))
+        .collect()
+}
+
+impl Context<'_> {
+    /// The modal filter of `[free_decay]` (`mode_shape` or `modal_filter = "pod"`), if
+    /// any; errors at the key's line.
+    pub(super) fn modal_filter(&self, spec: &FreeDecaySpec) -> Result<Option<ModalFilter>> {
+        match (&spec.mode_shape, &spec.modal_filter) {
+            (Some(_), Some(named)) => Err(self.error_at(
+                named,
+                "give `mode_shape` (the mode's shape at the sensors) or `modal_filter = \"pod\"` (the record's own POD), not both",
+            )),
+            (Some(shape), None) => {
+                let filter = ModalFilter::Shape(shape.get_ref().clone());
+                filter
+                    .validate()
+                    .map_err(|e| self.typed_error_at(shape, e))?;
+                Ok(Some(filter))
+            }
+            (None, Some(named)) if named.get_ref() == "pod" => Ok(Some(ModalFilter::Pod)),
+            (None, Some(named)) => Err(self.typed_error_at(
+                named,
+                Error::UnknownName {
+                    what: "modal_filter".into(),
+                    name: named.get_ref().clone(),
+                    known: "\"pod\" (the record's own proper orthogonal modes), or give `mode_shape`".into(),
+                },
+            )),
+            (None, None) => Ok(None),
+        }
+    }
+
+    /// Every record's motion channels against the length of `mode_shape`: an error at
+    /// the key's line naming the first record whose count differs.
+    pub(super) fn check_mode_shape(&self, spec: &FreeDecaySpec, records: &[Record]) -> Result<()> {
+        let Some(shape) = &spec.mode_shape else {
+            return Ok(());
+        };
+        match records.iter().find(|r| r.dofs() != shape.get_ref().len()) {
+            Some(record) => Err(self.typed_error_at(
+                shape,
+                Error::mismatch(
+                    format!(
+                        "mode_shape entries vs motion channels of record '{}' (one value per sensor, in the record's order)",
+                        record.label()
+                    ),
+                    record.dofs(),
+                    shape.get_ref().len(),
+                ),
+            )),
+            None => Ok(()),
+        }
+    }
+}
+
+/// The motion channels a record of `[data]` lists (its largest DOF index): the DOFs to
+/// read it with when a modal filter reduces it to one mode.
+pub(super) fn listed_channels(spec: &super::spec::RecordSpec) -> usize {
+    [&spec.displacements, &spec.velocities, &spec.accelerations]
+        .iter()
+        .flat_map(|list| {
+            list.iter()
+                .enumerate()
+                .map(|(position, c)| c.get_ref().dof.unwrap_or(position + 1))
+        })
+        .max()
+        .unwrap_or(1)
 }
 
 /// `[identification]` and `[free_decay]` given as tables rather than in a model file
@@ -202,6 +278,20 @@ pub fn free_decay_identification(
     }
     let section = toml::from_str::<Section>(&text)
         .map_err(|e| Error::choice("free_decay", free_decay, e.message()))?;
+    let spec = section.free_decay.get_ref();
+    if let Some(key) = [
+        ("mode_shape", spec.mode_shape.is_some()),
+        ("modal_filter", spec.modal_filter.is_some()),
+    ]
+    .iter()
+    .find_map(|(key, given)| given.then_some(*key))
+    {
+        return Err(Error::choice(
+            key,
+            "given to free_decay={...}",
+            "a modal filter of several sensors is read from model files only (dampid.identify_file); here each record holds one sensor of the mode",
+        ));
+    }
     let mut settings = super::identification(identification_table)?;
     let (decay, regressor) = context
         .free_decay_settings(&section.free_decay, &settings.regressor)

@@ -275,8 +275,10 @@ impl Context<'_> {
             let (decay_settings, regressor) =
                 self.free_decay_settings(decay, &settings.regressor)?;
             settings.regressor = regressor;
+            let filter = self.modal_filter(decay.get_ref())?;
+            self.check_mode_shape(decay.get_ref(), &sources.records)?;
             let decays = self.at(decay, |_| {
-                super::free_decay::isolated(&sources.records, &decay_settings)
+                super::free_decay::isolated(&sources.records, filter.as_ref(), &decay_settings)
             })?;
             free_decay = decays
                 .iter()
@@ -542,7 +544,18 @@ impl Context<'_> {
                     (None, None) => Mode::Periodic,
                     (Some(np), None) => Mode::NonPeriodic(np.get_ref().high_pass.as_ref()),
                 };
-                read_record(self, r, n, (base, &mut files), mode)
+                // A modal filter reads every sensor of the record, then projects them
+                // onto the model's one mode.
+                let dofs = match &spec.free_decay {
+                    Some(d)
+                        if d.get_ref().mode_shape.is_some()
+                            || d.get_ref().modal_filter.is_some() =>
+                    {
+                        super::free_decay::listed_channels(r)
+                    }
+                    _ => n,
+                };
+                read_record(self, r, dofs, (base, &mut files), mode)
             })?;
             records.push(read.record);
             detected_periods.push(read.detected);

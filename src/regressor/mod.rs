@@ -26,6 +26,7 @@
 pub mod dead_motion;
 pub mod derivative_free;
 mod free_decay;
+pub(crate) use free_decay::DecayCache;
 pub(crate) mod history;
 pub mod input_work;
 mod kernel;
@@ -189,6 +190,17 @@ impl Regressor {
         source: impl Into<Source<'a>>,
         settings: &RegressorSettings,
     ) -> Result<Self> {
+        Self::build_with(model, source, settings, None)
+    }
+
+    /// [`Regressor::build`], a free decay's η-independent part kept in `cache` across
+    /// calls (`free_decay.rs`).
+    pub(crate) fn build_with<'a>(
+        model: &DampingModel,
+        source: impl Into<Source<'a>>,
+        settings: &RegressorSettings,
+        cache: Option<&free_decay::DecayCache>,
+    ) -> Result<Self> {
         let records = match source.into() {
             Source::Records(records) => records,
             Source::Table { table, residual } => {
@@ -234,7 +246,12 @@ impl Regressor {
                     "free-decay cycles",
                     "its force −ηk H[x] is defined per harmonic of a periodic motion, which a decay is not",
                 )?;
-                return free_decay::build(model, records, decay, settings.quadrature);
+                return match cache {
+                    Some(cache) => {
+                        free_decay::build_cached(model, records, decay, settings.quadrature, cache)
+                    }
+                    None => free_decay::build(model, records, decay, settings.quadrature),
+                };
             }
             Windows::Cycles(spec) => spec,
         };

@@ -27,6 +27,8 @@ pub struct ParametricRegressor<'a> {
     law: ParametricModel,
     source: Source<'a>,
     steady: Option<SteadyStateInput<'a>>,
+    /// A free decay's cycles and weights, made at the first trial (`free_decay.rs`).
+    decay: super::DecayCache,
 }
 
 /// What the steady-state check of a problem reads when it is not the problem's own
@@ -52,6 +54,7 @@ impl<'a> ParametricRegressor<'a> {
             law,
             source,
             steady: None,
+            decay: super::DecayCache::default(),
         }
     }
 
@@ -171,7 +174,7 @@ impl<'a> ParametricRegressor<'a> {
             }
             other => other,
         };
-        Regressor::build(&model, source, settings)
+        Regressor::build_with(&model, source, settings, Some(&self.decay))
     }
 
     /// The group of each equation whose errors may be correlated and which a bootstrap

@@ -45,6 +45,7 @@
 mod data_files;
 mod fit;
 mod fixtures;
+mod free_decay;
 mod history;
 mod limits;
 mod mat_structs;

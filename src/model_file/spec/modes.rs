@@ -118,6 +118,11 @@ pub struct FreeDecaySpec {
     pub edge: Option<usize>,
     /// Keep cycles whose amplitude is at least this many noise amplitudes (default 10).
     pub floor: Option<Spanned<f64>>,
+    /// The mode's shape at the record's sensors, one value per motion channel: a modal
+    /// filter for a record of several sensors (`dampid::prep::free_decay::modal_filter`).
+    pub mode_shape: Option<Spanned<Vec<f64>>>,
+    /// `"pod"`: the record's own proper orthogonal modes as the modal filter.
+    pub modal_filter: Option<Spanned<String>>,
 }
 
 /// `start` of `[free_decay]`: `"auto"` or a time.

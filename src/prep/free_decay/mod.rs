@@ -17,7 +17,8 @@
 //! amplitude, so k and θ trade off (an SDOF ringdown gave a stiffness of 8.8 for a truth
 //! of 2.5·10⁵ that way).
 //!
-//! The steps, per record:
+//! The steps, per record (a record of several sensors is first projected onto the mode
+//! by a [`modal_filter`]):
 //! 1. **Start**: after the force has ended (the last sample where any force channel
 //!    exceeds 5 % of its peak) or at a given time; a record with no force starts at once.
 //! 2. **Mode isolation** ([`band`]): a zero-phase band-pass around the mode (a band
@@ -37,6 +38,7 @@
 pub mod band;
 pub mod cycles;
 pub mod extend;
+pub mod modal_filter;
 
 use faer::Mat;
 use serde::{Deserialize, Serialize};
@@ -45,6 +47,7 @@ use crate::error::{Error, Result};
 use crate::record::{Forcing, Record, RecordParts, Sensor};
 pub use band::Band;
 pub use cycles::DecayCycle;
+pub use modal_filter::ModalFilter;
 
 /// Samples a decay needs at least after its start (a few cycles at the coarsest
 /// sampling a band-pass can use).
@@ -255,7 +258,7 @@ fn channel(record: &Record) -> Result<(Vec<f64>, Sensor)> {
             "free-decay record",
             record.dofs() as f64,
             &format!(
-                "record '{}' has {} motion channels; a free decay is read from one sensor of the mode (name its one displacement, velocity or acceleration column, with `dofs = 1`)",
+                "record '{}' has {} motion channels; a free decay is read from one sensor of the mode, or from several through a modal filter (`[free_decay] mode_shape = [..]`, one value per sensor, or `modal_filter = \"pod\"`)",
                 record.label(),
                 record.dofs()
             ),
@@ -272,10 +275,29 @@ fn channel(record: &Record) -> Result<(Vec<f64>, Sensor)> {
 
 /// Isolates the mode of `record` and cuts its decay into whole cycles (module doc).
 pub fn isolate(record: &Record, settings: &DecaySettings) -> Result<Decay> {
+    isolate_with(record, None, settings)
+}
+
+/// [`isolate`] of a record of several sensors, projected onto the mode by `filter`
+/// first ([`modal_filter`]); with `None`, of a record of one sensor.
+pub fn isolate_with(
+    record: &Record,
+    filter: Option<&ModalFilter>,
+    settings: &DecaySettings,
+) -> Result<Decay> {
     settings.validate()?;
-    let (signal, sensor) = channel(record)?;
-    let step = record.step();
     let start = start_sample(record, settings.start)?;
+    let (signal, sensor) = match filter {
+        None => channel(record)?,
+        Some(filter) => {
+            let range = match settings.band {
+                BandChoice::Given(b) | BandChoice::PeakIn(b) => Some(b),
+                BandChoice::Auto => None,
+            };
+            modal_filter::project(record, filter, range, start)?
+        }
+    };
+    let step = record.step();
     let decay = &signal[start.min(signal.len())..];
     if decay.len() < MIN_SAMPLES {
         return Err(Error::RecordTooShort {

@@ -14,6 +14,7 @@
 
 mod fused;
 mod gram;
+mod log_speed;
 mod pass;
 mod plan;
 
@@ -22,6 +23,7 @@ use faer::MatRef;
 use crate::prep::quadrature::WindowWeights;
 use crate::record::Record;
 
+pub(crate) use log_speed::log_speed;
 pub(crate) use plan::Plan;
 
 /// The samples of one window that the kernel reads: displacements and velocities

@@ -158,7 +158,7 @@ fn split_segments<'a>(mut out: &'a mut [f64], plan: &Plan<'_>) -> Vec<&'a mut [f
 /// One sum that is not fusable over the samples `rows` of the window, piece by piece of its weights (the
 /// interior of a rectangular or trapezoid rule with its one weight, the ends and the
 /// spectral rule sample by sample).
-fn block_sum(sum: &Sum<'_>, samples: &WindowSamples<'_>, rows: Range<usize>) -> f64 {
+pub(crate) fn block_sum(sum: &Sum<'_>, samples: &WindowSamples<'_>, rows: Range<usize>) -> f64 {
     samples
         .weights
         .pieces(rows)

@@ -46,7 +46,7 @@ use crate::regressor::derivative_free;
 use crate::regressor::kernel::{Plan, WindowSamples, build_in_parallel};
 use crate::regressor::settings::{SpanWindows, WorkForm};
 use crate::regressor::{Regressor, Row, map_windows};
-use storage::Endpoints;
+pub(crate) use storage::Endpoints;
 
 /// Builds the non-periodic regressor: the damping model's columns, then the nuisance
 /// columns of `settings.storage` ([`Regressor::nuisance_count`]), one row per window.
