@@ -201,6 +201,57 @@ pub fn noise_amplitude(sigma: f64, sensor: Sensor, step: f64, band: Band) -> f64
     std::f64::consts::SQRT_2 * sigma * share.sqrt() / band.centre().powi(order(sensor))
 }
 
+/// The displacement spectrum |S_q| / ω_q^r of a signal measured by a sensor of order r
+/// (0 displacement, 1 velocity, 2 acceleration), by one real FFT of the mean-free signal
+/// with a Hann window, and the frequency range to search: `range`, or everything above
+/// 4/(N h) up to the Nyquist frequency.
+pub(crate) struct DisplacementSpectrum {
+    /// |S_q| / ω_q^r for every bin q (ω_q = 2π q Δf).
+    pub(crate) magnitudes: Vec<f64>,
+    /// Δf = 1/(N h).
+    pub(crate) df: f64,
+    /// The range's lower end.
+    pub(crate) low: f64,
+    /// The range's upper end.
+    pub(crate) high: f64,
+}
+
+impl DisplacementSpectrum {
+    pub(crate) fn new(
+        signal: &[f64],
+        sensor: Sensor,
+        step: f64,
+        range: Option<Band>,
+    ) -> Result<Self> {
+        let n = signal.len();
+        let mean = signal.iter().sum::<f64>() / n.max(1) as f64;
+        let pi = std::f64::consts::PI;
+        let mut windowed: Vec<f64> = signal
+            .iter()
+            .enumerate()
+            .map(|(i, s)| (s - mean) * 0.5 * (1.0 - (2.0 * pi * i as f64 / n as f64).cos()))
+            .collect();
+        let mut planner = RealFftPlanner::<f64>::new();
+        let forward = planner.plan_fft_forward(n);
+        let mut spectrum = forward.make_output_vec();
+        forward
+            .process(&mut windowed, &mut spectrum)
+            .map_err(|e| Error::invalid("free-decay FFT", n as f64, &e.to_string()))?;
+        let df = 1.0 / (n as f64 * step);
+        let (low, high) = range.map_or((4.0 * df, 0.5 / step), |b| (b.low, b.high));
+        let r = order(sensor);
+        let magnitudes = (0..spectrum.len())
+            .map(|q| spectrum[q].norm() / (2.0 * pi * q as f64 * df).powi(r))
+            .collect();
+        Ok(DisplacementSpectrum {
+            magnitudes,
+            df,
+            low,
+            high,
+        })
+    }
+}
+
 /// The frequency (cycles per time unit) of the largest prominent peak (over 10 times
 /// the median of the bins within a factor 1.3 in frequency; the largest bin when none
 /// is) of the displacement spectrum |S_q| / ω_q^r of `signal` within `range` (the whole
@@ -212,33 +263,22 @@ pub fn peak_frequency(
     step: f64,
     range: Option<Band>,
 ) -> Result<f64> {
-    let n = signal.len();
-    let mean = signal.iter().sum::<f64>() / n.max(1) as f64;
-    let pi = std::f64::consts::PI;
-    let mut windowed: Vec<f64> = signal
-        .iter()
-        .enumerate()
-        .map(|(i, s)| (s - mean) * 0.5 * (1.0 - (2.0 * pi * i as f64 / n as f64).cos()))
-        .collect();
-    let mut planner = RealFftPlanner::<f64>::new();
-    let forward = planner.plan_fft_forward(n);
-    let mut spectrum = forward.make_output_vec();
-    forward
-        .process(&mut windowed, &mut spectrum)
-        .map_err(|e| Error::invalid("free-decay FFT", n as f64, &e.to_string()))?;
-    let df = 1.0 / (n as f64 * step);
-    let (low, high) = range.map_or((4.0 * df, 0.5 / step), |b| (b.low, b.high));
-    let r = order(sensor);
-    let magnitude = |q: usize| spectrum[q].norm() / (2.0 * pi * q as f64 * df).powi(r);
+    let DisplacementSpectrum {
+        magnitudes,
+        df,
+        low,
+        high,
+    } = DisplacementSpectrum::new(signal, sensor, step, range)?;
+    let magnitude = |q: usize| magnitudes[q];
     let first = ((low / df).ceil() as usize).max(1);
-    let last = ((high / df).floor() as usize).min(spectrum.len() - 2);
+    let last = ((high / df).floor() as usize).min(magnitudes.len() - 2);
     // A mode stands out of its neighbourhood; noise divided by ω^r only rises smoothly
     // towards low frequencies. Prominence: the magnitude over the median of the bins
     // within a factor 1.3 in frequency.
     let prominent = |q: usize| {
         let (a, b) = (
             (q as f64 / 1.3) as usize,
-            ((q as f64 * 1.3) as usize).min(spectrum.len() - 1),
+            ((q as f64 * 1.3) as usize).min(magnitudes.len() - 1),
         );
         let mut around: Vec<f64> = (a.max(1)..=b).map(magnitude).collect();
         let middle = around.len() / 2;

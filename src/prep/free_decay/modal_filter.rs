@@ -27,10 +27,9 @@
 //! them is a signal of one kind.
 
 use faer::Mat;
-use realfft::RealFftPlanner;
 use serde::{Deserialize, Serialize};
 
-use super::band::Band;
+use super::band::{Band, DisplacementSpectrum};
 use crate::error::{Error, Result};
 use crate::prep::pod::{Pod, PodSettings, Retain};
 use crate::record::{Record, Sensor};
@@ -164,34 +163,19 @@ pub fn project(
 }
 
 /// The largest displacement-spectrum magnitude |S_q| / ω_q^r of `signal` within
-/// `range` (everywhere above 4/(N h) without one), Hann-windowed.
+/// `range` (everywhere above 4/(N h) without one), Hann-windowed
+/// ([`DisplacementSpectrum`]); 0 for fewer than 8 samples or a failed transform.
 fn largest_peak(signal: &[f64], sensor: Sensor, step: f64, range: Option<Band>) -> f64 {
-    let n = signal.len();
-    if n < 8 {
+    if signal.len() < 8 {
         return 0.0;
     }
-    let mean = signal.iter().sum::<f64>() / n as f64;
-    let pi = std::f64::consts::PI;
-    let mut windowed: Vec<f64> = signal
-        .iter()
-        .enumerate()
-        .map(|(i, s)| (s - mean) * 0.5 * (1.0 - (2.0 * pi * i as f64 / n as f64).cos()))
-        .collect();
-    let forward = RealFftPlanner::<f64>::new().plan_fft_forward(n);
-    let mut spectrum = forward.make_output_vec();
-    if forward.process(&mut windowed, &mut spectrum).is_err() {
+    let Ok(spectrum) = DisplacementSpectrum::new(signal, sensor, step, range) else {
         return 0.0;
-    }
-    let df = 1.0 / (n as f64 * step);
-    let (low, high) = range.map_or((4.0 * df, 0.5 / step), |b| (b.low, b.high));
-    let r = match sensor {
-        Sensor::Displacement => 0,
-        Sensor::Velocity => 1,
-        Sensor::Acceleration => 2,
     };
-    let first = ((low / df).ceil() as usize).max(1);
-    let last = ((high / df).floor() as usize).min(spectrum.len() - 1);
+    let df = spectrum.df;
+    let first = ((spectrum.low / df).ceil() as usize).max(1);
+    let last = ((spectrum.high / df).floor() as usize).min(spectrum.magnitudes.len() - 1);
     (first..=last)
-        .map(|q| spectrum[q].norm() / (2.0 * pi * q as f64 * df).powi(r))
+        .map(|q| spectrum.magnitudes[q])
         .fold(0.0, f64::max)
 }
