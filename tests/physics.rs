@@ -378,6 +378,71 @@ fn an_inconsistent_record_is_named_not_called_a_design_problem() {
     }
 }
 
+/// The measured chain's model file with only records `keep` (from 1), unconstrained.
+/// Unconstrained, as the fuzz case was: with `nonnegative = true` the wrong record
+/// pushes coefficients to their bounds, which frees equations for the outlier test.
+fn only_records(text: String, keep: &[usize]) -> String {
+    let parts: Vec<&str> = text.split("[[data.records]]").collect();
+    let mut out = parts[0].replace("nonnegative = true", "nonnegative = false");
+    for k in keep {
+        out.push_str("[[data.records]]");
+        out.push_str(parts[*k]);
+    }
+    out
+}
+
+/// Item 3 when the records are too few to tell (found by the physics fuzz target):
+/// the windows of a record repeat one experiment, so five records for five
+/// coefficients fit exactly whatever one of them holds. Main fitted one record's
+/// velocities given as displacements with every coefficient "determined", standard
+/// errors of 1e-12 and "χ² = 0 … the check passes" (the windows counted as degrees of
+/// freedom). Now a warning says the records cannot be checked against each other; with
+/// a sixth record the inconsistent one is named.
+#[test]
+fn records_that_cannot_be_checked_against_each_other_are_said_so() {
+    let velocities: RecordEdit = |r| {
+        r.replace(
+            r#"displacements = ["x1", "x2", "x3"]"#,
+            r#"displacements = ["v1", "v2", "v3"]"#,
+        )
+    };
+    let unchecked = |w: &Warning| matches!(w, Warning::NoRecordRedundancy { .. });
+    let five = [1, 2, 3, 5, 9];
+    let clean = fit(&chain(|t| only_records(t, &five)).unwrap()).unwrap();
+    assert!(worst_error(&clean) < 0.02, "{clean}");
+    let warning = clean.warnings.iter().find(|w| unchecked(w));
+    assert_eq!(
+        warning,
+        Some(&Warning::NoRecordRedundancy {
+            experiments: 5,
+            parameters: 5
+        }),
+        "{clean}"
+    );
+    assert!(
+        warning
+            .unwrap()
+            .to_string()
+            .contains("5 independent experiments for 5 free")
+    );
+    let wrong = fit(&chain(|t| in_record(only_records(t, &five), 4, velocities)).unwrap()).unwrap();
+    assert!(worst_error(&wrong) > 0.05, "{wrong}");
+    assert!(wrong.coefficients.iter().all(|c| c.determined), "{wrong}");
+    assert!(wrong.warnings.iter().any(unchecked), "{wrong}");
+    let six = fit(&chain(|t| only_records(t, &[1, 2, 3, 5, 9, 11])).unwrap()).unwrap();
+    assert!(!six.warnings.iter().any(unchecked), "{six}");
+    let named =
+        fit(&chain(|t| in_record(only_records(t, &[1, 2, 3, 5, 9, 11]), 4, velocities)).unwrap())
+            .unwrap();
+    assert!(
+        named.warnings.iter().any(|w| matches!(
+            w,
+            Warning::InconsistentRecord { record, .. } if record == "a=0.5 ω=1.4142 on mass 1"
+        )),
+        "{named}"
+    );
+}
+
 /// Item 7: a term that does no net work over whole periods (a spring, `expression =
 /// "x"`, or a constant force, `"1"`) has a column of round-off; main printed k = 11.4 ±
 /// 68 % with spectral velocities. Now its column counts as zero, k is not determined

@@ -178,6 +178,9 @@ pub struct Diagnostics {
     pub weighted: Option<WeightedDiagnostics>,
     /// m − (free coefficients) − (nonlinear parameters), saturating at 0.
     pub degrees_of_freedom: usize,
+    /// The nonlinear parameters estimated outside the linear fit (they use degrees of
+    /// freedom and experiments too).
+    pub nonlinear_parameters: usize,
 }
 
 /// Diagnostics of a fit weighted by propagated residual variances.
@@ -376,6 +379,7 @@ fn diagnose_rows(
         identifiability,
         weighted,
         degrees_of_freedom: dof,
+        nonlinear_parameters: nonlinear,
     }
 }
 

@@ -181,6 +181,14 @@ impl FitReport {
                 equations: regressor.equations(),
             });
         }
+        let parameters = free + diagnostics.nonlinear_parameters;
+        let experiments = crate::analysis::replicates::experiments(regressor);
+        if free > 0 && experiments <= parameters && regressor.equations() > parameters {
+            warnings.push(Warning::NoRecordRedundancy {
+                experiments,
+                parameters,
+            });
+        }
         if let Some(w) = &diagnostics.weighted
             && let Some(p_value) = w.p_value
             && p_value < INADEQUATE_P_VALUE

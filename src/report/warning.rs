@@ -49,6 +49,18 @@ pub enum Warning {
         /// Equations.
         equations: usize,
     },
+    /// No more experiments than free coefficients and parameters, although there are
+    /// more equations: the windows of a record repeat one experiment
+    /// ([`crate::analysis::replicates`]), so the fit reproduces each record whatever it
+    /// holds, and the χ² check and the standard errors see only the scatter between
+    /// windows of one record. A record with wrong units, a wrong sign or a force on
+    /// the wrong DOF cannot be detected.
+    NoRecordRedundancy {
+        /// Experiments: records of replicate windows, stepped-sine points, spans.
+        experiments: usize,
+        /// Free coefficients plus estimated nonlinear parameters.
+        parameters: usize,
+    },
     /// The weighted residuals are larger than the propagated noise explains.
     ModelInadequate {
         /// χ².
@@ -240,6 +252,15 @@ impl fmt::Display for Warning {
                 f,
                 "{} for as many free coefficients: the fit is exact by construction and gives no uncertainty; add windows or records",
                 count(*equations, "equation")
+            ),
+            Warning::NoRecordRedundancy {
+                experiments,
+                parameters,
+            } => write!(
+                f,
+                "{} for {} free coefficients and parameters: the windows of a record repeat one experiment, so the fit reproduces every record whatever it holds; a record with the wrong units, a wrong sign or a force on the wrong DOF would go unnoticed, and the χ² check and the standard errors only measure the scatter between windows of one record; add records (other frequencies, amplitudes or forcing points) until there are more records than free coefficients and parameters",
+                count(*experiments, "independent experiment"),
+                parameters
             ),
             Warning::Unidentifiable {
                 coefficients,
