@@ -134,7 +134,8 @@ fn record_list<'py>(records: &Bound<'py, PyAny>) -> PyResult<Vec<Bound<'py, PyRe
 /// The records of the `list` (lent as `records`) in the mode of `settings`: every record
 /// needs its period over whole periods; over fixed spans, records of velocity or
 /// acceleration sensors are integrated again with `high_pass`, as a model file's are; a
-/// free decay's records become their modes' ([`dampid::prep::free_decay::isolate`]).
+/// free decay's records become their modes' ([`dampid::prep::free_decay::isolate_with`],
+/// through the modal filter of several sensors when one is given).
 pub(crate) fn in_mode(
     list: &[Bound<'_, PyRecord>],
     records: &[Record],
@@ -143,7 +144,10 @@ pub(crate) fn in_mode(
     if let Some(decay) = &settings.free_decay {
         return records
             .iter()
-            .map(|r| dampid::prep::free_decay::isolate(r, decay).map(|d| d.record))
+            .map(|r| {
+                dampid::prep::free_decay::isolate_with(r, settings.modal_filter.as_ref(), decay)
+                    .map(|d| d.record)
+            })
             .collect::<dampid::Result<Vec<_>>>()
             .map(Some)
             .py_err();

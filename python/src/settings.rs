@@ -11,7 +11,7 @@ use dampid::model_file::{
     IDENTIFICATION_KEYS, free_decay_identification, identification, non_periodic_identification,
     settings_in_effect,
 };
-use dampid::prep::free_decay::DecaySettings;
+use dampid::prep::free_decay::{DecaySettings, ModalFilter};
 use dampid::report::provenance::{Setting, SettingSource};
 use dampid::report::units::Units;
 use pyo3::prelude::*;
@@ -31,6 +31,9 @@ pub struct Settings {
     pub high_pass: Option<f64>,
     /// `[free_decay]`: each record a ringdown of one mode, isolated before identifying.
     pub free_decay: Option<DecaySettings>,
+    /// `free_decay={"mode_shape": [...]}` or `{"modal_filter": "pod"}`: each record holds
+    /// several sensors, projected onto the mode first.
+    pub modal_filter: Option<ModalFilter>,
     /// The keywords as given, `key=value, ...` (for the report's provenance).
     pub given: String,
     /// The keywords laid out as a model file's sections (`identification`,
@@ -108,21 +111,22 @@ pub fn settings(
     if let Some(section) = &free_decay {
         given_table.insert("free_decay".into(), toml::Value::Table(section.clone()));
     }
-    let (identification, high_pass, decay) = match (&non_periodic, &free_decay) {
+    let (identification, high_pass, decay, modal_filter) = match (&non_periodic, &free_decay) {
         (Some(_), Some(_)) => {
             return Err(argument(
                 "give non_periodic={...} or free_decay={...}, not both".into(),
             ));
         }
-        (None, None) => (identification(&table).py_err()?, None, None),
+        (None, None) => (identification(&table).py_err()?, None, None, None),
         (Some(section), None) => {
             let (settings, high_pass) =
                 non_periodic_identification(&table, section, model_text, file).py_err()?;
-            (settings, high_pass, None)
+            (settings, high_pass, None, None)
         }
         (None, Some(section)) => {
-            let (settings, decay) = free_decay_identification(&table, section).py_err()?;
-            (settings, None, Some(decay))
+            let (settings, decay, filter) =
+                free_decay_identification(&table, section).py_err()?;
+            (settings, None, Some(decay), filter)
         }
     };
     Ok(Settings {
@@ -130,6 +134,7 @@ pub fn settings(
         non_periodic: non_periodic.is_some(),
         high_pass,
         free_decay: decay,
+        modal_filter,
         given: given.join(", "),
         given_table,
     })

@@ -61,6 +61,33 @@ def test_a_ringdown_from_numpy_arrays():
     assert 0.5 < top["measured"] / top["fitted"] < 2.0
 
 
+def test_several_sensors_through_a_modal_filter():
+    """Two accelerometers see the ringdown's mode with shape (1, 0.5) and a second,
+    lightly damped mode at 3.1 times its frequency with the orthogonal shape (0.5, -1)
+    and a comparable amplitude: `mode_shape` and the record's own POD give the law
+    from both channels, as `identify_file` does with `[free_decay] mode_shape`."""
+    q = ringdown()
+    t = np.arange(SAMPLES) * STEP
+    w2 = 3.1 * W
+    other = -w2 * w2 * 1e-3 * np.exp(-0.002 * w2 * t) * np.cos(w2 * t)
+    a = np.column_stack([q + 0.5 * other, 0.5 * q - other])
+    a = a + np.random.default_rng(2).normal(0.0, 0.002 * np.sqrt(np.mean(q * q)), a.shape)
+    record = dampid.Record(a=a, step=STEP, forces=[], label="two sensors")
+    model = dampid.Model.from_toml(MODEL)
+    for filter in [{"mode_shape": [1.0, 0.5]}, {"modal_filter": "pod"}]:
+        settings = {"mass": 1.0, "peak_in": [50.0, 150.0], **filter}
+        report = dampid.identify(model, [record], free_decay=settings)
+        c, d = report.coefficients["c"], report.coefficients["d"]
+        assert abs(c / C_TRUE - 1) < 0.01, (filter, c)
+        assert abs(d / D_TRUE - 1) < 0.01, (filter, d)
+    try:
+        dampid.identify(model, [record], free_decay={"mass": 1.0, "mode_shape": [1.0, 0.5, 0.2]})
+    except ValueError as e:
+        assert "mode_shape" in str(e) and "3" in str(e), str(e)
+    else:
+        raise AssertionError("a shape of 3 entries for 2 sensors was accepted")
+
+
 def test_free_decay_settings_are_checked_as_in_a_model_file():
     record = dampid.Record(a=ringdown()[:4096, None], step=STEP, forces=[])
     model = dampid.Model.from_toml(MODEL)

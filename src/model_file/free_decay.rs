@@ -246,11 +246,17 @@ pub(super) fn listed_channels(spec: &super::spec::RecordSpec) -> usize {
 /// `[identification]` and `[free_decay]` given as tables rather than in a model file
 /// (the Python package's `identify(model, records, free_decay={"mass": 1.0})`), read by
 /// the model file's own translation: same keys, same defaults, same errors (the typed
-/// error itself, without a position in a file the user did not write).
+/// error itself, without a position in a file the user did not write), and the modal
+/// filter of several sensors (`mode_shape` or `modal_filter = "pod"`) when given, for
+/// [`isolate_with`].
 pub fn free_decay_identification(
     identification_table: &toml::Table,
     free_decay: &toml::Table,
-) -> Result<(crate::identify::IdentifySettings, DecaySettings)> {
+) -> Result<(
+    crate::identify::IdentifySettings,
+    DecaySettings,
+    Option<ModalFilter>,
+)> {
     let mut document = toml::Table::new();
     document.insert(
         "identification".into(),
@@ -278,25 +284,14 @@ pub fn free_decay_identification(
     }
     let section = toml::from_str::<Section>(&text)
         .map_err(|e| Error::choice("free_decay", free_decay, e.message()))?;
-    let spec = section.free_decay.get_ref();
-    if let Some(key) = [
-        ("mode_shape", spec.mode_shape.is_some()),
-        ("modal_filter", spec.modal_filter.is_some()),
-    ]
-    .iter()
-    .find_map(|(key, given)| given.then_some(*key))
-    {
-        return Err(Error::choice(
-            key,
-            "given to free_decay={...}",
-            "a modal filter of several sensors is read from model files only (dampid.identify_file); here each record holds one sensor of the mode",
-        ));
-    }
+    let filter = context
+        .modal_filter(section.free_decay.get_ref())
+        .map_err(unwrapped)?;
     let mut settings = super::identification(identification_table)?;
     let (decay, regressor) = context
         .free_decay_settings(&section.free_decay, &settings.regressor)
         .map_err(unwrapped)?;
     settings.regressor = regressor;
     settings.steady_state = None;
-    Ok((settings, decay))
+    Ok((settings, decay, filter))
 }

@@ -5,6 +5,7 @@
 //! (`UnknownName`), both keys at once, and sensors of mixed kinds (`InvalidChoice`).
 
 use dampid::prelude::*;
+use dampid::prep::free_decay::ModalFilter;
 
 /// Three sine channels a1, a2, a3 of 4096 samples in a CSV under a fresh directory,
 /// and the model text with `[free_decay]` ending in `keys` (line 17 on) and the
@@ -125,21 +126,35 @@ fn sensors_of_mixed_kinds_are_refused() {
     );
 }
 
-/// The Python package's `free_decay={...}` (records of one sensor) refuses the modal
-/// filter's keys rather than ignoring them.
+/// The Python package's `free_decay={...}` reads the modal filter's keys as a model file
+/// does: `mode_shape` checked (finite, not all zero), not both, an unknown filter named.
 #[test]
-fn the_tables_of_the_python_package_refuse_a_modal_filter() {
-    let mut section = toml::Table::new();
-    section.insert("mass".into(), toml::Value::Float(1.0));
-    section.insert(
-        "mode_shape".into(),
-        toml::Value::Array(vec![toml::Value::Float(1.0), toml::Value::Float(0.5)]),
-    );
-    let error =
-        dampid::model_file::free_decay_identification(&toml::Table::new(), &section).unwrap_err();
+fn the_tables_of_the_python_package_read_the_modal_filter() {
+    let table = |entries: &[(&str, toml::Value)]| {
+        let mut section = toml::Table::new();
+        section.insert("mass".into(), toml::Value::Float(1.0));
+        for (key, value) in entries {
+            section.insert((*key).into(), value.clone());
+        }
+        dampid::model_file::free_decay_identification(&toml::Table::new(), &section)
+    };
+    let shape = toml::Value::Array(vec![toml::Value::Float(1.0), toml::Value::Float(0.5)]);
+    let (_, _, filter) = table(&[("mode_shape", shape.clone())]).unwrap();
+    assert_eq!(filter, Some(ModalFilter::Shape(vec![1.0, 0.5])));
+    let (_, _, filter) = table(&[("modal_filter", toml::Value::String("pod".into()))]).unwrap();
+    assert_eq!(filter, Some(ModalFilter::Pod));
+    let both = table(&[
+        ("mode_shape", shape),
+        ("modal_filter", toml::Value::String("pod".into())),
+    ])
+    .unwrap_err();
+    assert!(both.to_string().contains("not both"), "{both}");
+    let zero = toml::Value::Array(vec![toml::Value::Float(0.0), toml::Value::Float(0.0)]);
+    let zero = table(&[("mode_shape", zero)]).unwrap_err();
+    assert!(zero.to_string().contains("mode_shape"), "{zero}");
+    let unknown = table(&[("modal_filter", toml::Value::String("svd".into()))]).unwrap_err();
     assert!(
-        matches!(error, Error::InvalidChoice { ref name, .. } if name == "mode_shape"),
-        "{error}"
+        matches!(unknown, Error::UnknownName { ref name, .. } if name == "svd"),
+        "{unknown}"
     );
-    assert!(error.to_string().contains("identify_file"), "{error}");
 }
