@@ -13,6 +13,13 @@
 //! [`StructuralTerm`]), the closed form A_pk = π k |Z_e|² with Z_e = Z_a − Z_b the
 //! complex amplitude of the element's deformation, Z_i = X_i e^{−iψ_i}.
 //!
+//! **Closed form.** When every term of the model has a closed-form work per cycle
+//! (viscous and semidefinite matrix terms, linear, quadratic, Coulomb and power laws:
+//! [`crate::terms::harmonic_work`]), each row is that exact single-harmonic integral
+//! and b_p its closed form, with no period synthesized (`stepped_sine_closed.rs`); the
+//! synthesized rows are their quadratures. A model with any other term synthesizes
+//! every term.
+//!
 //! **Noise.** The measured a, X_i, φ_i carry independent noise of standard deviations
 //! σ_a, σ_{X,i}, σ_{φ,i} ([`crate::prep::harmonic::sweeps`]). To first order the
 //! residual e_p = b_p − Σ θ_k A_pk has
@@ -25,7 +32,7 @@
 //! vector per DOF), so the fit weights each equation by 1/√Var e_p(θ), iterated, with
 //! the same χ² model check and calibrated standard errors
 //! (`fit/weighted.rs`, [`crate::analysis::diagnostics`]). The derivatives are
-//! forward differences of the synthesized rows, steps 10⁻⁶ X_i (relative), 10⁻⁶ rad
+//! forward differences of the rows (synthesized or closed form), steps 10⁻⁶ X_i (relative), 10⁻⁶ rad
 //! and 10⁻⁶ a: the columns are smooth in X and φ, so their relative error is about
 //! 10⁻⁶, negligible in a variance; b is exactly linear in a.
 //!
@@ -41,10 +48,11 @@ use faer::Mat;
 use crate::error::{Error, Result};
 use crate::model::DampingModel;
 use crate::prep::harmonic::residual;
-use crate::prep::harmonic::{HarmonicApproximation, SteppedSinePoint};
+use crate::prep::harmonic::{HarmonicApproximation, SteppedSinePoint, SteppedSineTable};
 use crate::regressor::passive::WorkScale;
 use crate::regressor::robust::{ChannelSensitivity, NoiseModel, RowNoise, WindowNoise};
 use crate::regressor::source::SteppedSineSource;
+use crate::regressor::stepped_sine_closed;
 pub use crate::regressor::structural_term::StructuralTerm;
 use crate::regressor::{Regressor, RegressorSettings, RowLabel};
 
@@ -58,39 +66,61 @@ struct Row {
     input: f64,
 }
 
-/// The rows of `points` under the harmonic approximation, one synthesized period each.
+/// The rows of `points` under the harmonic approximation: in closed form when every
+/// term of the model has one (`stepped_sine_closed.rs`), else one synthesized period
+/// each. A mixed model synthesizes every term: the synthesis costs the same for one
+/// term as for all, and its round-off check sees the whole row.
 fn rows(
     model: &DampingModel,
     structural: &[StructuralTerm],
     points: &[SteppedSinePoint],
     approximation: &HarmonicApproximation,
 ) -> Result<Vec<Row>> {
-    let records = approximation.records_of(points)?;
-    let model_rows = if model.terms().is_empty() {
+    let mut closed: Vec<Option<(Vec<f64>, f64)>> = vec![None; points.len()];
+    if stepped_sine_closed::applies(model) {
+        approximation.validate()?;
+        for (slot, point) in closed.iter_mut().zip(points) {
+            // A point from a table is valid; one built by hand is checked here, as the
+            // synthesis checks it.
+            SteppedSineTable::new(vec![point.clone()])?;
+            model.validate_terms(point.dofs())?;
+            let psi = approximation.phase.phases(point)?;
+            *slot = stepped_sine_closed::row(model, point, &psi);
+        }
+    }
+    let synthesized: Vec<usize> = (0..points.len()).filter(|&r| closed[r].is_none()).collect();
+    let model_rows = if model.terms().is_empty() || synthesized.is_empty() {
         None
     } else {
+        let subset: Vec<SteppedSinePoint> =
+            synthesized.iter().map(|&r| points[r].clone()).collect();
         Some(Regressor::build(
             model,
-            &records,
+            &approximation.records_of(&subset)?,
             &RegressorSettings::harmonic_approximation(),
         )?)
     };
+    let mut next = 0;
     points
         .iter()
-        .enumerate()
-        .map(|(r, point)| {
+        .zip(closed)
+        .map(|(point, closed)| {
             let psi = approximation.phase.phases(point)?;
-            let mut columns: Vec<f64> = match &model_rows {
-                Some(reg) => (0..reg.columns().len())
-                    .map(|k| reg.matrix()[(r, k)])
-                    .collect(),
-                None => Vec::new(),
+            let (mut columns, input) = match (closed, &model_rows) {
+                (Some(row), _) => row,
+                (None, Some(reg)) => {
+                    let r = next;
+                    next += 1;
+                    (
+                        (0..reg.columns().len())
+                            .map(|k| reg.matrix()[(r, k)])
+                            .collect(),
+                        reg.rhs()[r],
+                    )
+                }
+                (None, None) => (Vec::new(), input_work(point, &psi)),
             };
             columns.extend(structural.iter().map(|s| s.column(point, &psi)));
-            let input = match &model_rows {
-                Some(reg) => reg.rhs()[r],
-                None => input_work(point, &psi),
-            };
             Ok(Row { columns, input })
         })
         .collect()
