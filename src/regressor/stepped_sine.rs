@@ -79,11 +79,18 @@ fn rows(
     let mut closed: Vec<Option<(Vec<f64>, f64)>> = vec![None; points.len()];
     if stepped_sine_closed::applies(model) {
         approximation.validate()?;
+        let mut validated = None;
         for (slot, point) in closed.iter_mut().zip(points) {
             // A point from a table is valid; one built by hand is checked here, as the
             // synthesis checks it.
-            SteppedSineTable::new(vec![point.clone()])?;
-            model.validate_terms(point.dofs())?;
+            if point.dofs() == 0 {
+                SteppedSineTable::new(vec![point.clone()])?;
+            }
+            point.check(0, point.dofs()).map_err(|(_, e)| e)?;
+            if validated != Some(point.dofs()) {
+                model.validate_terms(point.dofs())?;
+                validated = Some(point.dofs());
+            }
             let psi = approximation.phase.phases(point)?;
             *slot = stepped_sine_closed::row(model, point, &psi);
         }
@@ -172,7 +179,7 @@ impl PointRows {
     /// about 10⁻⁶). b does not depend on R. `point` is the point as measured.
     pub(crate) fn residual_derivative(&self, point: &SteppedSinePoint) -> Vec<f64> {
         let f = point.force_dof;
-        let steps: Vec<f64> = perturbed(point).into_iter().map(|(_, h)| h).collect();
+        let steps = steps(point);
         let base = &self.rows[0].columns;
         let (x, phi, a) = (point.amplitudes[f], point.phases[f], point.force_amplitude);
         let (dx, dphi) = (-a * phi.cos(), a * phi.sin() / x);
@@ -204,25 +211,37 @@ fn checked_columns(model: &DampingModel, source: &SteppedSineSource) -> Result<V
     Ok(columns)
 }
 
-/// The finite-difference steps of `p`'s rows after its equation (a, then X_i and φ_i
-/// per DOF), and the perturbed copies of `p` they belong to.
-fn perturbed(p: &SteppedSinePoint) -> Vec<(SteppedSinePoint, f64)> {
+/// The finite-difference steps of `p`'s rows: 1 for its equation, then a, and X_i and
+/// φ_i per DOF (the order of [`perturbed`]).
+fn steps(p: &SteppedSinePoint) -> Vec<f64> {
     let dofs = p.dofs();
     let mut out = Vec::with_capacity(2 + 2 * dofs);
-    out.push((p.clone(), 1.0));
-    let mut q = p.clone();
-    let h = STEP * p.force_amplitude.max(f64::MIN_POSITIVE);
-    q.force_amplitude += h;
-    out.push((q, h));
+    out.push(1.0);
+    out.push(STEP * p.force_amplitude.max(f64::MIN_POSITIVE));
     let largest = p.amplitudes.iter().fold(0.0f64, |m, x| m.max(*x));
     for j in 0..dofs {
+        out.push(STEP * p.amplitudes[j].max(largest).max(f64::MIN_POSITIVE));
+        out.push(STEP);
+    }
+    out
+}
+
+/// The perturbed copies of `p` its rows belong to, with their steps ([`steps`]): `p`
+/// itself, then a + h, and X_i + h and φ_i + h for each DOF.
+fn perturbed(p: &SteppedSinePoint) -> Vec<(SteppedSinePoint, f64)> {
+    let steps = steps(p);
+    let mut out = Vec::with_capacity(steps.len());
+    out.push((p.clone(), steps[0]));
+    let mut q = p.clone();
+    q.force_amplitude += steps[1];
+    out.push((q, steps[1]));
+    for j in 0..p.dofs() {
         let mut q = p.clone();
-        let h = STEP * p.amplitudes[j].max(largest).max(f64::MIN_POSITIVE);
-        q.amplitudes[j] += h;
-        out.push((q, h));
+        q.amplitudes[j] += steps[2 + 2 * j];
+        out.push((q, steps[2 + 2 * j]));
         let mut q = p.clone();
-        q.phases[j] += STEP;
-        out.push((q, STEP));
+        q.phases[j] += steps[3 + 2 * j];
+        out.push((q, steps[3 + 2 * j]));
     }
     out
 }
@@ -305,7 +324,7 @@ pub(crate) fn assemble(
     };
     for r in 0..points.len() {
         let own = &rows[r].rows;
-        let steps: Vec<f64> = perturbed(&points[r]).into_iter().map(|(_, h)| h).collect();
+        let steps = steps(&points[r]);
         let base = &own[0];
         let sigma = &swept.noise[r];
         let derivative = |offset: usize| {
