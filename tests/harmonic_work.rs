@@ -76,8 +76,8 @@ fn closed_form_rows_are_the_limit_of_the_synthesized_ones() {
                 worst[k] = worst[k].max((x - y).abs() / x);
             }
         }
-        for k in 0..8 {
-            assert!(worst[k] < tolerance[k], "{phase:?}: column {k}: {}", worst[k]);
+        for (k, (w, t)) in worst.iter().zip(tolerance).enumerate() {
+            assert!(*w < t, "{phase:?}: column {k}: {w}");
         }
         // The Coulomb columns' quadrature error is real and of the expected size:
         // the comparison is not between two copies of the same computation.

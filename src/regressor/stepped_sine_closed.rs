@@ -50,7 +50,7 @@ pub(crate) fn row(
     psi: &[f64],
 ) -> Option<(Vec<f64>, f64)> {
     let f = point.force_dof;
-    let in_range = |v: f64| v.is_finite() && v >= 1.0 / RANGE && v <= RANGE;
+    let in_range = |v: f64| (1.0 / RANGE..=RANGE).contains(&v);
     let largest = point.amplitudes.iter().fold(0.0f64, |m, x| m.max(*x));
     if !in_range(point.force_amplitude)
         || !in_range(point.frequency)
@@ -58,9 +58,11 @@ pub(crate) fn row(
         || point
             .amplitudes
             .iter()
-            .any(|&x| !(x > MOTION_SHARE * largest))
+            .any(|&x| x.is_nan() || x <= MOTION_SHARE * largest)
         || psi.len() != point.amplitudes.len()
-        || psi.get(f).is_none_or(|p| !(p.sin().abs() > LAG_FLOOR))
+        || psi
+            .get(f)
+            .is_none_or(|p| p.is_nan() || p.sin().abs() <= LAG_FLOOR)
     {
         return None;
     }
