@@ -42,6 +42,7 @@ mod settings;
 pub mod source;
 mod stack;
 pub mod stepped_sine;
+mod stepped_sine_closed;
 pub mod structural_term;
 pub mod velocity_bias;
 

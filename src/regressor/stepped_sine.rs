@@ -13,6 +13,13 @@
 //! [`StructuralTerm`]), the closed form A_pk = π k |Z_e|² with Z_e = Z_a − Z_b the
 //! complex amplitude of the element's deformation, Z_i = X_i e^{−iψ_i}.
 //!
+//! **Closed form.** When every term of the model has a closed-form work per cycle
+//! (viscous and semidefinite matrix terms, linear, quadratic, Coulomb and power laws:
+//! [`crate::terms::harmonic_work`]), each row is that exact single-harmonic integral
+//! and b_p its closed form, with no period synthesized (`stepped_sine_closed.rs`); the
+//! synthesized rows are their quadratures. A model with any other term synthesizes
+//! every term.
+//!
 //! **Noise.** The measured a, X_i, φ_i carry independent noise of standard deviations
 //! σ_a, σ_{X,i}, σ_{φ,i} ([`crate::prep::harmonic::sweeps`]). To first order the
 //! residual e_p = b_p − Σ θ_k A_pk has
@@ -25,7 +32,7 @@
 //! vector per DOF), so the fit weights each equation by 1/√Var e_p(θ), iterated, with
 //! the same χ² model check and calibrated standard errors
 //! (`fit/weighted.rs`, [`crate::analysis::diagnostics`]). The derivatives are
-//! forward differences of the synthesized rows, steps 10⁻⁶ X_i (relative), 10⁻⁶ rad
+//! forward differences of the rows (synthesized or closed form), steps 10⁻⁶ X_i (relative), 10⁻⁶ rad
 //! and 10⁻⁶ a: the columns are smooth in X and φ, so their relative error is about
 //! 10⁻⁶, negligible in a variance; b is exactly linear in a.
 //!
@@ -41,10 +48,11 @@ use faer::Mat;
 use crate::error::{Error, Result};
 use crate::model::DampingModel;
 use crate::prep::harmonic::residual;
-use crate::prep::harmonic::{HarmonicApproximation, SteppedSinePoint};
+use crate::prep::harmonic::{HarmonicApproximation, SteppedSinePoint, SteppedSineTable};
 use crate::regressor::passive::WorkScale;
 use crate::regressor::robust::{ChannelSensitivity, NoiseModel, RowNoise, WindowNoise};
 use crate::regressor::source::SteppedSineSource;
+use crate::regressor::stepped_sine_closed;
 pub use crate::regressor::structural_term::StructuralTerm;
 use crate::regressor::{Regressor, RegressorSettings, RowLabel};
 
@@ -58,39 +66,68 @@ struct Row {
     input: f64,
 }
 
-/// The rows of `points` under the harmonic approximation, one synthesized period each.
+/// The rows of `points` under the harmonic approximation: in closed form when every
+/// term of the model has one (`stepped_sine_closed.rs`), else one synthesized period
+/// each. A mixed model synthesizes every term: the synthesis costs the same for one
+/// term as for all, and its round-off check sees the whole row.
 fn rows(
     model: &DampingModel,
     structural: &[StructuralTerm],
     points: &[SteppedSinePoint],
     approximation: &HarmonicApproximation,
 ) -> Result<Vec<Row>> {
-    let records = approximation.records_of(points)?;
-    let model_rows = if model.terms().is_empty() {
+    let mut closed: Vec<Option<(Vec<f64>, f64)>> = vec![None; points.len()];
+    if stepped_sine_closed::applies(model) {
+        approximation.validate()?;
+        let mut validated = None;
+        for (slot, point) in closed.iter_mut().zip(points) {
+            // A point from a table is valid; one built by hand is checked here, as the
+            // synthesis checks it.
+            if point.dofs() == 0 {
+                SteppedSineTable::new(vec![point.clone()])?;
+            }
+            point.check(0, point.dofs()).map_err(|(_, e)| e)?;
+            if validated != Some(point.dofs()) {
+                model.validate_terms(point.dofs())?;
+                validated = Some(point.dofs());
+            }
+            let psi = approximation.phase.phases(point)?;
+            *slot = stepped_sine_closed::row(model, point, &psi);
+        }
+    }
+    let synthesized: Vec<usize> = (0..points.len()).filter(|&r| closed[r].is_none()).collect();
+    let model_rows = if model.terms().is_empty() || synthesized.is_empty() {
         None
     } else {
+        let subset: Vec<SteppedSinePoint> =
+            synthesized.iter().map(|&r| points[r].clone()).collect();
         Some(Regressor::build(
             model,
-            &records,
+            &approximation.records_of(&subset)?,
             &RegressorSettings::harmonic_approximation(),
         )?)
     };
+    let mut next = 0;
     points
         .iter()
-        .enumerate()
-        .map(|(r, point)| {
+        .zip(closed)
+        .map(|(point, closed)| {
             let psi = approximation.phase.phases(point)?;
-            let mut columns: Vec<f64> = match &model_rows {
-                Some(reg) => (0..reg.columns().len())
-                    .map(|k| reg.matrix()[(r, k)])
-                    .collect(),
-                None => Vec::new(),
+            let (mut columns, input) = match (closed, &model_rows) {
+                (Some(row), _) => row,
+                (None, Some(reg)) => {
+                    let r = next;
+                    next += 1;
+                    (
+                        (0..reg.columns().len())
+                            .map(|k| reg.matrix()[(r, k)])
+                            .collect(),
+                        reg.rhs()[r],
+                    )
+                }
+                (None, None) => (Vec::new(), input_work(point, &psi)),
             };
             columns.extend(structural.iter().map(|s| s.column(point, &psi)));
-            let input = match &model_rows {
-                Some(reg) => reg.rhs()[r],
-                None => input_work(point, &psi),
-            };
             Ok(Row { columns, input })
         })
         .collect()
@@ -142,7 +179,7 @@ impl PointRows {
     /// about 10⁻⁶). b does not depend on R. `point` is the point as measured.
     pub(crate) fn residual_derivative(&self, point: &SteppedSinePoint) -> Vec<f64> {
         let f = point.force_dof;
-        let steps: Vec<f64> = perturbed(point).into_iter().map(|(_, h)| h).collect();
+        let steps = steps(point);
         let base = &self.rows[0].columns;
         let (x, phi, a) = (point.amplitudes[f], point.phases[f], point.force_amplitude);
         let (dx, dphi) = (-a * phi.cos(), a * phi.sin() / x);
@@ -174,25 +211,37 @@ fn checked_columns(model: &DampingModel, source: &SteppedSineSource) -> Result<V
     Ok(columns)
 }
 
-/// The finite-difference steps of `p`'s rows after its equation (a, then X_i and φ_i
-/// per DOF), and the perturbed copies of `p` they belong to.
-fn perturbed(p: &SteppedSinePoint) -> Vec<(SteppedSinePoint, f64)> {
+/// The finite-difference steps of `p`'s rows: 1 for its equation, then a, and X_i and
+/// φ_i per DOF (the order of [`perturbed`]).
+fn steps(p: &SteppedSinePoint) -> Vec<f64> {
     let dofs = p.dofs();
     let mut out = Vec::with_capacity(2 + 2 * dofs);
-    out.push((p.clone(), 1.0));
-    let mut q = p.clone();
-    let h = STEP * p.force_amplitude.max(f64::MIN_POSITIVE);
-    q.force_amplitude += h;
-    out.push((q, h));
+    out.push(1.0);
+    out.push(STEP * p.force_amplitude.max(f64::MIN_POSITIVE));
     let largest = p.amplitudes.iter().fold(0.0f64, |m, x| m.max(*x));
     for j in 0..dofs {
+        out.push(STEP * p.amplitudes[j].max(largest).max(f64::MIN_POSITIVE));
+        out.push(STEP);
+    }
+    out
+}
+
+/// The perturbed copies of `p` its rows belong to, with their steps ([`steps`]): `p`
+/// itself, then a + h, and X_i + h and φ_i + h for each DOF.
+fn perturbed(p: &SteppedSinePoint) -> Vec<(SteppedSinePoint, f64)> {
+    let steps = steps(p);
+    let mut out = Vec::with_capacity(steps.len());
+    out.push((p.clone(), steps[0]));
+    let mut q = p.clone();
+    q.force_amplitude += steps[1];
+    out.push((q, steps[1]));
+    for j in 0..p.dofs() {
         let mut q = p.clone();
-        let h = STEP * p.amplitudes[j].max(largest).max(f64::MIN_POSITIVE);
-        q.amplitudes[j] += h;
-        out.push((q, h));
+        q.amplitudes[j] += steps[2 + 2 * j];
+        out.push((q, steps[2 + 2 * j]));
         let mut q = p.clone();
-        q.phases[j] += STEP;
-        out.push((q, STEP));
+        q.phases[j] += steps[3 + 2 * j];
+        out.push((q, steps[3 + 2 * j]));
     }
     out
 }
@@ -275,7 +324,7 @@ pub(crate) fn assemble(
     };
     for r in 0..points.len() {
         let own = &rows[r].rows;
-        let steps: Vec<f64> = perturbed(&points[r]).into_iter().map(|(_, h)| h).collect();
+        let steps = steps(&points[r]);
         let base = &own[0];
         let sigma = &swept.noise[r];
         let derivative = |offset: usize| {

@@ -12,6 +12,7 @@
 
 pub mod element;
 pub mod element_term;
+pub mod harmonic_work;
 pub mod history;
 pub mod lanes;
 pub mod law;
