@@ -40,6 +40,10 @@ const MAX_DEPTH: usize = 64;
 /// (as the level-5 reader counts).
 const NODE_BYTES: u128 = 256;
 
+/// The most a deflate stream expands (zlib's limit is about 1032:1), which bounds the
+/// values a chunked dataset of a file of n bytes can hold (MATLAB writes every chunk).
+const MAX_EXPANSION: u64 = 1100;
+
 /// The text a v7.3 file's header starts with.
 const SIGNATURE: &[u8] = b"MATLAB 7.3";
 
@@ -55,7 +59,7 @@ pub(crate) fn is_v73(bytes: &[u8]) -> bool {
 /// An object a reference points to.
 enum Object {
     Group(Group),
-    Dataset(Dataset),
+    Dataset(Box<Dataset>),
 }
 
 /// What the walk needs: the objects of `#refs#` by address, the size of an address,
@@ -64,10 +68,13 @@ struct Walk {
     refs: HashMap<u64, Object>,
     offset_size: u8,
     nodes: usize,
+    /// The file's length in bytes.
+    length: u64,
 }
 
 /// Parses the variables of a MAT v7.3 file (module doc); `Err` says why it cannot be read.
 pub(crate) fn parse(bytes: Vec<u8>) -> Result<Vec<Variable>, String> {
+    let length = bytes.len() as u64;
     let mut options = OpenOptions::default();
     if let Some(limit) = crate::budget::limit() {
         options.max_read_bytes = usize::try_from(limit).unwrap_or(usize::MAX);
@@ -84,6 +91,7 @@ pub(crate) fn parse(bytes: Vec<u8>) -> Result<Vec<Variable>, String> {
         refs: HashMap::new(),
         offset_size: root.offset_size(),
         nodes: 0,
+        length,
     };
     let mut top: Vec<(String, Object)> = Vec::new();
     for g in groups {
@@ -93,15 +101,17 @@ pub(crate) fn parse(bytes: Vec<u8>) -> Result<Vec<Variable>, String> {
                 .map_err(|e| format!("MATLAB's #refs# group cannot be listed: {e}"))?;
             walk.refs
                 .extend(gs.into_iter().map(|g| (g.address(), Object::Group(g))));
-            walk.refs
-                .extend(ds.into_iter().map(|d| (d.address(), Object::Dataset(d))));
+            walk.refs.extend(
+                ds.into_iter()
+                    .map(|d| (d.address(), Object::Dataset(Box::new(d)))),
+            );
         } else if !g.name().starts_with('#') {
             top.push((g.name().to_string(), Object::Group(g)));
         }
     }
     for d in datasets {
         if !d.name().starts_with('#') {
-            top.push((d.name().to_string(), Object::Dataset(d)));
+            top.push((d.name().to_string(), Object::Dataset(Box::new(d))));
         }
     }
     top.sort_by(|a, b| a.0.cmp(&b.0));
@@ -179,8 +189,43 @@ fn static_class(class: &str) -> Option<&'static str> {
     .find(|c| *c == class)
 }
 
-/// The values of a numeric dataset as f64, in the order they lie (MATLAB's column-major).
-fn numbers(d: &Dataset, n: usize) -> Result<Vec<f64>, String> {
+/// Refuses a dataset whose size cannot be what a file of `length` bytes holds (a damaged
+/// dimension would otherwise read as gigabytes of fill values): its dimensions within
+/// their stored maxima, and its `n` values of `width` bytes within the file's bytes, or
+/// within [`MAX_EXPANSION`] times them when chunked (compressed).
+fn plausible(d: &Dataset, n: usize, width: usize, length: u64) -> Result<(), String> {
+    if let Some(max) = d.max_dims()
+        && let Some((k, (size, most))) = d
+            .shape()
+            .iter()
+            .zip(max)
+            .enumerate()
+            .find(|(_, (size, most))| size > most)
+    {
+        return Err(format!(
+            "dimension {} is {size}, more than its stored maximum {most}: a damaged file",
+            k + 1
+        ));
+    }
+    let bytes = (n as u64).saturating_mul(width as u64);
+    let room = if d.chunks().is_some() {
+        length.saturating_mul(MAX_EXPANSION)
+    } else {
+        length
+    };
+    if bytes > room {
+        return Err(format!(
+            "{n} values of {width} bytes, more than a file of {length} bytes holds: a damaged file"
+        ));
+    }
+    Ok(())
+}
+
+/// The values of a numeric dataset as f64, in the order they lie (MATLAB's column-major),
+/// for a file of `length` bytes ([`plausible`]).
+fn numbers(d: &Dataset, n: usize, length: u64) -> Result<Vec<f64>, String> {
+    let width = d.raw_element_size().map_err(|e| e.to_string())?;
+    plausible(d, n, width, length)?;
     crate::budget::require(
         "reading a MAT variable",
         crate::budget::f64s(n as u128),
@@ -262,7 +307,7 @@ impl Walk {
             ));
         }
         match object {
-            Object::Dataset(d) => Self::dataset(d),
+            Object::Dataset(d) => Self::dataset(d, self.length),
             Object::Group(g) => self.group(g, path, depth),
         }
         .map_err(|e| {
@@ -275,7 +320,7 @@ impl Walk {
     }
 
     /// A dataset's value (module doc).
-    fn dataset(d: &Dataset) -> Result<Value, String> {
+    fn dataset(d: &Dataset, length: u64) -> Result<Value, String> {
         let attributes = d.attributes();
         let dtype = d.dtype();
         let class = text(&attributes, "MATLAB_class")
@@ -289,7 +334,10 @@ impl Walk {
             if n > 64 {
                 return Err(format!("an empty array of {n} dimensions"));
             }
-            dims = numbers(d, n)?.into_iter().map(|v| v as usize).collect();
+            dims = numbers(d, n, length)?
+                .into_iter()
+                .map(|v| v as usize)
+                .collect();
             if count(&dims)? != 0 {
                 dims = vec![0, 0];
             }
@@ -316,7 +364,7 @@ impl Walk {
         }
         let n = count(&dims)?;
         if class == "char" {
-            let values = numbers(d, n)?;
+            let values = numbers(d, n, length)?;
             let units: Vec<u16> = values.iter().map(|&v| v as u16).collect();
             return Ok(Value::Char {
                 text: char_text(&units, &dims),
@@ -331,7 +379,7 @@ impl Walk {
         match (static_class(&class), dtype) {
             (Some(class), Datatype::Compound { .. }) => Ok(Value::Complex { class, dims }),
             (Some(class), Datatype::FloatingPoint { .. } | Datatype::FixedPoint { .. }) => {
-                let values = numbers(d, n)?;
+                let values = numbers(d, n, length)?;
                 Ok(Value::Numeric {
                     class,
                     dims,
@@ -409,7 +457,7 @@ impl Walk {
             if plain_refs {
                 references = Some(matlab_dims(d.shape())?);
             }
-            members.insert(d.name().to_string(), Object::Dataset(d));
+            members.insert(d.name().to_string(), Object::Dataset(Box::new(d)));
         }
         for sub in groups {
             members.insert(sub.name().to_string(), Object::Group(sub));
@@ -445,6 +493,7 @@ impl Walk {
                     "field '{field}' of a struct array holds no references"
                 ));
             }
+            plausible(d, n, usize::from(self.offset_size), self.length)?;
             let raw = d.read_raw_bytes().map_err(|e| e.to_string())?;
             let refs = hdf5_reader::reference::read_object_references(&raw, self.offset_size)
                 .map_err(|e| e.to_string())?;

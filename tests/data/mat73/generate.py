@@ -230,5 +230,17 @@ scipy.io.savemat(
                 "ResponseControl": struct_array(elements[4:])}},
     do_compression=True,
 )
+# 4. A struct array whose element refers to itself (a crafted file: refused, not followed
+# forever), beside a vector.
+w = Writer(f"{HERE}/cycle_v73.mat")
+loop = w.ref_group().create_group("loop")
+loop.attrs.create("MATLAB_class", np.bytes_("struct"))
+loop.create_dataset("next", data=np.array([[loop.ref]], dtype=h5py.ref_dtype))
+top = w.file.create_group("top")
+top.attrs.create("MATLAB_class", np.bytes_("struct"))
+top.create_dataset("next", data=np.array([[loop.ref], [loop.ref]], dtype=h5py.ref_dtype))
+w.numeric(w.file, "x", np.arange(3.0))
+w.close(f"{HERE}/cycle_v73.mat")
+
 for name in sorted(os.listdir(HERE)):
     print(name, os.path.getsize(f"{HERE}/{name}"))
