@@ -1,5 +1,6 @@
-//! MATLAB `.mat` files, level 5 (MATLAB v5 to v7, compressed or not; v7.3 is HDF5 and is
-//! not read), parsed by `mat/element.rs`. Every real numeric 1-D or 2-D array can become
+//! MATLAB `.mat` files: level 5 (MATLAB v5 to v7, compressed or not), parsed by
+//! `mat/element.rs`, and v7.3 (HDF5 behind MATLAB's 512-byte header), read by
+//! `mat/v73.rs` into the same tree; this file dispatches on the header. Every real numeric 1-D or 2-D array can become
 //! columns (as for NPY arrays: `x[1]`…`x[k]` for N × k), at the top level or inside
 //! structs and struct arrays nested to any depth, named by its MATLAB path:
 //! `s.a`, `FRdata.ResponseControl(3).amplitude` (1-based linear indices as MATLAB writes
@@ -13,6 +14,7 @@ use std::path::Path;
 
 mod element;
 mod sweeps;
+mod v73;
 
 pub(crate) use sweeps::sweep_table;
 
@@ -35,6 +37,9 @@ fn complete(bytes: &[u8]) -> std::result::Result<usize, String> {
     const COMPRESSED: u32 = 15;
     let length = bytes.len();
     let v4 = "a MAT v4 file (MATLAB's save -v4: no 128-byte text header, which level-5 files start with) is not read; save the variables with -v7 or -v6";
+    if bytes.starts_with(b"\x89HDF\r\n\x1a\n") {
+        return Err("an HDF5 file without MATLAB's 512-byte v7.3 header (written by another program, its dimensions' order is unknown); save it from MATLAB with -v7.3, -v7 or -v6".into());
+    }
     if length < HEADER {
         return Err(format!(
             "not a level-5 MAT file: {length} bytes, shorter than the {HEADER}-byte header; {v4}"
@@ -45,11 +50,6 @@ fn complete(bytes: &[u8]) -> std::result::Result<usize, String> {
         return Err(format!(
             "not a level-5 MAT file: bytes 127–128 are not the endianness mark 'IM' or 'MI'; {v4}"
         ));
-    }
-    if bytes[..116].windows(10).any(|w| w == b"MATLAB 7.3") {
-        return Err(
-            "a MAT v7.3 file (HDF5) is not read; save the variables with -v7 or -v6".into(),
-        );
     }
     let little = mark == b"IM";
     let word = |at: usize| {
@@ -120,7 +120,7 @@ pub(crate) struct MatVariables {
 }
 
 /// What the MAT reader reads, for messages that say what a file holds instead.
-pub(crate) const SUPPORTED: &str = "read are real numeric 1-D or 2-D arrays (double, single, integer), at the top level or in structs and struct arrays, named by path (s.a, s(2).b); not read are cell, sparse, logical, complex and N-D arrays, objects, function handles, and MAT v7.3 (HDF5) files";
+pub(crate) const SUPPORTED: &str = "read are real numeric 1-D or 2-D arrays (double, single, integer), at the top level or in structs and struct arrays, named by path (s.a, s(2).b); not read are cell, sparse, logical, complex and N-D arrays, objects and function handles; level-5 (-v6, -v7) and v7.3 (HDF5) files are read";
 
 /// A one-line list of what a file holds: `a (41×1 double), s (1×8 struct), …`.
 pub(crate) fn holds(contents: &[Entry]) -> String {
@@ -202,8 +202,9 @@ fn flatten(path: String, value: Value, variables: &mut Vec<Variable>, contents: 
     }
 }
 
-/// The bytes of a level-5 MAT file at `path`, checked whole ([`complete`]).
-fn bytes_of(path: &Path) -> Result<Vec<u8>> {
+/// The variables of the MAT file at `path`, parsed: a v7.3 file (its header says so)
+/// by [`v73::parse`], a level-5 file checked whole ([`complete`]) by [`element::parse`].
+pub(crate) fn parsed(path: &Path) -> Result<Vec<element::Variable>> {
     let file = path.display().to_string();
     let error = |message: String| Error::Data {
         file: file.clone(),
@@ -213,19 +214,12 @@ fn bytes_of(path: &Path) -> Result<Vec<u8>> {
     };
     super::require_data_file(path)?;
     let bytes = std::fs::read(path).map_err(|e| error(e.to_string()))?;
+    if v73::is_v73(&bytes) {
+        return v73::parse(bytes)
+            .map_err(|e| error(format!("not a readable MAT v7.3 (HDF5) file: {e}")));
+    }
     complete(&bytes).map_err(error)?;
-    Ok(bytes)
-}
-
-/// The variables of the MAT file at `path`, parsed ([`element::parse`]).
-pub(crate) fn parsed(path: &Path) -> Result<Vec<element::Variable>> {
-    let bytes = bytes_of(path)?;
-    element::parse(&bytes).map_err(|e| Error::Data {
-        file: path.display().to_string(),
-        row: 0,
-        column: String::new(),
-        message: format!("not a readable level-5 MAT file: {e}"),
-    })
+    element::parse(&bytes).map_err(|e| error(format!("not a readable level-5 MAT file: {e}")))
 }
 
 /// Reads the variables of a `.mat` file, flattened by path.

@@ -28,7 +28,7 @@
 //! | `Expression` | `Expression::parse` (the model-file law) | model_file |
 //! | `ModelFile` | `model_file::parse`, at the line of the block concerned, keeping the typed `cause` | model_file, regressions |
 //! | `UnknownName` | `Table::column` | data_files |
-//! | `Data` | `io::csv::parse`, `io::read_mat`, `io::npy::read_npy` (a header claiming more data than the file holds), `io::uff::parse` (tests/uff.rs), `io::read_table` of a damaged `.npz` (tests/formats.rs); MAT struct sweeps, named scales and struct files with nothing to read (mat_structs); a time column that does not increase (`Table::uniform_step`) | data_files |
+//! | `Data` | `io::csv::parse`, `io::read_mat`, `io::npy::read_npy` (a header claiming more data than the file holds), `io::uff::parse` (tests/uff.rs), `io::read_table` of a damaged `.npz` (tests/formats.rs); MAT struct sweeps, named scales and struct files with nothing to read (mat_structs); damaged, plain-HDF5 and self-referring MAT v7.3 files (mat73); a time column that does not increase (`Table::uniform_step`) | data_files |
 //! | `TimeJitter` | `Table::uniform_step`: time steps departing from their mean by more than `io::table::MAX_TIME_JITTER` | variants, data_files |
 //! | `NoPeriod` | `prep::period::detect_period` | prep |
 //! | `NotSteady` | `prep::steady_state` (`enforce`) | prep |
@@ -48,6 +48,7 @@ mod fixtures;
 mod free_decay;
 mod history;
 mod limits;
+mod mat73;
 mod mat_structs;
 #[path = "../support/mat_writer.rs"]
 mod mat_writer;
