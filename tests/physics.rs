@@ -397,7 +397,8 @@ fn only_records(text: String, keep: &[usize]) -> String {
 /// velocities given as displacements with every coefficient "determined", standard
 /// errors of 1e-12 and "χ² = 0 … the check passes" (the windows counted as degrees of
 /// freedom). Now a warning says the records cannot be checked against each other; with
-/// a sixth record the inconsistent one is named.
+/// two more records (one of them repeating record 5's frequency and forcing point at
+/// another amplitude, as record 2 does for record 1) the inconsistent one is named.
 #[test]
 fn records_that_cannot_be_checked_against_each_other_are_said_so() {
     let velocities: RecordEdit = |r| {
@@ -411,11 +412,14 @@ fn records_that_cannot_be_checked_against_each_other_are_said_so() {
     let clean = fit(&chain(|t| only_records(t, &five)).unwrap()).unwrap();
     assert!(worst_error(&clean) < 0.02, "{clean}");
     let warning = clean.warnings.iter().find(|w| unchecked(w));
+    let labels: Vec<String> = clean.records.iter().map(|r| r.record.clone()).collect();
+    assert_eq!(labels.len(), 5);
     assert_eq!(
         warning,
         Some(&Warning::NoRecordRedundancy {
             experiments: 5,
-            parameters: 5
+            parameters: 5,
+            unchecked: labels,
         }),
         "{clean}"
     );
@@ -429,17 +433,73 @@ fn records_that_cannot_be_checked_against_each_other_are_said_so() {
     assert!(worst_error(&wrong) > 0.05, "{wrong}");
     assert!(wrong.coefficients.iter().all(|c| c.determined), "{wrong}");
     assert!(wrong.warnings.iter().any(unchecked), "{wrong}");
-    let six = fit(&chain(|t| only_records(t, &[1, 2, 3, 5, 9, 11])).unwrap()).unwrap();
-    assert!(!six.warnings.iter().any(unchecked), "{six}");
-    let named =
-        fit(&chain(|t| in_record(only_records(t, &[1, 2, 3, 5, 9, 11]), 4, velocities)).unwrap())
-            .unwrap();
+    let seven = fit(&chain(|t| only_records(t, &[1, 2, 3, 5, 6, 9, 11])).unwrap()).unwrap();
+    assert!(!seven.warnings.iter().any(unchecked), "{seven}");
+    let named = fit(
+        &chain(|t| in_record(only_records(t, &[1, 2, 3, 5, 6, 9, 11]), 4, velocities)).unwrap(),
+    )
+    .unwrap();
     assert!(
         named.warnings.iter().any(|w| matches!(
             w,
             Warning::InconsistentRecord { record, .. } if record == "a=0.5 ω=1.4142 on mass 1"
         )),
         "{named}"
+    );
+}
+
+/// More records than coefficients, and still one that nothing checks: record 1 twice
+/// (the same experiment), then records 2, 3, 5 and 9. Six records for five coefficients,
+/// but the copies share one direction, so each of the other four alone determines a
+/// combination of the coefficients (leverage 1) and velocities given as displacements in
+/// record 5 are fitted exactly. The physics fuzz target found this shape (two records at
+/// one frequency and forcing point, which a linear law cannot tell apart); the warning
+/// names the four.
+#[test]
+fn a_record_that_alone_determines_a_combination_is_named() {
+    let velocities: RecordEdit = |r| {
+        r.replace(
+            r#"displacements = ["x1", "x2", "x3"]"#,
+            r#"displacements = ["v1", "v2", "v3"]"#,
+        )
+    };
+    let unchecked = |report: &FitReport| {
+        report.warnings.iter().find_map(|w| match w {
+            Warning::NoRecordRedundancy {
+                experiments,
+                parameters,
+                unchecked,
+            } => Some((*experiments, *parameters, unchecked.clone())),
+            _ => None,
+        })
+    };
+    let records = [1, 1, 2, 3, 5, 9];
+    let alone: Vec<String> = [2, 3, 5, 9]
+        .iter()
+        .map(|k| {
+            let text = chain_text();
+            let part = text.split("[[data.records]]").nth(*k).unwrap().to_string();
+            let start = part.find("label = \"").unwrap() + 9;
+            part[start..start + part[start..].find('"').unwrap()].to_string()
+        })
+        .collect();
+    let clean = fit(&chain(|t| only_records(t, &records)).unwrap()).unwrap();
+    assert!(worst_error(&clean) < 0.02, "{clean}");
+    assert_eq!(unchecked(&clean), Some((6, 5, alone.clone())), "{clean}");
+    let wrong =
+        fit(&chain(|t| in_record(only_records(t, &records), 5, velocities)).unwrap()).unwrap();
+    assert!(worst_error(&wrong) > 0.05, "{wrong}");
+    assert_eq!(unchecked(&wrong), Some((6, 5, alone)), "{wrong}");
+    let message = wrong
+        .warnings
+        .iter()
+        .find(|w| matches!(w, Warning::NoRecordRedundancy { .. }))
+        .unwrap()
+        .to_string();
+    assert!(message.contains("'a=0.5 ω=1.4142 on mass 1'"), "{message}");
+    assert!(
+        message.contains("of the 6 independent experiments"),
+        "{message}"
     );
 }
 

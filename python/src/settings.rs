@@ -124,8 +124,7 @@ pub fn settings(
             (settings, high_pass, None, None)
         }
         (None, Some(section)) => {
-            let (settings, decay, filter) =
-                free_decay_identification(&table, section).py_err()?;
+            let (settings, decay, filter) = free_decay_identification(&table, section).py_err()?;
             (settings, None, Some(decay), filter)
         }
     };

@@ -37,9 +37,33 @@
 //! the non-periodic mode counts as one). A 100-DOF chain driven in 5 experiments of 50
 //! windows each (models/chain100.toml) was said to determine 93 combinations of its 201
 //! coefficients; it determines at most 5.
+//!
+//! **Experiments that nothing checks** ([`unchecked`]). With ā_g the mean scaled row of
+//! experiment g (a record's windows averaged; a stepped-sine point or a span alone) over
+//! the free columns, and Ā = U Σ Vᵀ (the singular values above 10⁻¹⁰ σ₁ kept), the
+//! leverage of g among the experiments is
+//!
+//! ```text
+//!   h_g = ‖U_g‖² = ā_gᵀ (ĀᵀĀ)⁺ ā_g,   0 ≤ h_g ≤ 1,   Σ_g h_g = rank Ā.
+//! ```
+//!
+//! An error δ in experiment g's equations leaves a residual (1 − h_g) δ there: at
+//! h_g = 1 the experiment alone determines a combination of the coefficients, and the
+//! fit absorbs whatever it holds (wrong units, sign, force DOF), with χ² = 0 however many
+//! windows it has. Every experiment has h_g = 1 when there are no more experiments than
+//! free coefficients; two records at one frequency and forcing point differ only in
+//! amplitude for a linear law, so they count once in rank Ā and the third, fourth …
+//! other record can still be alone (the physics fuzz target found both). Experiments
+//! with h_g ≥ [`UNCHECKED_LEVERAGE`] are named ([`crate::report::Warning::NoRecordRedundancy`]).
+
+use faer::Mat;
 
 use crate::fit::scaling::Scaling;
 use crate::regressor::{Regressor, RowLabel};
+
+/// Leverage at or above which an experiment's error would show at most √(1 − h) ≈ 3 %
+/// in its residual: the experiment is not checked by the others (module doc).
+pub const UNCHECKED_LEVERAGE: f64 = 0.999;
 
 /// Whether the row of `label` repeats the other windows of its record: windows of whole
 /// periods do; spans of the non-periodic mode and stepped-sine points do not.
@@ -103,4 +127,55 @@ pub fn experiments(regressor: &Regressor) -> usize {
         }
     }
     records.len() + others
+}
+
+/// The experiments with leverage h_g ≥ [`UNCHECKED_LEVERAGE`] over the `free` columns
+/// (module doc), named by their record (a point or span by its row label), in row order.
+pub fn unchecked(regressor: &Regressor, free: &[usize]) -> Vec<String> {
+    let a = regressor.matrix();
+    if a.nrows() == 0 || free.is_empty() {
+        return Vec::new();
+    }
+    let scaling = Scaling::of(a, regressor.rhs());
+    let mut groups: Vec<(Option<usize>, String, Vec<usize>)> = Vec::new();
+    for (i, label) in regressor.rows().iter().enumerate() {
+        if !replicated(label) {
+            groups.push((None, label.to_string(), vec![i]));
+        } else if let Some((_, _, rows)) = groups
+            .iter_mut()
+            .find(|(r, _, _)| *r == Some(label.record_index))
+        {
+            rows.push(i);
+        } else {
+            groups.push((Some(label.record_index), label.record.clone(), vec![i]));
+        }
+    }
+    let (g, f) = (groups.len(), free.len());
+    // Padded to at least f rows, as the thin SVD of a wide matrix needs.
+    let means = Mat::from_fn(g.max(f), f, |k, j| match groups.get(k) {
+        Some((_, _, rows)) => {
+            let column = free[j];
+            rows.iter().map(|i| a[(*i, column)]).sum::<f64>()
+                / (rows.len() as f64 * scaling.columns[column])
+        }
+        None => 0.0,
+    });
+    let Ok(svd) = means.thin_svd() else {
+        return Vec::new();
+    };
+    let sigma = svd.S().column_vector();
+    let largest = (0..f).map(|i| sigma[i]).fold(0.0, f64::max);
+    if !(largest.is_finite() && largest > 0.0) {
+        return Vec::new();
+    }
+    let kept: Vec<usize> = (0..f).filter(|i| sigma[*i] > 1e-10 * largest).collect();
+    let u = svd.U();
+    groups
+        .into_iter()
+        .enumerate()
+        .filter(|(k, _)| {
+            kept.iter().map(|i| u[(*k, *i)].powi(2)).sum::<f64>() >= UNCHECKED_LEVERAGE
+        })
+        .map(|(_, (_, name, _))| name)
+        .collect()
 }

@@ -182,12 +182,19 @@ impl FitReport {
             });
         }
         let parameters = free + diagnostics.nonlinear_parameters;
-        let experiments = crate::analysis::replicates::experiments(regressor);
-        if free > 0 && experiments <= parameters && regressor.equations() > parameters {
-            warnings.push(Warning::NoRecordRedundancy {
-                experiments,
-                parameters,
-            });
+        if free > 0 && regressor.equations() > parameters {
+            let experiments = crate::analysis::replicates::experiments(regressor);
+            let free_columns: Vec<usize> = (0..p)
+                .filter(|j| !fit.active.iter().any(|c| c.name == regressor.columns()[*j]))
+                .collect();
+            let unchecked = crate::analysis::replicates::unchecked(regressor, &free_columns);
+            if experiments <= parameters || !unchecked.is_empty() {
+                warnings.push(Warning::NoRecordRedundancy {
+                    experiments,
+                    parameters,
+                    unchecked,
+                });
+            }
         }
         if let Some(w) = &diagnostics.weighted
             && let Some(p_value) = w.p_value

@@ -49,17 +49,19 @@ pub enum Warning {
         /// Equations.
         equations: usize,
     },
-    /// No more experiments than free coefficients and parameters, although there are
-    /// more equations: the windows of a record repeat one experiment
-    /// ([`crate::analysis::replicates`]), so the fit reproduces each record whatever it
-    /// holds, and the χ² check and the standard errors see only the scatter between
-    /// windows of one record. A record with wrong units, a wrong sign or a force on
-    /// the wrong DOF cannot be detected.
+    /// Experiments whose equations alone determine a combination of the coefficients
+    /// ([`crate::analysis::replicates::unchecked`]): the fit reproduces them whatever
+    /// they hold, so a record with wrong units, a wrong sign or a force on the wrong DOF
+    /// cannot be detected, and the χ² check and the standard errors see only the scatter
+    /// between windows of one record. Every experiment, when there are no more
+    /// experiments than free coefficients and parameters.
     NoRecordRedundancy {
         /// Experiments: records of replicate windows, stepped-sine points, spans.
         experiments: usize,
         /// Free coefficients plus estimated nonlinear parameters.
         parameters: usize,
+        /// The experiments nothing checks (all of them when `experiments ≤ parameters`).
+        unchecked: Vec<String>,
     },
     /// The weighted residuals are larger than the propagated noise explains.
     ModelInadequate {
@@ -167,6 +169,15 @@ pub enum Warning {
     },
 }
 
+/// `'a', 'b' and 'c'`.
+fn quoted(names: &[String]) -> String {
+    let quoted: Vec<String> = names.iter().map(|n| format!("'{n}'")).collect();
+    match quoted.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
+        _ => quoted.join(""),
+    }
+}
+
 impl Warning {
     /// Whether `identify --strict` fails on this warning: a coefficient not determined,
     /// a window accepted as transient, or the model check (χ²) failing.
@@ -256,12 +267,35 @@ impl fmt::Display for Warning {
             Warning::NoRecordRedundancy {
                 experiments,
                 parameters,
-            } => write!(
+                unchecked,
+            } if experiments <= parameters => write!(
                 f,
-                "{} for {} free coefficients and parameters: the windows of a record repeat one experiment, so the fit reproduces every record whatever it holds; a record with the wrong units, a wrong sign or a force on the wrong DOF would go unnoticed, and the χ² check and the standard errors only measure the scatter between windows of one record; add records (other frequencies, amplitudes or forcing points) until there are more records than free coefficients and parameters",
+                "{} for {parameters} free coefficients and parameters: the windows of a record repeat one experiment, so the fit reproduces every record whatever it holds; a record with the wrong units, a wrong sign or a force on the wrong DOF would go unnoticed, and the χ² check and the standard errors only measure the scatter between windows of one record ({}); add records (other frequencies, amplitudes or forcing points) until there are more records than free coefficients and parameters",
                 count(*experiments, "independent experiment"),
-                parameters
+                quoted(unchecked)
             ),
+            Warning::NoRecordRedundancy {
+                experiments,
+                unchecked,
+                ..
+            } => {
+                let (which, verb, them) = if unchecked.len() == 1 {
+                    ("one", "determines", "it")
+                } else {
+                    ("each one", "determine", "them")
+                };
+                write!(
+                    f,
+                    "{}, {which} of the {experiments} independent experiments, alone {verb} a combination of the coefficients (leverage ≥ {}): the fit reproduces {them} whatever {} hold, so wrong units, a wrong sign or a force on the wrong DOF there would go unnoticed, and the χ² check does not test {them}; repeat {them} (the same frequency and forcing point, another amplitude) or add records at other frequencies or forcing points",
+                    quoted(unchecked),
+                    crate::analysis::replicates::UNCHECKED_LEVERAGE,
+                    if unchecked.len() == 1 {
+                        "it may"
+                    } else {
+                        "they"
+                    }
+                )
+            }
             Warning::Unidentifiable {
                 coefficients,
                 trade_offs,
