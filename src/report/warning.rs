@@ -169,9 +169,13 @@ pub enum Warning {
     },
 }
 
-/// `'a', 'b' and 'c'`.
+/// `'a', 'b' and 'c'`; after 6 names, `and N more`.
 fn quoted(names: &[String]) -> String {
-    let quoted: Vec<String> = names.iter().map(|n| format!("'{n}'")).collect();
+    const SHOWN: usize = 6;
+    let mut quoted: Vec<String> = names.iter().take(SHOWN).map(|n| format!("'{n}'")).collect();
+    if names.len() > SHOWN {
+        quoted.push(format!("{} more", names.len() - SHOWN));
+    }
     match quoted.split_last() {
         Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
         _ => quoted.join(""),
@@ -267,12 +271,11 @@ impl fmt::Display for Warning {
             Warning::NoRecordRedundancy {
                 experiments,
                 parameters,
-                unchecked,
+                ..
             } if experiments <= parameters => write!(
                 f,
-                "{} for {parameters} free coefficients and parameters: the windows of a record repeat one experiment, so the fit reproduces every record whatever it holds; a record with the wrong units, a wrong sign or a force on the wrong DOF would go unnoticed, and the χ² check and the standard errors only measure the scatter between windows of one record ({}); add records (other frequencies, amplitudes or forcing points) until there are more records than free coefficients and parameters",
+                "{} for {parameters} free coefficients and parameters: the windows of a record repeat one experiment, so the fit reproduces every record whatever it holds; a record with the wrong units, a wrong sign or a force on the wrong DOF would go unnoticed, and the χ² check and the standard errors only measure the scatter between windows of one record; add records (other frequencies, amplitudes or forcing points) until there are more records than free coefficients and parameters",
                 count(*experiments, "independent experiment"),
-                quoted(unchecked)
             ),
             Warning::NoRecordRedundancy {
                 experiments,
