@@ -9,7 +9,9 @@
 //! differences, measured velocities), constrained to nonnegative or not.
 //!
 //! Asserted: an `Err` is always fine (a refusal names the problem), but a report that
-//! gives a coefficient off the truth by more than [`TOLERANCE`] of the largest true
+//! gives a coefficient off the truth (× k when every record's force is in other units by
+//! k: force × k scales every coefficient by k, which no check can see) by more than
+//! [`TOLERANCE`] of the largest true
 //! coefficient — and by more than [`SIGMAS`] of its own standard error, when it has one —
 //! as determined, and not on a bound (printed "at lower bound", no standard error), must
 //! carry a warning; and clean records (no corruption, no noise) are never refused by the
@@ -184,7 +186,10 @@ fn raw(n: usize, c: &[f64], e: &Experiment, noise: f64, rng: &mut Noise) -> Raw 
     }
 }
 
-fn corrupt(raws: &mut [Raw], n: usize, corruption: Corruption) {
+/// Applies `corruption`; returns the factor by which it scales every true coefficient:
+/// the force in other units in *every* record is the invariant force × k → θ × k, which
+/// no check of the data can tell from a k times more damped structure.
+fn corrupt(raws: &mut [Raw], n: usize, corruption: Corruption) -> f64 {
     let each = |record: u8| -> Vec<usize> {
         if record == u8::MAX {
             (0..raws.len()).collect()
@@ -239,6 +244,9 @@ fn corrupt(raws: &mut [Raw], n: usize, corruption: Corruption) {
             for r in each(record) {
                 raws[r].force.iter_mut().for_each(|f| *f *= factor);
             }
+            if record == u8::MAX {
+                return factor;
+            }
         }
         Corruption::VelocityAsDisplacement { record } => {
             for r in each(record) {
@@ -246,6 +254,7 @@ fn corrupt(raws: &mut [Raw], n: usize, corruption: Corruption) {
             }
         }
     }
+    1.0
 }
 
 fn settings(pipeline: u8, nonnegative: bool) -> IdentifySettings {
@@ -293,9 +302,12 @@ fuzz_target!(|input: Input| {
         .iter()
         .map(|e| raw(n, &truth, e, noise, &mut rng))
         .collect();
+    let mut units = 1.0;
     for c in &input.corruptions {
-        corrupt(&mut raws, n, *c);
+        units *= corrupt(&mut raws, n, *c);
     }
+    // What a consistent units error makes of the truth (force × k → θ × k).
+    let truth: Vec<f64> = truth.iter().map(|t| t * units).collect();
     let clean = input.corruptions.is_empty() && noise == 0.0;
     let mut records = Vec::new();
     for (k, r) in raws.into_iter().enumerate() {
