@@ -80,18 +80,13 @@ pub fn window_scatter(regressor: &Regressor) -> Option<f64> {
         return None;
     }
     let scaling = Scaling::of(a, regressor.rhs());
-    let mut groups: Vec<(usize, Vec<usize>)> = Vec::new();
-    for (i, label) in regressor.rows().iter().enumerate() {
-        if !replicated(label) {
-            continue;
-        }
-        match groups.iter_mut().find(|(r, _)| *r == label.record_index) {
-            Some((_, rows)) => rows.push(i),
-            None => groups.push((label.record_index, vec![i])),
-        }
-    }
+    let groups: Vec<Vec<usize>> = grouped(regressor)
+        .into_iter()
+        .filter(|g| g.replicated)
+        .map(|g| g.rows)
+        .collect();
     let (mut squares, mut dof) = (0.0, 0usize);
-    for (_, rows) in groups.iter().filter(|(_, rows)| rows.len() >= 2) {
+    for rows in groups.iter().filter(|rows| rows.len() >= 2) {
         let columns = &scaling.columns;
         let row = |i: usize| (0..p).map(move |j| a[(i, j)] / columns[j]);
         let mut mean = vec![0.0; p];
@@ -117,16 +112,40 @@ pub fn window_scatter(regressor: &Regressor) -> Option<f64> {
 /// The number of experiments behind the rows of `regressor`: one per record for its
 /// windows of whole periods (replicates), one per row otherwise (module doc).
 pub fn experiments(regressor: &Regressor) -> usize {
-    let mut records: Vec<usize> = Vec::new();
-    let mut others = 0;
-    for label in regressor.rows() {
+    grouped(regressor).len()
+}
+
+/// One experiment's rows: a record's windows of whole periods, or one other row.
+struct Experiment {
+    /// Whether its rows are replicate windows of one record.
+    replicated: bool,
+    /// Its rows, in order.
+    rows: Vec<usize>,
+}
+
+/// The experiments behind the rows of `regressor`, in the order of their first row
+/// (module doc).
+fn grouped(regressor: &Regressor) -> Vec<Experiment> {
+    let mut groups: Vec<Experiment> = Vec::new();
+    let mut by_record = std::collections::HashMap::new();
+    for (i, label) in regressor.rows().iter().enumerate() {
         if !replicated(label) {
-            others += 1;
-        } else if !records.contains(&label.record_index) {
-            records.push(label.record_index);
+            groups.push(Experiment {
+                replicated: false,
+                rows: vec![i],
+            });
+        } else if let Some(&g) = by_record.get(&label.record_index) {
+            let group: &mut Experiment = &mut groups[g];
+            group.rows.push(i);
+        } else {
+            by_record.insert(label.record_index, groups.len());
+            groups.push(Experiment {
+                replicated: true,
+                rows: vec![i],
+            });
         }
     }
-    records.len() + others
+    groups
 }
 
 /// The experiments with leverage h_g ≥ [`UNCHECKED_LEVERAGE`] over the `free` columns
@@ -137,23 +156,11 @@ pub fn unchecked(regressor: &Regressor, free: &[usize]) -> Vec<String> {
         return Vec::new();
     }
     let scaling = Scaling::of(a, regressor.rhs());
-    let mut groups: Vec<(Option<usize>, String, Vec<usize>)> = Vec::new();
-    for (i, label) in regressor.rows().iter().enumerate() {
-        if !replicated(label) {
-            groups.push((None, label.to_string(), vec![i]));
-        } else if let Some((_, _, rows)) = groups
-            .iter_mut()
-            .find(|(r, _, _)| *r == Some(label.record_index))
-        {
-            rows.push(i);
-        } else {
-            groups.push((Some(label.record_index), label.record.clone(), vec![i]));
-        }
-    }
+    let groups = grouped(regressor);
     let (g, f) = (groups.len(), free.len());
     // Padded to at least f rows, as the thin SVD of a wide matrix needs.
     let means = Mat::from_fn(g.max(f), f, |k, j| match groups.get(k) {
-        Some((_, _, rows)) => {
+        Some(Experiment { rows, .. }) => {
             let column = free[j];
             rows.iter().map(|i| a[(*i, column)]).sum::<f64>()
                 / (rows.len() as f64 * scaling.columns[column])
@@ -176,6 +183,13 @@ pub fn unchecked(regressor: &Regressor, free: &[usize]) -> Vec<String> {
         .filter(|(k, _)| {
             kept.iter().map(|i| u[(*k, *i)].powi(2)).sum::<f64>() >= UNCHECKED_LEVERAGE
         })
-        .map(|(_, (_, name, _))| name)
+        .map(|(_, group)| {
+            let label = &regressor.rows()[group.rows[0]];
+            if group.replicated {
+                label.record.clone()
+            } else {
+                label.to_string()
+            }
+        })
         .collect()
 }
