@@ -9,6 +9,7 @@
 
 pub mod backbone;
 pub mod bootstrap;
+pub mod bound_set;
 pub mod check;
 pub mod compare;
 pub mod design;

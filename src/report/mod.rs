@@ -211,6 +211,19 @@ impl FitReport {
             &fit,
             diagnostics.relative_residual,
         ));
+        warnings.extend(
+            crate::analysis::bound_set::bound_set(regressor, &fit, &diagnostics)
+                .into_iter()
+                .map(|b| Warning::BoundSetsCoefficients {
+                    coefficient: b.coefficient,
+                    side: b.side,
+                    bound: b.bound,
+                    free_estimate: b.free_estimate,
+                    free_std_error: b.free_std_error,
+                    allowed: b.allowed,
+                    moved: b.moved,
+                }),
+        );
         let identifiability = diagnostics.identifiability;
         if !identifiability.separable() {
             warnings.push(Warning::Unidentifiable {

@@ -12,8 +12,12 @@ use std::fmt;
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::identifiability::list;
-use crate::fit::FitStatus;
+use crate::fit::{BoundSide, FitStatus};
 use crate::report::count;
+
+/// The free coefficients a [`Warning::BoundSetsCoefficients`] lists by name (the rest
+/// are counted; all are in the JSON).
+const MOVED_LISTED: usize = 4;
 
 /// Condition number of the column-scaled regressor above which the report warns.
 pub const ILL_CONDITIONED: f64 = 1e8;
@@ -62,6 +66,27 @@ pub enum Warning {
         parameters: usize,
         /// The experiments nothing checks (all of them when `experiments ≤ parameters`).
         unchecked: Vec<String>,
+    },
+    /// A coefficient held at its bound that the data cannot tell from values well inside
+    /// it ([`crate::analysis::bound_set`]): free coefficients correlated with it move by
+    /// more than [`crate::analysis::bound_set::MOVES`] of their standard errors over the
+    /// values the data allow, so their values and intervals hold only if the bound is
+    /// exact.
+    BoundSetsCoefficients {
+        /// The coefficient at its bound.
+        coefficient: String,
+        /// Which bound.
+        side: BoundSide,
+        /// The bound's value.
+        bound: f64,
+        /// Its estimate when it is left free (the other active coefficients held).
+        free_estimate: f64,
+        /// That estimate's standard error.
+        free_std_error: f64,
+        /// The far end of the values the data allow on the feasible side (95 %).
+        allowed: f64,
+        /// (name, how far it moves over the allowed values, that in its standard errors).
+        moved: Vec<(String, f64, f64)>,
     },
     /// The weighted residuals are larger than the propagated noise explains.
     ModelInadequate {
@@ -297,6 +322,39 @@ impl fmt::Display for Warning {
                     } else {
                         "they"
                     }
+                )
+            }
+            Warning::BoundSetsCoefficients {
+                coefficient,
+                side,
+                bound,
+                free_estimate,
+                free_std_error,
+                allowed,
+                moved,
+            } => {
+                let (side, extent) = match side {
+                    BoundSide::Upper => ("upper", "down to"),
+                    _ => ("lower", "up to"),
+                };
+                let listed: Vec<String> = moved
+                    .iter()
+                    .take(MOVED_LISTED)
+                    .enumerate()
+                    .map(|(k, (name, shift, sigmas))| {
+                        let verb = if k == 0 { " moves" } else { "" };
+                        format!("{name}{verb} by {shift:.3e} ({sigmas:.0} standard errors)")
+                    })
+                    .collect();
+                let more = match moved.len().saturating_sub(MOVED_LISTED) {
+                    0 => String::new(),
+                    n => format!(" and {n} more coefficients"),
+                };
+                let bound = crate::format::number(*bound);
+                write!(
+                    f,
+                    "{coefficient} sits at its {side} bound {bound}, but the data allow it {extent} {allowed:.3e} (left free it is {free_estimate:.3e} ± {free_std_error:.2e}); over that range {}{more}: their values and standard errors hold only if {coefficient} is exactly {bound}; if it is, fix it there or remove its term; if not, these data cannot separate {coefficient} from them: add experiments that do (`dampid design`)",
+                    listed.join(", ")
                 )
             }
             Warning::Unidentifiable {
