@@ -20,9 +20,12 @@
 //!   θ_F(θ_j) = θ̂_F − h (θ_j − β_j)              the free coefficients' best fit at each θ_j
 //! ```
 //!
-//! The data allow θ_j from its bound to θ̃_j + z·se(θ̃_j) (a lower bound; an upper one is
-//! mirrored), z = 1.96, a span Δ_j = max(0, θ̃_j + z·se − β_j). Over that span each free
-//! coefficient moves by |h_k| Δ_j. When that exceeds [`MOVES`] of its own reported
+//! At an active lower bound θ̃_j ≤ β_j (an upper one is mirrored). Either the data allow
+//! θ_j from its bound to θ̃_j + z·se(θ̃_j), z = 1.96, a span Δ_j = θ̃_j + z·se − β_j > 0
+//! that the data cannot tell apart from the bound; or they exclude the bound's side
+//! (θ̃_j + z·se ≤ β_j: the bound holds θ_j where the data do not put it), and the span is
+//! Δ_j = β_j − θ̃_j, how far the bound moved it. Over that span each free coefficient
+//! moves by |h_k| Δ_j. When that exceeds [`MOVES`] of its own reported
 //! standard error (for coefficients the identifiability analysis calls determined: the
 //! others carry no interval), its value and interval rest on the bound being exact, and
 //! [`crate::report::Warning::BoundSetsCoefficients`] names both. Coefficients held at a
@@ -55,10 +58,12 @@ pub struct BoundSet {
     pub free_estimate: f64,
     /// se(θ̃_j).
     pub free_std_error: f64,
-    /// The far end of what the data allow, θ̃_j ± z·se(θ̃_j) on the feasible side.
-    pub allowed: f64,
+    /// The far end of what the data allow, θ̃_j ± z·se(θ̃_j), when it lies on the feasible
+    /// side; `None` when the data exclude that side (the bound holds θ_j where the data
+    /// do not put it).
+    pub allowed: Option<f64>,
     /// The free coefficients that move by more than [`MOVES`] standard errors over the
-    /// allowed span: (name, |h_k| Δ_j, that in their standard errors).
+    /// span Δ_j: (name, |h_k| Δ_j, that in their standard errors).
     pub moved: Vec<(String, f64, f64)>,
 }
 
@@ -104,8 +109,13 @@ pub fn bound_set(regressor: &Regressor, fit: &Fit, diagnostics: &Diagnostics) ->
         let scale_j = rows.scales[j];
         let free_estimate = active.value + rows.residual_scale * freed.gradient / freed.s / scale_j;
         let free_std_error = rows.residual_scale * (rows.variance / freed.s).sqrt() / scale_j;
-        let allowed = free_estimate + sign * Z * free_std_error;
-        let span = (sign * (allowed - active.value)).max(0.0);
+        let reach = free_estimate + sign * Z * free_std_error;
+        let inside = sign * (reach - active.value);
+        let (allowed, span) = if inside > 0.0 {
+            (Some(reach), inside)
+        } else {
+            (None, sign * (active.value - free_estimate))
+        };
         if !(span > 0.0 && span.is_finite()) {
             continue;
         }

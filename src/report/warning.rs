@@ -83,8 +83,10 @@ pub enum Warning {
         free_estimate: f64,
         /// That estimate's standard error.
         free_std_error: f64,
-        /// The far end of the values the data allow on the feasible side (95 %).
-        allowed: f64,
+        /// The far end of the values the data allow on the feasible side (95 %); `null`
+        /// when the data exclude that side: the bound holds the coefficient where the
+        /// data do not put it, and the others compensate.
+        allowed: Option<f64>,
         /// (name, how far it moves over the allowed values, that in its standard errors).
         moved: Vec<(String, f64, f64)>,
     },
@@ -337,24 +339,37 @@ impl fmt::Display for Warning {
                     BoundSide::Upper => ("upper", "down to"),
                     _ => ("lower", "up to"),
                 };
-                let listed: Vec<String> = moved
-                    .iter()
-                    .take(MOVED_LISTED)
-                    .enumerate()
-                    .map(|(k, (name, shift, sigmas))| {
-                        let verb = if k == 0 { " moves" } else { "" };
-                        format!("{name}{verb} by {shift:.3e} ({sigmas:.0} standard errors)")
-                    })
-                    .collect();
+                let bound_value = *bound;
+                // "c moves by …, d by …" (or "moves c by …, d by …" with `first` = "").
+                let listed = |first: &str| -> String {
+                    moved
+                        .iter()
+                        .take(MOVED_LISTED)
+                        .enumerate()
+                        .map(|(k, (name, shift, sigmas))| {
+                            let verb = if k == 0 { first } else { "" };
+                            format!("{name}{verb} by {shift:.3e} ({sigmas:.0} standard errors)")
+                        })
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                };
                 let more = match moved.len().saturating_sub(MOVED_LISTED) {
                     0 => String::new(),
                     n => format!(" and {n} more coefficients"),
                 };
                 let bound = crate::format::number(*bound);
+                let Some(allowed) = allowed else {
+                    let beyond = (free_estimate - bound_value).abs() / free_std_error;
+                    return write!(
+                        f,
+                        "{coefficient} sits at its {side} bound {bound}, but left free it is {free_estimate:.3e} ± {free_std_error:.2e}, {beyond:.1} standard errors beyond it: the data contradict the bound, and holding {coefficient} there moves {}{more}; these values are not estimates of the model: check the signs, DOFs, units and sensor kinds of the records, the noise of measured velocities (it biases the damping columns upwards; the default noise-robust pipeline corrects it), and whether the model misses a mechanism",
+                        listed("")
+                    );
+                };
                 write!(
                     f,
                     "{coefficient} sits at its {side} bound {bound}, but the data allow it {extent} {allowed:.3e} (left free it is {free_estimate:.3e} ± {free_std_error:.2e}); over that range {}{more}: their values and standard errors hold only if {coefficient} is exactly {bound}; if it is, fix it there or remove its term; if not, these data cannot separate {coefficient} from them: add experiments that do (`dampid design`)",
-                    listed.join(", ")
+                    listed(" moves")
                 )
             }
             Warning::Unidentifiable {
