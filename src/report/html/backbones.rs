@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 
 use super::plots::backbones::{JobSeries, by_job};
 use super::{STYLE, escape};
-use crate::analysis::backbones::Backbones;
+use crate::analysis::backbones::{Backbones, TestKind, ZetaPoint};
 use crate::error::Result;
 
 /// The whole page of `backbones`.
@@ -40,7 +40,9 @@ pub fn page(backbones: &Backbones) -> Result<String> {
     }
     page.push_str("</table>\n");
     let name = |k: usize| format!("[{}] {}", k + 1, backbones.jobs[k].kind);
-    let series = |y: fn(&crate::analysis::backbones::ZetaPoint) -> (f64, Option<f64>)| {
+    // `lines`: whether a free decay's fitted curve is drawn (its frequencies are the
+    // windows' own, which the markers show already).
+    let series = |y: fn(&ZetaPoint) -> (f64, Option<f64>), lines: bool| {
         backbones
             .jobs
             .iter()
@@ -51,6 +53,7 @@ pub fn page(backbones: &Backbones) -> Result<String> {
                 fitted: job
                     .fitted
                     .iter()
+                    .filter(|_| lines || job.kind != TestKind::FreeDecay)
                     .map(|p| {
                         let (v, s) = y(p);
                         (p.amplitude, v, s)
@@ -66,17 +69,17 @@ pub fn page(backbones: &Backbones) -> Result<String> {
         by_job(
             "Damping ratio ζ(X) of each job",
             "damping ratio ζ",
-            &series(|p| (p.damping_ratio, p.std))
+            &series(|p| (p.damping_ratio, p.std), true)
         )?
     );
-    page.push_str("<h2>Frequency f(X)</h2>\n<p>Markers: a free decay's window frequencies, a table's π/2 crossings. Lines: the frequency each job's fitted ζ is evaluated at.</p>\n");
+    page.push_str("<h2>Frequency f(X)</h2>\n<p>Markers: a free decay's window frequencies, a table's π/2 crossings. Lines: the natural frequency a table's fitted ζ is evaluated at (a free decay's fitted ζ is evaluated at each window's own frequency, the markers).</p>\n");
     let _ = writeln!(
         page,
         "{}",
         by_job(
             "Frequency f(X) of each job",
             "frequency f (cycles per time unit)",
-            &series(|p| (p.frequency, None))
+            &series(|p| (p.frequency, None), false)
         )?
     );
     page.push_str("<h2>Fitted ζ against the first job's</h2>\n");
