@@ -62,10 +62,12 @@ pub(crate) fn by_job(caption: &str, y_desc: &str, jobs: &[JobSeries]) -> Result<
     let mut entries = Vec::new();
     for (k, job) in jobs.iter().enumerate() {
         entries.push((Mark::Group(k), groups[k].name.clone()));
-        entries.push((
-            Mark::Line(colour(k).stroke_width(px(2))),
-            format!("{}: fitted law", job.name),
-        ));
+        if !lines[k].is_empty() {
+            entries.push((
+                Mark::Line(colour(k).stroke_width(px(2))),
+                format!("{}: fitted law", job.name),
+            ));
+        }
         if !bands[k].is_empty() {
             entries.push((Mark::Band(colour(k)), format!("{}: ±1.96σ", job.name)));
         }
