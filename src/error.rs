@@ -435,14 +435,13 @@ pub enum Error {
 
     /// Jobs whose backbones cannot be put side by side ([`crate::analysis::backbones`]):
     /// not one mode, or amplitudes or frequencies in different units.
-    #[error("cannot compare the backbones of {files}: {what} {given}: {reason}")]
+    #[error("cannot compare the backbones of {files}: {what}: {reason}")]
     Incomparable {
         /// The model files concerned (one, or two joined by "and").
         files: String,
-        /// What does not fit (e.g. "length unit").
+        /// What does not fit, with its value in each file (e.g. "[units] length 'm'
+        /// and 'mm'").
         what: String,
-        /// Its value in each file, in words.
-        given: String,
         /// Why they cannot be compared, and what would fit.
         reason: String,
     },

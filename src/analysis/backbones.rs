@@ -253,8 +253,7 @@ fn same_unit(
     match (unit(a), unit(b)) {
         (Some(x), Some(y)) if x.trim() != y.trim() => Err(Error::Incomparable {
             files: format!("{} and {}", a.file, b.file),
-            what: format!("[units] {what}"),
-            given: format!("'{x}' and '{y}'"),
+            what: format!("[units] {what} '{x}' and '{y}'"),
             reason: format!(
                 "amplitudes and frequencies must be in the same units; give both files the same {what} unit and data in it"
             ),

@@ -40,8 +40,7 @@ pub fn job_backbone(file: &str, job: &Job, found: &Identification) -> Result<Job
     };
     let refuse = |given: String, reason: &str| Error::Incomparable {
         files: file.to_string(),
-        what: "job".into(),
-        given,
+        what: given,
         reason: reason.to_string(),
     };
     match (&found.backbone, &found.equivalent) {
