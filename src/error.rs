@@ -432,6 +432,19 @@ pub enum Error {
         /// The power of ten that brings that product to order one.
         factor_exponent: i32,
     },
+
+    /// Jobs whose backbones cannot be put side by side ([`crate::analysis::backbones`]):
+    /// not one mode, or amplitudes or frequencies in different units.
+    #[error("cannot compare the backbones of {files}: {what}: {reason}")]
+    Incomparable {
+        /// The model files concerned (one, or two joined by "and").
+        files: String,
+        /// What does not fit, with its value in each file (e.g. "[units] length 'm'
+        /// and 'mm'").
+        what: String,
+        /// Why they cannot be compared, and what would fit.
+        reason: String,
+    },
 }
 
 /// ` ('a' (…), 'b' (…))`, at most eight named, for [`Error::NegativeInputWork`].
@@ -541,6 +554,7 @@ pub const KINDS: &[&str] = &[
     "negative_input_work",
     "dead_motion_sensor",
     "data_scale",
+    "incomparable",
 ];
 
 impl Error {
@@ -581,6 +595,7 @@ impl Error {
             Error::NegativeInputWork { .. } => "negative_input_work",
             Error::DeadMotionSensor { .. } => "dead_motion_sensor",
             Error::DataScale { .. } => "data_scale",
+            Error::Incomparable { .. } => "incomparable",
         }
     }
 

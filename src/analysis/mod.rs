@@ -8,6 +8,7 @@
 //! before them imports them.
 
 pub mod backbone;
+pub mod backbones;
 pub mod bootstrap;
 pub mod bound_set;
 pub mod check;

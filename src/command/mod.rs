@@ -8,6 +8,7 @@
 //! Flow: front end → command → [`crate::model_file`] (a job: a problem and its
 //! settings) → [`crate::identify::identify`] → … (ARCHITECTURE.md).
 
+pub mod backbones;
 pub mod check;
 pub mod compare;
 pub mod design;

@@ -41,7 +41,9 @@
 //! | `NegativeInputWork` | `identify_regressor` and `RegressorCheck::new` (`regressor::passive`): input work negative beyond its noise in a record or sweep, or overall | variants, physics, physics (tests/) |
 //! | `DeadMotionSensor` | `Regressor::build` (`regressor::dead_motion`): a motion channel that never moves while others do | variants, physics, physics (tests/) |
 //! | `DataScale` | `Regressor::build` and `steady_state::check` (`prep::data_scale`): a record's largest displacement, velocity or force outside 2^±505 | variants, physics, invariants (tests/) |
+//! | `Incomparable` | `analysis::backbones::compare` (length or time units that differ), `command::backbones::job_backbone` (a job without one mode's backbone) | variants, backbones |
 
+mod backbones;
 mod data_files;
 mod fit;
 mod fixtures;

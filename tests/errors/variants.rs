@@ -173,6 +173,7 @@ fn every_variant_is_reachable() {
             &silent,
         )
         .unwrap_err(),
+        incomparable_units(),
     ];
     let mut seen: Vec<&str> = errors.iter().map(Error::kind).collect();
     seen.sort_unstable();
@@ -184,6 +185,23 @@ fn every_variant_is_reachable() {
     for e in &errors {
         assert!(e.to_string().len() > 10, "{e:?}");
     }
+}
+
+/// Two backbones whose length units differ.
+fn incomparable_units() -> Error {
+    use dampid::analysis::backbones::{JobBackbone, JobLabel, TestKind, compare};
+    let job = |file: &str, length: &str| JobBackbone {
+        label: JobLabel {
+            file: file.into(),
+            length: Some(length.into()),
+            ..Default::default()
+        },
+        kind: TestKind::FreeDecay,
+        modal_mass: 1.0,
+        measured: Vec::new(),
+        fitted: Vec::new(),
+    };
+    compare(vec![job("a.toml", "m"), job("b.toml", "mm")]).unwrap_err()
 }
 
 /// Writing a record twice to one path without `Replace`.

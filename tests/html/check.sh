@@ -3,7 +3,8 @@
 # as a reader sees them (tests/html/checks.js measures, check.py judges): no console
 # errors, nothing wider than the viewport, every SVG text at least 12 px as shown, a
 # legend in every plot, and "not determined" on the walkthrough's first try; two
-# variable-projection pages besides, a hammer ringdown's backbone, and the page of a 12-sweep, 41-point-per-sweep
+# variable-projection pages besides, a hammer ringdown's backbone, a ringdown's and a
+# stepped sine's backbones side by side (dampid backbones), and the page of a 12-sweep, 41-point-per-sweep
 # stepped-sine table (made by the bolted-joint generator): under 8,000 px tall at
 # 1200 px wide, its sweeps named, the table file's SHA-256 listed, the ζ_eq(X) plot
 # shown. Installs Debian's chromium when it is missing. With SCREENSHOTS=1 it also
@@ -89,6 +90,16 @@ end = page.index("<h2>Provenance</h2>")
 open(sys.argv[2], "w", encoding="utf-8").write(page[: page.index("</h1>") + 5] + page[start:end] + "</body></html>")
 PY
     WIDTH=1200 screenshot ringdown "$work/ringdown/backbone.html" _backbone
+fi
+# Backbones of one mode from a ringdown and a stepped sine on one page (dampid backbones).
+mkdir -p "$work/backbones"
+"$dampid" backbones models/backbones_ringdown.toml models/backbones_stepped.toml \
+    --report "$work/backbones" >/dev/null
+mv "$work/backbones/backbones.html" "$work/backbones/report.html"
+check_page backbones --expect "<h2>Fitted ζ against the first job's</h2>" \
+    --expect-plot "Damping ratio ζ(X) of each job" --expect-plot "Frequency f(X) of each job"
+if [ "${SCREENSHOTS:-0}" = "1" ]; then
+    WIDTH=1200 screenshot backbones "$work/backbones/report.html"
 fi
 # A 12-sweep, 41-point-per-sweep table from the bolted-joint generator: the page is
 # organised by sweep (under 8,000 px tall at 1200 px wide), names the sweeps, lists the

@@ -22,6 +22,7 @@ const EXAMPLES: &str = "Examples:
   dampid pod models/data/chain3/record_1.csv --prefix x   # energy table of the POMs of columns x1, x2, …
   dampid compare models/measured_chain.toml models/measured_chain_no_friction.toml   # is friction needed?
   dampid compare models/bolted_joint_stepped_sine.toml --laws linear,quadratic,linear+coulomb,linear+power:1.5   # rank candidate laws
+  dampid backbones models/backbones_ringdown.toml models/backbones_stepped.toml --report out/   # ringdown vs stepped sine
   dampid design models/per_dashpot.toml          # choose experiments that separate the coefficients
   dampid simulate models/four_mass.toml --out runs/   # write the simulated records as CSV
   dampid reference four-mass                     # the paper's section 2.2, every case
@@ -185,6 +186,23 @@ pub(crate) enum Command {
         /// Print the comparison as one JSON object.
         #[arg(long)]
         json: bool,
+    },
+    /// Put the backbones ζ(X), f(X) of one mode from ringdowns ([free_decay]) and
+    /// one-mode stepped-sine tables side by side: each job identified with its own
+    /// settings, each later job's fitted ζ against the first's at common amplitudes.
+    Backbones {
+        /// Two model files or more, each a free decay or a one-DOF stepped-sine table.
+        #[arg(num_args = 2.., required = true)]
+        models: Vec<PathBuf>,
+        /// Print the comparison as one JSON object.
+        #[arg(long)]
+        json: bool,
+        /// Also write an HTML page with the plots to DIR/backbones.html.
+        #[arg(long, value_name = "DIR")]
+        report: Option<PathBuf>,
+        /// Replace an existing DIR/backbones.html (it is never replaced otherwise).
+        #[arg(long, requires = "report")]
+        force: bool,
     },
     /// Choose among a model file's [simulation] experiments a set that makes the
     /// coefficients identifiable (settings in [design]).

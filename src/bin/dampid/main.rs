@@ -177,6 +177,30 @@ fn run(cli: Cli) -> anyhow::Result<u8> {
                 (None, None) => bail!("give a second model file or --laws"),
             }
         }
+        Command::Backbones {
+            models,
+            json,
+            report,
+            force,
+        } => {
+            let page = report.map(|folder| folder.join("backbones.html"));
+            let overwrite = Overwrite::from_force(force);
+            if let (Some(file), Overwrite::Refuse) = (&page, overwrite) {
+                dampid::io::output::refuse_existing(file)?;
+            }
+            let jobs = models
+                .iter()
+                .map(|m| Ok((m.display().to_string(), load(m)?)))
+                .collect::<anyhow::Result<Vec<_>>>()?;
+            let bar = progress_bar("jobs");
+            let compared = command::backbones::run(&jobs, &on_bar(&bar));
+            bar.finish_and_clear();
+            let compared = compared?;
+            if let Some(file) = page {
+                write_page(&file, overwrite, &compared.html()?)?;
+            }
+            print(&compared, json, false)
+        }
         Command::Design { model, json } => {
             let job = load(&model)?;
             let bar = progress_bar("design");

@@ -31,6 +31,7 @@
 //! outside the file.
 
 mod backbone;
+pub mod backbones;
 mod bootstrap;
 mod coefficients;
 mod equivalent;

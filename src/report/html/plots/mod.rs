@@ -18,6 +18,7 @@ use plotters::prelude::*;
 
 use crate::error::{Error, Result};
 
+pub(crate) mod backbones;
 mod balance;
 mod decay;
 mod energy;
