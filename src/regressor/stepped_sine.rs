@@ -77,10 +77,12 @@ fn rows(
     approximation: &HarmonicApproximation,
 ) -> Result<Vec<Row>> {
     let mut closed: Vec<Option<(Vec<f64>, f64)>> = vec![None; points.len()];
+    // each point's phase reading, read once (the closed rows' and the rows' below)
+    let mut read: Vec<Option<Vec<f64>>> = vec![None; points.len()];
     if stepped_sine_closed::applies(model) {
         approximation.validate()?;
         let mut validated = None;
-        for (slot, point) in closed.iter_mut().zip(points) {
+        for ((slot, psi_slot), point) in closed.iter_mut().zip(&mut read).zip(points) {
             // A point from a table is valid; one built by hand is checked here, as the
             // synthesis checks it.
             if point.dofs() == 0 {
@@ -93,6 +95,7 @@ fn rows(
             }
             let psi = approximation.phase.phases(point)?;
             *slot = stepped_sine_closed::row(model, point, &psi);
+            *psi_slot = Some(psi);
         }
     }
     let synthesized: Vec<usize> = (0..points.len()).filter(|&r| closed[r].is_none()).collect();
@@ -110,9 +113,12 @@ fn rows(
     let mut next = 0;
     points
         .iter()
-        .zip(closed)
-        .map(|(point, closed)| {
-            let psi = approximation.phase.phases(point)?;
+        .zip(closed.into_iter().zip(read))
+        .map(|(point, (closed, psi))| {
+            let psi = match psi {
+                Some(psi) => psi,
+                None => approximation.phase.phases(point)?,
+            };
             let (mut columns, input) = match (closed, &model_rows) {
                 (Some(row), _) => row,
                 (None, Some(reg)) => {
@@ -271,7 +277,7 @@ pub(crate) fn point_rows(
     for (i, &p) in indices.iter().enumerate() {
         for (q, _) in perturbed(&points[p]) {
             expanded.push(match residual {
-                Some(r) => residual::correct(&q, r[i])?,
+                Some(r) => residual::correct_owned(q, r[i])?,
                 None => q,
             });
         }

@@ -59,8 +59,20 @@ pub fn cycle_factor(p: f64) -> f64 {
     } else if p == 2.0 {
         8.0 / 3.0
     } else {
-        use statrs::function::gamma::ln_gamma;
-        2.0 * PI.sqrt() * (ln_gamma(p / 2.0 + 1.0) - ln_gamma(p / 2.0 + 1.5)).exp()
+        // the last p asked for and its G (every row of a build asks for the same p)
+        thread_local! {
+            static LAST: std::cell::Cell<(u64, f64)> = const { std::cell::Cell::new((0, 4.0)) };
+        }
+        LAST.with(|last| {
+            let (bits, g) = last.get();
+            if bits == p.to_bits() {
+                return g;
+            }
+            use statrs::function::gamma::ln_gamma;
+            let g = 2.0 * PI.sqrt() * (ln_gamma(p / 2.0 + 1.0) - ln_gamma(p / 2.0 + 1.5)).exp();
+            last.set((p.to_bits(), g));
+            g
+        })
     }
 }
 

@@ -33,6 +33,7 @@
 //! bounded Brent on φ (`outer.rs`).
 
 use std::cell::RefCell;
+use std::sync::Arc;
 
 use crate::error::Result;
 use crate::fit::{FitSettings, Weighting, inverse_std};
@@ -57,7 +58,7 @@ pub(super) fn minimise(
         // the Jacobian's columns of a table's residual unknowns: the fit of
         // A(η) + h ∂A/∂η_j (`sweep_blocks.rs`)
         let shifted = |eta: &[f64], j: usize, h: f64| -> Result<Option<Vec<f64>>> {
-            let base = problem.regressor(eta)?;
+            let base = problem.shared(eta)?;
             let Some(rows) = problem.shifted(&base, eta, j, h)? else {
                 return Ok(None);
             };
@@ -78,23 +79,24 @@ pub(super) fn minimise(
     }
     // the weights at η₀ and η₁ and the first residual of the search from there read
     // one regressor: the last one built is kept
-    let last: RefCell<Option<(Vec<f64>, Regressor)>> = RefCell::new(None);
-    let regressor = |eta: &[f64]| -> Result<Regressor> {
+    // (shared, not copied: the Jacobian's differences at η read it q times)
+    let last: RefCell<Option<(Vec<f64>, Arc<Regressor>)>> = RefCell::new(None);
+    let regressor = |eta: &[f64]| -> Result<Arc<Regressor>> {
         if let Some((at, regressor)) = last.borrow().as_ref()
             && at
                 .iter()
                 .zip(eta)
                 .all(|(a, b)| (a - b).abs() <= 4.0 * f64::EPSILON * a.abs().max(b.abs()))
         {
-            return Ok(regressor.clone());
+            return Ok(Arc::clone(regressor));
         }
-        let regressor = problem.regressor(eta)?;
-        *last.borrow_mut() = Some((eta.to_vec(), regressor.clone()));
+        let regressor = Arc::new(problem.regressor(eta)?);
+        *last.borrow_mut() = Some((eta.to_vec(), Arc::clone(&regressor)));
         Ok(regressor)
     };
     // 1/s_r of the propagated fit at η, or `None` when the inner fit is unweighted
     let row_weights = |eta: &[f64]| -> Result<Option<Vec<f64>>> {
-        let fit = crate::fit::solve(&regressor(eta)?, fit)?;
+        let fit = crate::fit::solve(&*regressor(eta)?, fit)?;
         Ok(fit.residual_std.as_deref().map(inverse_std))
     };
     let initial: Vec<f64> = parameters.iter().map(|p| p.initial).collect();

@@ -6,9 +6,17 @@
 //! [`ParametricRegressor::regressor`] (the law's model at η on records, or a stepped-sine
 //! table rebuilt with its residual receptances at η, one sweep at a time:
 //! `sweep_blocks.rs`), or, in a bootstrap replicate, the resampled rows of it.
+//!
+//! The regressor of the last projected residual r(η) is kept (keyed by the bits of η,
+//! shared, not copied): a Levenberg–Marquardt iteration asks for r(η), then for the
+//! q columns of its Jacobian, those of a table's residual unknowns from the fit of
+//! A(η) + h ∂A/∂η_j, which read that same A(η) (`shifted`): assembled once per column
+//! before, 1412 assemblies on the 12-sweep bench with ordinary weighting, 199 now
+//! (BENCHMARKS.md §14). A build is deterministic, so the kept
+//! regressor is the one a build would give: the estimates do not change.
 
-use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
 
 use crate::analysis::diagnostics::REJECTION_P_VALUE;
 use crate::error::Result;
@@ -31,6 +39,9 @@ pub(super) struct Problem<'a> {
     /// those), and the rows of the full regressor this problem's rows are (a bootstrap
     /// replicate's; `None`: all, in order).
     derivatives: Option<(Arc<SweepBlocks<'a>>, Option<Vec<usize>>)>,
+    /// The regressor of the last η whose projected residual was asked (the bits of η):
+    /// the base of that η's Jacobian differences ([`Problem::shared`]).
+    last: Mutex<Option<(Vec<u64>, Arc<Regressor>)>>,
 }
 
 /// The regressor and the fit at one η, and its cost.
@@ -82,6 +93,7 @@ impl<'a> Problem<'a> {
             fit,
             evaluations: AtomicU64::new(0),
             derivatives: None,
+            last: Mutex::new(None),
         }
     }
 
@@ -95,11 +107,12 @@ impl<'a> Problem<'a> {
         self
     }
 
-    /// A(η) + h ∂A/∂η_j with b, labels and noise model of `base` = A(η), when ∂A/∂η_j
-    /// is known in closed form (a residual unknown of a table, `sweep_blocks.rs`);
-    /// `None` otherwise (the caller differences whole trials). Its fit differs from the
-    /// trial at η + h e_j by O(h²) in A, and its noise model is that at η: for a fit
-    /// whose row weights are fixed (`fixed_weights.rs`) or absent.
+    /// A(η) + h ∂A/∂η_j with b and labels of `base` = A(η), when ∂A/∂η_j is known in
+    /// closed form (a residual unknown of a table, `sweep_blocks.rs`); `None` otherwise
+    /// (the caller differences whole trials). Its fit differs from the trial at
+    /// η + h e_j by O(h²) in A. It carries no noise model: it is for a fit whose row
+    /// weights are fixed (`fixed_weights.rs`, whose `weighted` rows drop it) or absent
+    /// (ordinary weighting, which reads none), so copying the base's would be waste.
     pub fn shifted(
         &self,
         base: &Regressor,
@@ -141,17 +154,14 @@ impl<'a> Problem<'a> {
                 }
             }
         }
-        let mut moved = Regressor::from_parts(
+        Regressor::from_parts(
             matrix,
             base.rhs().to_vec(),
             base.columns().to_vec(),
             base.rows().to_vec(),
         )?
-        .with_nuisance_count(base.nuisance_count())?;
-        if let Some(noise) = base.noise() {
-            moved = moved.with_noise(noise.clone())?;
-        }
-        Ok(Some(moved))
+        .with_nuisance_count(base.nuisance_count())
+        .map(Some)
     }
 
     /// The nonlinear parameters.
@@ -196,13 +206,35 @@ impl<'a> Problem<'a> {
     }
 
     /// The projected residual r(η) = (A(η) θ̂(η) − b)_r / s_r, whose squared norm is φ(η).
+    /// Its regressor is kept ([`Problem::shared`]) for the Jacobian differences at η
+    /// that follow.
     pub fn residuals(&self, eta: &[f64]) -> Result<Vec<f64>> {
-        let trial = self.trial(eta)?;
+        let regressor = self.shared(eta)?;
+        let fit = crate::fit::solve(&regressor, self.fit)?;
         Ok(weighted_residuals(
-            &trial.regressor,
-            &trial.fit.coefficients,
-            trial.fit.residual_std.as_deref(),
+            &regressor,
+            &fit.coefficients,
+            fit.residual_std.as_deref(),
         ))
+    }
+
+    /// The regressor at `eta`, built unless it is the one last asked for (the same
+    /// bits of η; a build is deterministic, so the kept one is what a build would
+    /// give): a Levenberg–Marquardt iteration asks for the residual at η, then for
+    /// q differences from the same A(η) ([`Problem::shifted`]), which would otherwise
+    /// assemble it q more times.
+    pub fn shared(&self, eta: &[f64]) -> Result<Arc<Regressor>> {
+        let key: Vec<u64> = eta.iter().map(|v| v.to_bits()).collect();
+        // cannot fail: no code panics while holding the lock.
+        if let Some((at, regressor)) = self.last.lock().expect("last lock").as_ref()
+            && *at == key
+        {
+            return Ok(Arc::clone(regressor));
+        }
+        let regressor = Arc::new(self.regressor(eta)?);
+        // cannot fail: no code panics while holding the lock.
+        *self.last.lock().expect("last lock") = Some((key, Arc::clone(&regressor)));
+        Ok(regressor)
     }
 }
 

@@ -124,7 +124,7 @@ pub(super) fn interval(
         // whole trials (its weights move with η, which the closed form leaves out)
         let shifted = |rest: &[f64], k: usize, h: f64| -> Result<Option<Vec<f64>>> {
             let eta = full(t[0], rest);
-            let base = problem.regressor(&eta)?;
+            let base = problem.shared(&eta)?;
             let k = if k >= j { k + 1 } else { k };
             let Some(moved) = problem.shifted(&base, &eta, k, h)? else {
                 return Ok(None);

@@ -90,8 +90,14 @@ pub fn per_point(kind: ResidualKind, values: &[f64], swept: &SweptTable) -> Resu
 /// (module doc). The input work is unchanged; a corrected amplitude that is not
 /// positive and finite (the point would say nothing) is an error naming the point.
 pub fn correct(point: &SteppedSinePoint, r: f64) -> Result<SteppedSinePoint> {
+    correct_owned(point.clone(), r)
+}
+
+/// [`correct`] on a point the caller gives up (no copy: the trials of a variable
+/// projection correct every perturbed copy of every point).
+pub fn correct_owned(point: SteppedSinePoint, r: f64) -> Result<SteppedSinePoint> {
     if r == 0.0 {
-        return Ok(point.clone());
+        return Ok(point);
     }
     let f = point.force_dof;
     let (x, phi) = (point.amplitudes[f], point.phases[f]);
@@ -108,7 +114,7 @@ pub fn correct(point: &SteppedSinePoint, r: f64) -> Result<SteppedSinePoint> {
             "must be finite and positive: the residual would cancel the whole response",
         ));
     }
-    let mut corrected = point.clone();
+    let mut corrected = point;
     corrected.amplitudes[f] = amplitude;
     corrected.phases[f] = lag_im.atan2(re);
     Ok(corrected)
