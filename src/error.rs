@@ -439,7 +439,7 @@ pub enum Error {
     Incomparable {
         /// The model files concerned (one, or two joined by "and").
         files: String,
-        /// What does not fit, with its value in each file (e.g. "[units] length 'm'
+        /// What does not fit, with its value in each file (e.g. "`[units]` length 'm'
         /// and 'mm'").
         what: String,
         /// Why they cannot be compared, and what would fit.

@@ -234,11 +234,11 @@ mod chain {
                 .max_by(|&i, &j| z[i][k].norm().total_cmp(&z[j][k].norm()))
                 .unwrap();
             z.swap(k, pivot);
-            for i in k + 1..n {
-                let f = z[i][k] / z[k][k];
-                for j in k..=n {
-                    let t = f * z[k][j];
-                    z[i][j] -= t;
+            let pivot_row = z[k].clone();
+            for row in z.iter_mut().skip(k + 1) {
+                let f = row[k] / pivot_row[k];
+                for (entry, p) in row.iter_mut().zip(&pivot_row).skip(k) {
+                    *entry -= f * p;
                 }
             }
         }

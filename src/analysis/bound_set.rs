@@ -263,7 +263,7 @@ impl Projection {
                 (column(i) - fitted).powi(2)
             })
             .sum();
-        if !(s > f64::EPSILON) {
+        if s.is_nan() || s <= f64::EPSILON {
             return None;
         }
         let h = (0..self.v.nrows())
