@@ -11,6 +11,7 @@ use dampid::report::Warning;
 use faer::Mat;
 
 mod support;
+use support::fuzz_chain::{self, amplitude, detune};
 use support::regressors::row_labels;
 
 /// b = A θ_u + e with e orthogonal to both columns, so that θ_u is the least-squares
@@ -190,115 +191,6 @@ fn a_bound_the_data_contradict_is_named_with_what_it_moves() {
     assert!(text.contains("the data contradict the bound"), "{text}");
 }
 
-/// The physics fuzz target's records: a chain of `n` unit masses and unit springs
-/// between walls, dashpots `c` on its n + 1 links, driven on DOF `dof` (0-based) at
-/// ω with amplitude `a`; the exact steady state sampled 48 times per period over 4
-/// periods, with noise of `noise` times each channel's amplitude (and of the force).
-mod chain {
-    use dampid::prelude::*;
-    use faer::Mat;
-    use realfft::num_complex::Complex64;
-
-    pub const PER_PERIOD: usize = 48;
-    pub const PERIODS: usize = 4;
-
-    /// The fuzz target's generator: an LCG, normals as a centred sum of 4 uniforms.
-    pub struct Noise(pub u64);
-
-    impl Noise {
-        fn uniform(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (self.0 >> 11) as f64 / (1u64 << 53) as f64
-        }
-        fn normal(&mut self) -> f64 {
-            ((0..4).map(|_| self.uniform()).sum::<f64>() - 2.0) * 3f64.sqrt()
-        }
-    }
-
-    /// X of (K − ω²I + iωC) X = a e_dof, by complex Gaussian elimination.
-    fn response(n: usize, c: &[f64], omega: f64, dof: usize, a: f64) -> Vec<Complex64> {
-        let mut z = vec![vec![Complex64::new(0.0, 0.0); n + 1]; n];
-        for i in 0..n {
-            z[i][i] = Complex64::new(2.0 - omega * omega, omega * (c[i] + c[i + 1]));
-            if i + 1 < n {
-                z[i][i + 1] = Complex64::new(-1.0, -omega * c[i + 1]);
-                z[i + 1][i] = Complex64::new(-1.0, -omega * c[i + 1]);
-            }
-        }
-        z[dof][n] = Complex64::new(a, 0.0);
-        for k in 0..n {
-            let pivot = (k..n)
-                .max_by(|&i, &j| z[i][k].norm().total_cmp(&z[j][k].norm()))
-                .unwrap();
-            z.swap(k, pivot);
-            let pivot_row = z[k].clone();
-            for row in z.iter_mut().skip(k + 1) {
-                let f = row[k] / pivot_row[k];
-                for (entry, p) in row.iter_mut().zip(&pivot_row).skip(k) {
-                    *entry -= f * p;
-                }
-            }
-        }
-        let mut x = vec![Complex64::new(0.0, 0.0); n];
-        for i in (0..n).rev() {
-            let mut s = z[i][n];
-            for j in i + 1..n {
-                s -= z[i][j] * x[j];
-            }
-            x[i] = s / z[i][i];
-        }
-        x
-    }
-
-    /// One record: drive on `dof` near `mode` (1-based) at `detune` (0.7 … 1.3 of its
-    /// frequency, as the fuzz target's byte / 255), amplitude `a`.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record(
-        label: &str,
-        n: usize,
-        c: &[f64],
-        dof: usize,
-        mode: usize,
-        detune: f64,
-        a: f64,
-        noise: f64,
-        rng: &mut Noise,
-    ) -> Record {
-        let natural = 2.0 * (mode as f64 * std::f64::consts::PI / (2.0 * (n + 1) as f64)).sin();
-        let omega = natural * (0.7 + 0.6 * detune);
-        let x_hat = response(n, c, omega, dof, a);
-        let samples = PER_PERIOD * PERIODS + 1;
-        let h = 2.0 * std::f64::consts::PI / omega / PER_PERIOD as f64;
-        let level: Vec<f64> = x_hat.iter().map(|p| noise * p.norm()).collect();
-        let mut x = Mat::zeros(samples, n);
-        let mut v = Mat::zeros(samples, n);
-        for i in 0..samples {
-            let (cos, sin) = ((omega * i as f64 * h).cos(), (omega * i as f64 * h).sin());
-            for j in 0..n {
-                let (re, im) = (x_hat[j].re, x_hat[j].im);
-                x[(i, j)] = re * cos - im * sin + level[j] * rng.normal();
-                v[(i, j)] = omega * (-re * sin - im * cos) + omega * level[j] * rng.normal();
-            }
-        }
-        let force: Vec<f64> = (0..samples)
-            .map(|i| a * (omega * i as f64 * h).cos() * (1.0 + noise * rng.normal()))
-            .collect();
-        Record::new(RecordParts {
-            label: label.into(),
-            step: h,
-            start_time: 0.0,
-            displacements: x,
-            velocities: Some(v),
-            forcing: Forcing::on_dofs(Mat::from_fn(samples, 1, |i, _| force[i]), vec![dof]),
-            period: 2.0 * std::f64::consts::PI / omega,
-        })
-        .unwrap()
-    }
-}
-
 /// A fuzz case: the records of `experiments` ((force DOF 0-based, mode, detune, amplitude)
 /// as the fuzz input decodes) on an `n`-DOF chain with dashpots `truth`, identified with
 /// `regressor` settings and nonnegative coefficients. Returns the report and the free,
@@ -312,29 +204,16 @@ fn fuzz_case(
     seed: u64,
     regressor: RegressorSettings,
 ) -> (FitReport, Vec<String>) {
-    let mut rng = chain::Noise(seed);
+    let mut rng = fuzz_chain::Noise(seed);
     let records: Vec<Record> = experiments
         .iter()
         .enumerate()
         .map(|(k, &(dof, mode, detune, a))| {
-            chain::record(
-                &format!("r{}", k + 1),
-                n,
-                truth,
-                dof,
-                mode,
-                detune,
-                a,
-                noise,
-                &mut rng,
-            )
+            fuzz_chain::raw(n, truth, dof, mode, detune, a, noise, &mut rng)
+                .into_record(&format!("r{}", k + 1))
         })
         .collect();
-    let model = DampingModel::new().with(Term::on_elements(
-        Linear,
-        Element::chain_fixed_both_ends(n),
-        Coefficients::PerElement("c".into()),
-    ));
+    let model = fuzz_chain::model(n);
     let mut settings = IdentifySettings {
         regressor,
         ..IdentifySettings::default()
@@ -389,16 +268,6 @@ fn named<'a>(report: &'a FitReport, off: &[String]) -> Vec<&'a Warning> {
         );
     }
     found
-}
-
-/// The fuzz input's byte for detune as a share of 0.7 … 1.3.
-fn detune(byte: f64) -> f64 {
-    byte / 255.0
-}
-
-/// The fuzz input's byte for a force amplitude.
-fn amplitude(byte: f64) -> f64 {
-    0.25 + byte / 64.0
 }
 
 /// The fuzz finding 13f68…: a 3-DOF chain, dashpots (1, 1, 1, 2)/64; five records driven

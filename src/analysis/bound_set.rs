@@ -189,12 +189,16 @@ impl Rows {
         }
         let residual: Vec<f64> = weighted.iter().map(|e| e / residual_scale).collect();
         let variance = match diagnostics.std_error_basis {
-            StandardErrorBasis::ResidualVariance => {
+            StandardErrorBasis::ResidualVariance | StandardErrorBasis::BetweenRecords { .. } => {
                 let dof = diagnostics.degrees_of_freedom;
                 if dof == 0 {
                     return None;
                 }
-                residual.iter().map(|e| e * e).sum::<f64>() / dof as f64
+                let scale = match diagnostics.std_error_basis {
+                    StandardErrorBasis::BetweenRecords { scale, .. } => scale,
+                    _ => 1.0,
+                };
+                scale * scale * residual.iter().map(|e| e * e).sum::<f64>() / dof as f64
             }
             StandardErrorBasis::PlugIn => (1.0 / residual_scale).powi(2),
             StandardErrorBasis::ScaledPlugIn {

@@ -25,6 +25,7 @@
 //!
 //!   ```text
 //!     unweighted fit:                     se_k = √(s² [(A_FᵀA_F)⁻¹]_kk),  s² = ‖e‖²/ν
+//!     unweighted, lack of fit rejects:    se_k = scale · √(s² [(A_FᵀA_F)⁻¹]_kk) (between records)
 //!     weighted, P(χ²_ν > χ²) ≥ 1%:        se_k = √([(A_FᵀWA_F)⁻¹]_kk)          (plug-in)
 //!     weighted, P(χ²_ν > χ²) < 1%:        se_k = √(χ²/ν) · √([(A_FᵀWA_F)⁻¹]_kk) (scaled)
 //!   ```
@@ -35,7 +36,11 @@
 //!   noise model. The scale is then > 1 (a rejected χ² exceeds ν), so the rule never
 //!   narrows an interval, and it leaves the intervals of every fit that passes the check
 //!   exactly as they were. It is the weighted form of the unweighted rule, the same
-//!   s² (A_FᵀWA_F)⁻¹ with s² = χ²/ν. The sandwich (heteroscedasticity-consistent) form
+//!   s² (A_FᵀWA_F)⁻¹ with s² = χ²/ν. An unweighted fit has no noise model to check
+//!   against, but when its records have replicate windows the lack-of-fit test
+//!   ([`crate::analysis::lack_of_fit`]) compares the records' mean residuals with the
+//!   scatter within records, and a rejected fit takes its errors from the records'
+//!   means, scale = √((SS_lof/ν_lof)/s²) > 1. The sandwich (heteroscedasticity-consistent) form
 //!   was measured against it on the reference cases (docs/noise.md) and is not used.
 //! - Identifiability (see [`crate::analysis::identifiability`]): practically zero singular values
 //!   against the noise level of the equations, near-null directions and determined
@@ -49,6 +54,7 @@ use serde::{Deserialize, Serialize};
 use crate::analysis::identifiability::{
     Identifiability, IdentifiabilitySettings, analyse, analyse_factored,
 };
+use crate::analysis::lack_of_fit::{LackOfFit, lack_of_fit};
 use crate::fit::scaling::{Scaling, norm};
 use crate::fit::svd::numerical_rank;
 use crate::fit::{Fit, ScaledSvd};
@@ -78,6 +84,15 @@ pub enum StandardErrorBasis {
         /// χ²/ν.
         chi_square_per_dof: f64,
         /// √(χ²/ν), the factor on every plug-in standard error.
+        scale: f64,
+    },
+    /// An unweighted fit whose lack-of-fit test rejects it
+    /// ([`crate::analysis::lack_of_fit`]): the residual-variance errors times `scale`,
+    /// √((SS_lof/ν_lof) (A_FᵀA_F)⁻¹), from the scatter of the records' mean residuals.
+    BetweenRecords {
+        /// F of the test (`None`: infinite, the windows of each record agree exactly).
+        f_statistic: Option<f64>,
+        /// √((SS_lof/ν_lof)/s²), the factor on every residual-variance standard error.
         scale: f64,
     },
 }
@@ -176,6 +191,9 @@ pub struct Diagnostics {
     pub identifiability: Identifiability,
     /// With propagated weights: the model-adequacy check and plug-in standard errors.
     pub weighted: Option<WeightedDiagnostics>,
+    /// Without them: the lack-of-fit test with a record's windows as replicates
+    /// ([`crate::analysis::lack_of_fit`]), when it has degrees of freedom.
+    pub lack_of_fit: Option<LackOfFit>,
     /// m − (free coefficients) − (nonlinear parameters), saturating at 0.
     pub degrees_of_freedom: usize,
     /// The nonlinear parameters estimated outside the linear fit (they use degrees of
@@ -337,9 +355,30 @@ fn diagnose_rows(
             residual_std: std.clone(),
         }
     });
-    let (std_errors, std_error_basis) = match &weighted {
-        None => (std_errors, StandardErrorBasis::ResidualVariance),
-        Some(w) => match w.p_value {
+    let lack_of_fit = residual_std
+        .is_none()
+        .then(|| {
+            lack_of_fit(
+                regressor,
+                &residuals,
+                free.len() + nonlinear,
+                condition_number,
+            )
+        })
+        .flatten();
+    let (std_errors, std_error_basis) = match (&weighted, &lack_of_fit) {
+        (None, Some(l)) if l.rejects() => (
+            std_errors
+                .iter()
+                .map(|se| se.map(|se| se * l.scale))
+                .collect(),
+            StandardErrorBasis::BetweenRecords {
+                f_statistic: l.f_statistic,
+                scale: l.scale,
+            },
+        ),
+        (None, _) => (std_errors, StandardErrorBasis::ResidualVariance),
+        (Some(w), _) => match w.p_value {
             Some(p) if p < REJECTION_P_VALUE => {
                 let per_dof = w.chi_square / w.degrees_of_freedom as f64;
                 let basis = StandardErrorBasis::ScaledPlugIn {
@@ -361,6 +400,10 @@ fn diagnose_rows(
                 window_scatter: crate::analysis::replicates::window_scatter(regressor)
                     .unwrap_or(0.0),
                 experiments: crate::analysis::replicates::experiments(regressor),
+                noise_scale: match std_error_basis {
+                    StandardErrorBasis::BetweenRecords { scale, .. } => scale,
+                    _ => 1.0,
+                },
                 ..IdentifiabilitySettings::default()
             },
         ),
@@ -378,6 +421,7 @@ fn diagnose_rows(
         correlation,
         identifiability,
         weighted,
+        lack_of_fit,
         degrees_of_freedom: dof,
         nonlinear_parameters: nonlinear,
     }

@@ -18,6 +18,7 @@ pub mod diagnostics;
 pub mod digest;
 pub mod equivalent;
 pub mod identifiability;
+pub mod lack_of_fit;
 pub mod measured_levels;
 pub mod replicates;
 pub mod solved;

@@ -116,16 +116,16 @@ pub fn experiments(regressor: &Regressor) -> usize {
 }
 
 /// One experiment's rows: a record's windows of whole periods, or one other row.
-struct Experiment {
+pub(crate) struct Experiment {
     /// Whether its rows are replicate windows of one record.
-    replicated: bool,
+    pub(crate) replicated: bool,
     /// Its rows, in order.
-    rows: Vec<usize>,
+    pub(crate) rows: Vec<usize>,
 }
 
 /// The experiments behind the rows of `regressor`, in the order of their first row
 /// (module doc).
-fn grouped(regressor: &Regressor) -> Vec<Experiment> {
+pub(crate) fn grouped(regressor: &Regressor) -> Vec<Experiment> {
     let mut groups: Vec<Experiment> = Vec::new();
     let mut by_record = std::collections::HashMap::new();
     for (i, label) in regressor.rows().iter().enumerate() {

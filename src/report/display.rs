@@ -45,6 +45,13 @@ impl fmt::Display for StandardErrorBasis {
                 significant(*chi_square_per_dof),
                 significant(*scale)
             ),
+            StandardErrorBasis::BetweenRecords { f_statistic, scale } => write!(
+                f,
+                "the records' mean residuals differ far more than their windows scatter (lack of fit, F = {}): standard errors are from the records' means, the residual-variance ones scaled by {}, se = {} · √(s² diag((AᵀA)⁻¹))",
+                f_statistic.map_or("∞".to_string(), significant),
+                significant(*scale),
+                significant(*scale)
+            ),
         }
     }
 }
@@ -216,6 +223,7 @@ impl fmt::Display for FitReport {
             StandardErrorBasis::ResidualVariance => ("std error", "95% interval"),
             StandardErrorBasis::PlugIn => ("plug-in se", "95% plug-in interval"),
             StandardErrorBasis::ScaledPlugIn { .. } => ("scaled se", "95% scaled interval"),
+            StandardErrorBasis::BetweenRecords { .. } => ("scaled se", "95% interval"),
         };
         let wald_header = if weighted {
             format!("  {wald_header:>27}")

@@ -206,6 +206,17 @@ impl FitReport {
                 p_value,
             });
         }
+        if let Some(l) = diagnostics.lack_of_fit.as_ref().filter(|l| l.rejects()) {
+            warnings.push(Warning::LackOfFit {
+                relative_misfit: l.relative_misfit,
+                coefficient_bound: l.coefficient_bound,
+                f_statistic: l.f_statistic,
+                degrees_of_freedom: (l.degrees_of_freedom, l.pure_error_degrees_of_freedom),
+                p_value: l.p_value,
+                scale: l.scale,
+                records: l.records.clone(),
+            });
+        }
         warnings.extend(explains::explains_nothing(
             regressor,
             &fit,
@@ -436,6 +447,9 @@ impl FitReport {
                 Warning::NotConverged { status } => {
                     failures.push(format!("the fit ended with status {status:?}"))
                 }
+                Warning::LackOfFit { p_value, .. } => failures.push(format!(
+                    "the lack-of-fit test fails: P = {p_value:.1e} < {INADEQUATE_P_VALUE}"
+                )),
                 Warning::FitExplainsNothing { .. }
                 | Warning::InconsistentRecord { .. }
                 | Warning::RoundOffColumn { .. } => failures.push(w.to_string()),

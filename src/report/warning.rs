@@ -99,6 +99,27 @@ pub enum Warning {
         /// Its upper-tail probability.
         p_value: f64,
     },
+    /// An unweighted fit whose records' mean residuals differ far more than their
+    /// windows scatter ([`crate::analysis::lack_of_fit`]): the model misses a mechanism
+    /// or records are not what their files say; the standard errors are then taken from
+    /// the records' means.
+    LackOfFit {
+        /// √SS_lof / ‖b‖: the share of the input work the records' means leave unexplained.
+        relative_misfit: f64,
+        /// κ · √SS_lof / ‖b‖: how far the misfit can move the (column-scaled)
+        /// coefficients relative to their size.
+        coefficient_bound: f64,
+        /// F of the test (`null`: infinite, every record's windows agree exactly).
+        f_statistic: Option<f64>,
+        /// Its degrees of freedom: experiments − free parameters, and Σ (windows − 1).
+        degrees_of_freedom: (usize, usize),
+        /// Its upper-tail probability.
+        p_value: f64,
+        /// The factor on the residual-variance standard errors.
+        scale: f64,
+        /// The experiments with the largest shares of the misfit, with those shares.
+        records: Vec<(String, f64)>,
+    },
     /// The velocity estimator's noise is a material share of the damping columns
     /// ([`crate::analysis::velocity_noise`]): the coefficients are biased low.
     VelocityNoiseBias {
@@ -219,6 +240,7 @@ impl Warning {
                 | Warning::RankDeficient { .. }
                 | Warning::TransientAccepted { .. }
                 | Warning::ModelInadequate { .. }
+                | Warning::LackOfFit { .. }
                 | Warning::FitExplainsNothing { .. }
                 | Warning::InconsistentRecord { .. }
                 | Warning::RoundOffColumn { .. }
@@ -250,6 +272,30 @@ impl fmt::Display for Warning {
                 "the weighted residual sum of squares is {chi_square:.3e} for {degrees_of_freedom} degrees of freedom (P = {p_value:.1e}): the residuals are larger than the estimated sensor noise explains, so the model may miss a mechanism, the records may not be in steady state, the noise is not white, or (on clean simulated data) the residual is discretisation error; the plug-in standard errors would be too small, so the standard errors and intervals shown are scaled by √(χ²/dof) = {:.3}",
                 (chi_square / *degrees_of_freedom as f64).sqrt()
             ),
+            Warning::LackOfFit {
+                relative_misfit,
+                coefficient_bound,
+                f_statistic,
+                degrees_of_freedom,
+                p_value,
+                scale,
+                records,
+            } => {
+                let shares: Vec<String> = records
+                    .iter()
+                    .map(|(name, share)| format!("'{name}' ({:.0} %)", 100.0 * share))
+                    .collect();
+                write!(
+                    f,
+                    "lack of fit: the records' mean residuals differ far more than the windows of each record scatter (F = {} for {} and {} degrees of freedom, P = {p_value:.1e}); they leave {:.3} % of the input work unexplained, which can move the coefficients by up to {:.2} % of their size, most of it in {}. The model may miss a mechanism, or some records are not what their files say (velocities given as displacements, a force on another DOF, in other units or with the wrong sign, a sensor's polarity): check those records; the standard errors shown come from the records' means (× {scale:.3})",
+                    f_statistic.map_or("∞".to_string(), |v| format!("{v:.3e}")),
+                    degrees_of_freedom.0,
+                    degrees_of_freedom.1,
+                    100.0 * relative_misfit,
+                    100.0 * coefficient_bound,
+                    shares.join(", ")
+                )
+            }
             Warning::VelocityNoiseBias {
                 estimator,
                 gain,

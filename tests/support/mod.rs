@@ -5,6 +5,7 @@
 
 pub mod cli;
 pub mod complex_chain;
+pub mod fuzz_chain;
 pub mod mixed_record;
 pub mod regressors;
 

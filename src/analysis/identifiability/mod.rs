@@ -101,6 +101,15 @@ pub struct IdentifiabilitySettings {
     /// are practically nonzero (0: no cap; set like `window_scatter`).
     #[serde(default)]
     pub experiments: usize,
+    /// A factor on the noise level s: the lack-of-fit test's scale when it takes the
+    /// standard errors from the records' means ([`crate::analysis::lack_of_fit`]), so
+    /// that "practically zero" and the standard errors read the same noise (default 1).
+    #[serde(default = "unit")]
+    pub noise_scale: f64,
+}
+
+fn unit() -> f64 {
+    1.0
 }
 
 impl Default for IdentifiabilitySettings {
@@ -111,6 +120,7 @@ impl Default for IdentifiabilitySettings {
             drop: 0.05,
             nonlinear_parameters: 0,
             window_scatter: 0.0,
+            noise_scale: 1.0,
             experiments: 0,
         }
     }
@@ -349,7 +359,7 @@ pub(crate) fn analyse_factored(
                 (b_s[(r, 0)] - fitted).powi(2)
             })
             .sum();
-        (residual2 / (m - spent) as f64).sqrt()
+        settings.noise_scale * (residual2 / (m - spent) as f64).sqrt()
     });
     let floor = settings.precision * sigma1;
     let absolute = settings.noise_factor * settings.precision;
