@@ -250,6 +250,9 @@ impl FitReport {
                     .map(|d| d.combination.text.clone())
                     .collect(),
                 constrained: fit.method == FitMethod::Constrained,
+                misfit: warnings
+                    .iter()
+                    .any(|w| matches!(w, Warning::LackOfFit { .. })),
             });
         }
         explains::round_off(regressor, diagnostics.rank, &mut warnings);

@@ -150,6 +150,11 @@ pub enum Warning {
         /// The fit was constrained: the constraints, not the data, place the solution
         /// along the near-null directions.
         constrained: bool,
+        /// The lack-of-fit test rejected the fit ([`Warning::LackOfFit`]): the records'
+        /// disagreement is part of the noise level that makes these directions null, so
+        /// the model or the records need correcting before new experiments help.
+        #[serde(default)]
+        misfit: bool,
     },
     /// An unconstrained fit gave damping coefficients below zero: a damper that feeds
     /// energy in, which no passive joint does.
@@ -423,7 +428,13 @@ impl fmt::Display for Warning {
                 trade_offs,
                 determined,
                 constrained,
+                misfit,
             } => {
+                let remedy = if *misfit {
+                    "the records disagree beyond the scatter of their windows (lack of fit): correct the model (a missing mechanism) or the records (units, signs, DOFs, sensor kinds) first, then add experiments if needed (`dampid design`)"
+                } else {
+                    "add experiments at other frequencies, amplitudes or forcing points (`dampid design`)"
+                };
                 let names: Vec<&str> = coefficients.iter().map(String::as_str).collect();
                 if names.len() > crate::analysis::digest::FULL_LISTING {
                     // Hundreds of names and directions: counts, the lists are in the
@@ -442,10 +453,7 @@ impl fmt::Display for Warning {
                             "; the constraints, not the data, decide where the solution lies along these directions"
                         )?;
                     }
-                    return write!(
-                        f,
-                        "; their values are not estimates; add experiments at other frequencies, amplitudes or forcing points (`dampid design`)"
-                    );
+                    return write!(f, "; their values are not estimates; {remedy}");
                 }
                 write!(
                     f,
@@ -473,7 +481,7 @@ impl fmt::Display for Warning {
                 }
                 write!(
                     f,
-                    "; the values shown for {} are not estimates; add experiments at other frequencies, amplitudes or forcing points (`dampid design`)",
+                    "; the values shown for {} are not estimates; {remedy}",
                     list(&names)
                 )
             }
