@@ -42,6 +42,7 @@
 //!
 
 use faer::Mat;
+use rayon::prelude::*;
 
 use crate::model::DampingModel;
 use crate::prep::window::Window;
@@ -78,8 +79,15 @@ pub(crate) fn zero_round_off(
     let was_zero: Vec<bool> = (0..p)
         .map(|k| (0..matrix.nrows()).all(|r| matrix[(r, k)] == 0.0))
         .collect();
-    for (r, w) in windows.iter().enumerate() {
-        let Some(gross) = gross_of(model, &records[w.record], w, &testable) else {
+    // Each window's gross work on its own (bitwise the same on any thread; its
+    // samples are n cache misses per DOF on a long record), then the entries in order.
+    let gross: Vec<Option<Vec<f64>>> = windows
+        .par_iter()
+        .with_min_len(16)
+        .map(|w| gross_of(model, &records[w.record], w, &testable))
+        .collect();
+    for (r, gross) in gross.iter().enumerate() {
+        let Some(gross) = gross else {
             continue;
         };
         for (k, g) in gross.iter().enumerate() {

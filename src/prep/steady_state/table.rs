@@ -42,6 +42,42 @@ fn dot_shifted(a: &[f64], b: &[f64], shift: f64) -> f64 {
     (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
 }
 
+/// [`dot_shifted`] of four columns `a` against one `b`, each sum bitwise the one
+/// `dot_shifted(a[c], b, shift)` gives (the same four partial sums, tail and order),
+/// with `b` read once.
+fn dots_shifted(a: [&[f64]; 4], b: &[f64], shift: f64) -> [f64; 4] {
+    // The columns' length decides the split, as in `dot_shifted`.
+    let n = a[0].len();
+    let whole = n - n % 4;
+    let [a0, a1, a2, a3] = a.map(|column| &column[..whole]);
+    let mut acc = [[0.0f64; 4]; 4];
+    for ((((y, x0), x1), x2), x3) in b[..whole]
+        .chunks_exact(4)
+        .zip(a0.chunks_exact(4))
+        .zip(a1.chunks_exact(4))
+        .zip(a2.chunks_exact(4))
+        .zip(a3.chunks_exact(4))
+    {
+        for l in 0..4 {
+            let d = y[l] - shift;
+            acc[0][l] += x0[l] * d;
+            acc[1][l] += x1[l] * d;
+            acc[2][l] += x2[l] * d;
+            acc[3][l] += x3[l] * d;
+        }
+    }
+    let mut out = [0.0; 4];
+    for ((o, column), sums) in out.iter_mut().zip(a).zip(acc) {
+        let tail: f64 = column[whole..]
+            .iter()
+            .zip(&b[whole..])
+            .map(|(x, y)| x * (y - shift))
+            .sum();
+        *o = (sums[0] + sums[1]) + (sums[2] + sums[3]) + tail;
+    }
+    out
+}
+
 impl HarmonicTable {
     /// The table of `basis` over its `samples` samples.
     pub(super) fn new(basis: &HarmonicBasis, samples: usize) -> Self {
@@ -60,9 +96,19 @@ impl HarmonicTable {
     pub(super) fn fit(&self, x: &[f64]) -> Vec<f64> {
         let p = self.columns();
         let shift = x.first().copied().unwrap_or(0.0);
-        let mut c: Vec<f64> = (0..p)
-            .map(|k| dot_shifted(self.design.col_as_slice(k), x, shift))
-            .collect();
+        let mut c = vec![0.0; p];
+        // Four columns per pass over x: each sum is bitwise the one `dot_shifted`
+        // gives alone (the same operations in the same order), with x read once per
+        // four columns instead of once per column.
+        let mut k = 0;
+        while k + 4 <= p {
+            let columns = [0, 1, 2, 3].map(|l| self.design.col_as_slice(k + l));
+            c[k..k + 4].copy_from_slice(&dots_shifted(columns, x, shift));
+            k += 4;
+        }
+        for (k, ck) in c.iter_mut().enumerate().skip(k) {
+            *ck = dot_shifted(self.design.col_as_slice(k), x, shift);
+        }
         // Rᵀ y = Bᵀx', then R c = y.
         let r = &self.r;
         for i in 0..p {
@@ -88,11 +134,36 @@ impl HarmonicTable {
     /// ŷ = B c at the first `out.len()` samples, into `out`.
     pub(super) fn evaluate(&self, coefficients: &[f64], out: &mut [f64]) {
         out.fill(0.0);
-        for (k, &ck) in coefficients.iter().enumerate() {
-            if ck != 0.0 {
-                let column = &self.design.col_as_slice(k)[..out.len()];
-                for (y, b) in out.iter_mut().zip(column) {
-                    *y += ck * b;
+        // The nonzero terms added in order, up to four per pass over `out`: each ŷ_i
+        // takes the same additions in the same order as one pass per column, so it is
+        // bitwise the same, with `out` read and written once per four columns.
+        let n = out.len();
+        let terms: Vec<(f64, &[f64])> = coefficients
+            .iter()
+            .enumerate()
+            .filter(|(_, ck)| **ck != 0.0)
+            .map(|(k, &ck)| (ck, &self.design.col_as_slice(k)[..n]))
+            .collect();
+        for group in terms.chunks(4) {
+            match group {
+                [(c0, b0), (c1, b1), (c2, b2), (c3, b3)] => {
+                    // Slices of exactly n let the loop run without bounds checks.
+                    let (b0, b1, b2, b3) = (&b0[..n], &b1[..n], &b2[..n], &b3[..n]);
+                    for i in 0..n {
+                        let mut sum = out[i];
+                        sum += c0 * b0[i];
+                        sum += c1 * b1[i];
+                        sum += c2 * b2[i];
+                        sum += c3 * b3[i];
+                        out[i] = sum;
+                    }
+                }
+                _ => {
+                    for (ck, column) in group {
+                        for (y, b) in out.iter_mut().zip(column.iter()) {
+                            *y += ck * b;
+                        }
+                    }
                 }
             }
         }
@@ -137,6 +208,69 @@ impl HarmonicTable {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The fused passes are bitwise the per-column ones: four dot products against one
+    /// sample column, and an evaluation with zero coefficients skipped, at lengths with
+    /// every remainder mod 4.
+    #[test]
+    fn fused_passes_are_bitwise_the_per_column_ones() {
+        for m in [8usize, 9, 10, 11, 13, 64, 101] {
+            let column = |c: usize| -> Vec<f64> {
+                (0..m)
+                    .map(|i| {
+                        ((i * (c + 3)) as f64 * 0.731 + c as f64).sin() * 10f64.powi(c as i32 - 2)
+                    })
+                    .collect()
+            };
+            let columns: Vec<Vec<f64>> = (0..4).map(column).collect();
+            let b: Vec<f64> = (0..m).map(|i| 1e3 + (i as f64 * 0.37).cos()).collect();
+            let shift = b[0];
+            let fused = dots_shifted([0, 1, 2, 3].map(|c| columns[c].as_slice()), &b, shift);
+            for c in 0..4 {
+                let alone = dot_shifted(&columns[c], &b, shift);
+                assert_eq!(fused[c].to_bits(), alone.to_bits(), "m = {m}, column {c}");
+            }
+            let omega = 2.0 * std::f64::consts::PI / 7.3;
+            let basis = HarmonicBasis::with_orders(omega, vec![1, 2, 3], 0.5, m).unwrap();
+            let table = HarmonicTable::new(&basis, m);
+            let coefficients = [0.3, -1.7, 0.0, 2.5e-3, 4.0, 0.0, -0.9];
+            let mut fused = vec![0.0; m];
+            table.evaluate(&coefficients, &mut fused);
+            let mut alone = vec![0.0; m];
+            for (k, &ck) in coefficients.iter().enumerate() {
+                if ck != 0.0 {
+                    for (y, b) in alone.iter_mut().zip(table.design.col_as_slice(k)) {
+                        *y += ck * b;
+                    }
+                }
+            }
+            let bits = |v: &[f64]| v.iter().map(|y| y.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&fused), bits(&alone), "m = {m}");
+            let c = table.fit(&b);
+            let by_column: Vec<f64> = (0..table.columns())
+                .map(|k| dot_shifted(table.design.col_as_slice(k), &b, shift))
+                .collect();
+            let mut reference = by_column;
+            let r = &table.r;
+            let p = table.columns();
+            for i in 0..p {
+                let mut s = reference[i];
+                for k in 0..i {
+                    s -= r[(k, i)] * reference[k];
+                }
+                reference[i] = s / r[(i, i)];
+            }
+            for i in (0..p).rev() {
+                let mut s = reference[i];
+                for k in i + 1..p {
+                    s -= r[(i, k)] * reference[k];
+                }
+                reference[i] = s / r[(i, i)];
+            }
+            reference[0] += shift;
+            assert_eq!(bits(&c), bits(&reference), "fit, m = {m}");
+        }
+    }
 
     /// The table's fit, residual and range equal HarmonicBasis::fit and a direct
     /// evaluation, on T/h not whole, with an offset.
