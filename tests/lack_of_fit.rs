@@ -254,3 +254,51 @@ fn clean_and_noisy_records_of_the_fuzz_case_pass() {
         }
     }
 }
+
+/// The shipped measured chain fitted without its friction term (measured velocities,
+/// unweighted): the records disagree by 2.3 % of the input work, far beyond their
+/// windows' scatter. `identify --json` carries the warning and the between-records
+/// basis, `--strict` exits 1, and `check` says so above its identifiability analysis;
+/// with the friction term the test passes.
+#[test]
+fn the_chain_fitted_without_its_friction_fails_the_test_from_the_command_line() {
+    let json = support::cli::dampid_json(&[
+        "identify",
+        "models/measured_chain_no_friction.toml",
+        "--json",
+    ]);
+    let warnings = json["report"]["warnings"].as_array().unwrap();
+    let found = warnings
+        .iter()
+        .find(|w| w["kind"] == "lack_of_fit")
+        .unwrap_or_else(|| panic!("{warnings:?}"));
+    let misfit = found["relative_misfit"].as_f64().unwrap();
+    assert!((0.01..0.05).contains(&misfit), "{misfit}");
+    assert_eq!(
+        json["report"]["std_error_basis"]["basis"],
+        "between_records"
+    );
+    let strict = support::cli::dampid(&[
+        "identify",
+        "models/measured_chain_no_friction.toml",
+        "--strict",
+    ]);
+    assert_eq!(strict.status.code(), Some(1));
+    let check = support::cli::dampid_ok(&["check", "models/measured_chain_no_friction.toml"]);
+    let text = String::from_utf8_lossy(&check.stdout);
+    assert!(text.contains("lack of fit:"), "{text}");
+    let with_friction =
+        support::cli::dampid_json(&["identify", "models/measured_chain.toml", "--json"]);
+    assert!(
+        !with_friction["report"]["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|w| w["kind"] == "lack_of_fit"),
+        "{with_friction}"
+    );
+    assert_eq!(
+        with_friction["report"]["std_error_basis"]["basis"],
+        "residual_variance"
+    );
+}

@@ -20,6 +20,7 @@ use serde::Serialize;
 
 use crate::analysis::diagnostics::Correlation;
 use crate::analysis::identifiability::Identifiability;
+use crate::analysis::lack_of_fit::LackOfFit;
 use crate::analysis::solved::{conditioning_basis, solved};
 use crate::error::Result;
 use crate::fit::FitSettings;
@@ -46,6 +47,11 @@ pub struct RegressorCheck {
     pub identifiability: Identifiability,
     /// Correlation of the estimates, when they have standard errors.
     pub correlation: Option<Correlation>,
+    /// The lack-of-fit test of an unweighted fit, when it rejects the fit
+    /// ([`crate::analysis::lack_of_fit`]): the noise level above then includes the
+    /// records' disagreement.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lack_of_fit: Option<LackOfFit>,
 }
 
 impl RegressorCheck {
@@ -68,6 +74,7 @@ impl RegressorCheck {
                 .then_some(diagnostics.condition_number),
             identifiability: diagnostics.identifiability,
             correlation: diagnostics.correlation,
+            lack_of_fit: diagnostics.lack_of_fit.filter(LackOfFit::rejects),
         })
     }
 }
@@ -93,6 +100,22 @@ impl fmt::Display for RegressorCheck {
                 f,
                 "condition number σ₁/σₚ of the {basis}: infinite: these data cannot separate the coefficients"
             )?,
+        }
+        if let Some(l) = &self.lack_of_fit {
+            let records: Vec<String> = l
+                .records
+                .iter()
+                .map(|(name, share)| format!("'{name}' ({:.0} %)", 100.0 * share))
+                .collect();
+            writeln!(
+                f,
+                "lack of fit: the records' mean residuals leave {:.3} % of the input work unexplained, far beyond the scatter of their windows (F = {}, P = {:.1e}), most of it in {}; the noise level below includes it (a model that misses a mechanism, or records that are not what their files say)",
+                100.0 * l.relative_misfit,
+                l.f_statistic
+                    .map_or("∞".to_string(), |v| format!("{v:.3e}")),
+                l.p_value,
+                records.join(", ")
+            )?;
         }
         write!(f, "{}", self.identifiability)?;
         if let Some(c) = self.correlation.as_ref().filter(|c| c.names.len() > 1) {
