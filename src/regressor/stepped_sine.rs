@@ -159,7 +159,7 @@ pub(crate) fn build(
     let residual = source.per_point(residual)?;
     let indices: Vec<usize> = (0..source.table.table.points().len()).collect();
     let rows = point_rows(model, source, &indices, residual.as_deref())?;
-    assemble(model, source, &rows.iter().collect::<Vec<_>>())
+    assemble(model, source, &rows.iter().collect::<Vec<_>>(), true)
 }
 
 /// The rows of one point: its equation, then its rows with a + h, and X_i + h and
@@ -292,17 +292,19 @@ pub(crate) fn point_rows(
 }
 
 /// The regressor of `source` from the rows of every point in table order (`rows[p]`
-/// of point p, from [`point_rows`] for `model`), with its noise model, labels and work
-/// scale (see [`build`]).
+/// of point p, from [`point_rows`] for `model`), with its labels, work scale and, when
+/// `with_noise`, its noise model (see [`build`]). Without it the matrix, b, labels and
+/// work scale are the same to the last bit: for a trial whose fit reads no noise model
+/// (ordinary weighting, `varpro/problem.rs`).
 pub(crate) fn assemble(
     model: &DampingModel,
     source: &SteppedSineSource,
     rows: &[&PointRows],
+    with_noise: bool,
 ) -> Result<Regressor> {
     let columns = checked_columns(model, source)?;
     let swept = &source.table;
     let table = &swept.table;
-    let dofs = table.dofs();
     let points = table.points();
     if rows.len() != points.len() {
         return Err(Error::mismatch(
@@ -324,55 +326,7 @@ pub(crate) fn assemble(
             count[s] - 1
         })
         .collect();
-    let mut noise = NoiseModel {
-        rows: Vec::with_capacity(points.len()),
-        windows: Vec::with_capacity(points.len()),
-    };
-    for r in 0..points.len() {
-        let own = &rows[r].rows;
-        let steps = steps(&points[r]);
-        let base = &own[0];
-        let sigma = &swept.noise[r];
-        let derivative = |offset: usize| {
-            let row = &own[offset];
-            let h = steps[offset];
-            (
-                (row.input - base.input) / h,
-                row.columns
-                    .iter()
-                    .zip(&base.columns)
-                    .map(|(a, b)| (a - b) / h)
-                    .collect::<Vec<f64>>(),
-            )
-        };
-        let (db_da, _) = derivative(1);
-        let channels = (0..dofs)
-            .map(|j| {
-                let (bx, ax) = derivative(2 + 2 * j);
-                let (bp, ap) = derivative(3 + 2 * j);
-                let (sx, sp) = (sigma.amplitudes[j], sigma.phases[j]);
-                ChannelSensitivity {
-                    channel: j,
-                    input: vec![sx * bx, sp * bp],
-                    columns: (0..p_count)
-                        .map(|k| (k, vec![sx * ax[k], sp * ap[k]]))
-                        .collect(),
-                }
-            })
-            .collect();
-        noise.rows.push(RowNoise {
-            channels,
-            force_std: (sigma.force * db_da).abs(),
-        });
-        noise.windows.push(WindowNoise {
-            record: swept.sweep_names[swept.sweeps[r]].clone(),
-            window: places[r],
-            harmonics: vec![1],
-            displacement_noise: sigma.amplitudes.clone(),
-            sensors: Vec::new(),
-            force_noise: vec![sigma.force],
-        });
-    }
+    let noise = with_noise.then(|| noise_model(source, rows, &places, p_count));
     let labels = (0..points.len())
         .map(|r| {
             let s = swept.sweeps[r];
@@ -408,9 +362,66 @@ pub(crate) fn assemble(
         names: swept.sweep_names.clone(),
         unit: "sweep".into(),
     };
-    Regressor::from_parts(matrix, rhs, columns, labels)?
-        .with_noise(noise)?
-        .with_work_scale(scale)
+    let regressor = Regressor::from_parts(matrix, rhs, columns, labels)?;
+    match noise {
+        Some(noise) => regressor.with_noise(noise)?,
+        None => regressor,
+    }
+    .with_work_scale(scale)
+}
+
+/// The noise model of the rows `rows` of `source`'s points (module doc: the forward
+/// differences of each point's perturbed rows, whitened by the point's σ), `places`
+/// each point's place in its sweep, `p_count` columns.
+fn noise_model(
+    source: &SteppedSineSource,
+    rows: &[&PointRows],
+    places: &[usize],
+    p_count: usize,
+) -> NoiseModel {
+    let swept = &source.table;
+    let points = swept.table.points();
+    let dofs = swept.table.dofs();
+    let mut noise = NoiseModel {
+        rows: Vec::with_capacity(points.len()),
+        windows: Vec::with_capacity(points.len()),
+    };
+    for r in 0..points.len() {
+        let own = &rows[r].rows;
+        let steps = steps(&points[r]);
+        let base = &own[0];
+        let sigma = &swept.noise[r];
+        // (∂b, ∂A_k) of the row perturbed at `offset`, h its step
+        let db = |offset: usize| (own[offset].input - base.input) / steps[offset];
+        let da =
+            |offset: usize, k: usize| (own[offset].columns[k] - base.columns[k]) / steps[offset];
+        let channels = (0..dofs)
+            .map(|j| {
+                let (x, p) = (2 + 2 * j, 3 + 2 * j);
+                let (sx, sp) = (sigma.amplitudes[j], sigma.phases[j]);
+                ChannelSensitivity {
+                    channel: j,
+                    input: vec![sx * db(x), sp * db(p)],
+                    columns: (0..p_count)
+                        .map(|k| (k, vec![sx * da(x, k), sp * da(p, k)]))
+                        .collect(),
+                }
+            })
+            .collect();
+        noise.rows.push(RowNoise {
+            channels,
+            force_std: (sigma.force * db(1)).abs(),
+        });
+        noise.windows.push(WindowNoise {
+            record: swept.sweep_names[swept.sweeps[r]].clone(),
+            window: places[r],
+            harmonics: vec![1],
+            displacement_noise: sigma.amplitudes.clone(),
+            sensors: Vec::new(),
+            force_noise: vec![sigma.force],
+        });
+    }
+    noise
 }
 
 /// The columns (model terms, then `structural`) of each of `points`, as

@@ -88,6 +88,17 @@ impl<'a> SweepBlocks<'a> {
     /// The regressor at `eta` (every parameter), as
     /// [`ParametricRegressor::regressor`] builds it.
     pub fn regressor(&self, eta: &[f64]) -> Result<Regressor> {
+        self.assembled(eta, true)
+    }
+
+    /// [`SweepBlocks::regressor`] without its noise model (the same matrix, b, labels
+    /// and work scale): for fits that read none (ordinary weighting).
+    pub fn regressor_without_noise(&self, eta: &[f64]) -> Result<Regressor> {
+        self.assembled(eta, false)
+    }
+
+    /// The regressor at `eta`, with its noise model when `with_noise`.
+    fn assembled(&self, eta: &[f64], with_noise: bool) -> Result<Regressor> {
         let (model, blocks) = self.blocks(eta)?;
         let rows: Vec<&PointRows> = self
             .source
@@ -97,7 +108,7 @@ impl<'a> SweepBlocks<'a> {
             .zip(&self.places)
             .map(|(&s, &place)| &blocks[s][place])
             .collect();
-        assemble(&model, self.source, &rows)
+        assemble(&model, self.source, &rows, with_noise)
     }
 
     /// ∂A/∂η_j at `eta` for a residual unknown j (`None` for a law parameter): the
