@@ -158,7 +158,7 @@ pub(crate) fn build(
 ) -> Result<Regressor> {
     let residual = source.per_point(residual)?;
     let indices: Vec<usize> = (0..source.table.table.points().len()).collect();
-    let rows = point_rows(model, source, &indices, residual.as_deref())?;
+    let rows = point_rows(model, source, &indices, residual.as_deref(), true)?;
     assemble(model, source, &rows.iter().collect::<Vec<_>>(), true)
 }
 
@@ -167,12 +167,22 @@ pub(crate) fn build(
 /// from the point corrected by its residual receptance. A point's rows depend on that
 /// point alone, so rows computed for some points and assembled with others' give the
 /// regressor [`build`] gives (`varpro/sweep_blocks.rs` rebuilds one sweep at a time).
+///
+/// Without the noise model (`complete` false) the row with a + h, which only the noise
+/// model reads, is not computed: it holds a copy of the equation's row.
 #[derive(Debug, Clone)]
 pub(crate) struct PointRows {
     rows: Vec<Row>,
+    complete: bool,
 }
 
 impl PointRows {
+    /// Whether these rows carry the row with a + h ([`point_rows`] with `noise`), so
+    /// that [`assemble`] can build the noise model from them.
+    pub(crate) fn complete(&self) -> bool {
+        self.complete
+    }
+
     /// ∂A/∂R of the point's equation (its columns), R its residual receptance: the
     /// mode's response Z − R a moves by −a dR, as it does when the measured response of
     /// the force DOF f moves by dX_f = −a cos φ_f dR and dφ_f = (a sin φ_f / X_f) dR, so
@@ -184,6 +194,7 @@ impl PointRows {
     /// with ∂A/∂X_f, ∂A/∂φ_f the forward differences of the noise model (relative error
     /// about 10⁻⁶). b does not depend on R. `point` is the point as measured.
     pub(crate) fn residual_derivative(&self, point: &SteppedSinePoint) -> Vec<f64> {
+        // reads the rows of X_f + h and φ_f + h, computed with or without the noise model
         let f = point.force_dof;
         let steps = steps(point);
         let base = &self.rows[0].columns;
@@ -254,12 +265,15 @@ fn perturbed(p: &SteppedSinePoint) -> Vec<(SteppedSinePoint, f64)> {
 
 /// The [`PointRows`] of the table's points `indices` (table order not required), each
 /// point's response first corrected by `residual[i]` for `indices[i]` (`None`: as
-/// measured). One synthesis of all their perturbed copies.
+/// measured). One synthesis of all their perturbed copies; without `noise`, not of the
+/// copies with a + h, which only the noise model reads (each other row is the same to
+/// the last bit: a point's rows depend on that point alone).
 pub(crate) fn point_rows(
     model: &DampingModel,
     source: &SteppedSineSource,
     indices: &[usize],
     residual: Option<&[f64]>,
+    noise: bool,
 ) -> Result<Vec<PointRows>> {
     checked_columns(model, source)?;
     let points = source.table.table.points();
@@ -273,9 +287,14 @@ pub(crate) fn point_rows(
         ));
     }
     let per_point = 2 + 2 * source.table.table.dofs();
-    let mut expanded = Vec::with_capacity(indices.len() * per_point);
+    // the copy with a + h is second ([`perturbed`])
+    let computed = if noise { per_point } else { per_point - 1 };
+    let mut expanded = Vec::with_capacity(indices.len() * computed);
     for (i, &p) in indices.iter().enumerate() {
-        for (q, _) in perturbed(&points[p]) {
+        for (c, (q, _)) in perturbed(&points[p]).into_iter().enumerate() {
+            if c == 1 && !noise {
+                continue;
+            }
             expanded.push(match residual {
                 Some(r) => residual::correct_owned(q, r[i])?,
                 None => q,
@@ -285,8 +304,15 @@ pub(crate) fn point_rows(
     let all = rows(model, &source.structural, &expanded, &source.approximation)?;
     let mut all = all.into_iter();
     Ok((0..indices.len())
-        .map(|_| PointRows {
-            rows: all.by_ref().take(per_point).collect(),
+        .map(|_| {
+            let mut rows: Vec<Row> = all.by_ref().take(computed).collect();
+            if !noise && let Some(base) = rows.first() {
+                rows.insert(1, base.clone());
+            }
+            PointRows {
+                rows,
+                complete: noise,
+            }
         })
         .collect())
 }
@@ -326,6 +352,12 @@ pub(crate) fn assemble(
             count[s] - 1
         })
         .collect();
+    if with_noise && rows.iter().any(|r| !r.complete) {
+        return Err(Error::Numerical {
+            stage: "stepped-sine noise model".into(),
+            detail: "rows computed without the row of a + h cannot give the noise model".into(),
+        });
+    }
     let noise = with_noise.then(|| noise_model(source, rows, &places, p_count));
     let labels = (0..points.len())
         .map(|r| {
