@@ -209,9 +209,21 @@ impl<'a> Problem<'a> {
         })
     }
 
-    /// φ(η).
+    /// φ(η). Under ordinary weighting a table with residual unknowns fits the
+    /// regressor without its noise model (the same cost: no fit of it reads one).
     pub fn cost(&self, eta: &[f64]) -> Result<f64> {
-        self.trial(eta).map(|t| t.cost)
+        let Some(bare) = &self.bare else {
+            return self.trial(eta).map(|t| t.cost);
+        };
+        self.evaluations.fetch_add(1, Ordering::Relaxed);
+        let regressor = bare(eta)?;
+        let fit = crate::fit::solve(&regressor, self.fit)?;
+        Ok(
+            weighted_residuals(&regressor, &fit.coefficients, fit.residual_std.as_deref())
+                .iter()
+                .map(|e| e * e)
+                .sum(),
+        )
     }
 
     /// The projected residual r(η) = (A(η) θ̂(η) − b)_r / s_r, whose squared norm is φ(η).
