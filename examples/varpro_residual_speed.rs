@@ -14,6 +14,11 @@
 //! does: the trials allocate much (per-row vectors), and the system allocator makes the
 //! same identification about three times slower.
 //!
+//! faer runs its decompositions sequentially (`faer::Par::Seq`), as the `dampid` binary
+//! sets it (`src/bin/dampid/main.rs`): the inner fits are SVDs of 492 × 2 matrices, which
+//! faer's default (rayon's pool) splits into tasks costing more in thread wake-ups and
+//! futex waits than the arithmetic (about a fifth of the run's cycles).
+//!
 //! Prints one line per stage and the estimate (exponent and its profile interval) of the
 //! last `identify`, so a run shows that the timed work gave the same answer.
 //!
@@ -47,6 +52,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .next()
         .ok_or("usage: varpro_residual_speed MODEL.toml [REPEATS]")?;
     let repeats: usize = args.next().map_or(Ok(5), |r| r.parse())?;
+    faer::set_global_parallelism(faer::Par::Seq);
     let (load_s, job) = best(repeats, || load(Path::new(&path), Options::default()));
     let job = job?;
     let mut without = job.settings.clone();

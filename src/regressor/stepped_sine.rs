@@ -158,8 +158,8 @@ pub(crate) fn build(
 ) -> Result<Regressor> {
     let residual = source.per_point(residual)?;
     let indices: Vec<usize> = (0..source.table.table.points().len()).collect();
-    let rows = point_rows(model, source, &indices, residual.as_deref())?;
-    assemble(model, source, &rows.iter().collect::<Vec<_>>())
+    let rows = point_rows(model, source, &indices, residual.as_deref(), true)?;
+    assemble(model, source, &rows.iter().collect::<Vec<_>>(), true)
 }
 
 /// The rows of one point: its equation, then its rows with a + h, and X_i + h and
@@ -167,12 +167,22 @@ pub(crate) fn build(
 /// from the point corrected by its residual receptance. A point's rows depend on that
 /// point alone, so rows computed for some points and assembled with others' give the
 /// regressor [`build`] gives (`varpro/sweep_blocks.rs` rebuilds one sweep at a time).
+///
+/// Without the noise model (`complete` false) the row with a + h, which only the noise
+/// model reads, is not computed: it holds a copy of the equation's row.
 #[derive(Debug, Clone)]
 pub(crate) struct PointRows {
     rows: Vec<Row>,
+    complete: bool,
 }
 
 impl PointRows {
+    /// Whether these rows carry the row with a + h ([`point_rows`] with `noise`), so
+    /// that [`assemble`] can build the noise model from them.
+    pub(crate) fn complete(&self) -> bool {
+        self.complete
+    }
+
     /// ∂A/∂R of the point's equation (its columns), R its residual receptance: the
     /// mode's response Z − R a moves by −a dR, as it does when the measured response of
     /// the force DOF f moves by dX_f = −a cos φ_f dR and dφ_f = (a sin φ_f / X_f) dR, so
@@ -184,6 +194,7 @@ impl PointRows {
     /// with ∂A/∂X_f, ∂A/∂φ_f the forward differences of the noise model (relative error
     /// about 10⁻⁶). b does not depend on R. `point` is the point as measured.
     pub(crate) fn residual_derivative(&self, point: &SteppedSinePoint) -> Vec<f64> {
+        // reads the rows of X_f + h and φ_f + h, computed with or without the noise model
         let f = point.force_dof;
         let steps = steps(point);
         let base = &self.rows[0].columns;
@@ -254,12 +265,15 @@ fn perturbed(p: &SteppedSinePoint) -> Vec<(SteppedSinePoint, f64)> {
 
 /// The [`PointRows`] of the table's points `indices` (table order not required), each
 /// point's response first corrected by `residual[i]` for `indices[i]` (`None`: as
-/// measured). One synthesis of all their perturbed copies.
+/// measured). One synthesis of all their perturbed copies; without `noise`, not of the
+/// copies with a + h, which only the noise model reads (each other row is the same to
+/// the last bit: a point's rows depend on that point alone).
 pub(crate) fn point_rows(
     model: &DampingModel,
     source: &SteppedSineSource,
     indices: &[usize],
     residual: Option<&[f64]>,
+    noise: bool,
 ) -> Result<Vec<PointRows>> {
     checked_columns(model, source)?;
     let points = source.table.table.points();
@@ -273,9 +287,14 @@ pub(crate) fn point_rows(
         ));
     }
     let per_point = 2 + 2 * source.table.table.dofs();
-    let mut expanded = Vec::with_capacity(indices.len() * per_point);
+    // the copy with a + h is second ([`perturbed`])
+    let computed = if noise { per_point } else { per_point - 1 };
+    let mut expanded = Vec::with_capacity(indices.len() * computed);
     for (i, &p) in indices.iter().enumerate() {
-        for (q, _) in perturbed(&points[p]) {
+        for (c, (q, _)) in perturbed(&points[p]).into_iter().enumerate() {
+            if c == 1 && !noise {
+                continue;
+            }
             expanded.push(match residual {
                 Some(r) => residual::correct_owned(q, r[i])?,
                 None => q,
@@ -285,24 +304,33 @@ pub(crate) fn point_rows(
     let all = rows(model, &source.structural, &expanded, &source.approximation)?;
     let mut all = all.into_iter();
     Ok((0..indices.len())
-        .map(|_| PointRows {
-            rows: all.by_ref().take(per_point).collect(),
+        .map(|_| {
+            let mut rows: Vec<Row> = all.by_ref().take(computed).collect();
+            if !noise && let Some(base) = rows.first() {
+                rows.insert(1, base.clone());
+            }
+            PointRows {
+                rows,
+                complete: noise,
+            }
         })
         .collect())
 }
 
 /// The regressor of `source` from the rows of every point in table order (`rows[p]`
-/// of point p, from [`point_rows`] for `model`), with its noise model, labels and work
-/// scale (see [`build`]).
+/// of point p, from [`point_rows`] for `model`), with its labels, work scale and, when
+/// `with_noise`, its noise model (see [`build`]). Without it the matrix, b, labels and
+/// work scale are the same to the last bit: for a trial whose fit reads no noise model
+/// (ordinary weighting, `varpro/problem.rs`).
 pub(crate) fn assemble(
     model: &DampingModel,
     source: &SteppedSineSource,
     rows: &[&PointRows],
+    with_noise: bool,
 ) -> Result<Regressor> {
     let columns = checked_columns(model, source)?;
     let swept = &source.table;
     let table = &swept.table;
-    let dofs = table.dofs();
     let points = table.points();
     if rows.len() != points.len() {
         return Err(Error::mismatch(
@@ -324,55 +352,13 @@ pub(crate) fn assemble(
             count[s] - 1
         })
         .collect();
-    let mut noise = NoiseModel {
-        rows: Vec::with_capacity(points.len()),
-        windows: Vec::with_capacity(points.len()),
-    };
-    for r in 0..points.len() {
-        let own = &rows[r].rows;
-        let steps = steps(&points[r]);
-        let base = &own[0];
-        let sigma = &swept.noise[r];
-        let derivative = |offset: usize| {
-            let row = &own[offset];
-            let h = steps[offset];
-            (
-                (row.input - base.input) / h,
-                row.columns
-                    .iter()
-                    .zip(&base.columns)
-                    .map(|(a, b)| (a - b) / h)
-                    .collect::<Vec<f64>>(),
-            )
-        };
-        let (db_da, _) = derivative(1);
-        let channels = (0..dofs)
-            .map(|j| {
-                let (bx, ax) = derivative(2 + 2 * j);
-                let (bp, ap) = derivative(3 + 2 * j);
-                let (sx, sp) = (sigma.amplitudes[j], sigma.phases[j]);
-                ChannelSensitivity {
-                    channel: j,
-                    input: vec![sx * bx, sp * bp],
-                    columns: (0..p_count)
-                        .map(|k| (k, vec![sx * ax[k], sp * ap[k]]))
-                        .collect(),
-                }
-            })
-            .collect();
-        noise.rows.push(RowNoise {
-            channels,
-            force_std: (sigma.force * db_da).abs(),
-        });
-        noise.windows.push(WindowNoise {
-            record: swept.sweep_names[swept.sweeps[r]].clone(),
-            window: places[r],
-            harmonics: vec![1],
-            displacement_noise: sigma.amplitudes.clone(),
-            sensors: Vec::new(),
-            force_noise: vec![sigma.force],
+    if with_noise && rows.iter().any(|r| !r.complete) {
+        return Err(Error::Numerical {
+            stage: "stepped-sine noise model".into(),
+            detail: "rows computed without the row of a + h cannot give the noise model".into(),
         });
     }
+    let noise = with_noise.then(|| noise_model(source, rows, &places, p_count));
     let labels = (0..points.len())
         .map(|r| {
             let s = swept.sweeps[r];
@@ -408,9 +394,66 @@ pub(crate) fn assemble(
         names: swept.sweep_names.clone(),
         unit: "sweep".into(),
     };
-    Regressor::from_parts(matrix, rhs, columns, labels)?
-        .with_noise(noise)?
-        .with_work_scale(scale)
+    let regressor = Regressor::from_parts(matrix, rhs, columns, labels)?;
+    match noise {
+        Some(noise) => regressor.with_noise(noise)?,
+        None => regressor,
+    }
+    .with_work_scale(scale)
+}
+
+/// The noise model of the rows `rows` of `source`'s points (module doc: the forward
+/// differences of each point's perturbed rows, whitened by the point's σ), `places`
+/// each point's place in its sweep, `p_count` columns.
+fn noise_model(
+    source: &SteppedSineSource,
+    rows: &[&PointRows],
+    places: &[usize],
+    p_count: usize,
+) -> NoiseModel {
+    let swept = &source.table;
+    let points = swept.table.points();
+    let dofs = swept.table.dofs();
+    let mut noise = NoiseModel {
+        rows: Vec::with_capacity(points.len()),
+        windows: Vec::with_capacity(points.len()),
+    };
+    for r in 0..points.len() {
+        let own = &rows[r].rows;
+        let steps = steps(&points[r]);
+        let base = &own[0];
+        let sigma = &swept.noise[r];
+        // (∂b, ∂A_k) of the row perturbed at `offset`, h its step
+        let db = |offset: usize| (own[offset].input - base.input) / steps[offset];
+        let da =
+            |offset: usize, k: usize| (own[offset].columns[k] - base.columns[k]) / steps[offset];
+        let channels = (0..dofs)
+            .map(|j| {
+                let (x, p) = (2 + 2 * j, 3 + 2 * j);
+                let (sx, sp) = (sigma.amplitudes[j], sigma.phases[j]);
+                ChannelSensitivity {
+                    channel: j,
+                    input: vec![sx * db(x), sp * db(p)],
+                    columns: (0..p_count)
+                        .map(|k| (k, vec![sx * da(x, k), sp * da(p, k)]))
+                        .collect(),
+                }
+            })
+            .collect();
+        noise.rows.push(RowNoise {
+            channels,
+            force_std: (sigma.force * db(1)).abs(),
+        });
+        noise.windows.push(WindowNoise {
+            record: swept.sweep_names[swept.sweeps[r]].clone(),
+            window: places[r],
+            harmonics: vec![1],
+            displacement_noise: sigma.amplitudes.clone(),
+            sensors: Vec::new(),
+            force_noise: vec![sigma.force],
+        });
+    }
+    noise
 }
 
 /// The columns (model terms, then `structural`) of each of `points`, as

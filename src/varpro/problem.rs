@@ -20,7 +20,7 @@ use std::sync::{Arc, Mutex};
 
 use crate::analysis::diagnostics::REJECTION_P_VALUE;
 use crate::error::Result;
-use crate::fit::{Fit, FitSettings};
+use crate::fit::{Fit, FitSettings, Weighting};
 use crate::regressor::{NonlinearParameter, ParametricRegressor, Regressor, RegressorSettings};
 use crate::report::FitReport;
 
@@ -33,6 +33,9 @@ pub type TrialBuilder<'a> = dyn Fn(&[f64]) -> Result<Regressor> + Send + Sync + 
 pub(super) struct Problem<'a> {
     parameters: Vec<NonlinearParameter>,
     build: Box<TrialBuilder<'a>>,
+    /// The same regressor without its noise model, for the projected residuals and
+    /// Jacobian differences of an ordinary fit, which read none ([`Problem::shared`]).
+    bare: Option<Box<TrialBuilder<'a>>>,
     fit: &'a FitSettings,
     evaluations: AtomicU64,
     /// The sweep blocks of a table with residual unknowns (∂A/∂η_j in closed form for
@@ -64,8 +67,13 @@ impl<'a> Problem<'a> {
             Some(blocks) => {
                 let blocks = Arc::new(blocks);
                 let builder = Arc::clone(&blocks);
+                let bare = Arc::clone(&blocks);
                 Problem {
                     derivatives: Some((blocks, None)),
+                    bare: (fit.weighting == Weighting::Ordinary).then(|| {
+                        Box::new(move |eta: &[f64]| bare.regressor_without_noise(eta))
+                            as Box<TrialBuilder<'a>>
+                    }),
                     ..Self::with_builder(
                         problem.parameters(),
                         Box::new(move |eta: &[f64]| builder.regressor(eta)),
@@ -90,6 +98,7 @@ impl<'a> Problem<'a> {
         Problem {
             parameters,
             build,
+            bare: None,
             fit,
             evaluations: AtomicU64::new(0),
             derivatives: None,
@@ -200,9 +209,21 @@ impl<'a> Problem<'a> {
         })
     }
 
-    /// φ(η).
+    /// φ(η). Under ordinary weighting a table with residual unknowns fits the
+    /// regressor without its noise model (the same cost: no fit of it reads one).
     pub fn cost(&self, eta: &[f64]) -> Result<f64> {
-        self.trial(eta).map(|t| t.cost)
+        let Some(bare) = &self.bare else {
+            return self.trial(eta).map(|t| t.cost);
+        };
+        self.evaluations.fetch_add(1, Ordering::Relaxed);
+        let regressor = bare(eta)?;
+        let fit = crate::fit::solve(&regressor, self.fit)?;
+        Ok(
+            weighted_residuals(&regressor, &fit.coefficients, fit.residual_std.as_deref())
+                .iter()
+                .map(|e| e * e)
+                .sum(),
+        )
     }
 
     /// The projected residual r(η) = (A(η) θ̂(η) − b)_r / s_r, whose squared norm is φ(η).
@@ -222,7 +243,9 @@ impl<'a> Problem<'a> {
     /// bits of η; a build is deterministic, so the kept one is what a build would
     /// give): a Levenberg–Marquardt iteration asks for the residual at η, then for
     /// q differences from the same A(η) ([`Problem::shifted`]), which would otherwise
-    /// assemble it q more times.
+    /// assemble it q more times. Under ordinary weighting a table with residual
+    /// unknowns assembles it without its noise model (no fit of these reads one; the
+    /// trial at the optimum, [`Problem::trial`], keeps it for the report).
     pub fn shared(&self, eta: &[f64]) -> Result<Arc<Regressor>> {
         let key: Vec<u64> = eta.iter().map(|v| v.to_bits()).collect();
         // cannot fail: no code panics while holding the lock.
@@ -231,7 +254,13 @@ impl<'a> Problem<'a> {
         {
             return Ok(Arc::clone(regressor));
         }
-        let regressor = Arc::new(self.regressor(eta)?);
+        let regressor = Arc::new(match &self.bare {
+            Some(bare) => {
+                self.evaluations.fetch_add(1, Ordering::Relaxed);
+                bare(eta)?
+            }
+            None => self.regressor(eta)?,
+        });
         // cannot fail: no code panics while holding the lock.
         *self.last.lock().expect("last lock") = Some((key, Arc::clone(&regressor)));
         Ok(regressor)

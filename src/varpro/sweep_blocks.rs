@@ -88,7 +88,18 @@ impl<'a> SweepBlocks<'a> {
     /// The regressor at `eta` (every parameter), as
     /// [`ParametricRegressor::regressor`] builds it.
     pub fn regressor(&self, eta: &[f64]) -> Result<Regressor> {
-        let (model, blocks) = self.blocks(eta)?;
+        self.assembled(eta, true)
+    }
+
+    /// [`SweepBlocks::regressor`] without its noise model (the same matrix, b, labels
+    /// and work scale): for fits that read none (ordinary weighting).
+    pub fn regressor_without_noise(&self, eta: &[f64]) -> Result<Regressor> {
+        self.assembled(eta, false)
+    }
+
+    /// The regressor at `eta`, with its noise model when `with_noise`.
+    fn assembled(&self, eta: &[f64], with_noise: bool) -> Result<Regressor> {
+        let (model, blocks) = self.blocks(eta, with_noise)?;
         let rows: Vec<&PointRows> = self
             .source
             .table
@@ -97,7 +108,7 @@ impl<'a> SweepBlocks<'a> {
             .zip(&self.places)
             .map(|(&s, &place)| &blocks[s][place])
             .collect();
-        assemble(&model, self.source, &rows)
+        assemble(&model, self.source, &rows, with_noise)
     }
 
     /// ∂A/∂η_j at `eta` for a residual unknown j (`None` for a law parameter): the
@@ -117,7 +128,7 @@ impl<'a> SweepBlocks<'a> {
             (j - self.law) / self.per_sweep,
             (j - self.law) % self.per_sweep,
         );
-        let (_, blocks) = self.blocks(eta)?;
+        let (_, blocks) = self.blocks(eta, false)?;
         let points = self.source.table.table.points();
         Ok(Some(
             self.members[s]
@@ -137,8 +148,10 @@ impl<'a> SweepBlocks<'a> {
         ))
     }
 
-    /// The model at `eta` and the rows of every sweep, built where not kept.
-    fn blocks(&self, eta: &[f64]) -> Result<(DampingModel, Vec<Block>)> {
+    /// The model at `eta` and the rows of every sweep, built where not kept; with the
+    /// rows of the noise model when `noise` (a kept block without them serves a request
+    /// without `noise` only).
+    fn blocks(&self, eta: &[f64], noise: bool) -> Result<(DampingModel, Vec<Block>)> {
         let model = self.problem.model(eta)?;
         // cannot fail: `model` checked the length of `eta`.
         let residual = self
@@ -161,7 +174,8 @@ impl<'a> SweepBlocks<'a> {
                 .zip(cache.iter())
                 .map(|(k, kept)| {
                     kept.iter()
-                        .find(|(at, _)| at == k)
+                        .rev()
+                        .find(|(at, b)| at == k && (!noise || b.iter().all(PointRows::complete)))
                         .map(|(_, b)| Arc::clone(b))
                 })
                 .collect()
@@ -173,7 +187,7 @@ impl<'a> SweepBlocks<'a> {
                 .flat_map(|&s| self.members[s].iter().copied())
                 .collect();
             let r: Vec<f64> = indices.iter().map(|&p| residual[p]).collect();
-            let mut built = point_rows(&model, self.source, &indices, Some(&r))?.into_iter();
+            let mut built = point_rows(&model, self.source, &indices, Some(&r), noise)?.into_iter();
             // cannot fail: no code panics while holding the lock.
             let mut cache = self.cache.lock().expect("cache lock");
             for &s in &missing {
@@ -256,6 +270,53 @@ mod tests {
             same(
                 &blocks.regressor(at).unwrap(),
                 &problem.regressor(at, settings).unwrap(),
+            );
+        }
+    }
+
+    /// Trials without the noise model (ordinary weighting) have the whole build's A, b,
+    /// labels and work scale, bit for bit, and no noise model; a trial with it at an η
+    /// first built without is the whole build (its sweeps computed again, with the rows
+    /// of a + h), and so is ∂A/∂r_k read from either.
+    #[test]
+    fn trials_without_noise_equal_whole_builds_but_the_noise_model() {
+        let job = job();
+        let problem = job.problem();
+        let blocks = SweepBlocks::of(&problem).unwrap();
+        let settings = &job.settings.regressor;
+        let mut eta = problem.initial_values();
+        for (s, v) in eta[1..].iter_mut().enumerate() {
+            *v = -2e-6 + 1e-7 * s as f64;
+        }
+        let mut moved = eta.clone();
+        moved[2] -= 4e-7;
+        moved[0] = 1.45;
+        for at in [&eta, &moved] {
+            let whole = problem.regressor(at, settings).unwrap();
+            assert!(whole.noise().is_some());
+            let bare = blocks.regressor_without_noise(at).unwrap();
+            assert!(bare.noise().is_none());
+            let derivative_bare = blocks.derivative(at, 3).unwrap().unwrap();
+            let bits = |m: &faer::Mat<f64>| {
+                (0..m.nrows())
+                    .flat_map(|r| (0..m.ncols()).map(move |k| m[(r, k)].to_bits()))
+                    .collect::<Vec<_>>()
+            };
+            assert_eq!(bits(bare.matrix()), bits(whole.matrix()));
+            assert_eq!(
+                bare.rhs().iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+                whole.rhs().iter().map(|x| x.to_bits()).collect::<Vec<_>>()
+            );
+            assert_eq!(bare.rows(), whole.rows());
+            assert_eq!(
+                format!("{:?}", bare.work_scale()),
+                format!("{:?}", whole.work_scale())
+            );
+            same(&blocks.regressor(at).unwrap(), &whole);
+            let derivative_full = blocks.derivative(at, 3).unwrap().unwrap();
+            assert_eq!(
+                format!("{derivative_bare:?}"),
+                format!("{derivative_full:?}")
             );
         }
     }

@@ -130,7 +130,12 @@ pub struct NoiseModel {
 impl NoiseModel {
     /// The standard deviation of each equation's residual at coefficients `theta`.
     pub fn residual_std(&self, theta: &[f64]) -> Vec<f64> {
-        self.rows.iter().map(|r| r.std(theta)).collect()
+        // one scratch buffer for all rows
+        let mut buffer = Vec::new();
+        self.rows
+            .iter()
+            .map(|r| r.std_with(theta, &mut buffer))
+            .collect()
     }
 
     /// The rows `indices` (with repeats), for resampling.

@@ -42,15 +42,22 @@ impl RowNoise {
     /// √Var e(θ), the residual's standard deviation at coefficients `theta`, formed
     /// without squaring an entry of the data's size (module doc).
     pub fn std(&self, theta: &[f64]) -> f64 {
-        let mut combined = Vec::new();
-        let mut acc = Vec::new();
+        self.std_with(theta, &mut Vec::new())
+    }
+
+    /// [`RowNoise::std`] with `buffer` as its scratch (cleared first): the same numbers,
+    /// in the same order, without an allocation per row when one buffer serves many rows
+    /// ([`crate::regressor::robust::NoiseModel::residual_std`]).
+    pub(crate) fn std_with(&self, theta: &[f64], buffer: &mut Vec<f64>) -> f64 {
+        buffer.clear();
         for channel in &self.channels {
             let p = channel
                 .input
                 .len()
                 .max(channel.columns.first().map_or(0, |(_, z)| z.len()));
-            acc.clear();
-            acc.resize(p, 0.0);
+            let start = buffer.len();
+            buffer.resize(start + p, 0.0);
+            let acc = &mut buffer[start..];
             for (a, z) in acc.iter_mut().zip(&channel.input) {
                 *a += z;
             }
@@ -59,10 +66,9 @@ impl RowNoise {
                     *a -= theta[*k] * z;
                 }
             }
-            combined.extend_from_slice(&acc);
         }
-        combined.push(self.force_std);
-        norm(&combined)
+        buffer.push(self.force_std);
+        norm(buffer)
     }
 
     /// Var e(θ) = [`RowNoise::std`]², for sums of variances over rows of one size.
