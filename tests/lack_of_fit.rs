@@ -118,6 +118,15 @@ fn records_that_agree_leave_the_errors_as_they_are() {
     assert!(lack_of_fit_warnings(&report).is_empty());
 }
 
+/// The test rejects at the χ² check's level.
+#[test]
+fn the_test_and_the_chi_square_check_reject_at_one_level() {
+    assert_eq!(
+        dampid::analysis::lack_of_fit::REJECTION_P_VALUE,
+        dampid::analysis::diagnostics::REJECTION_P_VALUE
+    );
+}
+
 /// Records of one window each have no pure error, and as many records as coefficients
 /// no lack-of-fit degrees of freedom: no test.
 #[test]

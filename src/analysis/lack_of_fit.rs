@@ -15,7 +15,7 @@
 //! ```
 //!
 //! (SS_lof + SS_pe = ‖e‖², the classical decomposition). The fit is rejected when
-//! P < [`crate::analysis::diagnostics::REJECTION_P_VALUE`] and the misfit could move the
+//! P < [`REJECTION_P_VALUE`] = 1 % (the χ² check's level) and the misfit could move the
 //! coefficients materially:
 //!
 //! ```text
@@ -66,6 +66,9 @@ use serde::{Deserialize, Serialize};
 /// misfit, that the check reports (module doc).
 pub const MATERIAL: f64 = 1e-3;
 
+/// P below which the test rejects a fit: 1 %, the level of the χ² check of weighted fits.
+pub const REJECTION_P_VALUE: f64 = 0.01;
+
 /// How many experiments the result names, largest share of SS_lof first.
 const NAMED: usize = 3;
 
@@ -94,9 +97,7 @@ pub struct LackOfFit {
 impl LackOfFit {
     /// Whether the fit is rejected: significant and material (module doc).
     pub fn rejects(&self) -> bool {
-        self.p_value < crate::analysis::diagnostics::REJECTION_P_VALUE
-            && self.coefficient_bound >= MATERIAL
-            && self.scale > 1.0
+        self.p_value < REJECTION_P_VALUE && self.coefficient_bound >= MATERIAL && self.scale > 1.0
     }
 }
 
