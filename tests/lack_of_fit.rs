@@ -5,7 +5,7 @@
 //! unweighted nonnegative fit: c[0-1] = 0.021 ± 0.0099 for a truth of 0.19, "every
 //! coefficient is determined", no warning).
 
-use dampid::analysis::diagnostics::{StandardErrorBasis, diagnose};
+use dampid::analysis::diagnostics::{Diagnostics, StandardErrorBasis, diagnose};
 use dampid::fit;
 use dampid::prelude::*;
 use dampid::prep::velocity::VelocitySource;
@@ -38,6 +38,21 @@ fn lack_of_fit_warnings(report: &FitReport) -> Vec<&Warning> {
         .collect()
 }
 
+/// One column of ones with right-hand side `b`, records of `windows` windows each, its
+/// least-squares fit and the fit's diagnostics.
+fn ones_fit(b: &[f64], windows: usize) -> (Regressor, dampid::fit::Fit, Diagnostics) {
+    let regressor = Regressor::from_parts(
+        Mat::from_fn(b.len(), 1, |_, _| 1.0),
+        b.to_vec(),
+        vec!["c".into()],
+        replicate_labels(b.len() / windows, windows),
+    )
+    .unwrap();
+    let fit = fit::least_squares(&regressor, 1e-10).unwrap();
+    let diagnostics = diagnose(&regressor, &fit, 1e-10);
+    (regressor, fit, diagnostics)
+}
+
 /// One column of ones, three records of three windows: b = (1, 1.1, 0.9), (2, 2.1, 1.9),
 /// (3, 3.1, 2.9). Then θ = 2, the record means of e are −1, 0, 1, so SS_lof = 3·2 = 6
 /// on 3 − 1 = 2 degrees of freedom and SS_pe = 3·0.02 = 0.06 on 6: F = 3/0.01 = 300,
@@ -47,15 +62,7 @@ fn lack_of_fit_warnings(report: &FitReport) -> Vec<&Warning> {
 #[test]
 fn the_test_and_the_scaled_errors_match_the_analysis_of_variance_by_hand() {
     let b = [1.0, 1.1, 0.9, 2.0, 2.1, 1.9, 3.0, 3.1, 2.9];
-    let regressor = Regressor::from_parts(
-        Mat::from_fn(9, 1, |_, _| 1.0),
-        b.to_vec(),
-        vec!["c".into()],
-        replicate_labels(3, 3),
-    )
-    .unwrap();
-    let fit = fit::least_squares(&regressor, 1e-10).unwrap();
-    let diagnostics = diagnose(&regressor, &fit, 1e-10);
+    let (regressor, fit, diagnostics) = ones_fit(&b, 3);
     let l = diagnostics
         .lack_of_fit
         .clone()
@@ -97,15 +104,7 @@ fn the_test_and_the_scaled_errors_match_the_analysis_of_variance_by_hand() {
 #[test]
 fn records_that_agree_leave_the_errors_as_they_are() {
     let b = [2.0, 2.1, 1.9, 2.1, 2.0, 1.9, 1.9, 2.0, 2.1];
-    let regressor = Regressor::from_parts(
-        Mat::from_fn(9, 1, |_, _| 1.0),
-        b.to_vec(),
-        vec!["c".into()],
-        replicate_labels(3, 3),
-    )
-    .unwrap();
-    let fit = fit::least_squares(&regressor, 1e-10).unwrap();
-    let diagnostics = diagnose(&regressor, &fit, 1e-10);
+    let (regressor, fit, diagnostics) = ones_fit(&b, 3);
     let l = diagnostics.lack_of_fit.clone().unwrap();
     assert!(!l.rejects());
     assert_eq!(
