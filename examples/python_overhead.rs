@@ -18,7 +18,9 @@
 //! - `small RECORDS SAMPLES`: RECORDS records of 4 DOFs × SAMPLES samples (defaults 200
 //!   and 1000; the same signals as `large` at ω = 0.55 … 0.70, about five periods), one
 //!   `identify` of the list with the defaults (steady-state check included): records
-//!   per second, the fixed cost of small records (issue 32).
+//!   per second, the fixed cost of small records (issue 32); then each record's rows
+//!   alone (`campaign::rows`, what a campaign's map and Python's `regressor_rows` run per
+//!   record).
 //!
 //! `cargo run --release --example python_overhead -- large 100 100000 5`
 
@@ -157,6 +159,23 @@ fn main() -> Result<(), dampid::Error> {
                 count as f64 / seconds,
                 report.coefficient("c").unwrap_or(f64::NAN),
                 report.coefficient("d").unwrap_or(f64::NAN)
+            );
+            // A campaign's map on one core: each record's rows alone (what Python's
+            // `regressor_rows` runs per record), steady-state check included.
+            let (seconds, cpu, rows) = best(repeats, || {
+                records
+                    .iter()
+                    .enumerate()
+                    .map(|(k, r)| {
+                        dampid::campaign::rows(&model, std::slice::from_ref(r), k, &settings)
+                            .map(|rows| rows.equations())
+                    })
+                    .sum::<Result<usize, _>>()
+            });
+            println!(
+                "rust small rows {count} x {n} DOFs x {samples}: {seconds:.6} s (cpu {cpu:.4} s), {:.0} records/s, {} rows",
+                count as f64 / seconds,
+                rows?
             );
         }
         _ => {

@@ -1,12 +1,13 @@
 //! The `dampid` command line: parse the arguments (args.rs), run the command through
 //! the library's command layer ([`dampid::command`]), print what it returns. The library
-//! composes every outcome (text, JSON, HTML page, exit status); this file draws
-//! progress bars, writes the HTML page where asked, and maps errors to exit code 2.
+//! composes every outcome (text, JSON, HTML page, exit status); this file writes the
+//! HTML page where asked and maps errors to exit code 2 (progress.rs draws the bars).
 //! Ctrl-C sets `dampid::cancel`: the running work stops at its next step, nothing is
 //! written, and the exit code is 130 (128 + SIGINT, as a shell reports a process
 //! stopped by Ctrl-C).
 
 mod args;
+mod progress;
 
 use std::io::Write as _;
 use std::path::Path;
@@ -19,11 +20,10 @@ use dampid::command::identify::{Identified, IdentifyOptions};
 use dampid::command::{self, Outcome};
 use dampid::io::output::Overwrite;
 use dampid::io::pod_files::Columns;
-use dampid::model_file::{Job, Options};
 use dampid::prep::pod::{PodBasis, PodSettings, Retain};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use args::{Cli, Command, ReferenceSystem};
+use progress::{load, on_bar, progress_bar};
 
 /// The allocator: returns freed buffers to the system (see Cargo.toml), so that peak
 /// memory follows the data, not the allocator's arenas.
@@ -257,39 +257,6 @@ fn transient_hint(e: dampid::Error, model: &Path) -> anyhow::Error {
     } else {
         e.into()
     }
-}
-
-/// A progress bar on stderr, hidden when stderr is not a terminal.
-fn progress_bar(message: &'static str) -> ProgressBar {
-    let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
-    let style = ProgressStyle::with_template("{msg:>10} [{bar:40}] {percent:>3}% ({eta} left)")
-        .unwrap_or_else(|_| ProgressStyle::default_bar())
-        .progress_chars("=> ");
-    bar.set_style(style);
-    bar.set_message(message);
-    bar
-}
-
-/// `progress(done, total)` drawn on `bar` (hidden when stderr is not a terminal).
-fn on_bar(bar: &ProgressBar) -> impl Fn(u64, u64) + Sync + '_ {
-    move |done, total| {
-        bar.set_length(total);
-        bar.set_position(done);
-    }
-}
-
-/// Loads a model file with a progress bar over simulating or reading its records.
-fn load(path: &Path) -> anyhow::Result<Job> {
-    let bar = progress_bar("records");
-    let job = dampid::model_file::load(
-        path,
-        Options {
-            progress: &on_bar(&bar),
-            ..Default::default()
-        },
-    );
-    bar.finish_and_clear();
-    Ok(job?)
 }
 
 /// Writes the HTML `page` to `file` (its folder created) and says so on stderr (stdout
