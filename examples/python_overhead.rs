@@ -15,8 +15,9 @@
 //!   layout, as a Rust caller holds it; and the same with `Record::new` of a copy of the
 //!   parts inside the timing (Python's `dampid.Record` is in its timing).
 //!
-//! - `small RECORDS SAMPLES`: RECORDS records of 4 DOFs × SAMPLES samples (defaults 200
-//!   and 1000; the same signals as `large` at ω = 0.55 … 0.70, about five periods), one
+//! - `small RECORDS SAMPLES REPEATS PER_PERIOD`: RECORDS records of 4 DOFs × SAMPLES
+//!   samples (defaults 200 and 1000; the same signals as `large` at ω = 0.55 … 0.70,
+//!   about five periods at h = 0.05, or exactly PER_PERIOD samples per period), one
 //!   `identify` of the list with the defaults (steady-state check included): records
 //!   per second, the fixed cost of small records (issue 32); then each record's rows
 //!   alone (`campaign::rows`, what a campaign's map and Python's `regressor_rows` run per
@@ -117,10 +118,17 @@ fn main() -> Result<(), dampid::Error> {
         }
         Some("small") => {
             let (count, samples, repeats) = (number(1, 200), number(2, 1000), number(3, 3));
-            let (n, h) = (4, 0.05);
+            let per_period = number(4, 0);
+            let n = 4;
             let records = (0..count)
                 .map(|k| {
                     let omega = 0.55 + 0.15 * k as f64 / count.max(1) as f64;
+                    // h = 0.05 (a period of 180–228 samples, not whole), or exactly
+                    // PER_PERIOD samples per period (the campaign example's records).
+                    let h = match per_period {
+                        0 => 0.05,
+                        whole => 2.0 * std::f64::consts::PI / (omega * whole as f64),
+                    };
                     let x = Mat::from_fn(samples, n, |i, j| {
                         (1.0 + j as f64 / n as f64)
                             * (omega * (i as f64 * h) + 0.01 * j as f64).sin()
