@@ -380,4 +380,43 @@ mod tests {
             assert!(blocks.derivative(&eta, 0).unwrap().is_none());
         }
     }
+
+    /// The rows of every point in closed form without a point per perturbed copy are
+    /// the rows through one copied point each (labels and all), bit for bit, with and
+    /// without the noise model's copy; a residual receptance that cancels a response
+    /// (here an infinite one) is still the error naming the point.
+    #[test]
+    fn closed_rows_in_place_equal_the_copied_rows() {
+        use crate::regressor::stepped_sine::copied_point_rows;
+        let job = job();
+        let problem = job.problem();
+        let source = problem.source().stepped_sine().unwrap();
+        let mut eta = problem.initial_values();
+        eta[0] = 1.55;
+        for (s, v) in eta[1..].iter_mut().enumerate() {
+            *v = -2e-6 + 3e-7 * s as f64;
+        }
+        let model = problem.model(&eta).unwrap();
+        assert!(crate::regressor::stepped_sine_closed::applies(&model));
+        let residual = source.per_point(&eta[1..]).unwrap().unwrap();
+        let indices: Vec<usize> = (0..residual.len()).rev().collect();
+        let r: Vec<f64> = indices.iter().map(|&p| residual[p]).collect();
+        for noise in [true, false] {
+            for r in [None, Some(r.as_slice())] {
+                let fast = point_rows(&model, source, &indices, r, noise).unwrap();
+                let copied = copied_point_rows(&model, source, &indices, r, noise).unwrap();
+                assert_eq!(format!("{fast:?}"), format!("{copied:?}"));
+            }
+        }
+        let cancel = vec![f64::INFINITY; indices.len()];
+        let error = point_rows(&model, source, &indices, Some(&cancel), false)
+            .unwrap_err()
+            .to_string();
+        let copied = copied_point_rows(&model, source, &indices, Some(&cancel), false)
+            .unwrap_err()
+            .to_string();
+        assert_eq!(error, copied);
+        let label = &source.table.table.points()[indices[0]].label;
+        assert!(error.contains(&format!("'{label}'")), "{error}");
+    }
 }
