@@ -196,15 +196,15 @@ impl PointRows {
     pub(crate) fn residual_derivative(&self, point: &SteppedSinePoint) -> Vec<f64> {
         // reads the rows of X_f + h and φ_f + h, computed with or without the noise model
         let f = point.force_dof;
-        let steps = steps(point);
+        let (step_x, step_phi) = (amplitude_step(point, f), STEP);
         let base = &self.rows[0].columns;
         let (x, phi, a) = (point.amplitudes[f], point.phases[f], point.force_amplitude);
         let (dx, dphi) = (-a * phi.cos(), a * phi.sin() / x);
         let (rx, rp) = (&self.rows[2 + 2 * f], &self.rows[3 + 2 * f]);
         (0..base.len())
             .map(|k| {
-                dx * (rx.columns[k] - base[k]) / steps[2 + 2 * f]
-                    + dphi * (rp.columns[k] - base[k]) / steps[3 + 2 * f]
+                dx * (rx.columns[k] - base[k]) / step_x
+                    + dphi * (rp.columns[k] - base[k]) / step_phi
             })
             .collect()
     }
@@ -235,12 +235,17 @@ fn steps(p: &SteppedSinePoint) -> Vec<f64> {
     let mut out = Vec::with_capacity(2 + 2 * dofs);
     out.push(1.0);
     out.push(STEP * p.force_amplitude.max(f64::MIN_POSITIVE));
-    let largest = p.amplitudes.iter().fold(0.0f64, |m, x| m.max(*x));
     for j in 0..dofs {
-        out.push(STEP * p.amplitudes[j].max(largest).max(f64::MIN_POSITIVE));
+        out.push(amplitude_step(p, j));
         out.push(STEP);
     }
     out
+}
+
+/// The step of X_j + h in [`steps`]: 10⁻⁶ of the largest amplitude of `p`.
+fn amplitude_step(p: &SteppedSinePoint, j: usize) -> f64 {
+    let largest = p.amplitudes.iter().fold(0.0f64, |m, x| m.max(*x));
+    STEP * p.amplitudes[j].max(largest).max(f64::MIN_POSITIVE)
 }
 
 /// The perturbed copies of `p` its rows belong to, with their steps ([`steps`]): `p`

@@ -49,15 +49,11 @@ fn squared(r: &[f64]) -> f64 {
     r.iter().map(|e| e * e).sum()
 }
 
-/// JᵀJ of the m × q Jacobian `jacobian`: entry (a, b) the sum over i of
-/// J_ia J_ib in row order, read from J's columns as slices (faer stores a matrix by
-/// columns), the lower triangle mirrored from the upper (the same products in the
-/// same order, so the same bits as summing it again).
-fn normal_matrix(jacobian: &Mat<f64>) -> Mat<f64> {
-    let (m, q) = jacobian.shape();
-    let columns: Vec<Vec<f64>> = (0..q)
-        .map(|j| (0..m).map(|i| jacobian[(i, j)]).collect())
-        .collect();
+/// JᵀJ of the Jacobian given by its q `columns`: entry (a, b) the sum over i of
+/// J_ia J_ib in row order, the lower triangle mirrored from the upper (the same
+/// products in the same order, so the same bits as summing it again).
+fn normal_matrix(columns: &[Vec<f64>]) -> Mat<f64> {
+    let q = columns.len();
     let mut normal = Mat::<f64>::zeros(q, q);
     for a in 0..q {
         for b in a..q {
@@ -128,7 +124,8 @@ pub(super) fn levenberg_marquardt(
             (converged, reason) = (true, "converged (zero residual)".into());
             break;
         }
-        let mut jacobian = Mat::<f64>::zeros(m, q);
+        // J by columns (column j the difference in η_j)
+        let mut jacobian: Vec<Vec<f64>> = Vec::with_capacity(q);
         let eta = eta_of(&u);
         for j in 0..q {
             let h = if u[j] + DIFFERENCE_STEP <= 1.0 {
@@ -154,12 +151,11 @@ pub(super) fn levenberg_marquardt(
                     rj.len(),
                 ));
             }
-            for i in 0..m {
-                jacobian[(i, j)] = (rj[i] - r[i]) / h;
-            }
+            jacobian.push(rj.iter().zip(&r).map(|(a, b)| (a - b) / h).collect());
         }
-        let gradient: Vec<f64> = (0..q)
-            .map(|j| (0..m).map(|i| jacobian[(i, j)] * r[i]).sum())
+        let gradient: Vec<f64> = jacobian
+            .iter()
+            .map(|column| column.iter().zip(&r).map(|(x, e)| x * e).sum())
             .collect();
         let normal = normal_matrix(&jacobian);
         let free: Vec<usize> = (0..q)
@@ -247,7 +243,10 @@ mod tests {
         let jacobian = Mat::from_fn(37, 5, |i, j| {
             ((i * 7 + j * 13) as f64).sin() * 10f64.powi(j as i32 - 2)
         });
-        let normal = normal_matrix(&jacobian);
+        let columns: Vec<Vec<f64>> = (0..5)
+            .map(|j| (0..37).map(|i| jacobian[(i, j)]).collect())
+            .collect();
+        let normal = normal_matrix(&columns);
         for a in 0..5 {
             for b in 0..5 {
                 let sum = (0..37)

@@ -128,7 +128,12 @@ impl<'a> SweepBlocks<'a> {
             (j - self.law) / self.per_sweep,
             (j - self.law) % self.per_sweep,
         );
-        let (_, blocks) = self.blocks(eta, false)?;
+        // the sweep's block as kept (a Levenberg–Marquardt iteration asks for it right
+        // after the residual at η), else every sweep's as a trial builds them
+        let block = match self.kept(eta, s) {
+            Some(block) => block,
+            None => Arc::clone(&self.blocks(eta, false)?.1[s]),
+        };
         let points = self.source.table.table.points();
         Ok(Some(
             self.members[s]
@@ -141,11 +146,40 @@ impl<'a> SweepBlocks<'a> {
                     } else {
                         -1.0 / (point.frequency * point.frequency)
                     };
-                    let d = blocks[s][place].residual_derivative(point);
-                    (p, d.into_iter().map(|x| factor * x).collect())
+                    let mut d = block[place].residual_derivative(point);
+                    for x in &mut d {
+                        *x *= factor;
+                    }
+                    (p, d)
                 })
                 .collect(),
         ))
+    }
+
+    /// The kept block of sweep `s` at `eta` (any, with or without the noise model's
+    /// rows), when `eta` has the problem's length.
+    fn kept(&self, eta: &[f64], s: usize) -> Option<Block> {
+        if eta.len() != self.law + self.per_sweep * self.members.len() {
+            return None;
+        }
+        let key = self.key(eta, s);
+        // cannot fail: no code panics while holding the lock.
+        let cache = self.cache.lock().expect("cache lock");
+        cache[s]
+            .iter()
+            .rev()
+            .find(|(at, _)| *at == key)
+            .map(|(_, b)| Arc::clone(b))
+    }
+
+    /// The key of sweep `s`'s block at `eta`: the bits of η_law, then of the sweep's
+    /// unknowns.
+    fn key(&self, eta: &[f64], s: usize) -> Key {
+        eta[..self.law]
+            .iter()
+            .chain(&eta[self.law + s * self.per_sweep..self.law + (s + 1) * self.per_sweep])
+            .map(|v| v.to_bits())
+            .collect()
     }
 
     /// The model at `eta` and the rows of every sweep, built where not kept; with the
@@ -159,14 +193,7 @@ impl<'a> SweepBlocks<'a> {
             .per_point(&eta[self.law..])?
             .expect("a table with residual unknowns");
         let sweeps = self.members.len();
-        let key = |s: usize| -> Key {
-            eta[..self.law]
-                .iter()
-                .chain(&eta[self.law + s * self.per_sweep..self.law + (s + 1) * self.per_sweep])
-                .map(|v| v.to_bits())
-                .collect()
-        };
-        let keys: Vec<Key> = (0..sweeps).map(key).collect();
+        let keys: Vec<Key> = (0..sweeps).map(|s| self.key(eta, s)).collect();
         let mut blocks: Vec<Option<Block>> = {
             // cannot fail: no code panics while holding the lock.
             let cache = self.cache.lock().expect("cache lock");
