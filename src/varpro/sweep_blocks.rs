@@ -424,7 +424,7 @@ mod tests {
             *v = -2e-6 + 3e-7 * s as f64;
         }
         let model = problem.model(&eta).unwrap();
-        assert!(crate::regressor::stepped_sine_closed::applies(&model));
+        assert!(model.terms().iter().all(|t| t.has_harmonic_work()));
         let residual = source.per_point(&eta[1..]).unwrap().unwrap();
         let indices: Vec<usize> = (0..residual.len()).rev().collect();
         let r: Vec<f64> = indices.iter().map(|&p| residual[p]).collect();
