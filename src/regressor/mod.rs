@@ -163,7 +163,10 @@ pub struct Regressor {
     matrix: Mat<f64>,
     rhs: Vec<f64>,
     columns: Vec<String>,
-    rows: Vec<RowLabel>,
+    /// Shared, not copied, by the clones of a regressor and by the regressors made
+    /// from it with other numbers ([`Regressor::weighted`], the shifted trials of a
+    /// variable projection).
+    rows: Arc<[RowLabel]>,
     /// Shared, not copied, by the clones of a regressor (a campaign's may be large).
     noise: Option<Arc<NoiseModel>>,
     /// The last `nuisance` columns are stored-energy and offset unknowns
@@ -332,6 +335,17 @@ impl Regressor {
         columns: Vec<String>,
         rows: Vec<RowLabel>,
     ) -> Result<Self> {
+        Self::from_shared_parts(matrix, rhs, columns, rows.into())
+    }
+
+    /// [`Regressor::from_parts`] with row labels shared with other regressors (the
+    /// labels of the same rows with other numbers: [`Regressor::shared_rows`]).
+    pub(crate) fn from_shared_parts(
+        matrix: Mat<f64>,
+        rhs: Vec<f64>,
+        columns: Vec<String>,
+        rows: Arc<[RowLabel]>,
+    ) -> Result<Self> {
         if matrix.nrows() != rhs.len() {
             return Err(Error::mismatch(
                 "regressor rows vs right-hand side",
@@ -488,7 +502,7 @@ impl Regressor {
             weights[r] * self.matrix[(r, k)]
         });
         let rhs = self.rhs.iter().zip(weights).map(|(b, w)| w * b).collect();
-        Self::from_parts(matrix, rhs, self.columns.clone(), self.rows.clone())?
+        Self::from_shared_parts(matrix, rhs, self.columns.clone(), Arc::clone(&self.rows))?
             .with_nuisance_count(self.nuisance)
     }
 
@@ -507,6 +521,10 @@ impl Regressor {
     /// Row labels, one per equation.
     pub fn rows(&self) -> &[RowLabel] {
         &self.rows
+    }
+    /// The row labels, shared (for [`Regressor::from_shared_parts`]).
+    pub(crate) fn shared_rows(&self) -> Arc<[RowLabel]> {
+        Arc::clone(&self.rows)
     }
     /// Number of equations.
     pub fn equations(&self) -> usize {

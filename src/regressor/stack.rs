@@ -30,9 +30,11 @@ impl Regressor {
     /// groups, steady-state windows): the part of a campaign whose first record is the
     /// campaign's record `first`.
     pub fn numbered_from(mut self, first: usize) -> Self {
-        for row in &mut self.rows {
+        let mut rows = self.rows.to_vec();
+        for row in &mut rows {
             row.record_index += first;
         }
+        self.rows = rows.into();
         if let Some(steady) = &mut self.steady_state {
             for window in &mut Arc::make_mut(steady).windows {
                 window.record_index += first;

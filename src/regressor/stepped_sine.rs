@@ -196,15 +196,15 @@ impl PointRows {
     pub(crate) fn residual_derivative(&self, point: &SteppedSinePoint) -> Vec<f64> {
         // reads the rows of X_f + h and φ_f + h, computed with or without the noise model
         let f = point.force_dof;
-        let steps = steps(point);
+        let (step_x, step_phi) = (amplitude_step(point, f), STEP);
         let base = &self.rows[0].columns;
         let (x, phi, a) = (point.amplitudes[f], point.phases[f], point.force_amplitude);
         let (dx, dphi) = (-a * phi.cos(), a * phi.sin() / x);
         let (rx, rp) = (&self.rows[2 + 2 * f], &self.rows[3 + 2 * f]);
         (0..base.len())
             .map(|k| {
-                dx * (rx.columns[k] - base[k]) / steps[2 + 2 * f]
-                    + dphi * (rp.columns[k] - base[k]) / steps[3 + 2 * f]
+                dx * (rx.columns[k] - base[k]) / step_x
+                    + dphi * (rp.columns[k] - base[k]) / step_phi
             })
             .collect()
     }
@@ -235,12 +235,17 @@ fn steps(p: &SteppedSinePoint) -> Vec<f64> {
     let mut out = Vec::with_capacity(2 + 2 * dofs);
     out.push(1.0);
     out.push(STEP * p.force_amplitude.max(f64::MIN_POSITIVE));
-    let largest = p.amplitudes.iter().fold(0.0f64, |m, x| m.max(*x));
     for j in 0..dofs {
-        out.push(STEP * p.amplitudes[j].max(largest).max(f64::MIN_POSITIVE));
+        out.push(amplitude_step(p, j));
         out.push(STEP);
     }
     out
+}
+
+/// The step of X_j + h in [`steps`]: 10⁻⁶ of the largest amplitude of `p`.
+fn amplitude_step(p: &SteppedSinePoint, j: usize) -> f64 {
+    let largest = p.amplitudes.iter().fold(0.0f64, |m, x| m.max(*x));
+    STEP * p.amplitudes[j].max(largest).max(f64::MIN_POSITIVE)
 }
 
 /// The perturbed copies of `p` its rows belong to, with their steps ([`steps`]): `p`
@@ -276,7 +281,6 @@ pub(crate) fn point_rows(
     noise: bool,
 ) -> Result<Vec<PointRows>> {
     checked_columns(model, source)?;
-    let points = source.table.table.points();
     if let Some(r) = residual
         && r.len() != indices.len()
     {
@@ -286,6 +290,22 @@ pub(crate) fn point_rows(
             r.len(),
         ));
     }
+    match closed_point_rows(model, source, indices, residual, noise) {
+        Some(rows) => Ok(rows),
+        None => copied_point_rows(model, source, indices, residual, noise),
+    }
+}
+
+/// [`point_rows`] through one point per perturbed copy ([`perturbed`]) and [`rows`]:
+/// any model, synthesized or closed form, and the errors of the copies.
+pub(crate) fn copied_point_rows(
+    model: &DampingModel,
+    source: &SteppedSineSource,
+    indices: &[usize],
+    residual: Option<&[f64]>,
+    noise: bool,
+) -> Result<Vec<PointRows>> {
+    let points = source.table.table.points();
     let per_point = 2 + 2 * source.table.table.dofs();
     // the copy with a + h is second ([`perturbed`])
     let computed = if noise { per_point } else { per_point - 1 };
@@ -315,6 +335,76 @@ pub(crate) fn point_rows(
             }
         })
         .collect())
+}
+
+/// [`point_rows`] when every row has a closed form (`stepped_sine_closed.rs`), without
+/// a point per perturbed copy: each copy is set up in one reused point (its numbers
+/// only: a copy's label names it in errors alone), corrected by its residual
+/// receptance and read in place, the same arithmetic in the same order as the general
+/// path, so the same rows to the last bit (test). `None` when any copy would need
+/// the synthesis or meets an error: the general path then computes them, and raises
+/// the error with the copy's label.
+fn closed_point_rows(
+    model: &DampingModel,
+    source: &SteppedSineSource,
+    indices: &[usize],
+    residual: Option<&[f64]>,
+    noise: bool,
+) -> Option<Vec<PointRows>> {
+    let approximation = &source.approximation;
+    if !stepped_sine_closed::applies(model) || approximation.validate().is_err() {
+        return None;
+    }
+    let points = source.table.table.points();
+    let mut copy = points.get(*indices.first()?)?.clone();
+    let (mut psi, mut z) = (Vec::new(), Vec::new());
+    let mut validated = None;
+    let mut out = Vec::with_capacity(indices.len());
+    for (i, &p) in indices.iter().enumerate() {
+        let point = points.get(p)?;
+        let steps = steps(point);
+        let mut rows = Vec::with_capacity(steps.len());
+        for (c, step) in steps.iter().enumerate() {
+            // the copy with a + h is second ([`perturbed`]): for the noise model alone
+            if c == 1 && !noise {
+                continue;
+            }
+            copy.frequency = point.frequency;
+            copy.force_dof = point.force_dof;
+            copy.force_amplitude = point.force_amplitude;
+            copy.amplitudes.clone_from(&point.amplitudes);
+            copy.phases.clone_from(&point.phases);
+            match c {
+                0 => {}
+                1 => copy.force_amplitude += step,
+                c if c % 2 == 0 => copy.amplitudes[(c - 2) / 2] += step,
+                c => copy.phases[(c - 3) / 2] += step,
+            }
+            if let Some(r) = residual {
+                residual::correct_in_place(&mut copy, r[i]).ok()?;
+            }
+            if copy.dofs() == 0 || copy.check(0, copy.dofs()).is_err() {
+                return None;
+            }
+            if validated != Some(copy.dofs()) {
+                model.validate_terms(copy.dofs()).ok()?;
+                validated = Some(copy.dofs());
+            }
+            approximation.phase.phases_into(&copy, &mut psi).ok()?;
+            let (mut columns, input) = stepped_sine_closed::row_with(model, &copy, &psi, &mut z)?;
+            columns.extend(source.structural.iter().map(|s| s.column(&copy, &psi)));
+            rows.push(Row { columns, input });
+        }
+        if !noise {
+            let base = rows.first()?.clone();
+            rows.insert(1, base);
+        }
+        out.push(PointRows {
+            rows,
+            complete: noise,
+        });
+    }
+    Some(out)
 }
 
 /// The regressor of `source` from the rows of every point in table order (`rows[p]`

@@ -49,6 +49,16 @@ pub(crate) fn row(
     point: &SteppedSinePoint,
     psi: &[f64],
 ) -> Option<(Vec<f64>, f64)> {
+    row_with(model, point, psi, &mut Vec::new())
+}
+
+/// [`row`] with the phasors in `z`, a buffer the caller reuses over many points.
+pub(crate) fn row_with(
+    model: &DampingModel,
+    point: &SteppedSinePoint,
+    psi: &[f64],
+    z: &mut Vec<Phasor>,
+) -> Option<(Vec<f64>, f64)> {
     let f = point.force_dof;
     let in_range = |v: f64| (1.0 / RANGE..=RANGE).contains(&v);
     let largest = point.amplitudes.iter().fold(0.0f64, |m, x| m.max(*x));
@@ -66,18 +76,16 @@ pub(crate) fn row(
     {
         return None;
     }
-    let z: Vec<Phasor> = point
-        .amplitudes
-        .iter()
-        .zip(psi)
-        .map(|(x, p)| {
-            let (s, c) = p.sin_cos();
-            (x * c, -x * s)
-        })
-        .collect();
+    z.clear();
+    z.extend(point.amplitudes.iter().zip(psi).map(|(x, p)| {
+        let (s, c) = p.sin_cos();
+        (x * c, -x * s)
+    }));
     let mut columns = Vec::with_capacity(model.coefficient_count());
     for term in model.terms() {
-        columns.extend(term.harmonic_columns(point.frequency, &z)?);
+        if !term.harmonic_columns_into(point.frequency, z, &mut columns) {
+            return None;
+        }
     }
     let input = PI * point.force_amplitude * point.amplitudes[f] * psi[f].sin();
     (input.is_finite() && columns.iter().all(|c| c.is_finite())).then_some((columns, input))

@@ -76,6 +76,24 @@ pub fn cycle_factor(p: f64) -> f64 {
     }
 }
 
+/// ω^p, kept for the last (ω, p) asked for: a stepped-sine point's perturbed copies
+/// (noise model, ∂A/∂R) share its ω and are computed one after the other, so all but
+/// the first read it (the same bits: `powf` is a function of its arguments).
+fn frequency_power(omega: f64, p: f64) -> f64 {
+    thread_local! {
+        static LAST: std::cell::Cell<(u64, u64, f64)> = const { std::cell::Cell::new((0, 0, 1.0)) };
+    }
+    LAST.with(|last| {
+        let (w, q, value) = last.get();
+        if w == omega.to_bits() && q == p.to_bits() {
+            return value;
+        }
+        let value = omega.powf(p);
+        last.set((omega.to_bits(), p.to_bits(), value));
+        value
+    })
+}
+
 impl PowerForm {
     /// The exponent p of the force |v|^p sign v whose power this is (q − 1).
     pub fn force_exponent(self) -> f64 {
@@ -96,7 +114,7 @@ impl PowerForm {
             PowerForm::Square => PI * omega * x * x,
             PowerForm::AbsCube => 8.0 / 3.0 * omega * omega * x * x * x,
             PowerForm::Abs => 4.0 * x,
-            PowerForm::AbsPow(_) => omega.powf(p) * x.powf(p + 1.0) * cycle_factor(p),
+            PowerForm::AbsPow(_) => frequency_power(omega, p) * x.powf(p + 1.0) * cycle_factor(p),
         }
     }
 
@@ -161,10 +179,18 @@ impl Term {
     /// Re(z_j e^{iωt}), in closed form (module doc); `None` when the term has none.
     /// `z` holds one phasor per DOF of a validated model.
     pub fn harmonic_columns(&self, omega: f64, z: &[Phasor]) -> Option<Vec<f64>> {
+        let mut columns = Vec::new();
+        self.harmonic_columns_into(omega, z, &mut columns)
+            .then_some(columns)
+    }
+
+    /// [`Term::harmonic_columns`] appended to `out` (the same numbers, no allocation
+    /// of their own); false, with `out` as it was, when the term has none.
+    pub fn harmonic_columns_into(&self, omega: f64, z: &[Phasor], out: &mut Vec<f64>) -> bool {
         match self {
             Term::Matrix(m) => {
                 if !semidefinite(m) {
-                    return None;
+                    return false;
                 }
                 let c = m.matrix();
                 let mut sum = 0.0;
@@ -173,11 +199,16 @@ impl Term {
                         sum += c[(j, k)] * (zj.0 * zk.0 + zj.1 * zk.1);
                     }
                 }
-                Some(vec![PI * omega * sum])
+                out.push(PI * omega * sum);
+                true
             }
             Term::Elements(t) => {
-                let form = t.law().power_form()?;
-                let mut columns = vec![0.0; t.coefficient_count()];
+                let Some(form) = t.law().power_form() else {
+                    return false;
+                };
+                let start = out.len();
+                out.resize(start + t.coefficient_count(), 0.0);
+                let columns = &mut out[start..];
                 for (e, element) in t.elements().iter().enumerate() {
                     let (re, im) = deformation(z, element.a, element.b);
                     let weight = t.weights().map_or(1.0, |w| w[e]);
@@ -187,9 +218,9 @@ impl Term {
                         Coefficients::PerElement(_) => columns[e] += work,
                     }
                 }
-                Some(columns)
+                true
             }
-            Term::History(_) | Term::Structural(_) => None,
+            Term::History(_) | Term::Structural(_) => false,
         }
     }
 }

@@ -56,7 +56,8 @@ pub(super) fn covariance(
         let shifted = |t: f64| -> Result<Vec<f64>> {
             let mut at = eta.to_vec();
             at[j] = t;
-            let regressor = problem.regressor(&at)?;
+            // A and b alone: the noise model is not read at fixed θ̂ and W
+            let regressor = problem.equations(&at)?;
             Ok(weighted_residuals(&regressor, theta, std))
         };
         let (lo, hi) = ((eta[j] - h).max(spec.lower), (eta[j] + h).min(spec.upper));

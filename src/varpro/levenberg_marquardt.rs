@@ -49,6 +49,26 @@ fn squared(r: &[f64]) -> f64 {
     r.iter().map(|e| e * e).sum()
 }
 
+/// JᵀJ of the Jacobian given by its q `columns`: entry (a, b) the sum over i of
+/// J_ia J_ib in row order, the lower triangle mirrored from the upper (the same
+/// products in the same order, so the same bits as summing it again).
+fn normal_matrix(columns: &[Vec<f64>]) -> Mat<f64> {
+    let q = columns.len();
+    let mut normal = Mat::<f64>::zeros(q, q);
+    for a in 0..q {
+        for b in a..q {
+            let sum = columns[a]
+                .iter()
+                .zip(&columns[b])
+                .map(|(x, y)| x * y)
+                .sum::<f64>();
+            normal[(a, b)] = sum;
+            normal[(b, a)] = sum;
+        }
+    }
+    normal
+}
+
 /// Minimises ‖r(η)‖² over the box of `parameters` (see the module doc); `shifted`, when
 /// given, answers the Jacobian's differences it can (the columns of a table's residual
 /// unknowns, `sweep_blocks.rs`), the others are whole trials.
@@ -104,7 +124,8 @@ pub(super) fn levenberg_marquardt(
             (converged, reason) = (true, "converged (zero residual)".into());
             break;
         }
-        let mut jacobian = Mat::<f64>::zeros(m, q);
+        // J by columns (column j the difference in η_j)
+        let mut jacobian: Vec<Vec<f64>> = Vec::with_capacity(q);
         let eta = eta_of(&u);
         for j in 0..q {
             let h = if u[j] + DIFFERENCE_STEP <= 1.0 {
@@ -130,18 +151,13 @@ pub(super) fn levenberg_marquardt(
                     rj.len(),
                 ));
             }
-            for i in 0..m {
-                jacobian[(i, j)] = (rj[i] - r[i]) / h;
-            }
+            jacobian.push(rj.iter().zip(&r).map(|(a, b)| (a - b) / h).collect());
         }
-        let gradient: Vec<f64> = (0..q)
-            .map(|j| (0..m).map(|i| jacobian[(i, j)] * r[i]).sum())
+        let gradient: Vec<f64> = jacobian
+            .iter()
+            .map(|column| column.iter().zip(&r).map(|(x, e)| x * e).sum())
             .collect();
-        let normal = Mat::from_fn(q, q, |a, b| {
-            (0..m)
-                .map(|i| jacobian[(i, a)] * jacobian[(i, b)])
-                .sum::<f64>()
-        });
+        let normal = normal_matrix(&jacobian);
         let free: Vec<usize> = (0..q)
             .filter(|&j| {
                 !((u[j] <= 0.0 && gradient[j] > 0.0) || (u[j] >= 1.0 && gradient[j] < 0.0))
@@ -214,4 +230,30 @@ pub(super) fn levenberg_marquardt(
         method: "levenberg_marquardt",
         reason,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// JᵀJ from the columns with its mirrored lower triangle is the entry-by-entry sum
+    /// over the matrix, bit for bit.
+    #[test]
+    fn normal_matrix_is_the_entrywise_sum() {
+        let jacobian = Mat::from_fn(37, 5, |i, j| {
+            ((i * 7 + j * 13) as f64).sin() * 10f64.powi(j as i32 - 2)
+        });
+        let columns: Vec<Vec<f64>> = (0..5)
+            .map(|j| (0..37).map(|i| jacobian[(i, j)]).collect())
+            .collect();
+        let normal = normal_matrix(&columns);
+        for a in 0..5 {
+            for b in 0..5 {
+                let sum = (0..37)
+                    .map(|i| jacobian[(i, a)] * jacobian[(i, b)])
+                    .sum::<f64>();
+                assert_eq!(normal[(a, b)].to_bits(), sum.to_bits(), "({a}, {b})");
+            }
+        }
+    }
 }

@@ -33,9 +33,15 @@ pub type TrialBuilder<'a> = dyn Fn(&[f64]) -> Result<Regressor> + Send + Sync + 
 pub(super) struct Problem<'a> {
     parameters: Vec<NonlinearParameter>,
     build: Box<TrialBuilder<'a>>,
-    /// The same regressor without its noise model, for the projected residuals and
-    /// Jacobian differences of an ordinary fit, which read none ([`Problem::shared`]).
+    /// The same regressor without its noise model (a table with residual unknowns):
+    /// for the projected residuals and Jacobian differences of an ordinary fit, which
+    /// read none ([`Problem::shared`], when `bare_fits`), and for the joint
+    /// covariance's differences at fixed θ and weights under any weighting
+    /// ([`Problem::equations`]).
     bare: Option<Box<TrialBuilder<'a>>>,
+    /// Whether the inner fits read no noise model (ordinary weighting), so that the
+    /// trials of the searches can be the bare regressor.
+    bare_fits: bool,
     fit: &'a FitSettings,
     evaluations: AtomicU64,
     /// The sweep blocks of a table with residual unknowns (∂A/∂η_j in closed form for
@@ -70,10 +76,10 @@ impl<'a> Problem<'a> {
                 let bare = Arc::clone(&blocks);
                 Problem {
                     derivatives: Some((blocks, None)),
-                    bare: (fit.weighting == Weighting::Ordinary).then(|| {
-                        Box::new(move |eta: &[f64]| bare.regressor_without_noise(eta))
-                            as Box<TrialBuilder<'a>>
-                    }),
+                    bare: Some(Box::new(move |eta: &[f64]| {
+                        bare.regressor_without_noise(eta)
+                    })),
+                    bare_fits: fit.weighting == Weighting::Ordinary,
                     ..Self::with_builder(
                         problem.parameters(),
                         Box::new(move |eta: &[f64]| builder.regressor(eta)),
@@ -99,6 +105,7 @@ impl<'a> Problem<'a> {
             parameters,
             build,
             bare: None,
+            bare_fits: false,
             fit,
             evaluations: AtomicU64::new(0),
             derivatives: None,
@@ -163,11 +170,11 @@ impl<'a> Problem<'a> {
                 }
             }
         }
-        Regressor::from_parts(
+        Regressor::from_shared_parts(
             matrix,
             base.rhs().to_vec(),
             base.columns().to_vec(),
-            base.rows().to_vec(),
+            base.shared_rows(),
         )?
         .with_nuisance_count(base.nuisance_count())
         .map(Some)
@@ -194,6 +201,20 @@ impl<'a> Problem<'a> {
         (self.build)(eta)
     }
 
+    /// A(η) and b at `eta` (the regressor, without its noise model where the problem
+    /// can build it so: a table with residual unknowns, whose bare regressor has the
+    /// whole build's A and b bit for bit): for differences of the residual at fixed θ
+    /// and weights, which read no noise model (the joint covariance, `joint.rs`).
+    pub fn equations(&self, eta: &[f64]) -> Result<Regressor> {
+        match &self.bare {
+            Some(bare) => {
+                self.evaluations.fetch_add(1, Ordering::Relaxed);
+                bare(eta)
+            }
+            None => self.regressor(eta),
+        }
+    }
+
     /// The trial at `eta`.
     pub fn trial(&self, eta: &[f64]) -> Result<Trial> {
         let regressor = self.regressor(eta)?;
@@ -212,7 +233,7 @@ impl<'a> Problem<'a> {
     /// φ(η). Under ordinary weighting a table with residual unknowns fits the
     /// regressor without its noise model (the same cost: no fit of it reads one).
     pub fn cost(&self, eta: &[f64]) -> Result<f64> {
-        let Some(bare) = &self.bare else {
+        let Some(bare) = self.bare.as_ref().filter(|_| self.bare_fits) else {
             return self.trial(eta).map(|t| t.cost);
         };
         self.evaluations.fetch_add(1, Ordering::Relaxed);
@@ -254,7 +275,7 @@ impl<'a> Problem<'a> {
         {
             return Ok(Arc::clone(regressor));
         }
-        let regressor = Arc::new(match &self.bare {
+        let regressor = Arc::new(match self.bare.as_ref().filter(|_| self.bare_fits) {
             Some(bare) => {
                 self.evaluations.fetch_add(1, Ordering::Relaxed);
                 bare(eta)?

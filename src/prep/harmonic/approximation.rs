@@ -80,6 +80,16 @@ pub enum PhaseReading {
 impl PhaseReading {
     /// The phase lag ψ_i of every DOF of `point` in the synthesized motion.
     pub fn phases(&self, point: &SteppedSinePoint) -> Result<Vec<f64>> {
+        let mut out = Vec::with_capacity(point.dofs());
+        self.phases_into(point, &mut out)?;
+        Ok(out)
+    }
+
+    /// [`PhaseReading::phases`] into `out` (cleared first; no allocation when it holds
+    /// enough room: the trials of a variable projection read every perturbed copy of
+    /// every point).
+    pub fn phases_into(&self, point: &SteppedSinePoint, out: &mut Vec<f64>) -> Result<()> {
+        out.clear();
         let n = point.dofs();
         let circular = |weights: &dyn Fn(usize) -> f64| {
             let (s, c) = (0..n).fold((0.0, 0.0), |(s, c), i| {
@@ -91,7 +101,10 @@ impl PhaseReading {
             s.atan2(c)
         };
         let common = match *self {
-            PhaseReading::PerDof => return Ok(point.phases.clone()),
+            PhaseReading::PerDof => {
+                out.extend_from_slice(&point.phases);
+                return Ok(());
+            }
             PhaseReading::ArithmeticMean => {
                 let centre = circular(&|_| 1.0);
                 let offset: f64 = point
@@ -111,7 +124,8 @@ impl PhaseReading {
                 point.phases[dof]
             }
         };
-        Ok(vec![common; n])
+        out.resize(n, common);
+        Ok(())
     }
 }
 

@@ -95,9 +95,15 @@ pub fn correct(point: &SteppedSinePoint, r: f64) -> Result<SteppedSinePoint> {
 
 /// [`correct`] on a point the caller gives up (no copy: the trials of a variable
 /// projection correct every perturbed copy of every point).
-pub fn correct_owned(point: SteppedSinePoint, r: f64) -> Result<SteppedSinePoint> {
+pub fn correct_owned(mut point: SteppedSinePoint, r: f64) -> Result<SteppedSinePoint> {
+    correct_in_place(&mut point, r)?;
+    Ok(point)
+}
+
+/// [`correct`] in place (a point the caller reuses); on error `point` is as given.
+pub fn correct_in_place(point: &mut SteppedSinePoint, r: f64) -> Result<()> {
     if r == 0.0 {
-        return Ok(point);
+        return Ok(());
     }
     let f = point.force_dof;
     let (x, phi) = (point.amplitudes[f], point.phases[f]);
@@ -114,10 +120,9 @@ pub fn correct_owned(point: SteppedSinePoint, r: f64) -> Result<SteppedSinePoint
             "must be finite and positive: the residual would cancel the whole response",
         ));
     }
-    let mut corrected = point;
-    corrected.amplitudes[f] = amplitude;
-    corrected.phases[f] = lag_im.atan2(re);
-    Ok(corrected)
+    point.amplitudes[f] = amplitude;
+    point.phases[f] = lag_im.atan2(re);
+    Ok(())
 }
 
 /// The default bound B_s of |r_k| in each sweep: the smallest measured receptance
