@@ -125,6 +125,62 @@ impl Layout {
     }
 }
 
+/// Where one column of an array read straight into place goes: column `column` of the
+/// oriented array (0-based), written from sample 0 as scale × value + offset.
+pub(crate) struct Target<'a> {
+    /// The column of the oriented array.
+    pub column: usize,
+    /// Its destination, N samples.
+    pub into: &'a mut [f64],
+    /// (scale, offset).
+    pub gain: (f64, f64),
+}
+
+/// Writes scale × value + offset of `values` into `into`.
+fn put<'v>(into: &mut [f64], values: impl Iterator<Item = &'v f64>, (scale, offset): (f64, f64)) {
+    for (out, &v) in into.iter_mut().zip(values) {
+        *out = scale * v + offset;
+    }
+}
+
+impl Layout {
+    /// [`Layout::place`] into `targets` instead of growing columns: the flat values
+    /// `values`, which start at flat index `start`, each written with its target's gain
+    /// at its sample (columns no target names are skipped).
+    pub fn scatter(&self, start: usize, values: &[f64], targets: &mut [Target<'_>]) {
+        let k = self.columns;
+        if self.interleaved {
+            if start.is_multiple_of(k) && values.len().is_multiple_of(k) {
+                let (first, rows) = (start / k, values.len() / k);
+                for t in targets.iter_mut() {
+                    let into = &mut t.into[first..first + rows];
+                    put(into, values[t.column..].iter().step_by(k), t.gain);
+                }
+            } else {
+                for (offset, v) in values.iter().enumerate() {
+                    let (s, p) = self.position(start + offset);
+                    for t in targets.iter_mut().filter(|t| t.column == p) {
+                        put(&mut t.into[s..=s], std::iter::once(v), t.gain);
+                    }
+                }
+            }
+        } else {
+            let n = self.samples;
+            let mut f = start;
+            let mut rest = values;
+            while !rest.is_empty() {
+                let (s, p) = (f % n, f / n);
+                let run = (n - s).min(rest.len());
+                for t in targets.iter_mut().filter(|t| t.column == p) {
+                    put(&mut t.into[s..s + run], rest[..run].iter(), t.gain);
+                }
+                rest = &rest[run..];
+                f += run;
+            }
+        }
+    }
+}
+
 /// An r × c array given column-major (MATLAB's order) as table columns; a non-finite
 /// value is an error at its sample and column in `file`.
 pub(crate) fn column_major(
