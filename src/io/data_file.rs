@@ -185,7 +185,7 @@ impl DataFile {
     /// column among `names` is one of `in_place`. Every name is looked up first (the
     /// errors of `table`, in the order of `names`), the other arrays are read, and then
     /// every array asked for must have the same samples (the error of
-    /// [`table_from_arrays`]). Other formats give the whole table and nothing in place.
+    /// `table_from_arrays`). Other formats give the whole table and nothing in place.
     pub fn columns(&self, names: &[&str], in_place: &[&str]) -> Result<(Table, InPlace)> {
         let (slots, npz) = match &self.content {
             Content::Arrays {
