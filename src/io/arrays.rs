@@ -332,4 +332,46 @@ mod tests {
             }
         }
     }
+
+    /// `scatter` writes what `place` appends, with each target's gain, bit for bit, in
+    /// every order and orientation and at any block boundary (whole rows or not), and a
+    /// column read by two targets is written into both.
+    #[test]
+    fn scatter_writes_what_place_appends_with_the_gain() {
+        for (r, c) in [(5, 3), (3, 5), (4, 1), (1, 4), (4, 4)] {
+            for row_major in [true, false] {
+                let layout = Layout::new(r, c, row_major).unwrap();
+                let flat: Vec<f64> = (0..r * c).map(|f| 0.1 * f as f64 - 0.7).collect();
+                let mut placed = layout.allocate();
+                layout.place(0, &flat, &mut placed);
+                let gains = [(1.0, 0.0), (1e-3, 5e-3), (-2.5, 0.25)];
+                for block in [1, 2, 3, layout.columns, r * c] {
+                    let n = layout.samples;
+                    let mut out = vec![vec![f64::NAN; n]; 2 * layout.columns];
+                    let mut targets: Vec<Target<'_>> = out
+                        .iter_mut()
+                        .enumerate()
+                        .map(|(k, into)| Target {
+                            column: k % layout.columns,
+                            into,
+                            gain: gains[k % 3],
+                        })
+                        .collect();
+                    for start in (0..r * c).step_by(block) {
+                        let end = (start + block).min(r * c);
+                        layout.scatter(start, &flat[start..end], &mut targets);
+                    }
+                    for (k, column) in out.iter().enumerate() {
+                        let (scale, offset) = gains[k % 3];
+                        let expected: Vec<u64> = placed[k % layout.columns]
+                            .iter()
+                            .map(|v| (scale * v + offset).to_bits())
+                            .collect();
+                        let got: Vec<u64> = column.iter().map(|v| v.to_bits()).collect();
+                        assert_eq!(got, expected, "{r}x{c} {row_major} {block} {k}");
+                    }
+                }
+            }
+        }
+    }
 }
