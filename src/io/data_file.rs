@@ -23,6 +23,7 @@ use rayon::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::io::arrays::{self, NamedArray, table_from_arrays, without_scalars};
+use crate::io::in_place::InPlace;
 use crate::io::mat;
 use crate::io::npy::{Header, data_error};
 use crate::io::npz::Npz;
@@ -177,6 +178,104 @@ impl DataFile {
                 table_from_arrays(&self.file, arrays)
             }
         }
+    }
+
+    /// [`DataFile::table`] of the columns `names`, less the arrays left in the file to
+    /// be read into place ([`super::in_place`]): each stored `.npz` member whose every
+    /// column among `names` is one of `in_place`. Every name is looked up first (the
+    /// errors of `table`, in the order of `names`), the other arrays are read, and then
+    /// every array asked for must have the same samples (the error of
+    /// `table_from_arrays`). Other formats give the whole table and nothing in place.
+    pub fn columns(&self, names: &[&str], in_place: &[&str]) -> Result<(Table, InPlace)> {
+        let (slots, npz) = match &self.content {
+            Content::Arrays {
+                slots,
+                npz: Some(npz),
+            } if !in_place.is_empty() => (slots, npz),
+            _ => return Ok((self.table(names)?, InPlace::default())),
+        };
+        let mut of_name = Vec::with_capacity(names.len());
+        let mut chosen: Vec<usize> = Vec::new();
+        for name in names {
+            let k = self.slot_of(slots, name)?;
+            of_name.push(k);
+            if !chosen.contains(&k) {
+                chosen.push(k);
+            }
+        }
+        // The member of each chosen slot that is read into place.
+        let placed = |k: usize| match &slots[k].columns {
+            Ok((_, Source::Npz(m)))
+                if Npz::can_read_into(&npz.members[*m])
+                    && names
+                        .iter()
+                        .zip(&of_name)
+                        .all(|(name, &of)| of != k || in_place.contains(name)) =>
+            {
+                Some(*m)
+            }
+            _ => None,
+        };
+        let arrays = chosen
+            .iter()
+            .filter(|&&k| placed(k).is_none())
+            .collect::<Vec<_>>()
+            .into_par_iter()
+            .map(|&k| self.read(&slots[k], Some(npz)))
+            .collect::<Vec<_>>() // the first error in order, whichever thread saw it first
+            .into_iter()
+            .collect::<Result<Vec<_>>>()?;
+        // Every column asked for, in the order of `chosen`, with its samples: of one
+        // length, as `table_from_arrays` requires of a table.
+        let mut read = arrays.iter();
+        let mut lengths: Vec<(String, usize)> = Vec::new();
+        let mut members = Vec::new();
+        for &k in &chosen {
+            match (placed(k), &slots[k].columns) {
+                (Some(m), Ok((headers, _))) => {
+                    let samples = npz.members[m]
+                        .header
+                        .as_ref()
+                        .map_or(0, |h| h.layout.samples);
+                    lengths.extend(headers.iter().map(|h| (h.clone(), samples)));
+                    members.push((m, headers.clone()));
+                }
+                _ => {
+                    if let Some(array) = read.next() {
+                        let k = array.columns.len();
+                        lengths.extend(array.columns.iter().enumerate().map(|(j, c)| {
+                            let header = match k {
+                                1 => array.name.clone(),
+                                _ => format!("{}[{}]", array.name, j + 1),
+                            };
+                            (header, c.len())
+                        }));
+                    }
+                }
+            }
+        }
+        let Some((first, rows)) = lengths.first().cloned() else {
+            // No columns: the error of an empty table.
+            return Ok((table_from_arrays(&self.file, arrays)?, InPlace::default()));
+        };
+        if let Some((column, n)) = lengths.iter().find(|(_, n)| *n != rows) {
+            return Err(Error::Data {
+                file: self.file.clone(),
+                row: 0,
+                column: column.clone(),
+                message: format!("{n} samples, but '{first}' has {rows}"),
+            });
+        }
+        let table = if arrays.is_empty() {
+            Table {
+                file: self.file.clone(),
+                headers: Vec::new(),
+                columns: Vec::new(),
+            }
+        } else {
+            table_from_arrays(&self.file, arrays)?
+        };
+        Ok((table, InPlace::new(npz, members, rows)))
     }
 
     /// Every column of the file: the whole-file read ([`super::read_table`]).
@@ -438,6 +537,18 @@ impl DataFiles {
     /// The table of the columns `names` of the file at `path` ([`DataFile::table`]),
     /// opening the file on its first use.
     pub fn table(&mut self, path: &Path, names: &[&str]) -> Result<Table> {
+        self.columns(path, names, &[]).map(|(table, _)| table)
+    }
+
+    /// The table of the columns `names` of the file at `path` and the columns left in
+    /// it to be read into place ([`DataFile::columns`]), opening the file on its first
+    /// use; a table read whole gives up its columns on the file's last use.
+    pub fn columns(
+        &mut self,
+        path: &Path,
+        names: &[&str],
+        in_place: &[&str],
+    ) -> Result<(Table, InPlace)> {
         let key = canonical(path);
         let (open, uses) = self.files.remove(&key).unwrap_or((None, 1));
         let file = match open {
@@ -448,11 +559,14 @@ impl DataFiles {
             }
         };
         if uses <= 1 {
-            return file.into_table(names);
+            return match file.content {
+                Content::Table(_) => Ok((file.into_table(names)?, InPlace::default())),
+                _ => file.columns(names, in_place),
+            };
         }
-        let table = file.table(names);
+        let columns = file.columns(names, in_place);
         self.files.insert(key, (Some(file), uses - 1));
-        table
+        columns
     }
 
     /// The scalar variable `name` of the file at `path` ([`DataFile::scalar`]), opening

@@ -23,6 +23,7 @@ mod arrays;
 pub mod csv;
 mod csv_fast;
 pub mod data_file;
+pub mod in_place;
 pub mod mat;
 pub mod npy;
 mod npz;

@@ -141,6 +141,22 @@ pub(crate) fn read_data<R: Read>(
     name: &str,
     file: &str,
 ) -> Result<NamedArray> {
+    require_data(header, available, name, file)?;
+    let layout = header.layout;
+    let mut columns = layout.allocate();
+    read_values(reader, header, BLOCK, name, file, |done, values| {
+        layout.place(done, values, &mut columns)
+    })?;
+    Ok(NamedArray {
+        name: name.to_string(),
+        columns,
+    })
+}
+
+/// Checks, before anything of the header's size is allocated, that the `available`
+/// bytes after the header hold the data it claims, and that the data as f64 fit the
+/// memory budget.
+pub(crate) fn require_data(header: &Header, available: u64, name: &str, file: &str) -> Result<()> {
     let layout = header.layout;
     let needed = header.data_bytes();
     if needed.is_none_or(|n| n > available) {
@@ -166,12 +182,26 @@ pub(crate) fn read_data<R: Read>(
         ),
         crate::budget::f64s(layout.elements() as u128),
         "read a file with fewer samples or channels, or raise --max-memory",
-    )?;
+    )
+}
+
+/// Reads every element of the array described by `header` from `reader` (whose data
+/// were checked by [`require_data`]) in blocks of about `block` elements, converted to
+/// f64 and checked finite, and hands each block to `place` with the flat index of its
+/// first element. A non-finite value is [`Error::Data`] at its sample and column.
+pub(crate) fn read_values<R: Read>(
+    reader: &mut R,
+    header: &Header,
+    block: usize,
+    name: &str,
+    file: &str,
+    mut place: impl FnMut(usize, &[f64]),
+) -> Result<()> {
+    let layout = header.layout;
     let size = header.element_size();
-    let block = layout.block(BLOCK).min(layout.elements().max(1));
+    let block = layout.block(block).min(layout.elements().max(1));
     let mut bytes = vec![0u8; block * size];
     let mut values = vec![0.0; block];
-    let mut columns = layout.allocate();
     let mut done = 0;
     while done < layout.elements() {
         let m = block.min(layout.elements() - done);
@@ -190,13 +220,10 @@ pub(crate) fn read_data<R: Read>(
                 message: format!("non-finite value {}", values[at]),
             });
         }
-        layout.place(done, values, &mut columns);
+        place(done, values);
         done += m;
     }
-    Ok(NamedArray {
-        name: name.to_string(),
-        columns,
-    })
+    Ok(())
 }
 
 /// Reads a `.npy` file; its array is named after the file stem.

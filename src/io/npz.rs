@@ -22,8 +22,12 @@ use std::path::{Path, PathBuf};
 use zip::{CompressionMethod, ZipArchive};
 
 use crate::error::Result;
-use crate::io::arrays::NamedArray;
-use crate::io::npy::{Header, data_error, read_data, read_header};
+use crate::io::arrays::{NamedArray, Target};
+use crate::io::npy::{Header, data_error, read_data, read_header, read_values, require_data};
+
+/// Elements converted per block when a member is read into place: 128 KiB of f64, so
+/// the block stays in cache while its columns are written out.
+const INTO_BLOCK: usize = 1 << 14;
 
 /// Where a stored member's bytes lie in the file.
 #[derive(Debug, Clone, Copy)]
@@ -38,7 +42,7 @@ struct Stored {
 
 /// One array of the archive: its name, its header (or why it cannot be columns), and
 /// where its bytes are.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub(crate) struct Member {
     /// The array's name (the member's name without `.npy`).
     pub name: String,
@@ -51,7 +55,7 @@ pub(crate) struct Member {
 }
 
 /// A `.npz` archive's arrays, read on demand.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub(crate) struct Npz {
     file: String,
     path: PathBuf,
@@ -144,16 +148,21 @@ impl Npz {
         })
     }
 
+    /// The archive, as error messages name it.
+    pub fn file(&self) -> &str {
+        &self.file
+    }
+
     /// Reads the data of `member` (whose header is usable: `header`).
     pub fn read(&self, member: &Member, header: &Header) -> Result<NamedArray> {
         let (file, name) = (self.file.as_str(), member.name.as_str());
         let error = |e: &dyn std::fmt::Display| data_error(file, name, e);
-        let mut opened = File::open(&self.path).map_err(|e| error(&e))?;
         let Some(stored) = member.stored else {
             // Inflated as it is read, never whole into memory: a member of a few MB can
             // claim gigabytes, which `read_data` checks against the budget first; the
             // size the directory gives bounds the data, and a member that ends sooner is
             // an error of `read_data` (its CRC is checked by zip's reader at the end).
+            let opened = File::open(&self.path).map_err(|e| error(&e))?;
             let mut archive = ZipArchive::new(BufReader::new(opened)).map_err(|e| error(&e))?;
             let inflating = archive
                 .by_index(member.index)
@@ -175,6 +184,61 @@ impl Npz {
                 .map_err(|e| error(&format!("inflating '{name}.npy': {e}")))?;
             return Ok(array);
         };
+        self.read_stored(member, stored, |reader, available| {
+            read_data(reader, header, available, name, file)
+        })
+    }
+
+    /// Whether `member` is stored (not deflated) and its header's data fit inside it:
+    /// what [`Npz::read_into`] reads, with nothing of the header's size allocated for a
+    /// member that cannot hold it.
+    pub fn can_read_into(member: &Member) -> bool {
+        match (&member.stored, &member.header) {
+            (Some(stored), Ok(header)) => header.data_bytes().is_some_and(|n| n <= stored.size),
+            _ => false,
+        }
+    }
+
+    /// Reads the data of the stored `member` (whose header is `header`) straight into
+    /// `targets`, one pass in blocks that stay in cache ([`Layout::scatter`]), with the
+    /// checks of [`Npz::read`]: the data inside the member, every value finite, its
+    /// CRC-32. A member that is not stored is an error (use [`Npz::read`]).
+    ///
+    /// [`Layout::scatter`]: crate::io::arrays::Layout::scatter
+    pub fn read_into(
+        &self,
+        member: &Member,
+        header: &Header,
+        targets: &mut [Target<'_>],
+    ) -> Result<()> {
+        let (file, name) = (self.file.as_str(), member.name.as_str());
+        let Some(stored) = member.stored else {
+            return Err(data_error(
+                file,
+                name,
+                "a compressed member cannot be read in place",
+            ));
+        };
+        self.read_stored(member, stored, |reader, available| {
+            require_data(header, available, name, file)?;
+            read_values(reader, header, INTO_BLOCK, name, file, |done, values| {
+                header.layout.scatter(done, values, targets)
+            })
+        })
+    }
+
+    /// Opens the stored `member`, reads its header, hands `body` the reader at its first
+    /// data byte and the bytes of the member after the header, then checks the CRC-32
+    /// of the whole member.
+    fn read_stored<T>(
+        &self,
+        member: &Member,
+        stored: Stored,
+        body: impl FnOnce(&mut BufReader<Crc<std::io::Take<File>>>, u64) -> Result<T>,
+    ) -> Result<T> {
+        let (file, name) = (self.file.as_str(), member.name.as_str());
+        let error = |e: &dyn std::fmt::Display| data_error(file, name, e);
+        let mut opened = File::open(&self.path).map_err(|e| error(&e))?;
         opened
             .seek(SeekFrom::Start(stored.start))
             .map_err(|e| error(&e))?;
@@ -188,7 +252,7 @@ impl Npz {
         read_header(&mut reader).map_err(|e| error(&e))?;
         // What the BufReader took from the member but has not handed out yet.
         let consumed = stored.size - reader.get_ref().inner.limit() - reader.buffer().len() as u64;
-        let array = read_data(&mut reader, header, stored.size - consumed, name, file)?;
+        let value = body(&mut reader, stored.size - consumed)?;
         // The CRC covers the whole member, whatever follows the data.
         std::io::copy(&mut reader, &mut std::io::sink()).map_err(|e| error(&e))?;
         let crc = reader.into_inner().hasher.finalize();
@@ -198,6 +262,6 @@ impl Npz {
                 stored.crc
             )));
         }
-        Ok(array)
+        Ok(value)
     }
 }

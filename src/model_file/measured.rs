@@ -193,14 +193,13 @@ struct Columns {
 }
 
 impl Columns {
-    fn new<'a>(table: Table, names: impl Iterator<Item = &'a str>) -> Self {
+    fn new<'a>(table: Table, names: impl Iterator<Item = &'a str>, rows: usize) -> Self {
         let mut uses = vec![0; table.headers.len()];
         for name in names {
             if let Some(k) = table.headers.iter().position(|h| h == name) {
                 uses[k] += 1;
             }
         }
-        let rows = table.rows();
         Self { table, uses, rows }
     }
 
@@ -361,6 +360,24 @@ fn named_columns(spec: &RecordSpec) -> Vec<&str> {
         .collect()
 }
 
+/// The motion columns a record names that are not also its time or force columns: those
+/// read from the file straight into the record's matrices where the file allows
+/// (`io::in_place`).
+fn in_place_columns(spec: &RecordSpec) -> Vec<&str> {
+    let other: Vec<&str> = spec
+        .time
+        .as_deref()
+        .into_iter()
+        .chain(spec.forces.iter().map(|f| f.get_ref().column.as_str()))
+        .collect();
+    [&spec.displacements, &spec.velocities, &spec.accelerations]
+        .into_iter()
+        .flatten()
+        .map(|c| c.get_ref().column.as_str())
+        .filter(|c| !other.contains(c))
+        .collect()
+}
+
 /// Reads one record; a periodic record without a period or frequency gets one detected
 /// from its force, a non-periodic one gets its duration (which nothing uses). Only the
 /// columns it names are read from `files` (a `.npz` or `.mat` file may hold other
@@ -376,7 +393,8 @@ pub(super) fn read_record(
     let (base, files) = files;
     let path = base.join(&spec.file);
     let named = named_scales(ctx, spec, &path, files)?;
-    let table = files.table(&path, &named_columns(spec))?;
+    let names = named_columns(spec);
+    let (table, in_place) = files.columns(&path, &names, &in_place_columns(spec))?;
     let label = spec
         .label
         .clone()
@@ -423,8 +441,13 @@ pub(super) fn read_record(
         .map_or(Ok(0.0), |t| table.column(t).map(|c| time_scale * c[0]))?;
     let (motion, measured_velocities) = motion_columns(ctx, spec, n, &label, &named)?;
     // Each column moves from the table into its matrix and is freed there (cloned only
-    // while another channel still names it), so reading a record holds the data once
-    // plus one column, not twice.
+    // while another channel still names it), or is read from the file straight into its
+    // matrix (`io::in_place`), so reading a record holds the data once plus one column,
+    // not twice.
+    let rows = match in_place.rows() {
+        Some(rows) => rows,
+        None => table.rows(),
+    };
     let mut columns = Columns::new(
         table,
         motion
@@ -432,10 +455,10 @@ pub(super) fn read_record(
             .chain(measured_velocities.iter().flatten())
             .map(|m| m.spec.get_ref().column.as_str())
             .chain(spec.forces.iter().map(|f| f.get_ref().column.as_str())),
+        rows,
     );
-    let rows = columns.rows;
     let mut gains = Vec::new();
-    let mut read = |into: faer::ColMut<f64>, column: &str, gain: (f64, f64), quantity: String| {
+    let mut note = |column: &str, gain: (f64, f64), quantity: String| {
         if gain != (1.0, 0.0) {
             gains.push(ChannelGain {
                 column: column.to_string(),
@@ -444,21 +467,40 @@ pub(super) fn read_record(
                 offset: gain.1,
             });
         }
-        columns.move_into(into, column, gain)
     };
-    let mut matrix = |channels: &[MotionColumn]| -> Result<Mat<f64>> {
-        let mut m = Mat::zeros(rows, channels.len());
-        for (j, c) in channels.iter().enumerate() {
-            let quantity = format!("{} of DOF {}", c.sensor.name(), j + 1);
-            read(m.col_mut(j), &c.spec.get_ref().column, c.gain, quantity)?;
+    let mut signals_motion = Mat::zeros(rows, motion.len());
+    let mut velocities = measured_velocities
+        .as_ref()
+        .map(|channels| Mat::zeros(rows, channels.len()));
+    {
+        let mut destinations = Vec::new();
+        let matrices = std::iter::once((&motion, signals_motion.as_mut())).chain(
+            measured_velocities
+                .iter()
+                .zip(velocities.iter_mut().map(Mat::as_mut)),
+        );
+        for (channels, matrix) in matrices {
+            for (j, (c, into)) in channels.iter().zip(matrix.col_iter_mut()).enumerate() {
+                let column = c.spec.get_ref().column.as_str();
+                note(
+                    column,
+                    c.gain,
+                    format!("{} of DOF {}", c.sensor.name(), j + 1),
+                );
+                if in_place.holds(column) {
+                    let into = into
+                        .try_as_col_major_mut()
+                        // cannot fail: the columns of an owned matrix are contiguous
+                        .expect("a column of a Mat is contiguous")
+                        .as_slice_mut();
+                    destinations.push((column, into, c.gain));
+                } else {
+                    columns.move_into(into, column, c.gain)?;
+                }
+            }
         }
-        Ok(m)
-    };
-    let signals_motion = matrix(&motion)?;
-    let velocities = measured_velocities
-        .as_deref()
-        .map(&mut matrix)
-        .transpose()?;
+        in_place.read(destinations)?;
+    }
     let mut force_names = Vec::with_capacity(spec.forces.len());
     let mut dofs = Vec::with_capacity(spec.forces.len());
     let mut signals = Mat::zeros(rows, spec.forces.len());
@@ -479,12 +521,8 @@ pub(super) fn read_record(
             scale_value(f.scale.as_ref(), &named),
             f.offset,
         )?;
-        read(
-            signals.col_mut(k),
-            &f.column,
-            g,
-            format!("force on DOF {}", f.dof),
-        )?;
+        note(&f.column, g, format!("force on DOF {}", f.dof));
+        columns.move_into(signals.col_mut(k), &f.column, g)?;
         force_names.push(f.column.clone());
         dofs.push(dof);
     }
