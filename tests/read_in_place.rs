@@ -10,24 +10,21 @@ use std::path::{Path, PathBuf};
 use dampid::Error;
 use dampid::model_file::Job;
 
+#[path = "support/npy.rs"]
+mod npy_file;
+use npy_file::npy_bytes;
+
 /// Samples of the scratch records (not a whole number of read blocks).
 const N: usize = 20_011;
 
-/// An NPY member: version 1.0, the header dict padded to a multiple of 64 bytes.
+/// An NPY member of little-endian doubles.
 fn npy(descr: &str, fortran: bool, shape: &str, data: &[f64]) -> Vec<u8> {
-    let mut header = format!(
+    let dict = format!(
         "{{'descr': '{descr}', 'fortran_order': {}, 'shape': {shape}, }}",
         if fortran { "True" } else { "False" }
     );
-    while !(10 + header.len() + 1).is_multiple_of(64) {
-        header.push(' ');
-    }
-    header.push('\n');
-    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
-    bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
-    bytes.extend_from_slice(header.as_bytes());
-    bytes.extend(data.iter().flat_map(|v| v.to_le_bytes()));
-    bytes
+    let data: Vec<u8> = data.iter().flat_map(|v| v.to_le_bytes()).collect();
+    npy_bytes(&dict, &data)
 }
 
 /// A scratch file path of this test.

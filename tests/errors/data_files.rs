@@ -3,6 +3,7 @@
 //! overflowed the former MAT parser is `Data` too, not a panic (both found by the `mat` fuzz
 //! target).
 
+use crate::npy_file::npy_bytes;
 use dampid::io::Table;
 use dampid::prelude::*;
 
@@ -252,21 +253,6 @@ fn time_jitter_is_accepted_up_to_its_tolerance() {
         backwards.uniform_step("t"),
         Err(Error::Data { row: 3, .. })
     ));
-}
-
-/// An NPY file: the magic, version 1.0, the header dict padded with spaces to a
-/// multiple of 64 bytes (ending in a newline), then `data`.
-fn npy_bytes(dict: &str, data: &[u8]) -> Vec<u8> {
-    let mut header = dict.to_string();
-    while !(10 + header.len() + 1).is_multiple_of(64) {
-        header.push(' ');
-    }
-    header.push('\n');
-    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
-    bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
-    bytes.extend_from_slice(header.as_bytes());
-    bytes.extend_from_slice(data);
-    bytes
 }
 
 fn read_npy_bytes(name: &str, bytes: &[u8]) -> Result<Table> {

@@ -57,6 +57,8 @@ mod mat_writer;
 mod messages;
 mod model;
 mod model_file;
+#[path = "../support/npy.rs"]
+mod npy_file;
 mod physics;
 mod prep;
 mod record;
