@@ -17,6 +17,8 @@
 //! [`crate::analysis::solved::solved`], [`crate::analysis::bootstrap::bootstrap`] and
 //! [`FitReport::new`].
 
+use std::sync::Arc;
+
 use crate::analysis::backbone::Backbone;
 use crate::analysis::bootstrap::{Bootstrap, BootstrapSettings};
 use crate::analysis::equivalent::{EquivalentDamping, equivalent_damping};
@@ -124,8 +126,9 @@ pub struct Identification {
     pub regressor: Regressor,
     /// The damping model of that fit.
     pub model: DampingModel,
-    /// The steady-state check of the windows, when it ran.
-    pub steady_state: Option<SteadyStateReport>,
+    /// The steady-state check of the windows, when it ran: shared, not copied, with the
+    /// rows that carry it ([`crate::campaign`]; a campaign's holds a check per window).
+    pub steady_state: Option<Arc<SteadyStateReport>>,
     /// The equivalent damping of a one-mode stepped-sine table (`None` for other
     /// problems).
     pub equivalent: Option<Equivalent>,
@@ -168,8 +171,10 @@ pub fn identify(
     settings.validate()?;
     let steady = match (&settings.steady_state, problem.source()) {
         // Rows built apart carry the check made where they were built (crate::campaign).
-        (_, Source::Rows(rows)) => rows.steady_state().cloned(),
-        (Some(steady), _) => problem.steady_state(&settings.regressor, steady)?,
+        (_, Source::Rows(rows)) => rows.shared_steady_state(),
+        (Some(steady), _) => problem
+            .steady_state(&settings.regressor, steady)?
+            .map(Arc::new),
         (None, _) => None,
     };
     if let Some(steady) = &steady {
@@ -194,7 +199,7 @@ pub fn identify(
     let model = problem.model(&values)?;
     let mut report = report
         .with_velocity_noise(velocity_noise::assess(&regressor))
-        .with_steady_state(steady.as_ref());
+        .with_steady_state(steady.as_deref());
     let equivalent = equivalent(problem, &values, &report);
     let backbone = match (&settings.regressor.windows, problem.source()) {
         (Windows::Decay(decay), Source::Records(records)) => {

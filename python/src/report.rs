@@ -331,7 +331,7 @@ impl PyReport {
                 report: &found.report,
                 truth: None,
                 pod: None,
-                steady: found.steady_state.as_ref(),
+                steady: found.steady_state.as_deref(),
                 equivalent: found.equivalent.as_ref().map(Equivalent::as_result),
                 backbone: found.backbone.as_ref(),
                 provenance: Some(&provenance),

@@ -133,7 +133,7 @@ impl Identified<'_> {
             report: &found.report,
             truth: job.truth.as_deref(),
             pod: job.pod.as_ref(),
-            steady: found.steady_state.as_ref(),
+            steady: found.steady_state.as_deref(),
             equivalent: found.equivalent.as_ref().map(Equivalent::as_result),
             backbone: found.backbone.as_ref(),
             provenance,
@@ -156,7 +156,7 @@ impl fmt::Display for Identified<'_> {
             count(source.groups(), source.unit()),
             count(report.residuals.len(), "equation")
         )?;
-        write!(f, "{}{report}", job.preamble(found.steady_state.as_ref()))?;
+        write!(f, "{}{report}", job.preamble(found.steady_state.as_deref()))?;
         if let Some(truth) = &job.truth {
             write!(f, "{}", report.against(truth))?;
         }
@@ -186,7 +186,7 @@ impl Serialize for Identified<'_> {
             model: &'a str,
             report: &'a crate::report::FitReport,
             truth: Option<serde_json::Map<String, serde_json::Value>>,
-            steady_state: &'a Option<crate::prep::steady_state::SteadyStateReport>,
+            steady_state: &'a Option<std::sync::Arc<crate::prep::steady_state::SteadyStateReport>>,
             detected_periods: &'a [Option<crate::prep::period::PeriodEstimate>],
             pod: Option<Vec<crate::prep::pod::PodReport>>,
             equivalent_damping: &'a Option<Equivalent>,

@@ -548,4 +548,10 @@ impl Regressor {
     pub fn steady_state(&self) -> Option<&SteadyStateReport> {
         self.steady_state.as_deref()
     }
+
+    /// [`Regressor::steady_state`], shared rather than copied (what an identification
+    /// of these rows reports).
+    pub fn shared_steady_state(&self) -> Option<Arc<SteadyStateReport>> {
+        self.steady_state.clone()
+    }
 }
