@@ -517,7 +517,7 @@ fn noise_model(
         let db = |offset: usize| (own[offset].input - base.input) / steps[offset];
         let da =
             |offset: usize, k: usize| (own[offset].columns[k] - base.columns[k]) / steps[offset];
-        let channels = (0..dofs)
+        let channels: Vec<ChannelSensitivity> = (0..dofs)
             .map(|j| {
                 let (x, p) = (2 + 2 * j, 3 + 2 * j);
                 let (sx, sp) = (sigma.amplitudes[j], sigma.phases[j]);
@@ -530,10 +530,9 @@ fn noise_model(
                 }
             })
             .collect();
-        noise.rows.push(RowNoise {
-            channels,
-            force_std: (sigma.force * db(1)).abs(),
-        });
+        noise
+            .rows
+            .push(RowNoise::new(&channels, (sigma.force * db(1)).abs()));
         noise.windows.push(WindowNoise {
             record: swept.sweep_names[swept.sweeps[r]].clone(),
             window: places[r],

@@ -235,10 +235,7 @@ pub(super) fn robust_row(
     Ok(RobustRow {
         columns,
         input,
-        noise: RowNoise {
-            channels,
-            force_std,
-        },
+        noise: RowNoise::new(&channels, force_std),
         window: WindowNoise {
             record: record.label().to_string(),
             window: w.index,
