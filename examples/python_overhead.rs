@@ -22,6 +22,8 @@
 //!   per second, the fixed cost of small records (issue 32); then each record's rows
 //!   alone (`campaign::rows`, what a campaign's map and Python's `regressor_rows` run per
 //!   record).
+//! - `map RECORDS SAMPLES REPEATS PER_PERIOD`: the same records, the map alone (no
+//!   `identify` of the list: what a profile of the per-record cost runs).
 //!
 //! `cargo run --release --example python_overhead -- large 100 100000 5`
 
@@ -30,6 +32,13 @@ use std::time::Instant;
 
 use dampid::prelude::*;
 use faer::Mat;
+
+// As the `dampid` binary and the Python package allocate (with the `cli` feature, the
+// default): the map's per-window vectors cost a fifth of its instructions in the
+// system allocator.
+#[cfg(feature = "cli")]
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 /// CPU time of this process so far, user + system over all threads, in seconds: from
 /// /proc/self/stat (Linux; in clock ticks of USER_HZ = 1/100 s), `NAN` elsewhere. On a
@@ -116,7 +125,7 @@ fn main() -> Result<(), dampid::Error> {
                 report.coefficient("d").unwrap_or(f64::NAN)
             );
         }
-        Some("small") => {
+        Some(mode @ ("small" | "map")) => {
             let (count, samples, repeats) = (number(1, 200), number(2, 1000), number(3, 3));
             let per_period = number(4, 0);
             let n = 4;
@@ -153,21 +162,23 @@ fn main() -> Result<(), dampid::Error> {
                     Coefficients::Shared("d".into()),
                 ));
             let settings = dampid::model_file::identification(&Default::default())?;
-            let (seconds, cpu, report) = best(repeats, || {
-                identify(
-                    &ParametricRegressor::linear(&model, &records),
-                    &settings,
-                    &silent,
-                )
-                .map(|i| i.report)
-            });
-            let report = report?;
-            println!(
-                "rust small {count} x {n} DOFs x {samples}: {seconds:.6} s (cpu {cpu:.4} s), {:.0} records/s, c = {:?}, d = {:?}",
-                count as f64 / seconds,
-                report.coefficient("c").unwrap_or(f64::NAN),
-                report.coefficient("d").unwrap_or(f64::NAN)
-            );
+            if mode == "small" {
+                let (seconds, cpu, report) = best(repeats, || {
+                    identify(
+                        &ParametricRegressor::linear(&model, &records),
+                        &settings,
+                        &silent,
+                    )
+                    .map(|i| i.report)
+                });
+                let report = report?;
+                println!(
+                    "rust small {count} x {n} DOFs x {samples}: {seconds:.6} s (cpu {cpu:.4} s), {:.0} records/s, c = {:?}, d = {:?}",
+                    count as f64 / seconds,
+                    report.coefficient("c").unwrap_or(f64::NAN),
+                    report.coefficient("d").unwrap_or(f64::NAN)
+                );
+            }
             // A campaign's map on one core: each record's rows alone (what Python's
             // `regressor_rows` runs per record), steady-state check included.
             let (seconds, cpu, rows) = best(repeats, || {

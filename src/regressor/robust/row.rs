@@ -356,6 +356,9 @@ fn element_columns(
     let (x, v) = (projected.x.as_ref(), projected.v.as_ref());
     let mut xr = vec![0.0; rows];
     let mut vr = vec![0.0; rows];
+    // Each element's weighted slopes, every entry written before it is read (allocated
+    // once per window, not per element).
+    let (mut g_v, mut g_x) = (vec![0.0; count], vec![0.0; count]);
     for (e, element) in term.elements().iter().enumerate() {
         let weight = term.weights().map_or(1.0, |w| w[e]);
         let column = first + term.coefficients().column_of(e);
@@ -393,8 +396,6 @@ fn element_columns(
             }
         } else {
             let mut value = 0.0;
-            let mut g_v = vec![0.0; count];
-            let mut g_x = vec![0.0; count];
             let (unit_x, unit_v) = (projected.var_x(element.a), projected.var_v(element.a));
             let other = other.map(|(s2, b)| (s2, projected.var_x(b), projected.var_v(b)));
             for i in 0..count {
