@@ -48,7 +48,7 @@ scratch=$(mktemp -d)
 dask scheduler --host 127.0.0.1 --port "$port" --no-dashboard >"$scratch/scheduler.log" 2>&1 &
 pids=$!
 for w in 1 2; do
-    dask worker "tcp://127.0.0.1:$port" --nthreads 1 --no-dashboard --local-directory "$scratch" >"$scratch/worker$w.log" 2>&1 &
+    RAYON_NUM_THREADS=1 dask worker "tcp://127.0.0.1:$port" --nthreads 1 --no-dashboard --local-directory "$scratch" >"$scratch/worker$w.log" 2>&1 &
     pids="$pids $!"
 done
 trap 'kill $pids 2>/dev/null || true; rm -rf "$scratch"' EXIT

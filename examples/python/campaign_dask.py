@@ -16,6 +16,10 @@ result against single-process `dampid.identify` of the same records, bit for bit
 Without --scheduler a LocalCluster of --workers processes runs here; with it, the same
 code runs on a real cluster (the workers need dampid and NumPy installed, this folder on
 their PYTHONPATH for chain.py, and for --folder the files on a shared file system).
+Each worker process runs one task at a time on one core, so it should run dampid's thread
+pool at one thread too (RAYON_NUM_THREADS=1, as the LocalCluster here does; start `dask
+worker` with it set): with the default pool of one thread per core, the pool's idle
+threads spin beside the other workers. Results do not depend on the thread count.
 
 The records are the paper's four-mass chain (C = c K, d v|v| on every mass, a force on
 mass 4) at one frequency and amplitudes drawn per record, simulated to steady state in
@@ -146,7 +150,7 @@ def main(argv=None):
         client = Client(args.scheduler)
     else:
         cluster = LocalCluster(n_workers=args.workers, threads_per_worker=1, processes=True,
-                               dashboard_address=None)
+                               dashboard_address=None, env={"RAYON_NUM_THREADS": "1"})
         client = Client(cluster)
     with client:
         if args.wait_workers:

@@ -91,7 +91,9 @@ def free_port():
 
 def test_campaign_on_a_real_scheduler_and_two_worker_processes(root, tmp_path):
     """`dask scheduler` and two `dask worker` processes on localhost (not a LocalCluster):
-    records simulated on the workers, the client holding only the stacked rows."""
+    records simulated on the workers, the client holding only the stacked rows. The
+    workers run dampid's pool at one thread (as the example advises), the client at its
+    default: the result must still be the client's own, bit for bit."""
     bin_dir = pathlib.Path(sys.executable).parent
     port = free_port()
     address = f"tcp://127.0.0.1:{port}"
@@ -103,7 +105,7 @@ def test_campaign_on_a_real_scheduler_and_two_worker_processes(root, tmp_path):
             processes.append(subprocess.Popen(
                 [str(bin_dir / "dask"), "worker", address, "--nthreads", "1", "--no-dashboard",
                  "--local-directory", str(tmp_path)],
-                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env))
+                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env={**env, "RAYON_NUM_THREADS": "1"}))
         script = root / "examples" / "python" / "campaign_dask.py"
         run = subprocess.run([sys.executable, str(script), "--records", "60", "--per-task", "10",
                               "--scheduler", address, "--wait-workers", "2"],
