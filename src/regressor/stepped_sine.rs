@@ -441,7 +441,7 @@ fn closed_point_rows(
                 dz.clear();
                 dz.resize(copy.dofs(), (0.0, 0.0));
                 dz[copy.force_dof] = (-copy.force_amplitude, 0.0);
-                let mut d = Vec::new();
+                let mut d = Vec::with_capacity(model.coefficient_count());
                 let row = stepped_sine_closed::row_and_slope(
                     model,
                     &copy,

@@ -187,7 +187,7 @@ impl Term {
     /// [`Term::harmonic_columns`] appended to `out` (the same numbers, no allocation
     /// of their own); false, with `out` as it was, when the term has none.
     pub fn harmonic_columns_into(&self, omega: f64, z: &[Phasor], out: &mut Vec<f64>) -> bool {
-        self.columns_into(omega, z, None, out)
+        self.columns_into::<false>(omega, z, &[], out, &mut Vec::new())
     }
 
     /// [`Term::harmonic_columns_into`], and the columns' derivative along the phasors'
@@ -210,17 +210,19 @@ impl Term {
         out: &mut Vec<f64>,
         slope: &mut Vec<f64>,
     ) -> bool {
-        self.columns_into(omega, z, Some((dz, slope)), out)
+        self.columns_into::<true>(omega, z, dz, out, slope)
     }
 
-    /// The columns into `out`, and with `derivative` = (dz, slope) their derivative
-    /// along dz into `slope` (see [`Term::harmonic_columns_and_slope_into`]).
-    fn columns_into(
+    /// The columns into `out`, and with `SLOPE` their derivative along `dz` into
+    /// `slope` (see [`Term::harmonic_columns_and_slope_into`]; without it neither is
+    /// read, and the columns cost what they cost before the slope existed).
+    fn columns_into<const SLOPE: bool>(
         &self,
         omega: f64,
         z: &[Phasor],
-        derivative: Option<(&[Phasor], &mut Vec<f64>)>,
+        dz: &[Phasor],
         out: &mut Vec<f64>,
+        slope: &mut Vec<f64>,
     ) -> bool {
         match self {
             Term::Matrix(m) => {
@@ -235,7 +237,7 @@ impl Term {
                     }
                 }
                 out.push(PI * omega * sum);
-                if let Some((dz, slope)) = derivative {
+                if SLOPE {
                     let mut d = 0.0;
                     for (j, (zj, dj)) in z.iter().zip(dz).enumerate() {
                         for (k, (zk, dk)) in z.iter().zip(dz).enumerate() {
@@ -254,15 +256,10 @@ impl Term {
                 let start = out.len();
                 out.resize(start + t.coefficient_count(), 0.0);
                 let columns = &mut out[start..];
-                let (dz, mut slope) = match derivative {
-                    Some((dz, slope)) => {
-                        let from = slope.len();
-                        slope.resize(from + t.coefficient_count(), 0.0);
-                        (dz, Some(&mut slope[from..]))
-                    }
-                    None => (&[][..], None),
-                };
-                let p = form.force_exponent();
+                let from = slope.len();
+                if SLOPE {
+                    slope.resize(from + t.coefficient_count(), 0.0);
+                }
                 for (e, element) in t.elements().iter().enumerate() {
                     let (re, im) = deformation(z, element.a, element.b);
                     let weight = t.weights().map_or(1.0, |w| w[e]);
@@ -274,9 +271,10 @@ impl Term {
                         Coefficients::PerElement(_) => e,
                     };
                     columns[column] += work;
-                    if let Some(slope) = slope.as_deref_mut() {
+                    if SLOPE {
+                        let p = form.force_exponent();
                         let (dre, dim) = deformation(dz, element.a, element.b);
-                        slope[column] += if x > 0.0 {
+                        slope[from + column] += if x > 0.0 {
                             weight * (p + 1.0) * (cycle / x) * ((re * dre + im * dim) / x)
                         } else if p > 0.0 {
                             0.0
