@@ -42,6 +42,9 @@
 //! are still taken with respect to the measured a, X and φ, so the noise model
 //! propagates the measured noise through the correction (σ_a now also moves X_mode).
 //! b is unchanged by R, the columns read X_mode and φ_mode.
+//! Their derivative ∂A/∂R (the Jacobian of a variable projection in the residual
+//! unknowns) is in closed form where the rows are (`PointRows::residual_derivative`),
+//! else from these forward differences.
 
 use faer::Mat;
 

@@ -12,6 +12,9 @@
 //! quadratures (exact for viscous terms and the input work, relative error up to
 //! 2.4·10⁻⁹ for a power law of exponent 1.5, 1.3·10⁻⁵ for Coulomb friction).
 //!
+//! With a direction dZ of the phasors, the row's derivative along it comes with it
+//! (`row_and_slope`: the stepped-sine ∂A/∂R, dZ_f = −a).
+//!
 //! A point keeps the synthesis (`None`) where the synthesized record would meet one of
 //! the build's refusals, so that it still raises them: a force or motion that is zero or
 //! nearly so (no input work, `regressor/input_work.rs`; a DOF that does not move,
