@@ -42,19 +42,25 @@
 //! are still taken with respect to the measured a, X and φ, so the noise model
 //! propagates the measured noise through the correction (σ_a now also moves X_mode).
 //! b is unchanged by R, the columns read X_mode and φ_mode.
+//! Their derivative ∂A/∂R (the Jacobian of a variable projection in the residual
+//! unknowns) is in closed form where the rows are (`PointRows::residual_derivative`),
+//! else from these forward differences.
 
 use faer::Mat;
 
 use crate::error::{Error, Result};
 use crate::model::DampingModel;
 use crate::prep::harmonic::residual;
-use crate::prep::harmonic::{HarmonicApproximation, SteppedSinePoint, SteppedSineTable};
+use crate::prep::harmonic::{
+    HarmonicApproximation, PhaseReading, SteppedSinePoint, SteppedSineTable,
+};
 use crate::regressor::passive::WorkScale;
 use crate::regressor::robust::{ChannelSensitivity, NoiseModel, RowNoise, WindowNoise};
 use crate::regressor::source::SteppedSineSource;
 use crate::regressor::stepped_sine_closed;
 pub use crate::regressor::structural_term::StructuralTerm;
 use crate::regressor::{Regressor, RegressorSettings, RowLabel};
+use crate::terms::harmonic_work::Phasor;
 
 /// Relative step of the forward differences (module doc).
 const STEP: f64 = 1e-6;
@@ -170,10 +176,17 @@ pub(crate) fn build(
 ///
 /// Without the noise model (`complete` false) the row with a + h, which only the noise
 /// model reads, is not computed: it holds a copy of the equation's row.
+///
+/// When the point's rows have a closed form, its residual is corrected and the phase
+/// reading follows the force DOF's own phase (one DOF, or [`PhaseReading::PerDof`]),
+/// ∂A/∂R is computed in closed form with the equation's row (`slope`); without the
+/// noise model the copies with X_i + h and φ_i + h are then not computed either, and
+/// `rows` holds the equation's row alone.
 #[derive(Debug, Clone)]
 pub(crate) struct PointRows {
     rows: Vec<Row>,
     complete: bool,
+    slope: Option<Vec<f64>>,
 }
 
 impl PointRows {
@@ -184,8 +197,13 @@ impl PointRows {
     }
 
     /// ∂A/∂R of the point's equation (its columns), R its residual receptance: the
-    /// mode's response Z − R a moves by −a dR, as it does when the measured response of
-    /// the force DOF f moves by dX_f = −a cos φ_f dR and dφ_f = (a sin φ_f / X_f) dR, so
+    /// mode's response Z_mode = Z − R a moves by −a dR. In closed form where the rows
+    /// have one (the struct doc): the phasor of the force DOF, Z_mode itself, moves by
+    /// dZ_f = −a and every other DOF's not at all, so ∂A/∂R is the columns' derivative
+    /// along that direction ([`crate::terms::Term::harmonic_columns_and_slope_into`]).
+    /// Otherwise from the forward differences: Z_mode moves as it does when the
+    /// measured response of the force DOF f moves by dX_f = −a cos φ_f dR and
+    /// dφ_f = (a sin φ_f / X_f) dR, so
     ///
     /// ```text
     ///   ∂A/∂R = −a cos φ_f ∂A/∂X_f + (a sin φ_f / X_f) ∂A/∂φ_f,
@@ -194,6 +212,9 @@ impl PointRows {
     /// with ∂A/∂X_f, ∂A/∂φ_f the forward differences of the noise model (relative error
     /// about 10⁻⁶). b does not depend on R. `point` is the point as measured.
     pub(crate) fn residual_derivative(&self, point: &SteppedSinePoint) -> Vec<f64> {
+        if let Some(slope) = &self.slope {
+            return slope.clone();
+        }
         // reads the rows of X_f + h and φ_f + h, computed with or without the noise model
         let f = point.force_dof;
         let (step_x, step_phi) = (amplitude_step(point, f), STEP);
@@ -207,6 +228,25 @@ impl PointRows {
                     + dphi * (rp.columns[k] - base[k]) / step_phi
             })
             .collect()
+    }
+}
+
+#[cfg(test)]
+impl PointRows {
+    /// The equation's row (columns, input work), printed.
+    pub(crate) fn equation(&self) -> String {
+        format!("{:?}", self.rows[0])
+    }
+
+    /// ∂A/∂R in closed form, when computed.
+    pub(crate) fn slope(&self) -> Option<&[f64]> {
+        self.slope.as_deref()
+    }
+
+    /// These rows without ∂A/∂R in closed form.
+    pub(crate) fn without_slope(mut self) -> Self {
+        self.slope = None;
+        self
     }
 }
 
@@ -332,6 +372,7 @@ pub(crate) fn copied_point_rows(
             PointRows {
                 rows,
                 complete: noise,
+                slope: None,
             }
         })
         .collect())
@@ -360,13 +401,20 @@ fn closed_point_rows(
     let (mut psi, mut z) = (Vec::new(), Vec::new());
     let mut validated = None;
     let mut out = Vec::with_capacity(indices.len());
+    // ∂A/∂R in closed form (PointRows): the phase reading of the force DOF is its own
+    let analytic = residual.is_some()
+        && source.structural.is_empty()
+        && (source.table.table.dofs() == 1 || approximation.phase == PhaseReading::PerDof);
+    let mut dz: Vec<Phasor> = Vec::new();
     for (i, &p) in indices.iter().enumerate() {
         let point = points.get(p)?;
         let steps = steps(point);
         let mut rows = Vec::with_capacity(steps.len());
+        let mut slope = None;
         for (c, step) in steps.iter().enumerate() {
-            // the copy with a + h is second ([`perturbed`]): for the noise model alone
-            if c == 1 && !noise {
+            // the copy with a + h is second ([`perturbed`]): for the noise model alone;
+            // with ∂A/∂R in closed form the others are too
+            if c == 1 && !noise || c > 0 && !noise && slope.is_some() {
                 continue;
             }
             copy.frequency = point.frequency;
@@ -391,17 +439,35 @@ fn closed_point_rows(
                 validated = Some(copy.dofs());
             }
             approximation.phase.phases_into(&copy, &mut psi).ok()?;
-            let (mut columns, input) = stepped_sine_closed::row_with(model, &copy, &psi, &mut z)?;
+            let (mut columns, input) = if c == 0 && analytic {
+                // dZ_f = −a: the mode's response Z − R a along R
+                dz.clear();
+                dz.resize(copy.dofs(), (0.0, 0.0));
+                dz[copy.force_dof] = (-copy.force_amplitude, 0.0);
+                let mut d = Vec::with_capacity(model.coefficient_count());
+                let row = stepped_sine_closed::row_and_slope(
+                    model,
+                    &copy,
+                    &psi,
+                    &mut z,
+                    Some((&dz, &mut d)),
+                )?;
+                slope = d.iter().all(|v| v.is_finite()).then_some(d);
+                row
+            } else {
+                stepped_sine_closed::row_with(model, &copy, &psi, &mut z)?
+            };
             columns.extend(source.structural.iter().map(|s| s.column(&copy, &psi)));
             rows.push(Row { columns, input });
         }
-        if !noise {
+        if !noise && slope.is_none() {
             let base = rows.first()?.clone();
             rows.insert(1, base);
         }
         out.push(PointRows {
             rows,
             complete: noise,
+            slope,
         });
     }
     Some(out)

@@ -12,6 +12,9 @@
 //! quadratures (exact for viscous terms and the input work, relative error up to
 //! 2.4·10⁻⁹ for a power law of exponent 1.5, 1.3·10⁻⁵ for Coulomb friction).
 //!
+//! With a direction dZ of the phasors, the row's derivative along it comes with it
+//! (`row_and_slope`: the stepped-sine ∂A/∂R, dZ_f = −a).
+//!
 //! A point keeps the synthesis (`None`) where the synthesized record would meet one of
 //! the build's refusals, so that it still raises them: a force or motion that is zero or
 //! nearly so (no input work, `regressor/input_work.rs`; a DOF that does not move,
@@ -59,6 +62,20 @@ pub(crate) fn row_with(
     psi: &[f64],
     z: &mut Vec<Phasor>,
 ) -> Option<(Vec<f64>, f64)> {
+    row_and_slope(model, point, psi, z, None)
+}
+
+/// [`row_with`], and with `derivative` = (dZ, slope) the columns' derivative along the
+/// phasors' direction dZ (one per DOF) into `slope` (cleared first;
+/// [`Term::harmonic_columns_and_slope_into`]): the columns are those of [`row_with`]
+/// to the last bit. A slope that is not finite is left for the caller to refuse.
+pub(crate) fn row_and_slope(
+    model: &DampingModel,
+    point: &SteppedSinePoint,
+    psi: &[f64],
+    z: &mut Vec<Phasor>,
+    mut derivative: Option<(&[Phasor], &mut Vec<f64>)>,
+) -> Option<(Vec<f64>, f64)> {
     let f = point.force_dof;
     let in_range = |v: f64| (1.0 / RANGE..=RANGE).contains(&v);
     let largest = point.amplitudes.iter().fold(0.0f64, |m, x| m.max(*x));
@@ -82,8 +99,17 @@ pub(crate) fn row_with(
         (x * c, -x * s)
     }));
     let mut columns = Vec::with_capacity(model.coefficient_count());
+    if let Some((_, slope)) = derivative.as_mut() {
+        slope.clear();
+    }
     for term in model.terms() {
-        if !term.harmonic_columns_into(point.frequency, z, &mut columns) {
+        let done = match derivative.as_mut() {
+            Some((dz, slope)) => {
+                term.harmonic_columns_and_slope_into(point.frequency, z, dz, &mut columns, slope)
+            }
+            None => term.harmonic_columns_into(point.frequency, z, &mut columns),
+        };
+        if !done {
             return None;
         }
     }

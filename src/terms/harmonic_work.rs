@@ -187,6 +187,43 @@ impl Term {
     /// [`Term::harmonic_columns`] appended to `out` (the same numbers, no allocation
     /// of their own); false, with `out` as it was, when the term has none.
     pub fn harmonic_columns_into(&self, omega: f64, z: &[Phasor], out: &mut Vec<f64>) -> bool {
+        self.columns_into::<false>(omega, z, &[], out, &mut Vec::new())
+    }
+
+    /// [`Term::harmonic_columns_into`], and the columns' derivative along the phasors'
+    /// direction `dz` (one per DOF) appended to `slope`:
+    ///
+    /// ```text
+    ///   matrix term:  dW = π ω Σ_jk (C₀)_jk Re(dZ_j Z̄_k + Z_j dZ̄_k),
+    ///   |v|^q law:    dW = w_e (p + 1) (W_e/|Z_e|) Re(Z_e dZ̄_e)/|Z_e|,
+    /// ```
+    ///
+    /// (∂W/∂|Z_e| = (p + 1) W/|Z_e|, module doc). An element that does not move
+    /// (|Z_e| = 0) has derivative 0 for p > 0 and none for Coulomb friction (NaN: the
+    /// caller then differences). The columns are those of
+    /// [`Term::harmonic_columns_into`] to the last bit.
+    pub fn harmonic_columns_and_slope_into(
+        &self,
+        omega: f64,
+        z: &[Phasor],
+        dz: &[Phasor],
+        out: &mut Vec<f64>,
+        slope: &mut Vec<f64>,
+    ) -> bool {
+        self.columns_into::<true>(omega, z, dz, out, slope)
+    }
+
+    /// The columns into `out`, and with `SLOPE` their derivative along `dz` into
+    /// `slope` (see [`Term::harmonic_columns_and_slope_into`]; without it neither is
+    /// read, and the columns cost what they cost before the slope existed).
+    fn columns_into<const SLOPE: bool>(
+        &self,
+        omega: f64,
+        z: &[Phasor],
+        dz: &[Phasor],
+        out: &mut Vec<f64>,
+        slope: &mut Vec<f64>,
+    ) -> bool {
         match self {
             Term::Matrix(m) => {
                 if !semidefinite(m) {
@@ -200,6 +237,16 @@ impl Term {
                     }
                 }
                 out.push(PI * omega * sum);
+                if SLOPE {
+                    let mut d = 0.0;
+                    for (j, (zj, dj)) in z.iter().zip(dz).enumerate() {
+                        for (k, (zk, dk)) in z.iter().zip(dz).enumerate() {
+                            d +=
+                                c[(j, k)] * (dj.0 * zk.0 + dj.1 * zk.1 + zj.0 * dk.0 + zj.1 * dk.1);
+                        }
+                    }
+                    slope.push(PI * omega * d);
+                }
                 true
             }
             Term::Elements(t) => {
@@ -209,13 +256,31 @@ impl Term {
                 let start = out.len();
                 out.resize(start + t.coefficient_count(), 0.0);
                 let columns = &mut out[start..];
+                let from = slope.len();
+                if SLOPE {
+                    slope.resize(from + t.coefficient_count(), 0.0);
+                }
                 for (e, element) in t.elements().iter().enumerate() {
                     let (re, im) = deformation(z, element.a, element.b);
                     let weight = t.weights().map_or(1.0, |w| w[e]);
-                    let work = weight * form.cycle_work(omega, re.hypot(im));
-                    match t.coefficients() {
-                        Coefficients::Shared(_) => columns[0] += work,
-                        Coefficients::PerElement(_) => columns[e] += work,
+                    let x = re.hypot(im);
+                    let cycle = form.cycle_work(omega, x);
+                    let work = weight * cycle;
+                    let column = match t.coefficients() {
+                        Coefficients::Shared(_) => 0,
+                        Coefficients::PerElement(_) => e,
+                    };
+                    columns[column] += work;
+                    if SLOPE {
+                        let p = form.force_exponent();
+                        let (dre, dim) = deformation(dz, element.a, element.b);
+                        slope[from + column] += if x > 0.0 {
+                            weight * (p + 1.0) * (cycle / x) * ((re * dre + im * dim) / x)
+                        } else if p > 0.0 {
+                            0.0
+                        } else {
+                            f64::NAN
+                        };
                     }
                 }
                 true
@@ -311,6 +376,88 @@ mod tests {
             let d = form.cycle_work_exponent_derivative(omega, x);
             assert!((fd - d).abs() < 1e-7 * d.abs(), "p = {p}: {fd} vs {d}");
         }
+    }
+
+    /// The columns' derivative along a direction of the phasors against central
+    /// differences of the columns (every closed-form kind, two DOFs, per-element and
+    /// shared coefficients, weights), and the columns themselves bit for bit those of
+    /// `harmonic_columns`.
+    #[test]
+    fn slope_matches_central_differences() {
+        let omega = 12.0;
+        let z = [(1.0e-2, -0.4e-2), (0.3e-2, 0.8e-2)];
+        let dz = [(-0.7, 0.2), (0.4, -1.1)];
+        let elements = vec![Element::to_ground(0), Element::between(0, 1)];
+        let terms = [
+            Term::weighted(
+                PowerLaw::new(1.5).unwrap(),
+                elements.clone(),
+                vec![1.0, 0.5],
+                Coefficients::PerElement("d".into()),
+            ),
+            Term::on_elements(
+                Quadratic,
+                elements.clone(),
+                Coefficients::Shared("q".into()),
+            ),
+            Term::on_elements(Coulomb, elements.clone(), Coefficients::Shared("f".into())),
+            Term::on_elements(Linear, elements, Coefficients::Shared("c".into())),
+            Term::viscous("m", faer::mat![[2.0, -1.0], [-1.0, 1.0]]),
+        ];
+        let along = |t: f64| -> Vec<Phasor> {
+            z.iter()
+                .zip(&dz)
+                .map(|(a, d)| (a.0 + t * d.0, a.1 + t * d.1))
+                .collect()
+        };
+        for term in &terms {
+            let (mut columns, mut slope) = (Vec::new(), Vec::new());
+            assert!(term.harmonic_columns_and_slope_into(omega, &z, &dz, &mut columns, &mut slope));
+            let plain = term.harmonic_columns(omega, &z).unwrap();
+            assert_eq!(
+                columns.iter().map(|c| c.to_bits()).collect::<Vec<_>>(),
+                plain.iter().map(|c| c.to_bits()).collect::<Vec<_>>()
+            );
+            let h = 1e-7;
+            let (up, down) = (
+                term.harmonic_columns(omega, &along(h)).unwrap(),
+                term.harmonic_columns(omega, &along(-h)).unwrap(),
+            );
+            assert_eq!(slope.len(), plain.len());
+            for k in 0..slope.len() {
+                let central = (up[k] - down[k]) / (2.0 * h);
+                assert!(
+                    (slope[k] - central).abs() < 1e-7 * central.abs(),
+                    "{k}: {} vs {central}",
+                    slope[k]
+                );
+            }
+        }
+        // An element that does not move: 0 for p > 0, none for Coulomb friction.
+        let still = [(0.0, 0.0)];
+        let one = [(1.0, 0.0)];
+        let grounded = |law: Term| {
+            let (mut c, mut s) = (Vec::new(), Vec::new());
+            law.harmonic_columns_and_slope_into(omega, &still, &one, &mut c, &mut s);
+            s[0]
+        };
+        let ground = vec![Element::to_ground(0)];
+        assert_eq!(
+            grounded(Term::on_elements(
+                Linear,
+                ground.clone(),
+                Coefficients::Shared("c".into())
+            )),
+            0.0
+        );
+        assert!(
+            grounded(Term::on_elements(
+                Coulomb,
+                ground,
+                Coefficients::Shared("f".into())
+            ))
+            .is_nan()
+        );
     }
 
     /// A term's columns: shared and per-element coefficients, element weights, a dashpot
