@@ -258,6 +258,10 @@ pub(super) fn fit_span(record: &Record, origin: f64, periods: usize) -> Result<S
     })
 }
 
+/// One channel's fit over one period: c_x, c_v, the unit covariance, ½ range of x̂ and
+/// of v̂.
+type ChannelFit = (Vec<f64>, Vec<f64>, Arc<Mat<f64>>, f64, f64);
+
 /// Step 2 for one period: what it gives every span that projects it on the same
 /// harmonics (a one-period window's period is compared with the previous one and with
 /// the next, so it is fitted once for both), all but the noise of the span.
@@ -268,7 +272,7 @@ pub(super) struct PeriodFit {
     /// Samples fitted.
     samples: usize,
     /// Per channel: c_x, c_v, the unit covariance, ½ range of x̂ and of v̂.
-    channels: Vec<(Vec<f64>, Vec<f64>, Arc<Mat<f64>>, f64, f64)>,
+    channels: Vec<ChannelFit>,
 }
 
 /// Step 2 for the `rows` samples of `record` from sample `first`, projected on `orders`.

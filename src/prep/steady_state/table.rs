@@ -19,6 +19,8 @@ use crate::prep::fourier::HarmonicBasis;
 
 /// Samples of B c held at a time ([`HarmonicTable::chunks`]): on the stack, in L1.
 const CHUNK: usize = 128;
+/// Samples of B c summed side by side in registers ([`HarmonicTable::chunks`]).
+const LANES: usize = 8;
 
 /// The design columns and R of a harmonic basis over `samples` samples.
 pub(super) struct HarmonicTable {
@@ -146,23 +148,41 @@ impl HarmonicTable {
 
     /// ŷ = B c over the first `n` samples, [`CHUNK`] samples at a time into a buffer on
     /// the stack: `visit(start, ŷ[start..start + len])` in order. Each ŷ_i is the
-    /// nonzero terms c_k B_ik added to 0.0 in the order of k (a column at a time over the
-    /// chunk, so the loop runs over contiguous samples), the same operations as one
-    /// pass over all samples per column.
+    /// nonzero terms c_k B_ik added to 0.0 in the order of k, the same operations as one
+    /// pass over all samples per column; [`LANES`] samples are summed side by side in
+    /// registers over all the terms before they are stored.
     fn chunks(&self, coefficients: &[f64], n: usize, mut visit: impl FnMut(usize, &[f64])) {
+        let terms: Vec<(f64, &[f64])> = coefficients
+            .iter()
+            .enumerate()
+            .filter(|(_, ck)| **ck != 0.0)
+            .map(|(k, &ck)| (ck, &self.design.col_as_slice(k)[..n]))
+            .collect();
         let mut values = [0.0f64; CHUNK];
         let mut start = 0;
         while start < n {
             let len = CHUNK.min(n - start);
             let fitted = &mut values[..len];
-            fitted.fill(0.0);
-            for (k, &ck) in coefficients.iter().enumerate() {
-                if ck != 0.0 {
-                    let column = &self.design.col_as_slice(k)[start..start + len];
-                    for (y, b) in fitted.iter_mut().zip(column) {
-                        *y += ck * b;
+            let (blocks, rest) = fitted.as_chunks_mut::<LANES>();
+            let whole = blocks.len() * LANES;
+            for (b, block) in blocks.iter_mut().enumerate() {
+                let at = start + b * LANES;
+                let mut sums = [0.0f64; LANES];
+                for &(ck, column) in &terms {
+                    let column = &column[at..at + LANES];
+                    for l in 0..LANES {
+                        sums[l] += ck * column[l];
                     }
                 }
+                *block = sums;
+            }
+            for (i, y) in rest.iter_mut().enumerate() {
+                let at = start + whole + i;
+                let mut sum = 0.0;
+                for &(ck, column) in &terms {
+                    sum += ck * column[at];
+                }
+                *y = sum;
             }
             visit(start, fitted);
             start += len;
@@ -180,7 +200,15 @@ impl HarmonicTable {
             let (quads, rest) = fitted.as_chunks::<4>();
             for quad in quads {
                 for l in 0..4 {
-                    (lo[l], hi[l]) = (lo[l].min(quad[l]), hi[l].max(quad[l]));
+                    // plain comparisons (one min/max instruction each): the values are
+                    // finite, so they pick what f64::min and f64::max pick
+                    let y = quad[l];
+                    if y < lo[l] {
+                        lo[l] = y;
+                    }
+                    if y > hi[l] {
+                        hi[l] = y;
+                    }
                 }
             }
             for (l, &y) in rest.iter().enumerate() {
