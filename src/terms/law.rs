@@ -89,6 +89,37 @@ pub trait Law: Send + Sync + fmt::Debug {
         (slope_x, slope_v)
     }
 
+    /// The noise-robust row's sums of one element over a window
+    /// (`src/regressor/robust/row.rs`): Σ_i w_i (p(x_i, v_i) − bias_i), bias_i =
+    /// [`Law::noise_bias`] at the sample's variances, and the weighted slopes
+    /// w_i ∂p/∂x, w_i ∂p/∂v ([`Law::power_slope`] with steps σ_x, σ_v) into `g_x`, `g_v`,
+    /// over the samples of `w`. A law need not override it: as a provided method it is
+    /// compiled for each law with the per-sample methods called directly (not through
+    /// the `dyn Law`), so a law whose bias or slope ignores an argument costs no square
+    /// root for it.
+    #[allow(clippy::too_many_arguments)]
+    fn robust_sums(
+        &self,
+        x: &[f64],
+        v: &[f64],
+        var_x: &[f64],
+        var_v: &[f64],
+        w: &[f64],
+        g_x: &mut [f64],
+        g_v: &mut [f64],
+    ) -> f64 {
+        let mut value = 0.0;
+        for i in 0..w.len() {
+            let p = self.power(x[i], v[i]);
+            let bias = self.noise_bias(x[i], v[i], var_x[i], var_v[i]);
+            value += w[i] * (p - bias);
+            let (sx, sv) = self.power_slope(x[i], v[i], var_x[i].sqrt(), var_v[i].sqrt());
+            g_v[i] = w[i] * sv;
+            g_x[i] = w[i] * sx;
+        }
+        value
+    }
+
     /// True when the power is |v| (Coulomb friction): its window integral is then the
     /// total variation of the displacement, a form that needs no velocity.
     fn is_total_variation(&self) -> bool {

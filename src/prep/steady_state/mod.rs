@@ -64,12 +64,15 @@
 //! Files: `projection.rs` (the projection of periods, the one place that turns samples
 //! into coefficients and covariances), `table.rs` (a span's basis held once, and the
 //! passes over a channel's samples against it), `judge.rs` (one window), `energy.rs`
-//! (stored energy and its gradient). [`check`] projects each compared span once per
-//! record, however many windows compare it.
+//! (stored energy and its gradient), `spans.rs` (every compared span of a check, each
+//! span and each period fitted once). [`check`] projects each compared span once per
+//! record, however many windows compare it, and fits each period once for the two
+//! spans it takes part in.
 
 mod energy;
 mod judge;
 pub mod projection;
+mod spans;
 mod table;
 
 use std::fmt;
@@ -491,18 +494,11 @@ pub fn check(
                 .collect()
         })
         .collect();
-    let projections = spans
-        .par_iter()
-        .map(|&(k, origin, periods)| {
-            crate::cancel::check("the steady-state check")?;
-            Ok(projection::project_periods(
-                cut[k].0,
-                origin,
-                periods,
-                &[0, periods - 1],
-            ))
-        })
-        .collect::<Result<Vec<_>>>()?;
+    let keys: Vec<self::spans::SpanKey<'_>> = spans
+        .iter()
+        .map(|&(k, origin, periods)| (cut[k].0, cut[k].1.record, origin, periods))
+        .collect();
+    let projections = self::spans::project_spans(&keys)?;
     // Each window is judged on its own; rayon's collect keeps window order, so the
     // report is the same at any thread count.
     let windows = cut

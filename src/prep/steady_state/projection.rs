@@ -43,6 +43,9 @@
 //! half ranges of x̂ and v̂ over each period (the amplitudes the mismatches are relative
 //! to) cost O(m p) per channel, and the covariance is computed once per period and
 //! sensor kind (σ̂_j² times a unit covariance shared by the channels of that kind).
+//! Steps 1 and 3 (`fit_span`) and step 2 (`fit_period`) are separate so that a
+//! period compared in two spans on the same harmonics is fitted once (`spans.rs`);
+//! [`project_periods`] is the two for one span.
 
 use std::sync::Arc;
 
@@ -176,31 +179,54 @@ fn samples_in(u: f64, length: f64, available: usize) -> (usize, usize) {
     (first.min(end), end)
 }
 
-/// Projects the span of `periods` whole periods from the sample position `origin` of
-/// `record` (steps 1–3 of the module doc), and the periods `which` (0-based, each
-/// < `periods`) one by one.
-pub fn project_periods(
-    record: &Record,
-    origin: f64,
-    periods: usize,
-    which: &[usize],
-) -> Result<StateProjection> {
-    let (step, period) = (record.step(), record.period());
-    let length = period / step;
-    // The measured signals, where the noise is white (module doc).
-    let (x, sensors) = match record.measured_motion() {
+/// The measured signals of `record` and their sensors, where the noise is white
+/// (module doc).
+fn signals(record: &Record) -> (faer::MatRef<'_, f64>, Vec<Sensor>) {
+    match record.measured_motion() {
         Some(m) => (m.signals.as_ref(), m.sensors.clone()),
         None => (
             record.displacements(),
             vec![Sensor::Displacement; record.dofs()],
         ),
-    };
+    }
+}
+
+/// Steps 1 and 3 of the module doc over a compared span: the harmonics kept, the noise,
+/// and what no harmonic explains.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct SpanFit {
+    /// Harmonic orders S kept.
+    pub(super) orders: Vec<usize>,
+    /// σ̂_j per channel.
+    noise_std: Vec<f64>,
+    /// r_j per channel.
+    non_harmonic: Vec<f64>,
+    /// RSS_j / ((m − p) σ̂_j²) per channel.
+    residual_ratio: Vec<f64>,
+    /// m − p.
+    residual_dof: usize,
+}
+
+/// The samples (first, count) of period `k` of the span from the sample position
+/// `origin` of `record`.
+pub(super) fn period_samples(record: &Record, origin: f64, k: usize) -> (usize, usize) {
+    let length = record.period() / record.step();
+    let (first, end) = samples_in(origin + k as f64 * length, length, record.samples());
+    (first, end - first)
+}
+
+/// Steps 1 and 3 over the span of `periods` whole periods from the sample position
+/// `origin` of `record`.
+pub(super) fn fit_span(record: &Record, origin: f64, periods: usize) -> Result<SpanFit> {
+    let (step, period) = (record.step(), record.period());
+    let length = period / step;
+    let (x, sensors) = signals(record);
     let (first, end) = samples_in(origin, periods as f64 * length, record.samples());
     let whole = x.subrows(first, end - first);
     let selection = select_harmonics(whole, step, period, periods)?;
     let omega = 2.0 * std::f64::consts::PI / period;
-    let orders = selection.kept.clone();
-    let sigma = selection.noise_std.clone();
+    let orders = selection.kept;
+    let sigma = selection.noise_std;
     // Step 3: the whole span on S, one pass per channel for the fit and one for its
     // residual.
     let m = whole.nrows();
@@ -210,11 +236,10 @@ pub fn project_periods(
     let dof = m.saturating_sub(p).max(1);
     let mut non_harmonic = Vec::with_capacity(x.ncols());
     let mut residual_ratio = Vec::with_capacity(x.ncols());
-    let mut buffer = vec![0.0; m];
     for j in 0..x.ncols() {
         let samples = &col(x, j)[first..end];
         let coefficients = table.fit(samples);
-        let rss = table.residual_sum_of_squares(&coefficients, samples, &mut buffer);
+        let rss = table.residual_sum_of_squares(&coefficients, samples);
         let mean_square = rss / dof as f64;
         let as_displacement = omega.powi(sensors[j].order() as i32);
         non_harmonic.push((mean_square - sigma[j] * sigma[j]).max(0.0).sqrt() / as_displacement);
@@ -224,43 +249,110 @@ pub fn project_periods(
             mean_square / (sigma[j] * sigma[j])
         });
     }
-    // Step 2: each requested period; periods of the same length share their table.
-    let mut tables: Vec<(usize, HarmonicTable)> = Vec::new();
-    let projections = which
-        .iter()
-        .map(|&k| {
-            let (first, end) = samples_in(origin + k as f64 * length, length, record.samples());
-            let rows = end - first;
-            let table = match tables.iter().position(|(r, _)| *r == rows) {
-                Some(t) => t,
-                None => {
-                    let basis = HarmonicBasis::with_orders(omega, orders.clone(), step, rows)?;
-                    tables.push((rows, HarmonicTable::new(&basis, rows)));
-                    tables.len() - 1
-                }
-            };
-            project_period(
-                &tables[table].1,
-                x,
-                first,
-                rows,
-                omega,
-                &orders,
-                &sigma,
-                &sensors,
-            )
-        })
-        .collect::<Result<Vec<_>>>()?;
-    Ok(StateProjection {
-        omega,
-        step,
+    Ok(SpanFit {
         orders,
         noise_std: sigma,
-        periods: projections,
         non_harmonic,
         residual_ratio,
         residual_dof: dof,
     })
+}
+
+/// One channel's fit over one period: c_x, c_v, the unit covariance, ½ range of x̂ and
+/// of v̂.
+type ChannelFit = (Vec<f64>, Vec<f64>, Arc<Mat<f64>>, f64, f64);
+
+/// Step 2 for one period: what it gives every span that projects it on the same
+/// harmonics (a one-period window's period is compared with the previous one and with
+/// the next, so it is fitted once for both), all but the noise of the span.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct PeriodFit {
+    /// First sample fitted (record index).
+    first: usize,
+    /// Samples fitted.
+    samples: usize,
+    /// Per channel: c_x, c_v, the unit covariance, ½ range of x̂ and of v̂.
+    channels: Vec<ChannelFit>,
+}
+
+/// Step 2 for the `rows` samples of `record` from sample `first`, projected on `orders`.
+pub(super) fn fit_period(
+    record: &Record,
+    first: usize,
+    rows: usize,
+    orders: &[usize],
+) -> Result<PeriodFit> {
+    let step = record.step();
+    let omega = 2.0 * std::f64::consts::PI / record.period();
+    let (x, sensors) = signals(record);
+    let basis = HarmonicBasis::with_orders(omega, orders.to_vec(), step, rows)?;
+    let table = HarmonicTable::new(&basis, rows);
+    project_period(&table, x, first, rows, omega, orders, &sensors)
+}
+
+/// The projection of a span from its steps 1 and 3 and its periods' fits (in the order
+/// asked): the first error of the span, else of its periods, in order.
+pub(super) fn assemble(
+    record: &Record,
+    span: &Result<SpanFit>,
+    periods: &[&Result<PeriodFit>],
+) -> Result<StateProjection> {
+    let span = span.as_ref().map_err(Clone::clone)?;
+    let periods = periods
+        .iter()
+        .map(|fit| {
+            let fit = fit.as_ref().map_err(Clone::clone)?;
+            Ok(PeriodProjection {
+                first: fit.first,
+                samples: fit.samples,
+                channels: fit
+                    .channels
+                    .iter()
+                    .zip(&span.noise_std)
+                    .map(
+                        |((displacement, velocity, unit, hx, hv), sigma)| ChannelProjection {
+                            displacement: displacement.clone(),
+                            velocity: velocity.clone(),
+                            unit_covariance: Arc::clone(unit),
+                            noise_variance: sigma * sigma,
+                            half_range_displacement: *hx,
+                            half_range_velocity: *hv,
+                        },
+                    )
+                    .collect(),
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok(StateProjection {
+        omega: 2.0 * std::f64::consts::PI / record.period(),
+        step: record.step(),
+        orders: span.orders.clone(),
+        noise_std: span.noise_std.clone(),
+        periods,
+        non_harmonic: span.non_harmonic.clone(),
+        residual_ratio: span.residual_ratio.clone(),
+        residual_dof: span.residual_dof,
+    })
+}
+
+/// Projects the span of `periods` whole periods from the sample position `origin` of
+/// `record` (steps 1–3 of the module doc), and the periods `which` (0-based, each
+/// < `periods`) one by one.
+pub fn project_periods(
+    record: &Record,
+    origin: f64,
+    periods: usize,
+    which: &[usize],
+) -> Result<StateProjection> {
+    let span = fit_span(record, origin, periods)?;
+    let fits = which
+        .iter()
+        .map(|&k| {
+            let (first, rows) = period_samples(record, origin, k);
+            fit_period(record, first, rows, &span.orders)
+        })
+        .collect::<Vec<_>>();
+    assemble(record, &Ok(span), &fits.iter().collect::<Vec<_>>())
 }
 
 /// S: the displacement coefficients [a₀, a_q, b_q, …] of a channel measured by `sensor`
@@ -302,9 +394,8 @@ fn project_period(
     rows: usize,
     omega: f64,
     orders: &[usize],
-    sigma: &[f64],
     sensors: &[Sensor],
-) -> Result<PeriodProjection> {
+) -> Result<PeriodFit> {
     let p = table.columns();
     let gram_inverse = table.gram_inverse();
     if !(0..p).all(|k| gram_inverse[(k, k)].is_finite()) {
@@ -335,7 +426,6 @@ fn project_period(
             kinds.push((sensor, full, Arc::new(unit)));
         }
     }
-    let mut buffer = vec![0.0; rows];
     let channels = (0..x.ncols())
         .map(|j| {
             // cannot fail: every sensor of `sensors` was added to `kinds` above
@@ -348,17 +438,11 @@ fn project_period(
                 .map(|a| (0..p).map(|k| full[(a, k)] * c[k]).sum())
                 .collect();
             let (displacement, velocity) = (stacked[..p].to_vec(), stacked[p..].to_vec());
-            ChannelProjection {
-                half_range_displacement: table.half_range(&displacement, &mut buffer),
-                half_range_velocity: table.half_range(&velocity, &mut buffer),
-                displacement,
-                velocity,
-                unit_covariance: Arc::clone(unit),
-                noise_variance: sigma[j] * sigma[j],
-            }
+            let (hx, hv) = table.half_ranges(&displacement, &velocity, rows);
+            (displacement, velocity, Arc::clone(unit), hx, hv)
         })
         .collect();
-    Ok(PeriodProjection {
+    Ok(PeriodFit {
         first,
         samples: rows,
         channels,

@@ -10,11 +10,15 @@
 //! shared by every channel), x₀ the channel's first sample (a large offset costs no
 //! accuracy, as in [`crate::prep::fourier::HarmonicBasis::fit_with`]). Each product is a
 //! pass over a column of samples: O(m p) per channel, no copy of the samples, no
-//! matrix of fitted values.
+//! matrix of fitted values. Bᵀx reads x once for up to seven columns; ŷ is formed
+//! 128 samples at a time on the stack and reduced at once to its range or residual.
 
 use faer::Mat;
 
 use crate::prep::fourier::HarmonicBasis;
+
+/// Samples of B c held at a time ([`HarmonicTable::chunks`]): on the stack, in L1.
+const CHUNK: usize = 128;
 
 /// The design columns and R of a harmonic basis over `samples` samples.
 pub(super) struct HarmonicTable {
@@ -24,7 +28,9 @@ pub(super) struct HarmonicTable {
     pub(super) r: Mat<f64>,
 }
 
-/// Σ_i a_i (b_i − shift), in four interleaved partial sums (vectorisable).
+/// Σ_i a_i (b_i − shift), in four interleaved partial sums (vectorisable): the
+/// reference each column's sum of [`dots_shifted`] equals bit for bit.
+#[cfg(test)]
 fn dot_shifted(a: &[f64], b: &[f64], shift: f64) -> f64 {
     let mut acc = [0.0f64; 4];
     let (a4, a_rest) = a.split_at(a.len() - a.len() % 4);
@@ -42,31 +48,26 @@ fn dot_shifted(a: &[f64], b: &[f64], shift: f64) -> f64 {
     (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
 }
 
-/// [`dot_shifted`] of four columns `a` against one `b`, each sum bitwise the one
+/// [`dot_shifted`] of N columns `a` against one `b`, each sum bitwise the one
 /// `dot_shifted(a[c], b, shift)` gives (the same four partial sums, tail and order),
 /// with `b` read once.
-fn dots_shifted(a: [&[f64]; 4], b: &[f64], shift: f64) -> [f64; 4] {
+fn dots_shifted<const N: usize>(a: [&[f64]; N], b: &[f64], shift: f64) -> [f64; N] {
     // The columns' length decides the split, as in `dot_shifted`.
-    let n = a[0].len();
+    let n = a.first().map_or(0, |column| column.len());
     let whole = n - n % 4;
-    let [a0, a1, a2, a3] = a.map(|column| &column[..whole]);
-    let mut acc = [[0.0f64; 4]; 4];
-    for ((((y, x0), x1), x2), x3) in b[..whole]
-        .chunks_exact(4)
-        .zip(a0.chunks_exact(4))
-        .zip(a1.chunks_exact(4))
-        .zip(a2.chunks_exact(4))
-        .zip(a3.chunks_exact(4))
-    {
+    let (samples, _) = b[..whole].as_chunks::<4>();
+    let rows = samples.len();
+    let heads = a.map(|column| &column[..whole].as_chunks::<4>().0[..rows]);
+    let mut acc = [[0.0f64; 4]; N];
+    for (s, y) in samples.iter().enumerate() {
         for l in 0..4 {
             let d = y[l] - shift;
-            acc[0][l] += x0[l] * d;
-            acc[1][l] += x1[l] * d;
-            acc[2][l] += x2[l] * d;
-            acc[3][l] += x3[l] * d;
+            for (sums, head) in acc.iter_mut().zip(&heads) {
+                sums[l] += head[s][l] * d;
+            }
         }
     }
-    let mut out = [0.0; 4];
+    let mut out = [0.0; N];
     for ((o, column), sums) in out.iter_mut().zip(a).zip(acc) {
         let tail: f64 = column[whole..]
             .iter()
@@ -92,22 +93,34 @@ impl HarmonicTable {
         self.design.ncols()
     }
 
+    /// c_k.. c_{k+N−1} = Σ_i B_ik (x_i − shift) for the N columns from k, in one pass.
+    fn dots<const N: usize>(&self, k: usize, x: &[f64], shift: f64, c: &mut [f64]) {
+        let columns: [&[f64]; N] = std::array::from_fn(|l| self.design.col_as_slice(k + l));
+        c[k..k + N].copy_from_slice(&dots_shifted(columns, x, shift));
+    }
+
     /// The least-squares coefficients of the samples `x` (m of them): module doc.
     pub(super) fn fit(&self, x: &[f64]) -> Vec<f64> {
         let p = self.columns();
         let shift = x.first().copied().unwrap_or(0.0);
         let mut c = vec![0.0; p];
-        // Four columns per pass over x: each sum is bitwise the one `dot_shifted`
-        // gives alone (the same operations in the same order), with x read once per
-        // four columns instead of once per column.
+        // Up to seven columns per pass over x (four while eight or more are left):
+        // each sum is bitwise the one `dot_shifted` gives alone (the same operations in
+        // the same order), with x read once per pass instead of once per column.
         let mut k = 0;
-        while k + 4 <= p {
-            let columns = [0, 1, 2, 3].map(|l| self.design.col_as_slice(k + l));
-            c[k..k + 4].copy_from_slice(&dots_shifted(columns, x, shift));
+        while p - k >= 8 {
+            self.dots::<4>(k, x, shift, &mut c);
             k += 4;
         }
-        for (k, ck) in c.iter_mut().enumerate().skip(k) {
-            *ck = dot_shifted(self.design.col_as_slice(k), x, shift);
+        match p - k {
+            1 => self.dots::<1>(k, x, shift, &mut c),
+            2 => self.dots::<2>(k, x, shift, &mut c),
+            3 => self.dots::<3>(k, x, shift, &mut c),
+            4 => self.dots::<4>(k, x, shift, &mut c),
+            5 => self.dots::<5>(k, x, shift, &mut c),
+            6 => self.dots::<6>(k, x, shift, &mut c),
+            7 => self.dots::<7>(k, x, shift, &mut c),
+            _ => {}
         }
         // Rᵀ y = Bᵀx', then R c = y.
         let r = &self.r;
@@ -131,67 +144,77 @@ impl HarmonicTable {
         c
     }
 
-    /// ŷ = B c at the first `out.len()` samples, into `out`.
-    pub(super) fn evaluate(&self, coefficients: &[f64], out: &mut [f64]) {
-        out.fill(0.0);
-        // The nonzero terms added in order, up to four per pass over `out`: each ŷ_i
-        // takes the same additions in the same order as one pass per column, so it is
-        // bitwise the same, with `out` read and written once per four columns.
-        let n = out.len();
-        let terms: Vec<(f64, &[f64])> = coefficients
-            .iter()
-            .enumerate()
-            .filter(|(_, ck)| **ck != 0.0)
-            .map(|(k, &ck)| (ck, &self.design.col_as_slice(k)[..n]))
-            .collect();
-        for group in terms.chunks(4) {
-            match group {
-                [(c0, b0), (c1, b1), (c2, b2), (c3, b3)] => {
-                    // Slices of exactly n let the loop run without bounds checks.
-                    let (b0, b1, b2, b3) = (&b0[..n], &b1[..n], &b2[..n], &b3[..n]);
-                    for i in 0..n {
-                        let mut sum = out[i];
-                        sum += c0 * b0[i];
-                        sum += c1 * b1[i];
-                        sum += c2 * b2[i];
-                        sum += c3 * b3[i];
-                        out[i] = sum;
-                    }
-                }
-                _ => {
-                    for (ck, column) in group {
-                        for (y, b) in out.iter_mut().zip(column.iter()) {
-                            *y += ck * b;
-                        }
+    /// ŷ = B c over the first `n` samples, [`CHUNK`] samples at a time into a buffer on
+    /// the stack: `visit(start, ŷ[start..start + len])` in order. Each ŷ_i is the
+    /// nonzero terms c_k B_ik added to 0.0 in the order of k (a column at a time over the
+    /// chunk, so the loop runs over contiguous samples), the same operations as one
+    /// pass over all samples per column.
+    fn chunks(&self, coefficients: &[f64], n: usize, mut visit: impl FnMut(usize, &[f64])) {
+        let mut values = [0.0f64; CHUNK];
+        let mut start = 0;
+        while start < n {
+            let len = CHUNK.min(n - start);
+            let fitted = &mut values[..len];
+            fitted.fill(0.0);
+            for (k, &ck) in coefficients.iter().enumerate() {
+                if ck != 0.0 {
+                    let column = &self.design.col_as_slice(k)[start..start + len];
+                    for (y, b) in fitted.iter_mut().zip(column) {
+                        *y += ck * b;
                     }
                 }
             }
+            visit(start, fitted);
+            start += len;
         }
     }
 
-    /// ½ (max − min) of B c over the first `buffer.len()` samples.
-    pub(super) fn half_range(&self, coefficients: &[f64], buffer: &mut [f64]) -> f64 {
-        self.evaluate(coefficients, buffer);
-        let (lo, hi) = buffer
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &y| {
-                (lo.min(y), hi.max(y))
-            });
+    /// ½ (max − min) of B c over the first `n` samples. The extremes are taken in four
+    /// lanes side by side (no comparison waits on the one before): the least and the
+    /// largest of finite values do not depend on the order they are met in, so the
+    /// range is the same as in sample order (a zero range might differ in the sign of
+    /// its zero only, which every use of it treats alike).
+    fn half_range(&self, coefficients: &[f64], n: usize) -> f64 {
+        let (mut lo, mut hi) = ([f64::INFINITY; 4], [f64::NEG_INFINITY; 4]);
+        self.chunks(coefficients, n, |_, fitted| {
+            let (quads, rest) = fitted.as_chunks::<4>();
+            for quad in quads {
+                for l in 0..4 {
+                    (lo[l], hi[l]) = (lo[l].min(quad[l]), hi[l].max(quad[l]));
+                }
+            }
+            for (l, &y) in rest.iter().enumerate() {
+                (lo[l], hi[l]) = (lo[l].min(y), hi[l].max(y));
+            }
+        });
+        let lo = lo.iter().fold(f64::INFINITY, |a, &b| a.min(b));
+        let hi = hi.iter().fold(f64::NEG_INFINITY, |a, &b| a.max(b));
         0.5 * (hi - lo)
     }
 
-    /// Σ_i (x_i − (B c)_i)² over the samples of `x`, with `buffer` (as long as `x`).
-    pub(super) fn residual_sum_of_squares(
+    /// The ½ ranges of B c_x and of B c_v over the first `n` samples.
+    pub(super) fn half_ranges(
         &self,
-        coefficients: &[f64],
-        x: &[f64],
-        buffer: &mut [f64],
-    ) -> f64 {
-        self.evaluate(coefficients, buffer);
-        x.iter()
-            .zip(buffer.iter())
-            .map(|(a, b)| (a - b).powi(2))
-            .sum()
+        displacement: &[f64],
+        velocity: &[f64],
+        n: usize,
+    ) -> (f64, f64) {
+        (
+            self.half_range(displacement, n),
+            self.half_range(velocity, n),
+        )
+    }
+
+    /// Σ_i (x_i − (B c)_i)² over the samples of `x`, summed in sample order.
+    pub(super) fn residual_sum_of_squares(&self, coefficients: &[f64], x: &[f64]) -> f64 {
+        let mut sum = 0.0;
+        self.chunks(coefficients, x.len(), |start, fitted| {
+            for (a, b) in x[start..start + fitted.len()].iter().zip(fitted) {
+                let r = a - b;
+                sum += r * r;
+            }
+        });
+        sum
     }
 }
 
@@ -210,11 +233,12 @@ mod tests {
     use super::*;
 
     /// The fused passes are bitwise the per-column ones: four dot products against one
-    /// sample column, and an evaluation with zero coefficients skipped, at lengths with
-    /// every remainder mod 4.
+    /// sample column, and an evaluation by chunks with zero coefficients skipped (and
+    /// the ½ range and residual sum of squares from it) against one pass per column over
+    /// all samples, at lengths with every remainder mod 4 and over several chunks.
     #[test]
     fn fused_passes_are_bitwise_the_per_column_ones() {
-        for m in [8usize, 9, 10, 11, 13, 64, 101] {
+        for m in [8usize, 9, 10, 11, 13, 64, 101, 2 * CHUNK + 7] {
             let column = |c: usize| -> Vec<f64> {
                 (0..m)
                     .map(|i| {
@@ -235,7 +259,9 @@ mod tests {
             let table = HarmonicTable::new(&basis, m);
             let coefficients = [0.3, -1.7, 0.0, 2.5e-3, 4.0, 0.0, -0.9];
             let mut fused = vec![0.0; m];
-            table.evaluate(&coefficients, &mut fused);
+            table.chunks(&coefficients, m, |start, fitted| {
+                fused[start..start + fitted.len()].copy_from_slice(fitted)
+            });
             let mut alone = vec![0.0; m];
             for (k, &ck) in coefficients.iter().enumerate() {
                 if ck != 0.0 {
@@ -246,29 +272,57 @@ mod tests {
             }
             let bits = |v: &[f64]| v.iter().map(|y| y.to_bits()).collect::<Vec<_>>();
             assert_eq!(bits(&fused), bits(&alone), "m = {m}");
-            let c = table.fit(&b);
-            let by_column: Vec<f64> = (0..table.columns())
-                .map(|k| dot_shifted(table.design.col_as_slice(k), &b, shift))
-                .collect();
-            let mut reference = by_column;
-            let r = &table.r;
-            let p = table.columns();
-            for i in 0..p {
-                let mut s = reference[i];
-                for k in 0..i {
-                    s -= r[(k, i)] * reference[k];
+            let (lo, hi) = alone
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &y| {
+                    (lo.min(y), hi.max(y))
+                });
+            let rss: f64 = b.iter().zip(&alone).map(|(a, y)| (a - y).powi(2)).sum();
+            let (half, _) = table.half_ranges(&coefficients, &coefficients, m);
+            assert_eq!(half.to_bits(), (0.5 * (hi - lo)).to_bits(), "m = {m}");
+            let ours = table.residual_sum_of_squares(&coefficients, &b);
+            assert_eq!(ours.to_bits(), rss.to_bits(), "m = {m}");
+            // p = 3, 5, 7, 11, 15: one pass of p columns, or passes of four and the rest
+            for orders in [
+                vec![1],
+                vec![1, 3],
+                vec![1, 2, 3],
+                vec![1, 2, 3, 4, 5],
+                (1..=7).collect(),
+            ] {
+                if 2 * orders.len() + 1 > m {
+                    continue;
                 }
-                reference[i] = s / r[(i, i)];
-            }
-            for i in (0..p).rev() {
-                let mut s = reference[i];
-                for k in i + 1..p {
-                    s -= r[(i, k)] * reference[k];
+                let basis = HarmonicBasis::with_orders(omega, orders.clone(), 0.5, m).unwrap();
+                let table = HarmonicTable::new(&basis, m);
+                let c = table.fit(&b);
+                let by_column: Vec<f64> = (0..table.columns())
+                    .map(|k| dot_shifted(table.design.col_as_slice(k), &b, shift))
+                    .collect();
+                let mut reference = by_column;
+                let r = &table.r;
+                let p = table.columns();
+                for i in 0..p {
+                    let mut s = reference[i];
+                    for k in 0..i {
+                        s -= r[(k, i)] * reference[k];
+                    }
+                    reference[i] = s / r[(i, i)];
                 }
-                reference[i] = s / r[(i, i)];
+                for i in (0..p).rev() {
+                    let mut s = reference[i];
+                    for k in i + 1..p {
+                        s -= r[(i, k)] * reference[k];
+                    }
+                    reference[i] = s / r[(i, i)];
+                }
+                reference[0] += shift;
+                assert_eq!(
+                    bits(&c),
+                    bits(&reference),
+                    "fit, m = {m}, orders {orders:?}"
+                );
             }
-            reference[0] += shift;
-            assert_eq!(bits(&c), bits(&reference), "fit, m = {m}");
         }
     }
 
@@ -299,13 +353,12 @@ mod tests {
         }
         let fitted = basis.design(m) * &reference;
         let rss: f64 = (0..m).map(|i| (xs[i] - fitted[(i, 0)]).powi(2)).sum();
-        let mut buffer = vec![0.0; m];
-        let ours = table.residual_sum_of_squares(&c, xs, &mut buffer);
+        let ours = table.residual_sum_of_squares(&c, xs);
         assert!((ours - rss).abs() < 1e-6 * rss, "{ours} vs {rss}");
         let (lo, hi) = (0..m).fold((f64::INFINITY, f64::NEG_INFINITY), |(l, u), i| {
             (l.min(fitted[(i, 0)]), u.max(fitted[(i, 0)]))
         });
-        let half = table.half_range(&c, &mut buffer);
+        let half = table.half_range(&c, m);
         assert!((half - 0.5 * (hi - lo)).abs() < 1e-12, "{half}");
     }
 }

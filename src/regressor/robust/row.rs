@@ -356,9 +356,9 @@ fn element_columns(
     let (x, v) = (projected.x.as_ref(), projected.v.as_ref());
     let mut xr = vec![0.0; rows];
     let mut vr = vec![0.0; rows];
-    // Each element's weighted slopes, every entry written before it is read (allocated
-    // once per window, not per element).
-    let (mut g_v, mut g_x) = (vec![0.0; count], vec![0.0; count]);
+    // per-sample noise variances and weighted slopes, one set of buffers per term
+    let (mut var_x, mut var_v) = (vec![0.0; count], vec![0.0; count]);
+    let (mut g_x, mut g_v) = (vec![0.0; count], vec![0.0; count]);
     for (e, element) in term.elements().iter().enumerate() {
         let weight = term.weights().map_or(1.0, |w| w[e]);
         let column = first + term.coefficients().column_of(e);
@@ -395,23 +395,25 @@ fn element_columns(
                 gradients.add(b, column + 1, &u, -weight);
             }
         } else {
-            let mut value = 0.0;
             let (unit_x, unit_v) = (projected.var_x(element.a), projected.var_v(element.a));
             let other = other.map(|(s2, b)| (s2, projected.var_x(b), projected.var_v(b)));
             for i in 0..count {
-                let mut var_x = variance * unit_x[i];
-                let mut var_v = variance * unit_v[i];
+                var_x[i] = variance * unit_x[i];
+                var_v[i] = variance * unit_v[i];
                 if let Some((s2, ox, ov)) = other {
-                    var_x += s2 * ox[i];
-                    var_v += s2 * ov[i];
+                    var_x[i] += s2 * ox[i];
+                    var_v[i] += s2 * ov[i];
                 }
-                let p = law.power(xr[i], vr[i]);
-                let bias = law.noise_bias(xr[i], vr[i], var_x, var_v);
-                value += weights[i] * (p - bias);
-                let (sx, sv) = law.power_slope(xr[i], vr[i], var_x.sqrt(), var_v.sqrt());
-                g_v[i] = weights[i] * sv;
-                g_x[i] = weights[i] * sx;
             }
+            let value = law.robust_sums(
+                &xr[..count],
+                &vr[..count],
+                &var_x,
+                &var_v,
+                weights,
+                &mut g_x,
+                &mut g_v,
+            );
             columns[column] += weight * value;
             let moves_x = g_x.iter().any(|g| *g != 0.0);
             for (channel, sign) in
