@@ -10,8 +10,8 @@ unweighted energy equations (dampid's `weighting = "ordinary"`, model_ordinary.t
     Xm = |X e^{-i phi} - r_k a|,   G(p) = int_0^2pi |sin t|^(p+1) dt
          = 2 sqrt(pi) Gamma((p+2)/2) / Gamma((p+3)/2)
 
-(dampid integrates the same columns over a synthesized period of 512 samples, which
-equals the closed form to about 1e-8). Start: p = 1.2 and r_k = 0 as model.toml, c and
+(dampid evaluates the same columns in closed form, as here, and their derivative in
+each residual receptance r_k too; c and d it projects out). Start: p = 1.2 and r_k = 0 as model.toml, c and
 d from the linear least squares there. Jacobian: '2-point' (what most users write) and
 analytic (dense, 492 x 15). Timing in-process, best of --repeat runs.
 
