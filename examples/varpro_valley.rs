@@ -50,12 +50,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             estimation.status.reason
         );
         for p in &estimation.parameters {
-            println!(
-                "  {} {:.17e} se {:.6e}",
-                p.name,
-                p.value,
-                p.std_error.unwrap_or(f64::NAN)
-            );
+            let se = p.std_error.unwrap_or(f64::NAN);
+            println!("  {} {:.17e} se {se:.6e}", p.name, p.value);
         }
         for c in &estimation.coefficients {
             println!("  {} {:.17e}", c.name, c.value);
