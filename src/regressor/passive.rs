@@ -141,8 +141,10 @@ pub fn negative_groups(regressor: &Regressor) -> Vec<(String, f64)> {
     let mut groups = vec![Sums::default(); scale.names.len()];
     let mut all = Sums::default();
     let zero = vec![0.0; regressor.columns().len()];
+    // one scratch buffer for every row's std (the same numbers as `RowNoise::std`)
+    let mut buffer = Vec::new();
     for (r, &b) in regressor.rhs().iter().enumerate() {
-        let std = noise.map(|n| n.rows[r].std(&zero));
+        let std = noise.map(|n| n.rows[r].std_with(&zero, &mut buffer));
         let (gross, samples) = (scale.gross[r], scale.samples[r]);
         if let Some(g) = groups.get_mut(scale.group[r]) {
             g.add(b, gross, std, samples);

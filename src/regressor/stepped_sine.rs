@@ -46,6 +46,8 @@
 //! unknowns) is in closed form where the rows are (`PointRows::residual_derivative`),
 //! else from these forward differences.
 
+use std::sync::Arc;
+
 use faer::Mat;
 
 use crate::error::{Error, Result};
@@ -165,7 +167,7 @@ pub(crate) fn build(
     let residual = source.per_point(residual)?;
     let indices: Vec<usize> = (0..source.table.table.points().len()).collect();
     let rows = point_rows(model, source, &indices, residual.as_deref(), true)?;
-    assemble(model, source, &rows.iter().collect::<Vec<_>>(), true)
+    assemble(model, source, &rows.iter().collect::<Vec<_>>(), true, None)
 }
 
 /// The rows of one point: its equation, then its rows with a + h, and X_i + h and
@@ -280,6 +282,16 @@ fn steps(p: &SteppedSinePoint) -> Vec<f64> {
         out.push(STEP);
     }
     out
+}
+
+/// Entry `c` of [`steps`] without the vector: the same number.
+fn step(p: &SteppedSinePoint, c: usize) -> f64 {
+    match c {
+        0 => 1.0,
+        1 => STEP * p.force_amplitude.max(f64::MIN_POSITIVE),
+        c if c % 2 == 0 => amplitude_step(p, (c - 2) / 2),
+        _ => STEP,
+    }
 }
 
 /// The step of X_j + h in [`steps`]: 10⁻⁶ of the largest amplitude of `p`.
@@ -408,15 +420,16 @@ fn closed_point_rows(
     let mut dz: Vec<Phasor> = Vec::new();
     for (i, &p) in indices.iter().enumerate() {
         let point = points.get(p)?;
-        let steps = steps(point);
-        let mut rows = Vec::with_capacity(steps.len());
+        let count = 2 + 2 * point.dofs();
+        let mut rows = Vec::with_capacity(count);
         let mut slope = None;
-        for (c, step) in steps.iter().enumerate() {
+        for c in 0..count {
             // the copy with a + h is second ([`perturbed`]): for the noise model alone;
             // with ∂A/∂R in closed form the others are too
             if c == 1 && !noise || c > 0 && !noise && slope.is_some() {
                 continue;
             }
+            let step = step(point, c);
             copy.frequency = point.frequency;
             copy.force_dof = point.force_dof;
             copy.force_amplitude = point.force_amplitude;
@@ -477,12 +490,14 @@ fn closed_point_rows(
 /// of point p, from [`point_rows`] for `model`), with its labels, work scale and, when
 /// `with_noise`, its noise model (see [`build`]). Without it the matrix, b, labels and
 /// work scale are the same to the last bit: for a trial whose fit reads no noise model
-/// (ordinary weighting, `varpro/problem.rs`).
+/// (ordinary weighting, `varpro/problem.rs`). `labels`, when given, are the table's
+/// [`row_labels`], shared instead of made again (a caller assembling many trials).
 pub(crate) fn assemble(
     model: &DampingModel,
     source: &SteppedSineSource,
     rows: &[&PointRows],
     with_noise: bool,
+    labels: Option<&Arc<[RowLabel]>>,
 ) -> Result<Regressor> {
     let columns = checked_columns(model, source)?;
     let swept = &source.table;
@@ -498,16 +513,7 @@ pub(crate) fn assemble(
     let p_count = columns.len();
     let matrix = Mat::from_fn(points.len(), p_count, |r, k| rows[r].rows[0].columns[k]);
     let rhs: Vec<f64> = (0..points.len()).map(|r| rows[r].rows[0].input).collect();
-    // Each point's place in its sweep.
-    let mut count = vec![0usize; swept.sweep_names.len()];
-    let places: Vec<usize> = swept
-        .sweeps
-        .iter()
-        .map(|&s| {
-            count[s] += 1;
-            count[s] - 1
-        })
-        .collect();
+    let places = places(source);
     if with_noise && rows.iter().any(|r| !r.complete) {
         return Err(Error::Numerical {
             stage: "stepped-sine noise model".into(),
@@ -515,19 +521,10 @@ pub(crate) fn assemble(
         });
     }
     let noise = with_noise.then(|| noise_model(source, rows, &places, p_count));
-    let labels = (0..points.len())
-        .map(|r| {
-            let s = swept.sweeps[r];
-            RowLabel {
-                record: swept.sweep_names[s].clone(),
-                record_index: s,
-                window: places[r],
-                start_time: 0.0,
-                cycles: 1,
-                frequency: Some(points[r].frequency),
-            }
-        })
-        .collect();
+    let labels = match labels {
+        Some(labels) if labels.len() == points.len() => Arc::clone(labels),
+        _ => labels_at(source, &places).into(),
+    };
     for (r, b) in rhs.iter().enumerate() {
         if *b == 0.0 {
             return Err(Error::NoInputWork {
@@ -550,12 +547,51 @@ pub(crate) fn assemble(
         names: swept.sweep_names.clone(),
         unit: "sweep".into(),
     };
-    let regressor = Regressor::from_parts(matrix, rhs, columns, labels)?;
+    let regressor = Regressor::from_shared_parts(matrix, rhs, columns, labels)?;
     match noise {
         Some(noise) => regressor.with_noise(noise)?,
         None => regressor,
     }
     .with_work_scale(scale)
+}
+
+/// The row labels [`assemble`] gives the regressor of `source`: `record` the point's
+/// sweep, `record_index` the sweep's index, `window` the point's place in its sweep,
+/// `frequency` its ω.
+pub(crate) fn row_labels(source: &SteppedSineSource) -> Vec<RowLabel> {
+    labels_at(source, &places(source))
+}
+
+/// Each point's place in its sweep.
+fn places(source: &SteppedSineSource) -> Vec<usize> {
+    let swept = &source.table;
+    let mut count = vec![0usize; swept.sweep_names.len()];
+    swept
+        .sweeps
+        .iter()
+        .map(|&s| {
+            count[s] += 1;
+            count[s] - 1
+        })
+        .collect()
+}
+
+/// [`row_labels`] with each point's place in its sweep given.
+fn labels_at(source: &SteppedSineSource, places: &[usize]) -> Vec<RowLabel> {
+    let swept = &source.table;
+    (0..swept.table.points().len())
+        .map(|r| {
+            let s = swept.sweeps[r];
+            RowLabel {
+                record: swept.sweep_names[s].clone(),
+                record_index: s,
+                window: places[r],
+                start_time: 0.0,
+                cycles: 1,
+                frequency: Some(swept.table.points()[r].frequency),
+            }
+        })
+        .collect()
 }
 
 /// The noise model of the rows `rows` of `source`'s points (module doc: the forward

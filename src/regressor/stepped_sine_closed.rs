@@ -79,6 +79,11 @@ pub(crate) fn row_and_slope(
     let f = point.force_dof;
     let in_range = |v: f64| (1.0 / RANGE..=RANGE).contains(&v);
     let largest = point.amplitudes.iter().fold(0.0f64, |m, x| m.max(*x));
+    // sin ψ_f, read once: the lag's floor and the input work
+    let sin_f = match psi.get(f) {
+        Some(p) if !p.is_nan() => p.sin(),
+        _ => return None,
+    };
     if !in_range(point.force_amplitude)
         || !in_range(point.frequency)
         || !in_range(largest)
@@ -87,9 +92,7 @@ pub(crate) fn row_and_slope(
             .iter()
             .any(|&x| x.is_nan() || x <= MOTION_SHARE * largest)
         || psi.len() != point.amplitudes.len()
-        || psi
-            .get(f)
-            .is_none_or(|p| p.is_nan() || p.sin().abs() <= LAG_FLOOR)
+        || sin_f.abs() <= LAG_FLOOR
     {
         return None;
     }
@@ -113,6 +116,6 @@ pub(crate) fn row_and_slope(
             return None;
         }
     }
-    let input = PI * point.force_amplitude * point.amplitudes[f] * psi[f].sin();
+    let input = PI * point.force_amplitude * point.amplitudes[f] * sin_f;
     (input.is_finite() && columns.iter().all(|c| c.is_finite())).then_some((columns, input))
 }

@@ -126,10 +126,12 @@ pub fn with_left_out(
     {
         return report;
     }
+    // one scratch buffer for every row's std (the same numbers as `RowNoise::std`)
+    let buffer = std::cell::RefCell::new(Vec::new());
     let weight = |i: usize, theta: &[f64]| -> f64 {
         regressor
             .noise()
-            .map(|noise| noise.rows[i].std(theta))
+            .map(|noise| noise.rows[i].std_with(theta, &mut buffer.borrow_mut()))
             .filter(|s| s.is_finite() && *s > 0.0)
             .unwrap_or(1.0)
     };

@@ -26,7 +26,12 @@
 //!
 //! The regressor last built is kept, so the weights at η₀ and η₁ and the first cost of
 //! the search that starts there read one build (equal η to 4 ulp: the unit-box round
-//! trip of the Levenberg–Marquardt).
+//! trip of the Levenberg–Marquardt). The searches' own trials read no noise model (their
+//! weights are fixed): they are built without it where the problem can
+//! ([`Problem::equations`]: a table with residual unknowns, A and b the whole build's
+//! bit for bit), and the weights at η₁ read the whole build at the η of that kept trial
+//! (its rows made again with the noise model's perturbed copies): the same numbers as
+//! before, one build more.
 //!
 //! Unweighted inner fits (ordinary weighting, or rows without a noise model) have no
 //! weights to fix: the Levenberg–Marquardt runs on φ as before. One parameter keeps the
@@ -80,30 +85,46 @@ pub(super) fn minimise(
     // the weights at η₀ and η₁ and the first residual of the search from there read
     // one regressor: the last one built is kept
     // (shared, not copied: the Jacobian's differences at η read it q times)
-    let last: RefCell<Option<(Vec<f64>, Arc<Regressor>)>> = RefCell::new(None);
-    let regressor = |eta: &[f64]| -> Result<Arc<Regressor>> {
-        if let Some((at, regressor)) = last.borrow().as_ref()
-            && at
+    // (the η it was built at, it, whether it is the whole build: with the noise model)
+    type Kept = (Vec<f64>, Arc<Regressor>, bool);
+    let last: RefCell<Option<Kept>> = RefCell::new(None);
+    // the regressor at η, the whole build when `whole` (the propagated fit reads its
+    // noise model), else maybe without the noise model (a fit on fixed weights)
+    let regressor = |eta: &[f64], whole: bool| -> Result<Arc<Regressor>> {
+        let mut at = eta.to_vec();
+        if let Some((kept, regressor, complete)) = last.borrow().as_ref()
+            && kept
                 .iter()
                 .zip(eta)
                 .all(|(a, b)| (a - b).abs() <= 4.0 * f64::EPSILON * a.abs().max(b.abs()))
         {
-            return Ok(Arc::clone(regressor));
+            if *complete || !whole {
+                return Ok(Arc::clone(regressor));
+            }
+            // the whole build of the kept trial: at its own η, as it was kept before
+            at.clone_from(kept);
         }
-        let regressor = Arc::new(problem.regressor(eta)?);
-        *last.borrow_mut() = Some((eta.to_vec(), Arc::clone(&regressor)));
+        let (regressor, complete) = if whole {
+            (problem.regressor(&at)?, true)
+        } else {
+            let bare = problem.equations(&at)?;
+            let complete = bare.noise().is_some();
+            (bare, complete)
+        };
+        let regressor = Arc::new(regressor);
+        *last.borrow_mut() = Some((at, Arc::clone(&regressor), complete));
         Ok(regressor)
     };
     // 1/s_r of the propagated fit at η, or `None` when the inner fit is unweighted
     let row_weights = |eta: &[f64]| -> Result<Option<Vec<f64>>> {
-        let fit = crate::fit::solve(&*regressor(eta)?, fit)?;
+        let fit = crate::fit::solve(&*regressor(eta, true)?, fit)?;
         Ok(fit.residual_std.as_deref().map(inverse_std))
     };
     let initial: Vec<f64> = parameters.iter().map(|p| p.initial).collect();
     let Some(weights) = row_weights(&initial)? else {
         // rows without a noise model: φ itself, its first trial the regressor just built
         let unweighted = |eta: &[f64]| -> Result<Vec<f64>> {
-            let rows = regressor(eta)?;
+            let rows = regressor(eta, true)?;
             let fit = crate::fit::solve(&rows, fit)?;
             Ok(weighted_residuals(
                 &rows,
@@ -118,7 +139,7 @@ pub(super) fn minimise(
         ..fit.clone()
     };
     let fixed = |weights: &[f64], eta: &[f64]| -> Result<Vec<f64>> {
-        let rows = regressor(eta)?.weighted(weights)?;
+        let rows = regressor(eta, false)?.weighted(weights)?;
         let fit = crate::fit::solve(&rows, &ordinary)?;
         Ok(weighted_residuals(&rows, &fit.coefficients, None))
     };
@@ -126,7 +147,7 @@ pub(super) fn minimise(
     // A(η) + h ∂A/∂η_j (`sweep_blocks.rs`)
     let fixed_shifted =
         |weights: &[f64], eta: &[f64], j: usize, h: f64| -> Result<Option<Vec<f64>>> {
-            let base = regressor(eta)?;
+            let base = regressor(eta, false)?;
             let Some(moved) = problem.shifted(&base, eta, j, h)? else {
                 return Ok(None);
             };

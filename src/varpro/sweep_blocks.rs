@@ -27,8 +27,8 @@ use std::sync::{Arc, Mutex};
 
 use crate::error::Result;
 use crate::model::DampingModel;
-use crate::regressor::stepped_sine::{PointRows, assemble, point_rows};
-use crate::regressor::{ParametricRegressor, Regressor, SteppedSineSource};
+use crate::regressor::stepped_sine::{PointRows, assemble, point_rows, row_labels};
+use crate::regressor::{ParametricRegressor, Regressor, RowLabel, SteppedSineSource};
 
 /// Blocks kept per sweep.
 const CAPACITY: usize = 8;
@@ -54,6 +54,8 @@ pub(super) struct SweepBlocks<'a> {
     members: Vec<Vec<usize>>,
     /// Each point's place in its sweep.
     places: Vec<usize>,
+    /// The row labels of every trial (the same for all: made once, shared).
+    labels: Arc<[RowLabel]>,
     /// Per sweep: the most recent blocks, newest last.
     cache: Mutex<Vec<Vec<(Key, Block)>>>,
 }
@@ -81,6 +83,7 @@ impl<'a> SweepBlocks<'a> {
             per_sweep,
             members,
             places,
+            labels: row_labels(source).into(),
             cache: Mutex::new(vec![Vec::new(); sweeps]),
         })
     }
@@ -108,7 +111,7 @@ impl<'a> SweepBlocks<'a> {
             .zip(&self.places)
             .map(|(&s, &place)| &blocks[s][place])
             .collect();
-        assemble(&model, self.source, &rows, with_noise)
+        assemble(&model, self.source, &rows, with_noise, Some(&self.labels))
     }
 
     /// ∂A/∂η_j at `eta` for a residual unknown j (`None` for a law parameter): the
