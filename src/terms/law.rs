@@ -341,8 +341,18 @@ mod tests {
             let value = law.robust_sums(&x, &v, &var_x, &var_v, &w, &mut g_x, &mut g_v);
             assert_eq!(value.to_bits(), expected.0.to_bits(), "{}", law.name());
             for i in 0..n {
-                assert_eq!(g_x[i].to_bits(), expected.1[i].to_bits(), "{} x {i}", law.name());
-                assert_eq!(g_v[i].to_bits(), expected.2[i].to_bits(), "{} v {i}", law.name());
+                assert_eq!(
+                    g_x[i].to_bits(),
+                    expected.1[i].to_bits(),
+                    "{} x {i}",
+                    law.name()
+                );
+                assert_eq!(
+                    g_v[i].to_bits(),
+                    expected.2[i].to_bits(),
+                    "{} v {i}",
+                    law.name()
+                );
             }
         }
     }
