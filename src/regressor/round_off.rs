@@ -141,6 +141,8 @@ fn gross_of(
         .max()
         .unwrap_or(0);
     let mut units = vec![0.0; widest];
+    // the terms and their column ranges, once per window rather than per sample
+    let term_columns: Vec<(&Term, std::ops::Range<usize>)> = model.term_columns().collect();
     for j in 0..n {
         let i = w.start + j * intervals / n;
         let (before, after) = (i.saturating_sub(1), (i + 1).min(last));
@@ -153,7 +155,7 @@ fn gross_of(
                 None => (xs[d][after] - xs[d][before]) / ((after - before) as f64 * h),
             };
         }
-        for (term, range) in model.term_columns() {
+        for (term, range) in &term_columns {
             if let Term::Elements(t) = term
                 && matches!(t.coefficients(), Coefficients::PerElement(_))
             {

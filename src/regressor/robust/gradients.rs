@@ -101,8 +101,7 @@ impl Gradients {
                 faer::Par::Seq,
             );
             for (k, (channel, slot)) in keys.into_iter().enumerate() {
-                let column = col(u.as_ref(), k).to_vec();
-                self.add(channel, slot, &column, 1.0);
+                self.add(channel, slot, col(u.as_ref(), k), 1.0);
             }
         }
     }

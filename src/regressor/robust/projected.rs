@@ -123,7 +123,7 @@ impl ProjectedWindow {
             c
         };
         let design = basis.design(rows);
-        let derivative = basis.derivative_design(rows);
+        let derivative = derivative_of(&design, basis.orders(), omega);
         let x = &design * &coefficients;
         let v = &derivative * &coefficients;
         let mut variances = Vec::new();
@@ -328,11 +328,78 @@ fn sensor_map(sensor: Sensor, orders: &[usize], omega: f64) -> Option<Mat<f64>> 
     (sensor != Sensor::Displacement).then_some(map)
 }
 
+/// The derivative rows d_i of the design rows b_i = [1, cos k₁ωt_i, sin k₁ωt_i, …] of
+/// `orders`: (0, −k₁ω sin k₁ωt_i, k₁ω cos k₁ωt_i, …), read from the design's own
+/// cosines and sines. [`HarmonicBasis::design`] and
+/// [`HarmonicBasis::derivative_design`] take them from the same recurrence on the
+/// phasor e^{iωt_i} (the design from a per-thread table), so this is bitwise
+/// `derivative_design` without its sine and cosine per row (a unit test compares them).
+fn derivative_of(design: &Mat<f64>, orders: &[usize], omega: f64) -> Mat<f64> {
+    let rows = design.nrows();
+    let mut derivative = Mat::zeros(rows, design.ncols());
+    for (q, order) in orders.iter().enumerate() {
+        let kw = *order as f64 * omega;
+        let (cos, sin) = (2 * q + 1, 2 * q + 2);
+        for (d, s) in derivative
+            .col_as_slice_mut(cos)
+            .iter_mut()
+            .zip(design.col_as_slice(sin))
+        {
+            *d = -kw * s;
+        }
+        for (d, c) in derivative
+            .col_as_slice_mut(sin)
+            .iter_mut()
+            .zip(design.col_as_slice(cos))
+        {
+            *d = kw * c;
+        }
+    }
+    derivative
+}
+
 /// ‖R⁻ᵀ row_i‖² for every row of `rows` (rows × p).
 fn unit_variances(r: &Mat<f64>, rows: &Mat<f64>) -> Vec<f64> {
     let mut y = rows.transpose().to_owned();
     r.transpose().solve_lower_triangular_in_place(y.as_mut());
     (0..y.ncols())
-        .map(|i| (0..y.nrows()).map(|k| y[(k, i)] * y[(k, i)]).sum())
+        .map(|i| y.col_as_slice(i).iter().map(|a| a * a).sum())
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The derivative read from the design is bitwise `derivative_design`: whole and
+    /// non-whole samples per period, consecutive and gapped orders, row counts on and
+    /// off the table's lanes, tables cached and not.
+    #[test]
+    fn derivative_of_the_design_is_derivative_design() {
+        for (omega, step, samples) in [(0.618, 0.05, 203), (2.0, 0.0157, 400), (15.7, 0.001, 1001)]
+        {
+            for orders in [vec![1], vec![1, 2, 3], vec![1, 4, 7], vec![2, 5]] {
+                let basis = HarmonicBasis::with_orders(omega, orders.clone(), step, samples)
+                    .expect("a valid basis");
+                for rows in [samples, samples + 1, samples + 3] {
+                    let design = basis.design(rows);
+                    let ours = derivative_of(&design, basis.orders(), omega);
+                    let theirs = basis.derivative_design(rows);
+                    assert_eq!(
+                        (ours.nrows(), ours.ncols()),
+                        (theirs.nrows(), theirs.ncols())
+                    );
+                    for i in 0..rows {
+                        for k in 0..ours.ncols() {
+                            assert_eq!(
+                                ours[(i, k)].to_bits(),
+                                theirs[(i, k)].to_bits(),
+                                "ω {omega}, orders {orders:?}, row {i}, column {k}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
 }

@@ -366,7 +366,6 @@ fn element_columns(
         let mut variance = sigma[element.a].powi(2);
         // the second end's noise, when its sensor differs (its own Var per unit variance)
         let mut other: Option<(f64, usize)> = None;
-        let mut terms = vec![(element.a, 1.0)];
         match element.b {
             None => {
                 xr.copy_from_slice(xa);
@@ -383,11 +382,13 @@ fn element_columns(
                 } else {
                     other = Some((sigma[b].powi(2), b));
                 }
-                terms.push((b, -1.0));
             }
         }
         if law.is_total_variation() {
             // ∫ |v̂| dt exactly: the total variation of the projected displacement
+            let terms: Vec<(usize, f64)> = std::iter::once((element.a, 1.0))
+                .chain(element.b.map(|b| (b, -1.0)))
+                .collect();
             let (tv, u) = projected.total_variation(&projected.combination(&terms), &vr, span);
             columns[column] += weight * tv;
             gradients.add(element.a, column + 1, &u, weight);
@@ -396,13 +397,25 @@ fn element_columns(
             }
         } else {
             let (unit_x, unit_v) = (projected.var_x(element.a), projected.var_v(element.a));
-            let other = other.map(|(s2, b)| (s2, projected.var_x(b), projected.var_v(b)));
-            for i in 0..count {
-                var_x[i] = variance * unit_x[i];
-                var_v[i] = variance * unit_v[i];
-                if let Some((s2, ox, ov)) = other {
-                    var_x[i] += s2 * ox[i];
-                    var_v[i] += s2 * ov[i];
+            // per sample σ² Var-per-unit of each end (one loop per form, no branch inside)
+            let (unit_x, unit_v) = (&unit_x[..count], &unit_v[..count]);
+            for ((vx, vv), (ux, uv)) in var_x
+                .iter_mut()
+                .zip(var_v.iter_mut())
+                .zip(unit_x.iter().zip(unit_v))
+            {
+                *vx = variance * ux;
+                *vv = variance * uv;
+            }
+            if let Some((s2, b)) = other {
+                let (ox, ov) = (&projected.var_x(b)[..count], &projected.var_v(b)[..count]);
+                for ((vx, vv), (ox, ov)) in var_x
+                    .iter_mut()
+                    .zip(var_v.iter_mut())
+                    .zip(ox.iter().zip(ov))
+                {
+                    *vx += s2 * ox;
+                    *vv += s2 * ov;
                 }
             }
             let value = law.robust_sums(
