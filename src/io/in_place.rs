@@ -90,7 +90,7 @@ impl InPlace {
     /// of the members. A destination whose column is not left in the file, or whose
     /// length is not the columns' samples, is an error. When it returns `Ok`, every
     /// sample of every destination has been written (each member's every flat index is
-    /// scattered, [`Npz::read_into`]).
+    /// scattered by `Npz::read_into`).
     pub fn read(&self, destinations: Vec<Destination<'_>>) -> Result<()> {
         let mut members: Vec<(usize, Vec<Target<'_>>)> = Vec::new();
         for (name, into, gain) in destinations {
