@@ -16,6 +16,7 @@
 //! a velocity as a displacement.
 
 use faer::{Mat, MatRef};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result, check_finite};
@@ -251,7 +252,8 @@ impl Record {
                 available: samples,
             });
         }
-        check_finite("displacements", parts.displacements.as_ref())?;
+        let mut motion_ranges = finite_ranges("displacements", parts.displacements.as_ref())?;
+        let mut velocity_ranges = None;
         if let Some(v) = &parts.velocities {
             if v.shape() != (samples, dofs) {
                 let (what, expected, found) = if v.nrows() != samples {
@@ -261,22 +263,20 @@ impl Record {
                 };
                 return Err(Error::mismatch(what, expected, found));
             }
-            check_finite("velocities", v.as_ref())?;
+            velocity_ranges = Some(finite_ranges("velocities", v.as_ref())?);
         }
         parts.forcing.validate(samples, dofs)?;
-        let force_ranges = channel_ranges(parts.forcing.signals.as_ref());
+        let force_ranges = channel_ranges(parts.forcing.signals.as_ref()).0;
         let active_channels = (0..force_ranges.len())
             .filter(|&k| force_ranges[k].1 > 0.0)
             .collect();
         let largest = |ranges: &[(f64, f64)]| ranges.iter().fold(0.0, |m: f64, r| m.max(r.1));
-        let mut motion_ranges = channel_ranges(parts.displacements.as_ref());
         let mut magnitudes = Magnitudes {
             displacement: largest(&motion_ranges),
             velocity: None,
             force: largest(&force_ranges),
         };
-        if let Some(v) = &parts.velocities {
-            let ranges = channel_ranges(v.as_ref());
+        if let Some(ranges) = velocity_ranges {
             magnitudes.velocity = Some(largest(&ranges));
             motion_ranges.extend(ranges);
         }
@@ -326,7 +326,7 @@ impl Record {
             .any(|s| *s != Sensor::Displacement)
             .then_some(motion);
         if let Some(measured) = &self.measured {
-            self.motion_ranges = channel_ranges(measured.signals.as_ref());
+            self.motion_ranges = channel_ranges(measured.signals.as_ref()).0;
         }
         Ok(self)
     }
@@ -457,33 +457,62 @@ impl Record {
     }
 }
 
-/// (max − min, max |s|) of each column of `m` (finite, as [`Record::new`] checks
-/// first), with 8 independent minima and maxima so that the loop runs packed.
-fn channel_ranges(m: MatRef<'_, f64>) -> Vec<(f64, f64)> {
-    (0..m.ncols())
-        .map(|j| {
-            let s = col(m, j);
-            if s.is_empty() {
-                return (0.0, 0.0);
-            }
-            let mut lo = [f64::INFINITY; 8];
-            let mut hi = [f64::NEG_INFINITY; 8];
-            let mut chunks = s.chunks_exact(8);
-            for chunk in &mut chunks {
-                for k in 0..8 {
-                    lo[k] = if chunk[k] < lo[k] { chunk[k] } else { lo[k] };
-                    hi[k] = if chunk[k] > hi[k] { chunk[k] } else { hi[k] };
-                }
-            }
-            let rest = chunks.remainder();
-            let lo = lo.iter().chain(rest).fold(f64::INFINITY, |a, &b| a.min(b));
-            let hi = hi
-                .iter()
-                .chain(rest)
-                .fold(f64::NEG_INFINITY, |a, &b| a.max(b));
-            (hi - lo, lo.abs().max(hi.abs()))
-        })
-        .collect()
+/// [`channel_ranges`] of `m`, which must be finite: a non-finite value is the error of
+/// [`check_finite`] (the first in column-major order), found in the same pass over the
+/// data as the ranges, so that a record's signals are read once here, not twice.
+fn finite_ranges(what: &str, m: MatRef<'_, f64>) -> Result<Vec<(f64, f64)>> {
+    let (ranges, finite) = channel_ranges(m);
+    if !finite {
+        check_finite(what, m)?;
+    }
+    Ok(ranges)
+}
+
+/// (max − min, max |s|) of each column of `m`, with 8 independent minima and maxima so
+/// that the loop runs packed, and whether every value is finite (8 sums of s − s, which
+/// are 0 for a finite s and NaN for ±∞ or NaN, in the same pass). The ranges are those
+/// of finite data; with a non-finite value they mean nothing.
+fn channel_ranges(m: MatRef<'_, f64>) -> (Vec<(f64, f64)>, bool) {
+    let range = |j: usize| column_range(col(m, j));
+    // Columns in parallel (rayon) once the matrix is large enough to pay for it.
+    let ranges: Vec<((f64, f64), bool)> = if m.nrows() * m.ncols() >= PARALLEL_RANGES {
+        (0..m.ncols()).into_par_iter().map(range).collect()
+    } else {
+        (0..m.ncols()).map(range).collect()
+    };
+    let finite = ranges.iter().all(|r| r.1);
+    (ranges.into_iter().map(|r| r.0).collect(), finite)
+}
+
+/// Values from which [`channel_ranges`] reads a matrix's columns in parallel.
+const PARALLEL_RANGES: usize = 1 << 20;
+
+/// (max − min, max |s|) of the values `s` and whether they are all finite
+/// ([`channel_ranges`]).
+#[allow(clippy::eq_op)] // s − s is the point: 0 for a finite s, NaN otherwise
+fn column_range(s: &[f64]) -> ((f64, f64), bool) {
+    if s.is_empty() {
+        return ((0.0, 0.0), true);
+    }
+    let mut lo = [f64::INFINITY; 8];
+    let mut hi = [f64::NEG_INFINITY; 8];
+    let mut nan = [0.0; 8];
+    let mut chunks = s.chunks_exact(8);
+    for chunk in &mut chunks {
+        for k in 0..8 {
+            lo[k] = if chunk[k] < lo[k] { chunk[k] } else { lo[k] };
+            hi[k] = if chunk[k] > hi[k] { chunk[k] } else { hi[k] };
+            nan[k] += chunk[k] - chunk[k];
+        }
+    }
+    let rest = chunks.remainder();
+    let finite = nan.iter().chain(rest).all(|v| v.is_finite());
+    let lo = lo.iter().chain(rest).fold(f64::INFINITY, |a, &b| a.min(b));
+    let hi = hi
+        .iter()
+        .chain(rest)
+        .fold(f64::NEG_INFINITY, |a, &b| a.max(b));
+    ((hi - lo, lo.abs().max(hi.abs())), finite)
 }
 
 /// Column j of a column-major matrix view as a slice.
@@ -494,4 +523,40 @@ pub(crate) fn col<'a>(m: MatRef<'a, f64>, j: usize) -> &'a [f64] {
         .try_as_col_major()
         .expect("dampid stores matrices column-major")
         .as_slice()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The packed ranges equal the plain max − min and max |s| of each column, serially
+    /// and in parallel (a matrix of at least `PARALLEL_RANGES` values), and a NaN or ±∞
+    /// anywhere (in the packed body, in the remainder) clears the finite flag, which
+    /// `finite_ranges` turns into the error of `check_finite` at the first one.
+    #[test]
+    fn ranges_and_finiteness_in_one_pass() {
+        for (rows, cols) in [(13, 3), (8, 1), (5, 2), ((PARALLEL_RANGES >> 2) + 3, 4)] {
+            let m = Mat::from_fn(rows, cols, |i, j| {
+                ((i * 7 + j * 3) % 11) as f64 - 4.5 * j as f64
+            });
+            let (ranges, finite) = channel_ranges(m.as_ref());
+            assert!(finite);
+            for (j, &(range, magnitude)) in ranges.iter().enumerate() {
+                let s = col(m.as_ref(), j);
+                let lo = s.iter().fold(f64::INFINITY, |a, &b| a.min(b));
+                let hi = s.iter().fold(f64::NEG_INFINITY, |a, &b| a.max(b));
+                assert_eq!((range, magnitude), (hi - lo, lo.abs().max(hi.abs())));
+            }
+            for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+                for at in [(0, 0), (rows / 2, cols - 1), (rows - 1, cols / 2)] {
+                    let mut m = m.clone();
+                    m[at] = bad;
+                    assert!(!channel_ranges(m.as_ref()).1, "{rows}x{cols} {bad} {at:?}");
+                    let e = finite_ranges("velocities", m.as_ref()).unwrap_err();
+                    let first = check_finite("velocities", m.as_ref()).unwrap_err();
+                    assert_eq!(format!("{e:?}"), format!("{first:?}"));
+                }
+            }
+        }
+    }
 }

@@ -227,3 +227,119 @@ fn a_damaged_member_read_in_place_is_a_crc_error() {
     assert!(message.contains("CRC-32"), "{message}");
     std::fs::remove_file(path).ok();
 }
+
+/// DOFs of the wide record: 40 interleaved values per row, so that each column of a read
+/// block is a stride of 40 (`io/scatter.rs`) and N is not a whole number of blocks.
+const WIDE: usize = 40;
+
+/// t, f and x (N × WIDE) in C order (interleaved rows) or Fortran order (contiguous
+/// columns), x(s, j) a value of every sign and magnitude, with `nan` at (sample, column).
+fn wide_members(fortran: bool, nan: Option<(usize, usize)>) -> Vec<(&'static str, Vec<u8>)> {
+    let t: Vec<f64> = (0..N).map(|i| i as f64 * 1e-3).collect();
+    let value = |s: usize, j: usize| {
+        let x = (2.0 * std::f64::consts::PI * t[s] / 0.4 + j as f64).sin();
+        if Some((s, j)) == nan {
+            f64::NAN
+        } else {
+            x * 10f64.powi(j as i32 % 7 - 3)
+        }
+    };
+    let x: Vec<f64> = if fortran {
+        (0..WIDE)
+            .flat_map(|j| (0..N).map(move |s| (s, j)))
+            .map(|(s, j)| value(s, j))
+            .collect()
+    } else {
+        (0..N)
+            .flat_map(|s| (0..WIDE).map(move |j| (s, j)))
+            .map(|(s, j)| value(s, j))
+            .collect()
+    };
+    let f: Vec<f64> = (0..N).map(|s| value(s, 0)).collect();
+    vec![
+        ("t", npy("<f8", false, &format!("({N},)"), &t)),
+        ("x", npy("<f8", fortran, &format!("({N}, {WIDE})"), &x)),
+        ("f", npy("<f8", false, &format!("({N},)"), &f)),
+    ]
+}
+
+/// The wide record's model: x as displacements with gains on some DOFs, and the same
+/// member read again, reversed, as measured velocities.
+fn wide_model(file: &Path) -> String {
+    let column = |j: usize| match j % 3 {
+        0 => format!("{{ column = \"x[{j}]\", scale = 1e-3, offset = 5e-3 }}"),
+        1 => format!("\"x[{j}]\""),
+        _ => format!("{{ column = \"x[{j}]\", scale = -2.5 }}"),
+    };
+    let x: Vec<String> = (1..=WIDE).map(column).collect();
+    let v: Vec<String> = (1..=WIDE).rev().map(column).collect();
+    format!(
+        "dofs = {WIDE}\n[[terms]]\nkind = \"law\"\nlaw = \"linear\"\nelements = \"chain\"\nper_element = \"dashpot\"\n\
+         [identification]\nvelocity = \"measured\"\ncycles = 2\n[[data.records]]\nfile = \"{}\"\ntime = \"t\"\n\
+         displacements = [{}]\nvelocities = [{}]\nforces = [{{ column = \"f\", dof = 1 }}]\nperiod = 0.4\n",
+        file.display(),
+        x.join(", "),
+        v.join(", ")
+    )
+}
+
+/// A wide member read in place, by interleaved rows (C order) or by contiguous columns
+/// (Fortran order), gives the record of the table path (the same archive deflated) bit
+/// for bit; a NaN in the middle of a block (sample 1234, DOF 17: C order reads blocks of
+/// 409 rows, so the NaN is value 17 of row 7 of the block of rows 1227–1635) is an
+/// error at its sample and column, on either path.
+#[test]
+fn wide_members_read_in_place_equal_the_table_path_and_locate_a_nan() {
+    let parse_wide = |file: &Path| {
+        dampid::model_file::parse(
+            &wide_model(file),
+            "m.toml",
+            Path::new("."),
+            Default::default(),
+        )
+    };
+    let bits = |m: faer::MatRef<'_, f64>| -> Vec<u64> {
+        (0..m.ncols())
+            .flat_map(|j| (0..m.nrows()).map(move |i| m[(i, j)].to_bits()))
+            .collect()
+    };
+    for fortran in [false, true] {
+        let (stored, deflated) = (
+            scratch(&format!("wide{fortran}.npz")),
+            scratch(&format!("wide{fortran}z.npz")),
+        );
+        write_npz(&stored, &wide_members(fortran, None), true);
+        write_npz(&deflated, &wide_members(fortran, None), false);
+        let (a, b) = (parse_wide(&stored).unwrap(), parse_wide(&deflated).unwrap());
+        let (a, b) = (&a.records[0], &b.records[0]);
+        assert_eq!(
+            bits(a.displacements()),
+            bits(b.displacements()),
+            "{fortran}"
+        );
+        assert_eq!(bits(a.velocities().unwrap()), bits(b.velocities().unwrap()));
+        // Velocity column 0 is x[WIDE] with the gain of DOF WIDE (WIDE % 3 == 1: none).
+        let table = dampid::io::read_table(&stored).unwrap();
+        let last = table.column(&format!("x[{WIDE}]")).unwrap();
+        let v = a.velocities().unwrap();
+        assert!((0..N).all(|s| v[(s, 0)].to_bits() == last[s].to_bits()));
+        for (stored, path) in [(true, &stored), (false, &deflated)] {
+            write_npz(path, &wide_members(fortran, Some((1234, 16))), stored);
+            let e = parse_wide(path).map(|_| ()).unwrap_err();
+            let Error::Data {
+                file, row, column, ..
+            } = e.innermost()
+            else {
+                panic!("{e}");
+            };
+            assert_eq!(file, &path.display().to_string());
+            assert_eq!(
+                (*row, column.as_str()),
+                (1235, "x[17]"),
+                "{fortran} {stored}"
+            );
+        }
+        std::fs::remove_file(stored).ok();
+        std::fs::remove_file(deflated).ok();
+    }
+}

@@ -125,62 +125,6 @@ impl Layout {
     }
 }
 
-/// Where one column of an array read straight into place goes: column `column` of the
-/// oriented array (0-based), written from sample 0 as scale × value + offset.
-pub(crate) struct Target<'a> {
-    /// The column of the oriented array.
-    pub column: usize,
-    /// Its destination, N samples.
-    pub into: &'a mut [f64],
-    /// (scale, offset).
-    pub gain: (f64, f64),
-}
-
-/// Writes scale × value + offset of `values` into `into`.
-fn put<'v>(into: &mut [f64], values: impl Iterator<Item = &'v f64>, (scale, offset): (f64, f64)) {
-    for (out, &v) in into.iter_mut().zip(values) {
-        *out = scale * v + offset;
-    }
-}
-
-impl Layout {
-    /// [`Layout::place`] into `targets` instead of growing columns: the flat values
-    /// `values`, which start at flat index `start`, each written with its target's gain
-    /// at its sample (columns no target names are skipped).
-    pub fn scatter(&self, start: usize, values: &[f64], targets: &mut [Target<'_>]) {
-        let k = self.columns;
-        if self.interleaved {
-            if start.is_multiple_of(k) && values.len().is_multiple_of(k) {
-                let (first, rows) = (start / k, values.len() / k);
-                for t in targets.iter_mut() {
-                    let into = &mut t.into[first..first + rows];
-                    put(into, values[t.column..].iter().step_by(k), t.gain);
-                }
-            } else {
-                for (offset, v) in values.iter().enumerate() {
-                    let (s, p) = self.position(start + offset);
-                    for t in targets.iter_mut().filter(|t| t.column == p) {
-                        put(&mut t.into[s..=s], std::iter::once(v), t.gain);
-                    }
-                }
-            }
-        } else {
-            let n = self.samples;
-            let mut f = start;
-            let mut rest = values;
-            while !rest.is_empty() {
-                let (s, p) = (f % n, f / n);
-                let run = (n - s).min(rest.len());
-                for t in targets.iter_mut().filter(|t| t.column == p) {
-                    put(&mut t.into[s..s + run], rest[..run].iter(), t.gain);
-                }
-                rest = &rest[run..];
-                f += run;
-            }
-        }
-    }
-}
-
 /// An r × c array given column-major (MATLAB's order) as table columns; a non-finite
 /// value is an error at its sample and column in `file`.
 pub(crate) fn column_major(
@@ -327,48 +271,6 @@ mod tests {
                             assert_eq!(columns[p][s], f as f64, "{r}x{c} {row_major} {block}");
                             assert_eq!(layout.position(f), (s, p));
                         }
-                    }
-                }
-            }
-        }
-    }
-
-    /// `scatter` writes what `place` appends, with each target's gain, bit for bit, in
-    /// every order and orientation and at any block boundary (whole rows or not), and a
-    /// column read by two targets is written into both.
-    #[test]
-    fn scatter_writes_what_place_appends_with_the_gain() {
-        for (r, c) in [(5, 3), (3, 5), (4, 1), (1, 4), (4, 4)] {
-            for row_major in [true, false] {
-                let layout = Layout::new(r, c, row_major).unwrap();
-                let flat: Vec<f64> = (0..r * c).map(|f| 0.1 * f as f64 - 0.7).collect();
-                let mut placed = layout.allocate();
-                layout.place(0, &flat, &mut placed);
-                let gains = [(1.0, 0.0), (1e-3, 5e-3), (-2.5, 0.25)];
-                for block in [1, 2, 3, layout.columns, r * c] {
-                    let n = layout.samples;
-                    let mut out = vec![vec![f64::NAN; n]; 2 * layout.columns];
-                    let mut targets: Vec<Target<'_>> = out
-                        .iter_mut()
-                        .enumerate()
-                        .map(|(k, into)| Target {
-                            column: k % layout.columns,
-                            into,
-                            gain: gains[k % 3],
-                        })
-                        .collect();
-                    for start in (0..r * c).step_by(block) {
-                        let end = (start + block).min(r * c);
-                        layout.scatter(start, &flat[start..end], &mut targets);
-                    }
-                    for (k, column) in out.iter().enumerate() {
-                        let (scale, offset) = gains[k % 3];
-                        let expected: Vec<u64> = placed[k % layout.columns]
-                            .iter()
-                            .map(|v| (scale * v + offset).to_bits())
-                            .collect();
-                        let got: Vec<u64> = column.iter().map(|v| v.to_bits()).collect();
-                        assert_eq!(got, expected, "{r}x{c} {row_major} {block} {k}");
                     }
                 }
             }

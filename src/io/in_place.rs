@@ -17,11 +17,13 @@
 //! member, every value finite (an error at its sample and column), its CRC-32. Every
 //! other format, and deflated members, go through the table.
 
+use std::mem::MaybeUninit;
+
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
-use crate::io::arrays::Target;
 use crate::io::npz::Npz;
+use crate::io::scatter::Target;
 
 /// One column left in the file: its name, its member and its column in the member's
 /// array.
@@ -41,9 +43,10 @@ pub struct InPlace {
     rows: Option<usize>,
 }
 
-/// A destination of [`InPlace::read`]: a column's name, where it goes (its samples) and
-/// its gain (scale, offset).
-pub type Destination<'a> = (&'a str, &'a mut [f64], (f64, f64));
+/// A destination of [`InPlace::read`]: a column's name, where it goes (its samples, which
+/// need not hold values yet: each is written once the read succeeds) and its gain
+/// (scale, offset).
+pub type Destination<'a> = (&'a str, &'a mut [MaybeUninit<f64>], (f64, f64));
 
 impl InPlace {
     /// The columns `names` of the `npz` members `members` (per member its index and its
@@ -85,7 +88,9 @@ impl InPlace {
     /// Reads every member holding a column of `destinations` once, each column into its
     /// destinations (module doc); the members in parallel, the first error in the order
     /// of the members. A destination whose column is not left in the file, or whose
-    /// length is not the columns' samples, is an error.
+    /// length is not the columns' samples, is an error. When it returns `Ok`, every
+    /// sample of every destination has been written (each member's every flat index is
+    /// scattered by `Npz::read_into`).
     pub fn read(&self, destinations: Vec<Destination<'_>>) -> Result<()> {
         let mut members: Vec<(usize, Vec<Target<'_>>)> = Vec::new();
         for (name, into, gain) in destinations {

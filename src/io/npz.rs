@@ -22,8 +22,9 @@ use std::path::{Path, PathBuf};
 use zip::{CompressionMethod, ZipArchive};
 
 use crate::error::Result;
-use crate::io::arrays::{NamedArray, Target};
+use crate::io::arrays::NamedArray;
 use crate::io::npy::{Header, data_error, read_data, read_header, read_values, require_data};
+use crate::io::scatter::Target;
 
 /// Elements converted per block when a member is read into place: 128 KiB of f64, so
 /// the block stays in cache while its columns are written out.

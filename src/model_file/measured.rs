@@ -5,9 +5,9 @@
 //! DOFs are 1-based; the period is given or detected from the force.
 
 use std::fmt;
+use std::mem::MaybeUninit;
 use std::path::Path;
 
-use faer::Mat;
 use serde::Serialize;
 use toml::Spanned;
 
@@ -17,6 +17,8 @@ use crate::error::{Error, Result};
 use crate::format::number;
 use crate::io::Table;
 use crate::io::data_file::DataFiles;
+use crate::io::fresh::Fresh;
+use crate::io::scatter::put;
 use crate::prep::motion::{Integration, SensorParts, record_from_sensors};
 use crate::prep::period::{PeriodEstimate, detect_period};
 use crate::record::{Forcing, Record, RecordParts, Sensor};
@@ -203,25 +205,28 @@ impl Columns {
         Self { table, uses, rows }
     }
 
-    /// Writes scale × `column` + offset into `into`, and frees the column when no
-    /// other channel names it.
+    /// Writes scale × `column` + offset into every sample of `into`, and frees the
+    /// column when no other channel names it. A column of another length than `into`
+    /// is an error (the table's columns all have the record's samples, and each is
+    /// freed only after its last reader: counted in `new`).
     fn move_into(
         &mut self,
-        into: faer::ColMut<f64>,
+        into: &mut [MaybeUninit<f64>],
         column: &str,
-        (scale, offset): (f64, f64),
+        gain: (f64, f64),
     ) -> Result<()> {
         let values = self.table.column(column)?;
-        // Every channel's name was counted in `new`, so a column is freed only after
-        // its last reader.
-        debug_assert_eq!(
-            values.len(),
-            self.rows,
-            "column '{column}' read after it was freed"
-        );
-        for (out, &c) in into.iter_mut().zip(values) {
-            *out = scale * c + offset;
+        if values.len() != into.len() || values.len() != self.rows {
+            return Err(Error::Numerical {
+                stage: "reading a record's columns".into(),
+                detail: format!(
+                    "the column '{column}' has {} samples, its destination {}",
+                    values.len(),
+                    into.len()
+                ),
+            });
         }
+        put(into, values.iter(), gain);
         if let Some(k) = self.table.headers.iter().position(|h| h == column) {
             self.uses[k] = self.uses[k].saturating_sub(1);
             if self.uses[k] == 0 {
@@ -468,19 +473,21 @@ pub(super) fn read_record(
             });
         }
     };
-    let mut signals_motion = Mat::zeros(rows, motion.len());
-    let mut velocities = measured_velocities
+    // The matrices are not zeroed first (`io::fresh`): every column is written below,
+    // from the file or from the table, before the matrix takes its shape.
+    let mut fresh_motion = Fresh::new(rows, motion.len());
+    let mut fresh_velocities = measured_velocities
         .as_ref()
-        .map(|channels| Mat::zeros(rows, channels.len()));
+        .map(|channels| Fresh::new(rows, channels.len()));
     {
         let mut destinations = Vec::new();
-        let matrices = std::iter::once((&motion, signals_motion.as_mut())).chain(
+        let matrices = std::iter::once((&motion, fresh_motion.columns())).chain(
             measured_velocities
                 .iter()
-                .zip(velocities.iter_mut().map(Mat::as_mut)),
+                .zip(fresh_velocities.iter_mut().map(Fresh::columns)),
         );
         for (channels, matrix) in matrices {
-            for (j, (c, into)) in channels.iter().zip(matrix.col_iter_mut()).enumerate() {
+            for (j, (c, into)) in channels.iter().zip(matrix).enumerate() {
                 let column = c.spec.get_ref().column.as_str();
                 note(
                     column,
@@ -488,11 +495,6 @@ pub(super) fn read_record(
                     format!("{} of DOF {}", c.sensor.name(), j + 1),
                 );
                 if in_place.holds(column) {
-                    let into = into
-                        .try_as_col_major_mut()
-                        // cannot fail: the columns of an owned matrix are contiguous
-                        .expect("a column of a Mat is contiguous")
-                        .as_slice_mut();
                     destinations.push((column, into, c.gain));
                 } else {
                     columns.move_into(into, column, c.gain)?;
@@ -501,10 +503,17 @@ pub(super) fn read_record(
         }
         in_place.read(destinations)?;
     }
+    // SAFETY: each motion channel (one per column of the two matrices, `zip` above over
+    // as many channels as columns) was written in full, by `move_into` (every sample,
+    // or an error) or by `in_place.read` (every sample of every destination, or an
+    // error), and every error returned before this point.
+    let signals_motion = unsafe { fresh_motion.assume_written() };
+    // SAFETY: as above.
+    let velocities = fresh_velocities.map(|v| unsafe { v.assume_written() });
     let mut force_names = Vec::with_capacity(spec.forces.len());
     let mut dofs = Vec::with_capacity(spec.forces.len());
-    let mut signals = Mat::zeros(rows, spec.forces.len());
-    for (k, force) in spec.forces.iter().enumerate() {
+    let mut fresh_signals = Fresh::new(rows, spec.forces.len());
+    for (force, into) in spec.forces.iter().zip(fresh_signals.columns()) {
         let f = force.get_ref();
         let dof = f.dof.checked_sub(1).filter(|d| *d < n).ok_or_else(|| {
             let e = Error::DofOutOfRange {
@@ -522,10 +531,13 @@ pub(super) fn read_record(
             f.offset,
         )?;
         note(&f.column, g, format!("force on DOF {}", f.dof));
-        columns.move_into(signals.col_mut(k), &f.column, g)?;
+        columns.move_into(into, &f.column, g)?;
         force_names.push(f.column.clone());
         dofs.push(dof);
     }
+    // SAFETY: one force per column (`zip` above), each written in full by `move_into`
+    // (every sample, or an error that returned).
+    let signals = unsafe { fresh_signals.assume_written() };
     let (period, detected) = match (spec.period, spec.frequency) {
         (Some(period), None) => (period, None),
         (None, Some(omega)) if omega.is_finite() && omega > 0.0 => {
