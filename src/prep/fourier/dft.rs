@@ -241,13 +241,15 @@ impl WholeSampleDft {
         let residual = self.residual.as_ref()?;
         let bins =
             &self.harmonics[channel * (self.highest + 1)..(channel + 1) * (self.highest + 1)];
-        let mut sum = residual[channel];
+        // the harmonics 1..=K not in `orders` (both ascending: one merge)
+        let mut kept = orders.iter().copied().peekable();
+        let mut sum = 0.0;
         for (k, bin) in bins.iter().enumerate().skip(1) {
-            if orders.binary_search(&k).is_err() {
-                sum += 2.0 * bin.norm_sqr();
+            if kept.next_if_eq(&k).is_none() {
+                sum += bin.norm_sqr();
             }
         }
-        Some(sum / self.length as f64)
+        Some((residual[channel] + 2.0 * sum) / self.length as f64)
     }
 
     /// Per bin between the harmonics (the `between_bins` given to
