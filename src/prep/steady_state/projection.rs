@@ -84,6 +84,12 @@ pub struct ChannelProjection {
 impl ChannelProjection {
     /// The variance of g_xᵀ c_x + g_vᵀ c_v.
     pub fn variance(&self, g_x: &[f64], g_v: &[f64]) -> f64 {
+        self.scaled(self.unit_variance(g_x, g_v))
+    }
+
+    /// gᵀ (Cov / σ̂_j²) g for g = [g_x; g_v]: the same for every channel that shares the
+    /// unit covariance.
+    pub fn unit_variance(&self, g_x: &[f64], g_v: &[f64]) -> f64 {
         let p = g_x.len();
         let g = |k: usize| if k < p { g_x[k] } else { g_v[k - p] };
         let unit = &*self.unit_covariance;
@@ -96,7 +102,12 @@ impl ChannelProjection {
                 }
             }
         }
-        (self.noise_variance * sum).max(0.0)
+        sum
+    }
+
+    /// The variance from its [`ChannelProjection::unit_variance`].
+    pub fn scaled(&self, unit_variance: f64) -> f64 {
+        (self.noise_variance * unit_variance).max(0.0)
     }
 }
 
