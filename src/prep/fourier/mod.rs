@@ -26,7 +26,7 @@ mod noise_floor;
 pub(crate) use basis::{HarmonicBasis, first_orders};
 pub(crate) use dft::WholeSampleDft;
 pub use noise_floor::HarmonicSelection;
-pub(crate) use noise_floor::{select_harmonics, select_with_spectrum};
+pub(crate) use noise_floor::{select_harmonics, select_with_residuals, select_with_spectrum};
 
 use crate::error::{Error, Result};
 

@@ -87,13 +87,39 @@ pub(crate) fn select_with_spectrum(
     periods: usize,
     highest: usize,
 ) -> Result<(HarmonicSelection, Option<WholeSampleDft>)> {
+    transform_and_select(x, step, period, periods, highest, false)
+}
+
+/// [`select_harmonics`], also returning the window's spectrum when it holds a whole
+/// number of samples per period, with what
+/// [`WholeSampleDft::residual_sum_of_squares`] needs for a fit on the kept harmonics.
+pub(crate) fn select_with_residuals(
+    x: MatRef<'_, f64>,
+    step: f64,
+    period: f64,
+    periods: usize,
+) -> Result<(HarmonicSelection, Option<WholeSampleDft>)> {
+    transform_and_select(x, step, period, periods, 0, true)
+}
+
+/// The window's spectrum when it holds a whole number of samples per period (bins up
+/// to max(K_max, `highest`), the residual's sums when `residual`), and the selection.
+fn transform_and_select(
+    x: MatRef<'_, f64>,
+    step: f64,
+    period: f64,
+    periods: usize,
+    highest: usize,
+    residual: bool,
+) -> Result<(HarmonicSelection, Option<WholeSampleDft>)> {
     let most = most_harmonics(x.nrows(), step, period);
     let bins = if periods >= 2 {
         between_bins(periods, most)
     } else {
         Vec::new()
     };
-    let spectrum = WholeSampleDft::new(x, step, period, periods, most.max(highest), &bins);
+    let spectrum =
+        WholeSampleDft::with_residual(x, step, period, periods, most.max(highest), &bins, residual);
     let selection = select_with(x, step, period, periods, spectrum.as_ref())?;
     Ok((selection, spectrum))
 }
@@ -153,9 +179,7 @@ pub(super) fn select_with(
     let mut amplitudes = Vec::with_capacity(x.ncols());
     let mut above = vec![false; most + 1];
     for channel in 0..x.ncols() {
-        let amps: Vec<f64> = (0..most)
-            .map(|k| coefficients[(2 * k + 1, channel)].hypot(coefficients[(2 * k + 2, channel)]))
-            .collect();
+        let amps = amplitudes_of(coefficients.col(channel), most);
         let mut powers: Vec<f64> = match &between {
             // the upper half of the band, then the residual bins between harmonics
             Some(bins) => amps[most / 2..]
@@ -190,6 +214,26 @@ pub(super) fn select_with(
         noise_std,
         amplitudes,
     })
+}
+
+/// A_k = √(a_k² + b_k²) for k = 1..=`most` of one channel's coefficients
+/// [a₀, a₁, b₁, …], the squares formed on the coefficients scaled by a power of two near
+/// the largest (exact), so that neither overflows nor loses bits below the normal range
+/// at any scale the data check lets through: as accurate as `hypot` (within an ulp of
+/// it), at the cost of a square root.
+fn amplitudes_of(c: faer::ColRef<'_, f64>, most: usize) -> Vec<f64> {
+    let largest = (1..=2 * most).fold(0.0f64, |m, k| m.max(c[k].abs()));
+    let scale = if largest > 0.0 && largest.is_finite() {
+        2f64.powi(-largest.log2().round() as i32)
+    } else {
+        1.0
+    };
+    (0..most)
+        .map(|k| {
+            let (a, b) = (scale * c[2 * k + 1], scale * c[2 * k + 2]);
+            (a * a + b * b).sqrt() / scale
+        })
+        .collect()
 }
 
 /// The median of `values` (reordered), or None when empty: by selection, O(n), the
@@ -306,7 +350,33 @@ fn between_harmonics(
 
 #[cfg(test)]
 mod tests {
-    use super::median;
+    use super::{amplitudes_of, median};
+
+    /// The amplitudes from scaled squares are within an ulp or two of `hypot`, at the
+    /// extremes of scale the data check lets through (2^±505) and where a harmonic is
+    /// 10⁻¹⁶ of the largest, whose plain square would sink below the normal range.
+    #[test]
+    fn amplitudes_are_hypot_at_every_scale() {
+        for exponent in [-505, -300, 0, 300, 505] {
+            let s = 2f64.powi(exponent);
+            let c = faer::Col::from_fn(7, |k| {
+                s * [0.3, 1.0, -0.75, 1e-16, 3e-17, -2.5e-13, 1e-12][k]
+            });
+            let amps = amplitudes_of(c.as_ref(), 3);
+            for (k, a) in amps.iter().enumerate() {
+                let reference = c[2 * k + 1].hypot(c[2 * k + 2]);
+                assert!(
+                    (a - reference).abs() <= 4.0 * f64::EPSILON * reference,
+                    "2^{exponent}, harmonic {}: {a:e} vs {reference:e}",
+                    k + 1
+                );
+            }
+        }
+        assert_eq!(
+            amplitudes_of(faer::Col::<f64>::zeros(5).as_ref(), 2),
+            vec![0.0, 0.0]
+        );
+    }
 
     /// The median by selection equals the middle of the sorted values (odd and even
     /// counts, ties), bit for bit.

@@ -2,13 +2,15 @@
 //! states, its noise, and the verdict in numbers and in words (formulas in the module
 //! doc of [`crate::prep::steady_state`]).
 
+use std::sync::Arc;
+
 use crate::error::{Error, Result};
 use crate::prep::quadrature::Quadrature;
 use crate::prep::velocity::VelocitySource;
 use crate::prep::window::Window;
 use crate::record::{LoadDistribution, Record};
 
-use super::projection::{StateProjection, snap};
+use super::projection::{ChannelProjection, StateProjection, snap};
 use super::{
     ComparedPeriods, Decisive, MIN_NEIGHBOUR, MIN_SAMPLES_PER_PERIOD, NON_HARMONIC_MARGIN,
     SteadyStateSettings, StoredEnergy, WindowCheck,
@@ -192,10 +194,30 @@ fn judge(
     let scaled = |g: &[f64], s: f64| g.iter().map(|a| a * s).collect::<Vec<f64>>();
     // per channel: (quantity, DOF, δ, sd, amplitude)
     let mut components = Vec::new();
+    // bᵀ U b of each end, once per unit covariance U (shared by a sensor kind's channels)
+    let mut unit: Option<(&ChannelProjection, &ChannelProjection, [f64; 4])> = None;
     for j in 0..x_a.len() {
         let (a, b) = (&p.periods[0].channels[j], &p.periods[1].channels[j]);
-        let sd_x = scale * (a.variance(&row_a, &zero) + b.variance(&row_b, &zero)).sqrt();
-        let sd_v = scale * (a.variance(&zero, &row_a) + b.variance(&zero, &row_b)).sqrt();
+        let u = match unit {
+            Some((ua, ub, u))
+                if Arc::ptr_eq(&ua.unit_covariance, &a.unit_covariance)
+                    && Arc::ptr_eq(&ub.unit_covariance, &b.unit_covariance) =>
+            {
+                u
+            }
+            _ => {
+                let u = [
+                    a.unit_variance(&row_a, &zero),
+                    b.unit_variance(&row_b, &zero),
+                    a.unit_variance(&zero, &row_a),
+                    b.unit_variance(&zero, &row_b),
+                ];
+                unit = Some((a, b, u));
+                u
+            }
+        };
+        let sd_x = scale * (a.scaled(u[0]) + b.scaled(u[1])).sqrt();
+        let sd_v = scale * (a.scaled(u[2]) + b.scaled(u[3])).sqrt();
         components.push(("displacement", j, scale * (x_b[j] - x_a[j]), sd_x, amp_x));
         components.push(("velocity", j, scale * (v_b[j] - v_a[j]), sd_v, amp_v));
     }

@@ -38,21 +38,26 @@
 //! as the displacement it would be at the drive frequency, r_j/ω^d (d = 1 for velocity,
 //! 2 for acceleration), which overstates content above ω and understates it below.
 //!
-//! **Cost.** Every product is a pass over a channel's samples against a table of the
-//! basis held once per span (`table.rs`): the fits, the whole span's residual and the
-//! half ranges of x̂ and v̂ over each period (the amplitudes the mismatches are relative
-//! to) cost O(m p) per channel, and the covariance is computed once per period and
-//! sensor kind (σ̂_j² times a unit covariance shared by the channels of that kind).
-//! Steps 1 and 3 (`fit_span`) and step 2 (`fit_period`) are separate so that a
-//! period compared in two spans on the same harmonics is fitted once (`spans.rs`);
-//! [`project_periods`] is the two for one span.
+//! **Cost.** Where the span holds a whole number of samples per period, step 1 is one
+//! real FFT per channel and step 3 reads the residual off the same spectrum (Parseval,
+//! `prep::fourier::dft`): RSS_j is the power of every bin but the constant and the kept
+//! harmonics. Otherwise step 3 is a least-squares fit and its residual. Every other
+//! product is a pass over a channel's samples against a table of the basis
+//! (`table.rs`): the period fits and the half ranges of x̂ and v̂ over each period (the
+//! amplitudes the mismatches are relative to) cost O(m p) per channel. A period's table
+//! and its covariance per sensor kind (σ̂_j² times a unit covariance shared by the
+//! channels of that kind) depend on its length and harmonics only, t being measured
+//! from its first sample, so they are made once per record for all its periods of one
+//! length (`PeriodBasis`). Steps 1 and 3 (`fit_span`) and step 2 (`fit_period`) are
+//! separate so that a period compared in two spans on the same harmonics is fitted once
+//! (`spans.rs`); [`project_periods`] is the two for one span.
 
 use std::sync::Arc;
 
 use faer::Mat;
 
 use crate::error::{Error, Result};
-use crate::prep::fourier::{HarmonicBasis, select_harmonics};
+use crate::prep::fourier::{HarmonicBasis, select_with_residuals};
 use crate::record::{Record, Sensor, col};
 
 use super::table::HarmonicTable;
@@ -79,6 +84,12 @@ pub struct ChannelProjection {
 impl ChannelProjection {
     /// The variance of g_xᵀ c_x + g_vᵀ c_v.
     pub fn variance(&self, g_x: &[f64], g_v: &[f64]) -> f64 {
+        self.scaled(self.unit_variance(g_x, g_v))
+    }
+
+    /// gᵀ (Cov / σ̂_j²) g for g = [g_x; g_v]: the same for every channel that shares the
+    /// unit covariance.
+    pub fn unit_variance(&self, g_x: &[f64], g_v: &[f64]) -> f64 {
         let p = g_x.len();
         let g = |k: usize| if k < p { g_x[k] } else { g_v[k - p] };
         let unit = &*self.unit_covariance;
@@ -91,7 +102,12 @@ impl ChannelProjection {
                 }
             }
         }
-        (self.noise_variance * sum).max(0.0)
+        sum
+    }
+
+    /// The variance from its [`ChannelProjection::unit_variance`].
+    pub fn scaled(&self, unit_variance: f64) -> f64 {
+        (self.noise_variance * unit_variance).max(0.0)
     }
 }
 
@@ -223,23 +239,37 @@ pub(super) fn fit_span(record: &Record, origin: f64, periods: usize) -> Result<S
     let (x, sensors) = signals(record);
     let (first, end) = samples_in(origin, periods as f64 * length, record.samples());
     let whole = x.subrows(first, end - first);
-    let selection = select_harmonics(whole, step, period, periods)?;
+    let (selection, spectrum) = select_with_residuals(whole, step, period, periods)?;
     let omega = 2.0 * std::f64::consts::PI / period;
     let orders = selection.kept;
     let sigma = selection.noise_std;
-    // Step 3: the whole span on S, one pass per channel for the fit and one for its
-    // residual.
+    // Step 3: the whole span's residual on S, from the spectrum when the span holds
+    // whole samples per period (Parseval), else one pass per channel for the fit and
+    // one for its residual.
     let m = whole.nrows();
-    let basis = HarmonicBasis::with_orders(omega, orders.clone(), step, m)?;
-    let table = HarmonicTable::new(&basis, m);
-    let p = table.columns();
+    let p = 2 * orders.len() + 1;
     let dof = m.saturating_sub(p).max(1);
+    let from_spectrum: Option<Vec<f64>> = spectrum.as_ref().and_then(|s| {
+        (0..x.ncols())
+            .map(|j| s.residual_sum_of_squares(&orders, j))
+            .collect()
+    });
+    let residuals = match from_spectrum {
+        Some(rss) => rss,
+        None => {
+            let basis = HarmonicBasis::with_orders(omega, orders.clone(), step, m)?;
+            let table = HarmonicTable::new(&basis, m);
+            (0..x.ncols())
+                .map(|j| {
+                    let samples = &col(x, j)[first..end];
+                    table.residual_sum_of_squares(&table.fit(samples), samples)
+                })
+                .collect()
+        }
+    };
     let mut non_harmonic = Vec::with_capacity(x.ncols());
     let mut residual_ratio = Vec::with_capacity(x.ncols());
-    for j in 0..x.ncols() {
-        let samples = &col(x, j)[first..end];
-        let coefficients = table.fit(samples);
-        let rss = table.residual_sum_of_squares(&coefficients, samples);
+    for (j, rss) in residuals.into_iter().enumerate() {
         let mean_square = rss / dof as f64;
         let as_displacement = omega.powi(sensors[j].order() as i32);
         non_harmonic.push((mean_square - sigma[j] * sigma[j]).max(0.0).sqrt() / as_displacement);
@@ -275,6 +305,59 @@ pub(super) struct PeriodFit {
     channels: Vec<ChannelFit>,
 }
 
+/// What step 2 needs for periods of `rows` samples projected on `orders`, the same for
+/// every such period of a record (t is measured from a period's first sample, so the
+/// basis values do not depend on where it starts): the table of the basis, [I; J] S and
+/// the unit covariance per sensor kind, and the record's sensors.
+pub(super) struct PeriodBasis {
+    table: HarmonicTable,
+    /// Whether (BᵀB)⁻¹ is finite.
+    regular: bool,
+    /// Per sensor kind present: [I; J] S and its unit covariance.
+    kinds: Vec<(Sensor, Mat<f64>, Arc<Mat<f64>>)>,
+    /// The sensor of each channel.
+    sensors: Vec<Sensor>,
+}
+
+/// The [`PeriodBasis`] of `record` for periods of `rows` samples on `orders`.
+pub(super) fn period_basis(record: &Record, rows: usize, orders: &[usize]) -> Result<PeriodBasis> {
+    let omega = 2.0 * std::f64::consts::PI / record.period();
+    let (_, sensors) = signals(record);
+    let basis = HarmonicBasis::with_orders(omega, orders.to_vec(), record.step(), rows)?;
+    let table = HarmonicTable::new(&basis, rows);
+    let p = table.columns();
+    let gram_inverse = table.gram_inverse();
+    let regular = (0..p).all(|k| gram_inverse[(k, k)].is_finite());
+    // [I; J]: rows 0..p give c_x, rows p..2p give c_v = J c_x.
+    let mut map = Mat::<f64>::zeros(2 * p, p);
+    for k in 0..p {
+        map[(k, k)] = 1.0;
+    }
+    for (q, &order) in orders.iter().enumerate() {
+        let qw = order as f64 * omega;
+        map[(p + 2 * q + 1, 2 * q + 2)] = qw;
+        map[(p + 2 * q + 2, 2 * q + 1)] = -qw;
+    }
+    // [I; J] S and its unit covariance [I; J] S (RᵀR)⁻¹ Sᵀ [I; J]ᵀ, once per sensor
+    // kind present.
+    let mut kinds: Vec<(Sensor, Mat<f64>, Arc<Mat<f64>>)> = Vec::new();
+    if regular {
+        for &sensor in &sensors {
+            if !kinds.iter().any(|(s, _, _)| *s == sensor) {
+                let full = &map * to_displacement(sensor, orders, omega);
+                let unit = &full * &gram_inverse * full.transpose();
+                kinds.push((sensor, full, Arc::new(unit)));
+            }
+        }
+    }
+    Ok(PeriodBasis {
+        table,
+        regular,
+        kinds,
+        sensors,
+    })
+}
+
 /// Step 2 for the `rows` samples of `record` from sample `first`, projected on `orders`.
 pub(super) fn fit_period(
     record: &Record,
@@ -282,12 +365,49 @@ pub(super) fn fit_period(
     rows: usize,
     orders: &[usize],
 ) -> Result<PeriodFit> {
-    let step = record.step();
-    let omega = 2.0 * std::f64::consts::PI / record.period();
-    let (x, sensors) = signals(record);
-    let basis = HarmonicBasis::with_orders(omega, orders.to_vec(), step, rows)?;
-    let table = HarmonicTable::new(&basis, rows);
-    project_period(&table, x, first, rows, omega, orders, &sensors)
+    fit_period_with(record, &period_basis(record, rows, orders)?, first)
+}
+
+/// Step 2 for the period of `record` from sample `first`, with its [`PeriodBasis`].
+pub(super) fn fit_period_with(
+    record: &Record,
+    basis: &PeriodBasis,
+    first: usize,
+) -> Result<PeriodFit> {
+    let (x, _) = signals(record);
+    let table = &basis.table;
+    let rows = table.rows();
+    if !basis.regular {
+        return Err(Error::Numerical {
+            stage: "steady-state check".into(),
+            detail: format!(
+                "the harmonic projection of the {rows} samples from sample {first} is singular"
+            ),
+        });
+    }
+    let p = table.columns();
+    let channels = (0..x.ncols())
+        .map(|j| {
+            // cannot fail: every sensor of `sensors` was added to `kinds` by period_basis
+            let (_, full, unit) = basis
+                .kinds
+                .iter()
+                .find(|(s, _, _)| *s == basis.sensors[j])
+                .expect("each sensor kind has its map");
+            let c = table.fit(&col(x, j)[first..first + rows]);
+            let stacked: Vec<f64> = (0..2 * p)
+                .map(|a| (0..p).map(|k| full[(a, k)] * c[k]).sum())
+                .collect();
+            let (displacement, velocity) = (stacked[..p].to_vec(), stacked[p..].to_vec());
+            let (hx, hv) = table.half_ranges(&displacement, &velocity, rows);
+            (displacement, velocity, Arc::clone(unit), hx, hv)
+        })
+        .collect();
+    Ok(PeriodFit {
+        first,
+        samples: rows,
+        channels,
+    })
 }
 
 /// The projection of a span from its steps 1 and 3 and its periods' fits (in the order
@@ -382,69 +502,4 @@ fn to_displacement(sensor: Sensor, orders: &[usize], omega: f64) -> Mat<f64> {
         }
     }
     s
-}
-
-/// The `rows` samples of every channel of `x` from record sample `first` projected on
-/// `orders` with the period's `table`.
-#[allow(clippy::too_many_arguments)]
-fn project_period(
-    table: &HarmonicTable,
-    x: faer::MatRef<'_, f64>,
-    first: usize,
-    rows: usize,
-    omega: f64,
-    orders: &[usize],
-    sensors: &[Sensor],
-) -> Result<PeriodFit> {
-    let p = table.columns();
-    let gram_inverse = table.gram_inverse();
-    if !(0..p).all(|k| gram_inverse[(k, k)].is_finite()) {
-        return Err(Error::Numerical {
-            stage: "steady-state check".into(),
-            detail: format!(
-                "the harmonic projection of the {rows} samples from sample {first} is singular"
-            ),
-        });
-    }
-    // [I; J]: rows 0..p give c_x, rows p..2p give c_v = J c_x.
-    let mut map = Mat::<f64>::zeros(2 * p, p);
-    for k in 0..p {
-        map[(k, k)] = 1.0;
-    }
-    for (q, &order) in orders.iter().enumerate() {
-        let qw = order as f64 * omega;
-        map[(p + 2 * q + 1, 2 * q + 2)] = qw;
-        map[(p + 2 * q + 2, 2 * q + 1)] = -qw;
-    }
-    // [I; J] S and its unit covariance [I; J] S (RᵀR)⁻¹ Sᵀ [I; J]ᵀ, once per sensor
-    // kind present.
-    let mut kinds: Vec<(Sensor, Mat<f64>, Arc<Mat<f64>>)> = Vec::new();
-    for &sensor in sensors {
-        if !kinds.iter().any(|(s, _, _)| *s == sensor) {
-            let full = &map * to_displacement(sensor, orders, omega);
-            let unit = &full * &gram_inverse * full.transpose();
-            kinds.push((sensor, full, Arc::new(unit)));
-        }
-    }
-    let channels = (0..x.ncols())
-        .map(|j| {
-            // cannot fail: every sensor of `sensors` was added to `kinds` above
-            let (_, full, unit) = kinds
-                .iter()
-                .find(|(s, _, _)| *s == sensors[j])
-                .expect("each sensor kind has its map");
-            let c = table.fit(&col(x, j)[first..first + rows]);
-            let stacked: Vec<f64> = (0..2 * p)
-                .map(|a| (0..p).map(|k| full[(a, k)] * c[k]).sum())
-                .collect();
-            let (displacement, velocity) = (stacked[..p].to_vec(), stacked[p..].to_vec());
-            let (hx, hv) = table.half_ranges(&displacement, &velocity, rows);
-            (displacement, velocity, Arc::clone(unit), hx, hv)
-        })
-        .collect();
-    Ok(PeriodFit {
-        first,
-        samples: rows,
-        channels,
-    })
 }

@@ -10,7 +10,9 @@
 //! harmonics, and then its fit (which depends on its samples and S alone, not on the
 //! span's noise) is done once and shared. A span's projection is then its steps 1 and 3
 //! with its periods' fits and σ̂_j² (`projection::assemble`): the same values bit for
-//! bit as [`projection::project_periods`] of the span.
+//! bit as [`projection::project_periods`] of the span. The periods of a record with the
+//! same number of samples and the same harmonics share one basis, its factor and its
+//! covariances (`projection::PeriodBasis`).
 
 use std::collections::HashMap;
 
@@ -36,7 +38,7 @@ pub(super) fn project_spans(spans: &[SpanKey<'_>]) -> Result<Vec<Result<StatePro
         .collect::<Result<Vec<_>>>()?;
     // The distinct (record, first sample, samples, S) of the periods the spans project.
     let mut known = HashMap::new();
-    let mut periods: Vec<(&Record, usize, usize, &[usize])> = Vec::new();
+    let mut periods: Vec<(&Record, usize, usize, usize, &[usize])> = Vec::new();
     let ids: Vec<Vec<usize>> = spans
         .iter()
         .zip(&fits)
@@ -49,18 +51,39 @@ pub(super) fn project_spans(spans: &[SpanKey<'_>]) -> Result<Vec<Result<StatePro
                     *known
                         .entry((index, first, rows, fit.orders.as_slice()))
                         .or_insert_with(|| {
-                            periods.push((record, first, rows, fit.orders.as_slice()));
+                            periods.push((record, index, first, rows, fit.orders.as_slice()));
                             periods.len() - 1
                         })
                 })
                 .collect()
         })
         .collect();
+    // Periods of one record with the same samples and harmonics share their basis, its
+    // factor and its covariances (t is measured from each period's first sample).
+    let mut bases = HashMap::new();
+    let mut distinct: Vec<(&Record, usize, &[usize])> = Vec::new();
+    let basis_ids: Vec<usize> = periods
+        .iter()
+        .map(|&(record, index, _, rows, orders)| {
+            *bases.entry((index, rows, orders)).or_insert_with(|| {
+                distinct.push((record, rows, orders));
+                distinct.len() - 1
+            })
+        })
+        .collect();
+    let shared: Vec<Result<projection::PeriodBasis>> = distinct
+        .par_iter()
+        .map(|&(record, rows, orders)| projection::period_basis(record, rows, orders))
+        .collect();
     let period_fits = periods
         .par_iter()
-        .map(|&(record, first, rows, orders)| {
+        .zip(&basis_ids)
+        .map(|(&(record, _, first, _, _), &id)| {
             crate::cancel::check("the steady-state check")?;
-            Ok(projection::fit_period(record, first, rows, orders))
+            Ok(match &shared[id] {
+                Ok(basis) => projection::fit_period_with(record, basis, first),
+                Err(e) => Err(e.clone()),
+            })
         })
         .collect::<Result<Vec<_>>>()?;
     Ok(spans

@@ -10,12 +10,17 @@
 //! shared by every channel), x₀ the channel's first sample (a large offset costs no
 //! accuracy, as in [`crate::prep::fourier::HarmonicBasis::fit_with`]). Each product is a
 //! pass over a column of samples: O(m p) per channel, no copy of the samples, no
-//! matrix of fitted values. Bᵀx reads x once for up to seven columns; ŷ is formed
-//! 128 samples at a time on the stack and reduced at once to its range or residual.
+//! matrix of fitted values. Bᵀx reads x once for up to seven columns; for the range, ŷ
+//! is formed eight samples at a time in registers and reduced at once; for the residual,
+//! 128 samples at a time on the stack. The passes of the fit and the range are compiled
+//! for the widest instruction set the CPU has ([`simd::dispatch`]) with every lane doing
+//! the operations of the plain loop in its order, so the results are the same bits at
+//! every level.
 
 use faer::Mat;
 
 use crate::prep::fourier::HarmonicBasis;
+use crate::terms::simd::{self, Kernel};
 
 /// Samples of B c held at a time ([`HarmonicTable::chunks`]): on the stack, in L1.
 const CHUNK: usize = 128;
@@ -51,6 +56,7 @@ fn dot_shifted(a: &[f64], b: &[f64], shift: f64) -> f64 {
 /// [`dot_shifted`] of N columns `a` against one `b`, each sum bitwise the one
 /// `dot_shifted(a[c], b, shift)` gives (the same four partial sums, tail and order),
 /// with `b` read once.
+#[inline(always)]
 fn dots_shifted<const N: usize>(a: [&[f64]; N], b: &[f64], shift: f64) -> [f64; N] {
     // The columns' length decides the split, as in `dot_shifted`.
     let n = a.first().map_or(0, |column| column.len());
@@ -79,6 +85,110 @@ fn dots_shifted<const N: usize>(a: [&[f64]; N], b: &[f64], shift: f64) -> [f64; 
     out
 }
 
+/// Bᵀ(x − shift) into `out`: up to seven columns per pass over x (four while eight or
+/// more are left), each sum bitwise the one [`dot_shifted`] gives alone (the same
+/// operations in the same order), with x read once per pass instead of once per column.
+/// Compiled for the widest instruction set the CPU has ([`simd::dispatch`]): the four
+/// partial sums are four lanes, so every level gives the same bits.
+struct Projections<'a> {
+    design: &'a Mat<f64>,
+    x: &'a [f64],
+    shift: f64,
+    out: &'a mut [f64],
+}
+
+impl Projections<'_> {
+    /// out_k.. out_{k+N−1} in one pass.
+    #[inline(always)]
+    fn dots<const N: usize>(&mut self, k: usize) {
+        let design = self.design;
+        let columns: [&[f64]; N] = std::array::from_fn(|l| design.col_as_slice(k + l));
+        self.out[k..k + N].copy_from_slice(&dots_shifted(columns, self.x, self.shift));
+    }
+}
+
+impl Kernel for Projections<'_> {
+    type Output = ();
+    #[inline(always)]
+    fn run(mut self) {
+        let p = self.design.ncols();
+        let mut k = 0;
+        while p - k >= 8 {
+            self.dots::<4>(k);
+            k += 4;
+        }
+        match p - k {
+            1 => self.dots::<1>(k),
+            2 => self.dots::<2>(k),
+            3 => self.dots::<3>(k),
+            4 => self.dots::<4>(k),
+            5 => self.dots::<5>(k),
+            6 => self.dots::<6>(k),
+            7 => self.dots::<7>(k),
+            _ => {}
+        }
+    }
+}
+
+/// Samples of B c evaluated side by side in registers by [`Extremes`].
+const LANES: usize = 8;
+
+/// The least and the largest of ŷ_i = Σ_k c_k B_ik over the first `n` samples, each ŷ_i
+/// the nonzero terms added to 0.0 in the order of k (the operations of
+/// [`HarmonicTable::chunks`]), [`LANES`] samples at a time in registers with their
+/// extremes kept per lane: no buffer, and no comparison waits on the one before.
+/// `if y < lo` is the hardware's minimum (the same as `f64::min` for finite values but
+/// for the sign of a zero). Compiled for the widest instruction set the CPU has.
+struct Extremes<'a> {
+    design: &'a Mat<f64>,
+    coefficients: &'a [f64],
+    n: usize,
+}
+
+impl Kernel for Extremes<'_> {
+    type Output = (f64, f64);
+    #[inline(always)]
+    fn run(self) -> (f64, f64) {
+        let n = self.n;
+        // the nonzero terms in the order of k, each with its column
+        let terms: Vec<(f64, &[f64])> = self
+            .coefficients
+            .iter()
+            .enumerate()
+            .filter(|&(_, &ck)| ck != 0.0)
+            .map(|(k, &ck)| (ck, &self.design.col_as_slice(k)[..n]))
+            .collect();
+        let (mut lo, mut hi) = ([f64::INFINITY; LANES], [f64::NEG_INFINITY; LANES]);
+        let whole = n - n % LANES;
+        for start in (0..whole).step_by(LANES) {
+            let mut y = [0.0f64; LANES];
+            for &(ck, column) in &terms {
+                let column = &column[start..start + LANES];
+                for l in 0..LANES {
+                    y[l] += ck * column[l];
+                }
+            }
+            for l in 0..LANES {
+                lo[l] = if y[l] < lo[l] { y[l] } else { lo[l] };
+                hi[l] = if y[l] > hi[l] { y[l] } else { hi[l] };
+            }
+        }
+        for i in whole..n {
+            let mut y = 0.0f64;
+            for &(ck, column) in &terms {
+                y += ck * column[i];
+            }
+            let l = i - whole;
+            lo[l] = if y < lo[l] { y } else { lo[l] };
+            hi[l] = if y > hi[l] { y } else { hi[l] };
+        }
+        (
+            lo.iter().fold(f64::INFINITY, |a, &b| a.min(b)),
+            hi.iter().fold(f64::NEG_INFINITY, |a, &b| a.max(b)),
+        )
+    }
+}
+
 impl HarmonicTable {
     /// The table of `basis` over its `samples` samples.
     pub(super) fn new(basis: &HarmonicBasis, samples: usize) -> Self {
@@ -88,15 +198,14 @@ impl HarmonicTable {
         }
     }
 
+    /// m, the samples of the design.
+    pub(super) fn rows(&self) -> usize {
+        self.design.nrows()
+    }
+
     /// p.
     pub(super) fn columns(&self) -> usize {
         self.design.ncols()
-    }
-
-    /// c_k.. c_{k+N−1} = Σ_i B_ik (x_i − shift) for the N columns from k, in one pass.
-    fn dots<const N: usize>(&self, k: usize, x: &[f64], shift: f64, c: &mut [f64]) {
-        let columns: [&[f64]; N] = std::array::from_fn(|l| self.design.col_as_slice(k + l));
-        c[k..k + N].copy_from_slice(&dots_shifted(columns, x, shift));
     }
 
     /// The least-squares coefficients of the samples `x` (m of them): module doc.
@@ -104,24 +213,12 @@ impl HarmonicTable {
         let p = self.columns();
         let shift = x.first().copied().unwrap_or(0.0);
         let mut c = vec![0.0; p];
-        // Up to seven columns per pass over x (four while eight or more are left):
-        // each sum is bitwise the one `dot_shifted` gives alone (the same operations in
-        // the same order), with x read once per pass instead of once per column.
-        let mut k = 0;
-        while p - k >= 8 {
-            self.dots::<4>(k, x, shift, &mut c);
-            k += 4;
-        }
-        match p - k {
-            1 => self.dots::<1>(k, x, shift, &mut c),
-            2 => self.dots::<2>(k, x, shift, &mut c),
-            3 => self.dots::<3>(k, x, shift, &mut c),
-            4 => self.dots::<4>(k, x, shift, &mut c),
-            5 => self.dots::<5>(k, x, shift, &mut c),
-            6 => self.dots::<6>(k, x, shift, &mut c),
-            7 => self.dots::<7>(k, x, shift, &mut c),
-            _ => {}
-        }
+        simd::dispatch(Projections {
+            design: &self.design,
+            x,
+            shift,
+            out: &mut c,
+        });
         // Rᵀ y = Bᵀx', then R c = y.
         let r = &self.r;
         for i in 0..p {
@@ -169,26 +266,16 @@ impl HarmonicTable {
         }
     }
 
-    /// ½ (max − min) of B c over the first `n` samples. The extremes are taken in four
-    /// lanes side by side (no comparison waits on the one before): the least and the
-    /// largest of finite values do not depend on the order they are met in, so the
-    /// range is the same as in sample order (a zero range might differ in the sign of
-    /// its zero only, which every use of it treats alike).
+    /// ½ (max − min) of B c over the first `n` samples ([`Extremes`]): the least and
+    /// the largest of finite values do not depend on the order they are met in, so the
+    /// range is the same as in sample order (a zero range might differ in the sign of its
+    /// zero only, which every use of it treats alike).
     fn half_range(&self, coefficients: &[f64], n: usize) -> f64 {
-        let (mut lo, mut hi) = ([f64::INFINITY; 4], [f64::NEG_INFINITY; 4]);
-        self.chunks(coefficients, n, |_, fitted| {
-            let (quads, rest) = fitted.as_chunks::<4>();
-            for quad in quads {
-                for l in 0..4 {
-                    (lo[l], hi[l]) = (lo[l].min(quad[l]), hi[l].max(quad[l]));
-                }
-            }
-            for (l, &y) in rest.iter().enumerate() {
-                (lo[l], hi[l]) = (lo[l].min(y), hi[l].max(y));
-            }
+        let (lo, hi) = simd::dispatch(Extremes {
+            design: &self.design,
+            coefficients,
+            n,
         });
-        let lo = lo.iter().fold(f64::INFINITY, |a, &b| a.min(b));
-        let hi = hi.iter().fold(f64::NEG_INFINITY, |a, &b| a.max(b));
         0.5 * (hi - lo)
     }
 
