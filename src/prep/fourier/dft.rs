@@ -300,7 +300,7 @@ fn non_harmonic_power(bins: &[Complex<f64>], periods: usize, highest: usize, len
         acc[k % 4] += between;
     }
     let above = &bins[last + 1..];
-    let nyquist = if length % 2 == 0 {
+    let nyquist = if length.is_multiple_of(2) {
         above.last().map(|b| b.norm_sqr())
     } else {
         None
