@@ -85,6 +85,25 @@ fn dots_shifted<const N: usize>(a: [&[f64]; N], b: &[f64], shift: f64) -> [f64; 
     out
 }
 
+/// c ← (RᵀR)⁻¹ c in place: Rᵀ y = c, then R c = y (R upper triangular, p × p).
+fn solve_factored(r: &Mat<f64>, c: &mut [f64]) {
+    let p = c.len();
+    for i in 0..p {
+        let mut s = c[i];
+        for k in 0..i {
+            s -= r[(k, i)] * c[k];
+        }
+        c[i] = s / r[(i, i)];
+    }
+    for i in (0..p).rev() {
+        let mut s = c[i];
+        for k in i + 1..p {
+            s -= r[(i, k)] * c[k];
+        }
+        c[i] = s / r[(i, i)];
+    }
+}
+
 /// Bᵀ(x − shift) into `out`: up to seven columns per pass over x (four while eight or
 /// more are left), each sum bitwise the one [`dot_shifted`] gives alone (the same
 /// operations in the same order), with x read once per pass instead of once per column.
@@ -219,22 +238,7 @@ impl HarmonicTable {
             shift,
             out: &mut c,
         });
-        // Rᵀ y = Bᵀx', then R c = y.
-        let r = &self.r;
-        for i in 0..p {
-            let mut s = c[i];
-            for k in 0..i {
-                s -= r[(k, i)] * c[k];
-            }
-            c[i] = s / r[(i, i)];
-        }
-        for i in (0..p).rev() {
-            let mut s = c[i];
-            for k in i + 1..p {
-                s -= r[(i, k)] * c[k];
-            }
-            c[i] = s / r[(i, i)];
-        }
+        solve_factored(&self.r, &mut c);
         if let Some(a0) = c.first_mut() {
             *a0 += shift;
         }
@@ -387,22 +391,7 @@ mod tests {
                     .map(|k| dot_shifted(table.design.col_as_slice(k), &b, shift))
                     .collect();
                 let mut reference = by_column;
-                let r = &table.r;
-                let p = table.columns();
-                for i in 0..p {
-                    let mut s = reference[i];
-                    for k in 0..i {
-                        s -= r[(k, i)] * reference[k];
-                    }
-                    reference[i] = s / r[(i, i)];
-                }
-                for i in (0..p).rev() {
-                    let mut s = reference[i];
-                    for k in i + 1..p {
-                        s -= r[(i, k)] * reference[k];
-                    }
-                    reference[i] = s / r[(i, i)];
-                }
+                solve_factored(&table.r, &mut reference);
                 reference[0] += shift;
                 assert_eq!(
                     bits(&c),
