@@ -28,7 +28,7 @@
 use faer::MatRef;
 
 use super::dft::WholeSampleDft;
-use super::{HarmonicBasis, default_harmonics};
+use super::{HarmonicBasis, default_harmonics, first_orders};
 use crate::error::Result;
 
 /// Amplitude over the per-bin noise amplitude above which a harmonic is kept.
@@ -144,8 +144,10 @@ pub(super) fn select_with(
     let m = x.nrows();
     let omega = 2.0 * std::f64::consts::PI / period;
     let most = most_harmonics(m, step, period);
-    let basis = HarmonicBasis::new(omega, most, step, m)?;
-    let orders: Vec<usize> = (1..=most).collect();
+    // The least-squares basis (and its checks: the memory of its dense design, the
+    // Nyquist limit) only where the spectrum does not answer.
+    let basis = || HarmonicBasis::new(omega, most, step, m);
+    let orders = first_orders(most, m)?;
     let bins = if periods >= 2 {
         between_bins(periods, most)
     } else {
@@ -157,16 +159,20 @@ pub(super) fn select_with(
     let (coefficients, design) = match spectrum {
         Some(spectrum) => (spectrum.fit(&orders), None),
         None if periods >= 2 => {
+            let basis = basis()?;
             let (c, design) = basis.fit_and_design(x);
-            (c, Some(design))
+            (c, Some((basis, design)))
         }
-        None => (basis.fit(x), None),
+        None => (basis()?.fit(x), None),
     };
     let between = if periods >= 2 {
         Some(match (spectrum, design) {
             (Some(spectrum), _) => spectrum.between_powers(&coefficients),
-            (None, design) => {
-                let design = design.unwrap_or_else(|| basis.design(m));
+            (None, fitted) => {
+                let design = match fitted {
+                    Some((_, design)) => design,
+                    None => basis()?.design(m),
+                };
                 let residual = x - design * &coefficients;
                 between_harmonics(residual.as_ref(), step, omega, periods, &bins)
             }
@@ -180,14 +186,14 @@ pub(super) fn select_with(
     let mut above = vec![false; most + 1];
     for channel in 0..x.ncols() {
         let amps = amplitudes_of(coefficients.col(channel), most);
-        let mut powers: Vec<f64> = match &between {
+        let mut powers: Vec<i64> = match &between {
             // the upper half of the band, then the residual bins between harmonics
             Some(bins) => amps[most / 2..]
                 .iter()
-                .map(|a| a * a)
-                .chain(bins.iter().map(|powers| powers[channel]))
+                .map(|a| order_key(a * a))
+                .chain(bins.iter().map(|powers| order_key(powers[channel])))
                 .collect(),
-            None => amps[1..].iter().map(|a| a * a).collect(),
+            None => amps[1..].iter().map(|a| order_key(a * a)).collect(),
         };
         let floor = ROUND_OFF * amps.iter().cloned().fold(0.0, f64::max);
         let noise = median(&mut powers).map_or(floor, |median| {
@@ -236,24 +242,35 @@ fn amplitudes_of(c: faer::ColRef<'_, f64>, most: usize) -> Vec<f64> {
         .collect()
 }
 
-/// The median of `values` (reordered), or None when empty: by selection, O(n), the
-/// same values as a sort would put in the middle.
-fn median(values: &mut [f64]) -> Option<f64> {
-    if values.is_empty() {
+/// The key of `x` in IEEE 754's total order as an integer: `order_key(a) < order_key(b)`
+/// exactly when `a.total_cmp(&b)` is `Less` (the bit transform `f64::total_cmp` applies
+/// to both sides of every comparison, applied once per value; its own inverse).
+fn order_key(x: f64) -> i64 {
+    let bits = x.to_bits() as i64;
+    bits ^ ((((bits >> 63) as u64) >> 1) as i64)
+}
+
+/// The value whose [`order_key`] is `key`.
+fn from_order_key(key: i64) -> f64 {
+    f64::from_bits((key ^ ((((key >> 63) as u64) >> 1) as i64)) as u64)
+}
+
+/// The median of the values whose [`order_key`]s are `keys` (reordered), or None when
+/// empty: by selection on the integer keys, O(n), the same values as a sort by
+/// `f64::total_cmp` would put in the middle.
+fn median(keys: &mut [i64]) -> Option<f64> {
+    if keys.is_empty() {
         return None;
     }
-    let mid = values.len() / 2;
-    let odd = values.len() % 2 == 1;
-    let (below, &mut upper, _) = values.select_nth_unstable_by(mid, f64::total_cmp);
+    let mid = keys.len() / 2;
+    let odd = keys.len() % 2 == 1;
+    let (below, &mut upper, _) = keys.select_nth_unstable(mid);
+    let upper = from_order_key(upper);
     Some(if odd {
         upper
     } else {
         // even count: the lower middle is the largest of those below
-        let lower = below
-            .iter()
-            .copied()
-            .max_by(f64::total_cmp)
-            .unwrap_or(upper);
+        let lower = below.iter().copied().max().map_or(upper, from_order_key);
         0.5 * (lower + upper)
     })
 }
@@ -350,7 +367,7 @@ fn between_harmonics(
 
 #[cfg(test)]
 mod tests {
-    use super::{amplitudes_of, median};
+    use super::{amplitudes_of, from_order_key, median, order_key};
 
     /// The amplitudes from scaled squares are within an ulp or two of `hypot`, at the
     /// extremes of scale the data check lets through (2^±505) and where a harmonic is
@@ -398,9 +415,37 @@ mod tests {
             } else {
                 0.5 * (sorted[mid - 1] + sorted[mid])
             };
-            let mut shuffled = values.clone();
-            assert_eq!(median(&mut shuffled), Some(expected), "{values:?}");
+            let mut keys: Vec<i64> = values.iter().map(|&v| order_key(v)).collect();
+            assert_eq!(median(&mut keys), Some(expected), "{values:?}");
         }
         assert_eq!(median(&mut []), None);
+    }
+
+    /// The integer keys order values as `f64::total_cmp` does (signed zeros, subnormals,
+    /// infinities, NaNs of both signs) and give the values back bit for bit.
+    #[test]
+    fn order_keys_follow_the_total_order() {
+        let values = [
+            f64::NEG_INFINITY,
+            -f64::NAN,
+            -1e300,
+            -1.0,
+            -f64::MIN_POSITIVE / 4.0,
+            -0.0,
+            0.0,
+            f64::MIN_POSITIVE / 4.0,
+            1e-300,
+            0.37,
+            2.0,
+            f64::MAX,
+            f64::INFINITY,
+            f64::NAN,
+        ];
+        for a in values {
+            assert_eq!(from_order_key(order_key(a)).to_bits(), a.to_bits());
+            for b in values {
+                assert_eq!(order_key(a).cmp(&order_key(b)), a.total_cmp(&b), "{a} {b}");
+            }
+        }
     }
 }
