@@ -20,7 +20,9 @@
 //! ‖r‖² falls (λ ← λ/3), else λ ← 4λ and solved again (at most [`MAX_REJECTIONS`] times
 //! in a row). Converged when an accepted step lowers the cost by at most `tolerance`
 //! of it, when the step is below 10⁻¹⁰, or when no λ lowers it (a minimum to working
-//! precision). q + 1 trials per iteration, plus the rejected ones.
+//! precision). Per iteration one trial per column without a closed form (the law
+//! parameters) and one per step tried; the exact columns need no trial (one SVD of the
+//! inner fit's rows at η for all of them).
 //!
 //! Multistart: before the first iteration the cost is evaluated at the initial values
 //! and at the 2^q corners of the box [0.25, 0.75]^q (q ≤ [`MULTISTART_MAX`]; a coarse
