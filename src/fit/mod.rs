@@ -15,6 +15,7 @@ mod weighted;
 
 pub use constrained::constrained;
 pub use constraints::{Bound, Constraints, Fixed, LinearConstraint, LinearTerm, Relation};
+pub(crate) use least_squares::factored_least_squares;
 pub use least_squares::least_squares;
 pub use svd::ScaledSvd;
 pub(crate) use weighted::inverse_std;

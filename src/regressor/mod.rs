@@ -468,13 +468,37 @@ impl Regressor {
 
     /// The rows `indices` (repeats allowed), with their labels and noise model.
     pub fn select_rows(&self, indices: &[usize]) -> Result<Self> {
+        self.select(indices, true)
+    }
+
+    /// [`Regressor::select_rows`] for a refit ([`crate::analysis::solved::solved`], as
+    /// the leave-one-record-out refits of [`crate::report::outliers`] make it): of the
+    /// noise model only the rows' sensitivities ([`NoiseModel::rows`], what the weighted
+    /// fit and the passivity check read) are copied, not what each window estimated
+    /// ([`NoiseModel::windows`], left empty: read by the report only). The fit and its
+    /// diagnostics are those of [`Regressor::select_rows`] bit for bit.
+    pub(crate) fn select_rows_to_refit(&self, indices: &[usize]) -> Result<Self> {
+        self.select(indices, false)
+    }
+
+    /// The rows `indices`; the noise model's windows too when `windows`.
+    fn select(&self, indices: &[usize], windows: bool) -> Result<Self> {
         let matrix = Mat::from_fn(indices.len(), self.columns.len(), |r, k| {
             self.matrix[(indices[r], k)]
         });
         let rhs = indices.iter().map(|&i| self.rhs[i]).collect();
         let rows = indices.iter().map(|&i| self.rows[i].clone()).collect();
         let mut selected = Self::from_parts(matrix, rhs, self.columns.clone(), rows)?;
-        selected.noise = self.noise.as_ref().map(|n| Arc::new(n.select(indices)));
+        selected.noise = self.noise.as_ref().map(|n| {
+            Arc::new(if windows {
+                n.select(indices)
+            } else {
+                NoiseModel {
+                    rows: indices.iter().map(|&i| n.rows[i].clone()).collect(),
+                    windows: Vec::new(),
+                }
+            })
+        });
         selected.nuisance = self.nuisance;
         selected.velocity_bias = self.velocity_bias.as_ref().map(|b| VelocityBias {
             matrix: Mat::from_fn(indices.len(), b.matrix.ncols(), |r, k| {

@@ -45,8 +45,9 @@ use crate::fit::{FitSettings, Weighting, inverse_std};
 use crate::regressor::Regressor;
 
 use super::levenberg_marquardt::levenberg_marquardt;
-use super::minimum::Minimum;
+use super::minimum::{Column, Minimum};
 use super::problem::{Problem, weighted_residuals};
+use super::projected_jacobian::{Projections, column};
 use super::{NonlinearParameter, VarProSettings};
 
 /// Minimises the projected cost over several parameters (see the module doc); without
@@ -60,19 +61,12 @@ pub(super) fn minimise(
 ) -> Result<Minimum> {
     let parameters = problem.parameters();
     if fit.weighting == Weighting::Ordinary {
-        // the Jacobian's columns of a table's residual unknowns: the fit of
-        // A(η) + h ∂A/∂η_j (`sweep_blocks.rs`)
-        let shifted = |eta: &[f64], j: usize, h: f64| -> Result<Option<Vec<f64>>> {
+        // the Jacobian's columns of a table's residual unknowns, exact
+        // (`projected_jacobian.rs`)
+        let kept = Projections::default();
+        let shifted = |eta: &[f64], j: usize, h: f64| -> Result<Option<Column>> {
             let base = problem.shared(eta)?;
-            let Some(rows) = problem.shifted(&base, eta, j, h)? else {
-                return Ok(None);
-            };
-            let fit = crate::fit::solve(&rows, fit)?;
-            Ok(Some(weighted_residuals(
-                &rows,
-                &fit.coefficients,
-                fit.residual_std.as_deref(),
-            )))
+            column(problem, &kept, &base, None, fit, eta, j, h)
         };
         return levenberg_marquardt(
             &|eta| problem.residuals(eta),
@@ -143,27 +137,27 @@ pub(super) fn minimise(
         let fit = crate::fit::solve(&rows, &ordinary)?;
         Ok(weighted_residuals(&rows, &fit.coefficients, None))
     };
-    // the Jacobian's columns of a table's residual unknowns: the fixed-weight fit of
-    // A(η) + h ∂A/∂η_j (`sweep_blocks.rs`)
-    let fixed_shifted =
-        |weights: &[f64], eta: &[f64], j: usize, h: f64| -> Result<Option<Vec<f64>>> {
-            let base = regressor(eta, false)?;
-            let Some(moved) = problem.shifted(&base, eta, j, h)? else {
-                return Ok(None);
-            };
-            let rows = moved.weighted(weights)?;
-            let fit = crate::fit::solve(&rows, &ordinary)?;
-            Ok(Some(weighted_residuals(&rows, &fit.coefficients, None)))
-        };
+    // the Jacobian's columns of a table's residual unknowns for the fixed-weight fit,
+    // exact (`projected_jacobian.rs`; each search keeps its own factored fit)
+    let fixed_shifted = |kept: &Projections,
+                         weights: &[f64],
+                         eta: &[f64],
+                         j: usize,
+                         h: f64|
+     -> Result<Option<Column>> {
+        let base = regressor(eta, false)?;
+        column(problem, kept, &base, Some(weights), &ordinary, eta, j, h)
+    };
     // the first search only has to reach the basin: the refinement converges to
     // `tolerance`
     let loose = VarProSettings {
         tolerance: settings.tolerance.sqrt(),
         ..*settings
     };
+    let kept = Projections::default();
     let first = levenberg_marquardt(
         &|eta| fixed(&weights, eta),
-        Some(&|eta, j, h| fixed_shifted(&weights, eta, j, h)),
+        Some(&|eta, j, h| fixed_shifted(&kept, &weights, eta, j, h)),
         parameters,
         &loose,
         multistart,
@@ -182,9 +176,10 @@ pub(super) fn minimise(
             ..p.clone()
         })
         .collect();
+    let kept = Projections::default();
     let second = levenberg_marquardt(
         &|eta| fixed(&weights, eta),
-        Some(&|eta, j, h| fixed_shifted(&weights, eta, j, h)),
+        Some(&|eta, j, h| fixed_shifted(&kept, &weights, eta, j, h)),
         &from_first,
         settings,
         false,

@@ -5,8 +5,10 @@
 //!   J = [W^{1/2} A(η̂),  ∂r/∂η],   Cov(θ, η) = σ² (JᵀJ)⁻¹,
 //! ```
 //!
-//! σ² as [`super::problem::Variance`] says. ∂r/∂η_j by central differences at fixed θ̂
-//! and W, with a step of 10⁻⁵ of the parameter's bound interval (one-sided at a bound).
+//! σ² as [`super::problem::Variance`] says. ∂r/∂η_j at fixed θ̂ and W: W^{1/2} ∂A/∂η_j θ̂
+//! in closed form for a table's residual unknowns (`sweep_blocks.rs`, its sweep's rows
+//! alone), else by central differences with a step of 10⁻⁵ of the parameter's bound
+//! interval (one-sided at a bound).
 //! JᵀJ is never formed: J's columns are scaled to unit norm and (JᵀJ)⁻¹ = S⁻¹VΣ⁻²VᵀS⁻¹
 //! from the thin SVD J_s = UΣVᵀ; a rank below p + q (singular values under 10⁻¹⁰σ₁)
 //! leaves every standard error out. The covariance itself (θ then η, the report's
@@ -51,6 +53,16 @@ pub(super) fn covariance(
         .collect();
     let parameters = problem.parameters();
     for j in 0..q {
+        // a table's residual unknown: ∂A/∂η_j θ̂ / s in closed form, on its sweep's rows
+        if let Some(derivative) = problem.derivative_rows(eta, j)? {
+            let mut column = vec![0.0; m];
+            for (row, d) in &derivative {
+                let moved: f64 = d.iter().zip(theta).map(|(x, t)| x * t).sum();
+                column[*row] = moved / std.map_or(1.0, |s| s[*row]);
+            }
+            columns.push(column);
+            continue;
+        }
         let spec = &parameters[j];
         let h = 1e-5 * (spec.upper - spec.lower);
         let shifted = |t: f64| -> Result<Vec<f64>> {

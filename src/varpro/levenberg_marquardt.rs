@@ -2,12 +2,14 @@
 //!
 //! In the unit box u_j = (η_j − l_j)/(u_j − l_j) ∈ [0, 1] (every parameter on the same
 //! scale), with r(u) the projected residual of a trial (the inner fit's
-//! (A θ̂ − b)_r / s_r) and its Jacobian J by forward differences of whole trials, step
-//! δu = 10⁻⁶ (backward at the upper bound; the Golub–Pereyra derivative of the
-//! projected residual, so no Kaufman term is dropped and constrained inner fits are
-//! differentiated as they are; the columns of a table's residual unknowns, when the
-//! caller gives them, from the fit of A(η) + δη_j ∂A/∂η_j instead of a whole trial,
-//! `sweep_blocks.rs`), each iteration solves
+//! (A θ̂ − b)_r / s_r) and its Jacobian J: the columns of a table's residual unknowns,
+//! when the caller gives them, exact (Golub–Pereyra, from the closed-form ∂A/∂η_j on
+//! its sweep's rows and the inner fit's own SVD, `projected_jacobian.rs`; for a
+//! constrained inner fit the fit of A(η) + δη_j ∂A/∂η_j, a forward difference), the
+//! others by forward differences of whole trials, step δu = 10⁻⁶ (backward at the
+//! upper bound; the derivative of the projected residual, so no Kaufman term is
+//! dropped and constrained inner fits are differentiated as they are). Each iteration
+//! solves
 //!
 //! ```text
 //!   (JᵀJ + λ (diag JᵀJ + ε I)) δ = −Jᵀ r,      ε = 10⁻¹² max diag JᵀJ,
@@ -18,7 +20,9 @@
 //! ‖r‖² falls (λ ← λ/3), else λ ← 4λ and solved again (at most [`MAX_REJECTIONS`] times
 //! in a row). Converged when an accepted step lowers the cost by at most `tolerance`
 //! of it, when the step is below 10⁻¹⁰, or when no λ lowers it (a minimum to working
-//! precision). q + 1 trials per iteration, plus the rejected ones.
+//! precision). Per iteration one trial per column without a closed form (the law
+//! parameters) and one per step tried; the exact columns need no trial (one SVD of the
+//! inner fit's rows at η for all of them).
 //!
 //! Multistart: before the first iteration the cost is evaluated at the initial values
 //! and at the 2^q corners of the box [0.25, 0.75]^q (q ≤ [`MULTISTART_MAX`]; a coarse
@@ -30,7 +34,7 @@ use faer::prelude::Solve;
 
 use crate::error::{Error, Result};
 
-use super::minimum::{Minimum, Residuals, Shifted};
+use super::minimum::{Column, Minimum, Residuals, Shifted};
 use super::{NonlinearParameter, VarProSettings};
 
 /// Forward-difference step in the unit box.
@@ -140,9 +144,10 @@ pub(super) fn levenberg_marquardt(
                 Some(shifted) => shifted(&eta, j, at[j] - eta[j])?,
                 None => None,
             };
-            let rj = match cheap {
-                Some(rj) => rj,
-                None => residuals(&at)?,
+            let (rj, exact) = match cheap {
+                Some(Column::Derivative(d)) => (d, true),
+                Some(Column::Shifted(rj)) => (rj, false),
+                None => (residuals(&at)?, false),
             };
             if rj.len() != m {
                 return Err(Error::mismatch(
@@ -151,7 +156,12 @@ pub(super) fn levenberg_marquardt(
                     rj.len(),
                 ));
             }
-            jacobian.push(rj.iter().zip(&r).map(|(a, b)| (a - b) / h).collect());
+            jacobian.push(if exact {
+                // ∂r/∂u_j = (u_j's span in η) ∂r/∂η_j
+                rj.iter().map(|d| d * span[j]).collect()
+            } else {
+                rj.iter().zip(&r).map(|(a, b)| (a - b) / h).collect()
+            });
         }
         let gradient: Vec<f64> = jacobian
             .iter()

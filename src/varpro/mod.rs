@@ -51,6 +51,7 @@ mod minimum;
 mod outer;
 mod problem;
 mod profile;
+mod projected_jacobian;
 mod sweep_blocks;
 
 use crate::analysis::bootstrap::{Bootstrap, BootstrapSettings};

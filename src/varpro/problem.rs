@@ -9,8 +9,8 @@
 //!
 //! The regressor of the last projected residual r(η) is kept (keyed by the bits of η,
 //! shared, not copied): a Levenberg–Marquardt iteration asks for r(η), then for the
-//! q columns of its Jacobian, those of a table's residual unknowns from the fit of
-//! A(η) + h ∂A/∂η_j, which read that same A(η) (`shifted`): assembled once per column
+//! q columns of its Jacobian, those of a table's residual unknowns exact from that
+//! same A(η) and ∂A/∂η_j (`projected_jacobian.rs`): assembled once per column
 //! before, 1412 assemblies on the 12-sweep bench with ordinary weighting, 199 now
 //! (BENCHMARKS.md §14). A build is deterministic, so the kept
 //! regressor is the one a build would give: the estimates do not change.
@@ -24,7 +24,7 @@ use crate::fit::{Fit, FitSettings, Weighting};
 use crate::regressor::{NonlinearParameter, ParametricRegressor, Regressor, RegressorSettings};
 use crate::report::FitReport;
 
-use super::sweep_blocks::SweepBlocks;
+use super::sweep_blocks::{RowDerivatives, SweepBlocks};
 
 /// The regressor at η (η in the order of the problem's parameters).
 pub type TrialBuilder<'a> = dyn Fn(&[f64]) -> Result<Regressor> + Send + Sync + 'a;
@@ -123,51 +123,18 @@ impl<'a> Problem<'a> {
         self
     }
 
-    /// A(η) + h ∂A/∂η_j with b and labels of `base` = A(η), when ∂A/∂η_j is known in
-    /// closed form (a residual unknown of a table, `sweep_blocks.rs`); `None` otherwise
-    /// (the caller differences whole trials). Its fit differs from the trial at
-    /// η + h e_j by O(h²) in A. It carries no noise model: it is for a fit whose row
+    /// A(η) + h ∂A/∂η_j with b and labels of `base` = A(η), ∂A/∂η_j on its rows
+    /// `derivative` ([`Problem::derivative_rows`]): the difference column of a
+    /// constrained inner fit (`projected_jacobian.rs`). Its fit differs from the trial
+    /// at η + h e_j by O(h²) in A. It carries no noise model: it is for a fit whose row
     /// weights are fixed (`fixed_weights.rs`, whose `weighted` rows drop it) or absent
     /// (ordinary weighting, which reads none), so copying the base's would be waste.
-    pub fn shifted(
-        &self,
-        base: &Regressor,
-        eta: &[f64],
-        j: usize,
-        h: f64,
-    ) -> Result<Option<Regressor>> {
-        let Some((blocks, selection)) = &self.derivatives else {
-            return Ok(None);
-        };
-        let Some(derivative) = blocks.derivative(eta, j)? else {
-            return Ok(None);
-        };
+    pub fn shifted_by(base: &Regressor, derivative: &RowDerivatives, h: f64) -> Result<Regressor> {
         let mut matrix = base.matrix().clone();
         let p = matrix.ncols();
-        let mut add = |row: usize, d: &[f64]| {
+        for (row, d) in derivative {
             for (k, x) in d.iter().enumerate().take(p) {
-                matrix[(row, k)] += h * x;
-            }
-        };
-        match selection {
-            None => {
-                for (row, d) in &derivative {
-                    add(*row, d);
-                }
-            }
-            Some(rows) => {
-                let mut of_row: Vec<Option<usize>> =
-                    vec![None; rows.iter().max().map_or(0, |m| m + 1)];
-                for (i, (row, _)) in derivative.iter().enumerate() {
-                    if let Some(slot) = of_row.get_mut(*row) {
-                        *slot = Some(i);
-                    }
-                }
-                for (i, &row) in rows.iter().enumerate() {
-                    if let Some(Some(k)) = of_row.get(row) {
-                        add(i, &derivative[*k].1);
-                    }
-                }
+                matrix[(*row, k)] += h * x;
             }
         }
         Regressor::from_shared_parts(
@@ -177,7 +144,36 @@ impl<'a> Problem<'a> {
             base.shared_rows(),
         )?
         .with_nuisance_count(base.nuisance_count())
-        .map(Some)
+    }
+
+    /// ∂A/∂η_j at `eta` on the rows it touches, numbered as this problem's rows (a
+    /// bootstrap replicate's repeats each have their own), when it is known in closed
+    /// form (a residual unknown of a table, `sweep_blocks.rs`); `None` otherwise.
+    pub fn derivative_rows(&self, eta: &[f64], j: usize) -> Result<Option<RowDerivatives>> {
+        let Some((blocks, selection)) = &self.derivatives else {
+            return Ok(None);
+        };
+        let Some(derivative) = blocks.derivative(eta, j)? else {
+            return Ok(None);
+        };
+        let Some(rows) = selection else {
+            return Ok(Some(derivative));
+        };
+        let mut of_row: Vec<Option<usize>> = vec![None; rows.iter().max().map_or(0, |m| m + 1)];
+        for (i, (row, _)) in derivative.iter().enumerate() {
+            if let Some(slot) = of_row.get_mut(*row) {
+                *slot = Some(i);
+            }
+        }
+        Ok(Some(
+            rows.iter()
+                .enumerate()
+                .filter_map(|(i, &row)| match of_row.get(row) {
+                    Some(Some(k)) => Some((i, derivative[*k].1.clone())),
+                    _ => None,
+                })
+                .collect(),
+        ))
     }
 
     /// The nonlinear parameters.

@@ -24,9 +24,10 @@ use argmin::solver::brent::BrentRoot;
 use statrs::distribution::{ChiSquared, ContinuousCDF, FisherSnedecor};
 
 use super::minimum::Cost;
-use super::minimum::Shifted;
+use super::minimum::{Column, Shifted};
 use super::outer::minimise;
-use super::problem::{Problem, Variance, weighted_residuals};
+use super::problem::{Problem, Variance};
+use super::projected_jacobian::{Projections, column};
 use super::{NonlinearParameter, ProfileInterval, VarProSettings};
 use crate::error::{Error, Result};
 use crate::fit::Weighting;
@@ -119,22 +120,15 @@ pub(super) fn interval(
                 })
                 .collect()
         };
-        // the Jacobian's columns of a table's residual unknowns for an unweighted fit:
-        // the fit of A(η) + h ∂A/∂η_k (`sweep_blocks.rs`); a weighted fit differences
-        // whole trials (its weights move with η, which the closed form leaves out)
-        let shifted = |rest: &[f64], k: usize, h: f64| -> Result<Option<Vec<f64>>> {
+        // the Jacobian's columns of a table's residual unknowns for an unweighted fit,
+        // exact (`projected_jacobian.rs`); a weighted fit differences whole trials (its
+        // weights move with η, which the closed form leaves out)
+        let kept = Projections::default();
+        let shifted = |rest: &[f64], k: usize, h: f64| -> Result<Option<Column>> {
             let eta = full(t[0], rest);
             let base = problem.shared(&eta)?;
             let k = if k >= j { k + 1 } else { k };
-            let Some(moved) = problem.shifted(&base, &eta, k, h)? else {
-                return Ok(None);
-            };
-            let fit = crate::fit::solve(&moved, problem.fit())?;
-            Ok(Some(weighted_residuals(
-                &moved,
-                &fit.coefficients,
-                fit.residual_std.as_deref(),
-            )))
+            column(problem, &kept, &base, None, problem.fit(), &eta, k, h)
         };
         let unweighted = problem.fit().weighting == Weighting::Ordinary;
         let best = minimise(
