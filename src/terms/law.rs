@@ -108,28 +108,17 @@ pub trait Law: Send + Sync + fmt::Debug {
         g_x: &mut [f64],
         g_v: &mut [f64],
     ) -> f64 {
-        // Three passes over the same samples: each sample's term w_i (p_i − bias_i)
-        // (independent per sample, so the compiler can pack them; written into `g_x`,
-        // which the slopes overwrite), their sum (sequential, in sample order), and the
-        // slopes (independent per sample); each sample's arithmetic as in one pass, so
-        // the same bits. Slices cut to the window's length: no bounds checks inside the
-        // loops.
+        // Two passes over the same samples: the sum (sequential, in sample order) and
+        // the slopes (independent per sample, so the compiler can pack them), each
+        // sample's arithmetic as in one pass; slices cut to the window's length, so no
+        // bounds checks inside the loops.
         let n = w.len();
         let (x, v, var_x, var_v) = (&x[..n], &v[..n], &var_x[..n], &var_v[..n]);
-        for ((((x, v), (var_x, var_v)), w), term) in x
-            .iter()
-            .zip(v)
-            .zip(var_x.iter().zip(var_v))
-            .zip(w)
-            .zip(&mut g_x[..n])
-        {
+        let mut value = 0.0;
+        for (((x, v), (var_x, var_v)), w) in x.iter().zip(v).zip(var_x.iter().zip(var_v)).zip(w) {
             let p = self.power(*x, *v);
             let bias = self.noise_bias(*x, *v, *var_x, *var_v);
-            *term = w * (p - bias);
-        }
-        let mut value = 0.0;
-        for term in &g_x[..n] {
-            value += term;
+            value += w * (p - bias);
         }
         for ((((x, v), (var_x, var_v)), w), (g_x, g_v)) in x
             .iter()
