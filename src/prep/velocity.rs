@@ -133,10 +133,46 @@ impl VelocitySource {
         count: usize,
     ) -> Result<WindowVelocities<'a>> {
         match (self, w.closed_length(record.step())) {
-            (VelocitySource::CentralDifference, Some(length)) => Ok(WindowVelocities::Estimated(
-                periodic_central_differences(record, w.start, length, count),
-            )),
+            (VelocitySource::CentralDifference, Some(length)) => {
+                Ok(WindowVelocities::Estimated(periodic_central_differences(
+                    record,
+                    w.start,
+                    length,
+                    count,
+                    &every_dof(record.dofs()),
+                )))
+            }
             _ => self.window_velocities(record, w.start, count),
+        }
+    }
+
+    /// The velocities of the DOFs `dofs` only (count × `dofs.len()`, column q that of
+    /// DOF `dofs[q]`, 0-based): bitwise those columns of
+    /// [`VelocitySource::velocities_of`]. Central differences (each DOF on its own) are
+    /// formed for those DOFs alone, so a check that reads the velocities of the loaded
+    /// DOFs of a 100-DOF record differences one column per window, not 100; the other
+    /// sources' columns are copied out of theirs.
+    pub fn velocities_of_dofs(
+        &self,
+        record: &Record,
+        w: &Window,
+        count: usize,
+        dofs: &[usize],
+    ) -> Result<Mat<f64>> {
+        match (self, w.closed_length(record.step())) {
+            (VelocitySource::CentralDifference, Some(length)) => Ok(periodic_central_differences(
+                record, w.start, length, count, dofs,
+            )),
+            (VelocitySource::CentralDifference, None) => {
+                Ok(central_differences(record, w.start, count, dofs))
+            }
+            _ => {
+                let all = self.velocities_of(record, w, count)?;
+                let all = all.as_ref();
+                Ok(Mat::from_fn(all.nrows(), dofs.len(), |i, q| {
+                    all[(i, dofs[q])]
+                }))
+            }
         }
     }
 
@@ -157,31 +193,9 @@ impl VelocitySource {
                     })?;
                 Ok(WindowVelocities::Measured(v.subrows(start, count)))
             }
-            VelocitySource::CentralDifference => {
-                let x = record.displacements();
-                let last = record.samples() - 1;
-                let h2 = 2.0 * record.step();
-                let mut v = Mat::zeros(count, n);
-                for j in 0..n {
-                    let xj = col(x, j);
-                    let vj = v.col_as_slice_mut(j);
-                    // The one-sided forms are written in differences, so that a
-                    // constant signal gives exactly zero (−3a + 4a − a does not).
-                    for (k, out) in vj.iter_mut().enumerate() {
-                        let i = start + k;
-                        *out = if i == 0 {
-                            (4.0 * (xj[1] - xj[0]) - (xj[2] - xj[0])) / h2
-                        } else if i == last {
-                            (4.0 * (xj[last] - xj[last - 1]) - (xj[last] - xj[last - 2])) / h2
-                        } else {
-                            (xj[i + 1] - xj[i - 1]) / h2
-                        };
-                    }
-                }
-                Ok(WindowVelocities::Estimated(without_round_off(
-                    v, record, start,
-                )))
-            }
+            VelocitySource::CentralDifference => Ok(WindowVelocities::Estimated(
+                central_differences(record, start, count, &every_dof(n)),
+            )),
             VelocitySource::Spectral { harmonics } => {
                 let omega = 2.0 * std::f64::consts::PI / record.period();
                 let k =
@@ -189,7 +203,10 @@ impl VelocitySource {
                 let basis = HarmonicBasis::new(omega, k, record.step(), count)?;
                 let v = basis.differentiate(record.displacements().subrows(start, count));
                 Ok(WindowVelocities::Estimated(without_round_off(
-                    v, record, start,
+                    v,
+                    record,
+                    start,
+                    &every_dof(n),
                 )))
             }
             VelocitySource::HarmonicProjection { harmonics } => {
@@ -216,52 +233,89 @@ impl VelocitySource {
                 };
                 let v = basis.derivative(&coefficients, count);
                 Ok(WindowVelocities::Estimated(without_round_off(
-                    v, record, start,
+                    v,
+                    record,
+                    start,
+                    &every_dof(n),
                 )))
             }
         }
     }
 }
 
-/// Central differences over the `length` samples from `start` of `record` closed
-/// periodically, v_i = (x_{(i+1) mod L} − x_{(i−1) mod L}) / 2h for i = 0..count.
+/// 0, 1, …, n − 1: every DOF of a record of `n`.
+fn every_dof(n: usize) -> Vec<usize> {
+    (0..n).collect()
+}
+
+/// Central differences of the DOFs `dofs` (column q that of DOF `dofs[q]`) for samples
+/// `start..start + count` of `record` (module doc), each column on its own.
+fn central_differences(record: &Record, start: usize, count: usize, dofs: &[usize]) -> Mat<f64> {
+    let x = record.displacements();
+    let last = record.samples() - 1;
+    let h2 = 2.0 * record.step();
+    let mut v = Mat::zeros(count, dofs.len());
+    for (q, &j) in dofs.iter().enumerate() {
+        let xj = col(x, j);
+        let vj = v.col_as_slice_mut(q);
+        // The one-sided forms are written in differences, so that a
+        // constant signal gives exactly zero (−3a + 4a − a does not).
+        for (k, out) in vj.iter_mut().enumerate() {
+            let i = start + k;
+            *out = if i == 0 {
+                (4.0 * (xj[1] - xj[0]) - (xj[2] - xj[0])) / h2
+            } else if i == last {
+                (4.0 * (xj[last] - xj[last - 1]) - (xj[last] - xj[last - 2])) / h2
+            } else {
+                (xj[i + 1] - xj[i - 1]) / h2
+            };
+        }
+    }
+    without_round_off(v, record, start, dofs)
+}
+
+/// Central differences of the DOFs `dofs` over the `length` samples from `start` of
+/// `record` closed periodically, v_i = (x_{(i+1) mod L} − x_{(i−1) mod L}) / 2h for
+/// i = 0..count.
 fn periodic_central_differences(
     record: &Record,
     start: usize,
     length: usize,
     count: usize,
+    dofs: &[usize],
 ) -> Mat<f64> {
     let x = record.displacements();
     let h2 = 2.0 * record.step();
-    let mut v = Mat::zeros(count, record.dofs());
-    for j in 0..record.dofs() {
+    let mut v = Mat::zeros(count, dofs.len());
+    for (q, &j) in dofs.iter().enumerate() {
         let xj = &col(x, j)[start..start + length];
-        for (i, out) in v.col_as_slice_mut(j).iter_mut().enumerate() {
+        for (i, out) in v.col_as_slice_mut(q).iter_mut().enumerate() {
             let (next, previous) = ((i + 1) % length, (i + length - 1) % length);
             *out = (xj[next] - xj[previous]) / h2;
         }
     }
-    without_round_off(v, record, start)
+    without_round_off(v, record, start, dofs)
 }
 
 /// An estimated velocity no larger than this times max|x|/h over the window is the
 /// round-off of differentiating a displacement that does not move.
 const ROUND_OFF_VELOCITY: f64 = 8.0 * f64::EPSILON;
 
-/// Zeroes the estimated velocities (window rows from `start`) of every DOF whose
-/// displacement does not move beyond round-off: a constant signal (a still DOF, a stuck
-/// sensor) then does exactly zero work, instead of round-off velocities that column
-/// scaling would turn into a coefficient of any size.
-fn without_round_off(mut v: Mat<f64>, record: &Record, start: usize) -> Mat<f64> {
+/// Zeroes the estimated velocities (window rows from `start`; column q that of DOF
+/// `dofs[q]`) of every DOF whose displacement does not move beyond round-off: a
+/// constant signal (a still DOF, a stuck sensor) then does exactly zero work, instead
+/// of round-off velocities that column scaling would turn into a coefficient of any
+/// size.
+fn without_round_off(mut v: Mat<f64>, record: &Record, start: usize, dofs: &[usize]) -> Mat<f64> {
     let x = record.displacements();
-    for j in 0..v.ncols() {
+    for (q, &j) in dofs.iter().enumerate() {
         let xj = col(x, j);
         let end = start.saturating_add(v.nrows()).min(xj.len());
         let largest = xj[start.min(end)..end]
             .iter()
             .fold(0.0f64, |m, a| m.max(a.abs()));
         let floor = ROUND_OFF_VELOCITY * largest / record.step();
-        let vj = v.col_as_slice_mut(j);
+        let vj = v.col_as_slice_mut(q);
         if vj.iter().all(|a| a.abs() <= floor) {
             vj.fill(0.0);
         }
@@ -301,4 +355,72 @@ pub fn harmonic_selection(
         record.period(),
         whole.periods,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::prep::quadrature::Quadrature;
+    use crate::prep::window::WindowSpec;
+    use crate::record::{Forcing, RecordParts};
+
+    /// Five DOFs (one still, so its round-off velocities are zeroed), `samples` of
+    /// T/h = 64, measured velocities too.
+    fn record(samples: usize) -> Record {
+        let h = 2.0 * std::f64::consts::PI / 64.0;
+        let x = |i: usize, j: usize| match j {
+            2 => 0.75,
+            _ => (1.0 + j as f64) * (i as f64 * h + 0.3 * j as f64).sin() + 0.01 * i as f64,
+        };
+        Record::new(RecordParts {
+            label: "five".into(),
+            step: h,
+            start_time: 0.0,
+            displacements: Mat::from_fn(samples, 5, x),
+            velocities: Some(Mat::from_fn(samples, 5, |i, j| x(i, j) * 0.5)),
+            forcing: Forcing::on_dofs(Mat::from_fn(samples, 1, |i, _| (i as f64).cos()), vec![1]),
+            period: 2.0 * std::f64::consts::PI,
+        })
+        .expect("a valid record")
+    }
+
+    /// The velocities of some DOFs are bitwise those columns of every DOF's: windows
+    /// at the record's start (one-sided form), ending on its last sample, closing
+    /// periodically (wrapped differences), a still DOF, DOFs in any order.
+    #[test]
+    fn velocities_of_some_dofs_are_those_columns() {
+        for samples in [128, 129, 200] {
+            let record = record(samples);
+            let windows = WindowSpec::cycles(1)
+                .windows(&record, 0, Quadrature::Trapezoid)
+                .expect("windows");
+            for w in &windows {
+                let count = w.samples(Quadrature::Trapezoid, record.step());
+                for source in [
+                    VelocitySource::CentralDifference,
+                    VelocitySource::Measured,
+                    VelocitySource::HarmonicProjection { harmonics: Some(3) },
+                ] {
+                    let all = source.velocities_of(&record, w, count).expect("velocities");
+                    let all = all.as_ref();
+                    for dofs in [vec![1], vec![4, 0], vec![2], vec![0, 1, 2, 3, 4], vec![]] {
+                        let some = source
+                            .velocities_of_dofs(&record, w, count, &dofs)
+                            .expect("velocities");
+                        assert_eq!(some.shape(), (count, dofs.len()));
+                        for (q, &j) in dofs.iter().enumerate() {
+                            for i in 0..count {
+                                assert_eq!(
+                                    some[(i, q)].to_bits(),
+                                    all[(i, j)].to_bits(),
+                                    "{source:?}, {samples} samples, window {}, DOF {j}, row {i}",
+                                    w.index
+                                );
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
 }

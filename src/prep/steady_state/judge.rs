@@ -336,7 +336,7 @@ fn judge(
 /// W = Σ_i w_i v_iᵀ r_i with trapezoid weights over [t₀, t₀ + kT]; the window's own
 /// weights when the record ends before the trapezoid's last sample, or the window
 /// closes periodically. Velocities measured, else central differences (wrapped in a
-/// window that closes periodically).
+/// window that closes periodically), of the loaded DOFs only when the load is on DOFs.
 fn input_work(record: &Record, window: &Window, rule: Quadrature) -> Result<f64> {
     let (h, period) = (record.step(), record.period());
     let available = record.samples() - window.start;
@@ -352,27 +352,44 @@ fn input_work(record: &Record, window: &Window, rule: Quadrature) -> Result<f64>
     } else {
         VelocitySource::CentralDifference
     };
-    let velocities = source.velocities_of(record, window, count)?;
-    let v = velocities.as_ref();
     let forcing = record.forcing();
     let signals = &forcing.signals;
     let mut work = 0.0;
-    for (k, w) in weights.iter().enumerate().take(count) {
-        let i = window.start + k;
-        let power: f64 = match &forcing.distribution {
-            LoadDistribution::Dofs(dofs) => dofs
+    match &forcing.distribution {
+        LoadDistribution::Dofs(dofs) => {
+            // the velocities of the loaded DOFs only (each channel's column in `v`)
+            let mut loaded = dofs.clone();
+            loaded.sort_unstable();
+            loaded.dedup();
+            let v = source.velocities_of_dofs(record, window, count, &loaded)?;
+            let at: Vec<usize> = dofs
                 .iter()
-                .enumerate()
-                .map(|(c, &dof)| signals[(i, c)] * v[(k, dof)])
-                .sum(),
-            LoadDistribution::Matrix(d) => (0..d.ncols())
-                .map(|c| {
-                    let load: f64 = (0..d.nrows()).map(|j| d[(j, c)] * v[(k, j)]).sum();
-                    signals[(i, c)] * load
-                })
-                .sum(),
-        };
-        work += w * power;
+                .map(|dof| loaded.partition_point(|d| d < dof))
+                .collect();
+            for (k, w) in weights.iter().enumerate().take(count) {
+                let i = window.start + k;
+                let power: f64 = at
+                    .iter()
+                    .enumerate()
+                    .map(|(c, &q)| signals[(i, c)] * v[(k, q)])
+                    .sum();
+                work += w * power;
+            }
+        }
+        LoadDistribution::Matrix(d) => {
+            let velocities = source.velocities_of(record, window, count)?;
+            let v = velocities.as_ref();
+            for (k, w) in weights.iter().enumerate().take(count) {
+                let i = window.start + k;
+                let power: f64 = (0..d.ncols())
+                    .map(|c| {
+                        let load: f64 = (0..d.nrows()).map(|j| d[(j, c)] * v[(k, j)]).sum();
+                        signals[(i, c)] * load
+                    })
+                    .sum();
+                work += w * power;
+            }
+        }
     }
     Ok(work)
 }
