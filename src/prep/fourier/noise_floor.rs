@@ -159,18 +159,17 @@ pub(super) fn select_with(
     let (coefficients, design) = match spectrum {
         Some(spectrum) => (spectrum.fit(&orders), None),
         None if periods >= 2 => {
-            let basis = basis()?;
-            let (c, design) = basis.fit_and_design(x);
-            (c, Some((basis, design)))
+            let (c, design) = basis()?.fit_and_design(x);
+            (c, Some(design))
         }
         None => (basis()?.fit(x), None),
     };
     let between = if periods >= 2 {
         Some(match (spectrum, design) {
             (Some(spectrum), _) => spectrum.between_powers(&coefficients),
-            (None, fitted) => {
-                let design = match fitted {
-                    Some((_, design)) => design,
+            (None, design) => {
+                let design = match design {
+                    Some(design) => design,
                     None => basis()?.design(m),
                 };
                 let residual = x - design * &coefficients;
