@@ -28,6 +28,7 @@ pub mod in_place;
 pub mod mat;
 pub mod npy;
 mod npz;
+mod parts;
 pub mod output;
 pub mod pod_files;
 pub mod records;

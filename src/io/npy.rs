@@ -49,7 +49,7 @@ pub(crate) struct Header {
 }
 
 impl Header {
-    fn element_size(&self) -> usize {
+    pub(crate) fn element_size(&self) -> usize {
         match self.kind {
             Kind::F64 | Kind::I64 => 8,
             Kind::F32 | Kind::I32 => 4,
@@ -195,16 +195,33 @@ pub(crate) fn read_values<R: Read>(
     block: usize,
     name: &str,
     file: &str,
+    place: impl FnMut(usize, &[f64]),
+) -> Result<()> {
+    let all = 0..header.layout.elements();
+    read_range(reader, header, block, all, name, file, place)
+}
+
+/// [`read_values`] of the flat elements `range` only, `reader` at the first of them:
+/// blocks from `range.start` (whole rows when interleaved, if `range.start` is a row's
+/// first element), each handed to `place` with its flat index in the whole array, and a
+/// non-finite value named at its sample and column in the whole array.
+pub(crate) fn read_range<R: Read>(
+    reader: &mut R,
+    header: &Header,
+    block: usize,
+    range: std::ops::Range<usize>,
+    name: &str,
+    file: &str,
     mut place: impl FnMut(usize, &[f64]),
 ) -> Result<()> {
     let layout = header.layout;
     let size = header.element_size();
-    let block = layout.block(block).min(layout.elements().max(1));
+    let block = layout.block(block).min(range.len().max(1));
     let mut bytes = vec![0u8; block * size];
     let mut values = vec![0.0; block];
-    let mut done = 0;
-    while done < layout.elements() {
-        let m = block.min(layout.elements() - done);
+    let mut done = range.start;
+    while done < range.end {
+        let m = block.min(range.end - done);
         reader
             .read_exact(&mut bytes[..m * size])
             .map_err(|e| data_error(file, name, format!("reading its data: {e}")))?;

@@ -23,7 +23,8 @@ use zip::{CompressionMethod, ZipArchive};
 
 use crate::error::Result;
 use crate::io::arrays::NamedArray;
-use crate::io::npy::{Header, data_error, read_data, read_header, read_values, require_data};
+use crate::io::npy::{Header, data_error, read_data, read_header, require_data};
+use crate::io::parts::{Crc, read_parts};
 use crate::io::scatter::Target;
 
 /// Elements converted per block when a member is read into place: 128 KiB of f64, so
@@ -62,20 +63,6 @@ pub(crate) struct Npz {
     path: PathBuf,
     /// Sorted by name.
     pub members: Vec<Member>,
-}
-
-/// A reader that computes the CRC-32 of the bytes it passes on.
-struct Crc<R> {
-    inner: R,
-    hasher: crc32fast::Hasher,
-}
-
-impl<R: Read> Read for Crc<R> {
-    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
-        let n = self.inner.read(buf)?;
-        self.hasher.update(&buf[..n]);
-        Ok(n)
-    }
 }
 
 /// A reader that counts the bytes it passes on.
@@ -201,9 +188,10 @@ impl Npz {
     }
 
     /// Reads the data of the stored `member` (whose header is `header`) straight into
-    /// `targets`, one pass in blocks that stay in cache ([`Layout::scatter`]), with the
-    /// checks of [`Npz::read`]: the data inside the member, every value finite, its
-    /// CRC-32. A member that is not stored is an error (use [`Npz::read`]).
+    /// `targets`, in blocks that stay in cache ([`Layout::scatter`]), a large member in
+    /// parts read in parallel ([`read_parts`]), with the checks of [`Npz::read`]: the
+    /// data inside the member, every value finite, its CRC-32. A member that is not
+    /// stored is an error (use [`Npz::read`]).
     ///
     /// [`Layout::scatter`]: crate::io::arrays::Layout::scatter
     pub fn read_into(
@@ -220,12 +208,50 @@ impl Npz {
                 "a compressed member cannot be read in place",
             ));
         };
-        self.read_stored(member, stored, |reader, available| {
-            require_data(header, available, name, file)?;
-            read_values(reader, header, INTO_BLOCK, name, file, |done, values| {
-                header.layout.scatter(done, values, targets)
-            })
-        })
+        let error = |e: &dyn std::fmt::Display| data_error(file, name, e);
+        // The header's length, then its bytes again for the CRC (NPY headers are a few
+        // hundred bytes: a small buffer reads little more).
+        let mut opened = File::open(&self.path).map_err(|e| error(&e))?;
+        opened
+            .seek(SeekFrom::Start(stored.start))
+            .map_err(|e| error(&e))?;
+        let mut reader = BufReader::with_capacity(
+            512,
+            Counted {
+                inner: (&mut opened).take(stored.size),
+                count: 0,
+            },
+        );
+        read_header(&mut reader).map_err(|e| error(&e))?;
+        let consumed = reader.get_ref().count - reader.buffer().len() as u64;
+        drop(reader);
+        require_data(header, stored.size - consumed, name, file)?;
+        let mut crc = crc32fast::Hasher::new();
+        let mut head = vec![0u8; consumed as usize];
+        opened
+            .seek(SeekFrom::Start(stored.start))
+            .and_then(|_| opened.read_exact(&mut head))
+            .map_err(|e| error(&e))?;
+        crc.update(&head);
+        // cannot fail: require_data checked that the data bytes fit the member
+        let data = header.data_bytes().expect("checked by require_data");
+        let start = stored.start + consumed;
+        let targets = (INTO_BLOCK, targets);
+        crc.combine(&read_parts(opened, &self.path, start, header, targets, name, file)?);
+        // The CRC covers the whole member, whatever follows the data.
+        let trailing = stored.size - consumed - data;
+        if trailing > 0 {
+            let mut tail = File::open(&self.path).map_err(|e| error(&e))?;
+            tail.seek(SeekFrom::Start(start + data))
+                .map_err(|e| error(&e))?;
+            let mut rest = Crc {
+                inner: tail.take(trailing),
+                hasher: crc32fast::Hasher::new(),
+            };
+            std::io::copy(&mut rest, &mut std::io::sink()).map_err(|e| error(&e))?;
+            crc.combine(&rest.hasher);
+        }
+        check_crc(crc.finalize(), stored, name, file)
     }
 
     /// Opens the stored `member`, reads its header, hands `body` the reader at its first
@@ -256,13 +282,23 @@ impl Npz {
         let value = body(&mut reader, stored.size - consumed)?;
         // The CRC covers the whole member, whatever follows the data.
         std::io::copy(&mut reader, &mut std::io::sink()).map_err(|e| error(&e))?;
-        let crc = reader.into_inner().hasher.finalize();
-        if crc != stored.crc {
-            return Err(error(&format!(
-                "member '{name}.npy' is damaged: its CRC-32 is {crc:08x}, the archive's directory says {:08x}",
-                stored.crc
-            )));
-        }
+        check_crc(reader.into_inner().hasher.finalize(), stored, name, file)?;
         Ok(value)
     }
+}
+
+/// `Ok` when `crc`, computed over the whole member `name`, is the one the archive's
+/// directory gives.
+fn check_crc(crc: u32, stored: Stored, name: &str, file: &str) -> Result<()> {
+    if crc == stored.crc {
+        return Ok(());
+    }
+    Err(data_error(
+        file,
+        name,
+        format!(
+            "member '{name}.npy' is damaged: its CRC-32 is {crc:08x}, the archive's directory says {:08x}",
+            stored.crc
+        ),
+    ))
 }

@@ -87,7 +87,7 @@ pub(super) fn project_spans(spans: &[SpanKey<'_>]) -> Result<Vec<Result<StatePro
         })
         .collect::<Result<Vec<_>>>()?;
     Ok(spans
-        .iter()
+        .par_iter()
         .zip(&fits)
         .zip(&ids)
         .map(|((&(record, ..), fit), ids)| {

@@ -53,6 +53,7 @@ mod structural;
 
 pub use sensitivity::{ChannelSensitivity, RowNoise};
 
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::error::Result;
@@ -118,6 +119,10 @@ pub struct WindowNoise {
     pub force_noise: Vec<f64>,
 }
 
+/// Fewest rows a task of [`NoiseModel::residual_std`] takes: a row's variance is a few
+/// hundred to a few thousand flops, so smaller tasks would cost more to share than to do.
+const RESIDUAL_STD_ROWS: usize = 64;
+
 /// The noise model of a regressor: one [`RowNoise`] and one [`WindowNoise`] per row.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct NoiseModel {
@@ -128,13 +133,14 @@ pub struct NoiseModel {
 }
 
 impl NoiseModel {
-    /// The standard deviation of each equation's residual at coefficients `theta`.
+    /// The standard deviation of each equation's residual at coefficients `theta`: the
+    /// rows in parallel, each the same sums in the same order at any number of threads.
     pub fn residual_std(&self, theta: &[f64]) -> Vec<f64> {
-        // one scratch buffer for all rows
-        let mut buffer = Vec::new();
+        // one scratch buffer per task, not per row
         self.rows
-            .iter()
-            .map(|r| r.std_with(theta, &mut buffer))
+            .par_iter()
+            .with_min_len(RESIDUAL_STD_ROWS)
+            .map_init(Vec::new, |buffer, r| r.std_with(theta, buffer))
             .collect()
     }
 

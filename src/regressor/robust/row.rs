@@ -280,6 +280,17 @@ fn force_channel_std(record: &Record, force_gradient: &[(usize, Vec<f64>)], sigm
     super::sensitivity::norm(&terms)
 }
 
+/// Whether some value of `g` is not zero (NaN counts as not zero), eight at a time: a
+/// law whose force does not depend on x leaves its x-slopes all zero, and a scan that
+/// stops at the first nonzero value cannot be vectorised.
+fn any_nonzero(g: &[f64]) -> bool {
+    let chunks = g.chunks_exact(8);
+    let tail = chunks.remainder().iter().any(|g| *g != 0.0);
+    tail || chunks
+        .into_iter()
+        .any(|c| c.iter().fold(false, |any, g| any | (*g != 0.0)))
+}
+
 /// A matrix term: Σ_i w_i v̂_iᵀ C₀ v̂_i − Σ_i w_i Var(v̂_i) Σ_j C₀,jj σ_j².
 fn matrix_column(
     term: &MatrixTerm,
@@ -354,6 +365,7 @@ fn element_columns(
     let count = weights.len();
     let rows = projected.x.nrows();
     let (x, v) = (projected.x.as_ref(), projected.v.as_ref());
+    // relative motion of two-ended elements (a grounded one reads its DOF's columns)
     let mut xr = vec![0.0; rows];
     let mut vr = vec![0.0; rows];
     // per-sample noise variances and weighted slopes, one set of buffers per term
@@ -366,11 +378,8 @@ fn element_columns(
         let mut variance = sigma[element.a].powi(2);
         // the second end's noise, when its sensor differs (its own Var per unit variance)
         let mut other: Option<(f64, usize)> = None;
-        match element.b {
-            None => {
-                xr.copy_from_slice(xa);
-                vr.copy_from_slice(va);
-            }
+        let (xr, vr): (&[f64], &[f64]) = match element.b {
+            None => (xa, va),
             Some(b) => {
                 let (xb, vb) = (col(x, b), col(v, b));
                 for i in 0..rows {
@@ -382,14 +391,15 @@ fn element_columns(
                 } else {
                     other = Some((sigma[b].powi(2), b));
                 }
+                (&xr, &vr)
             }
-        }
+        };
         if law.is_total_variation() {
             // ∫ |v̂| dt exactly: the total variation of the projected displacement
             let terms: Vec<(usize, f64)> = std::iter::once((element.a, 1.0))
                 .chain(element.b.map(|b| (b, -1.0)))
                 .collect();
-            let (tv, u) = projected.total_variation(&projected.combination(&terms), &vr, span);
+            let (tv, u) = projected.total_variation(&projected.combination(&terms), vr, span);
             columns[column] += weight * tv;
             gradients.add(element.a, column + 1, &u, weight);
             if let Some(b) = element.b {
@@ -428,13 +438,35 @@ fn element_columns(
                 &mut g_v,
             );
             columns[column] += weight * value;
-            let moves_x = g_x.iter().any(|g| *g != 0.0);
+            let moves_x = any_nonzero(&g_x);
             for (channel, sign) in
                 std::iter::once((element.a, 1.0)).chain(element.b.map(|b| (b, -1.0)))
             {
                 gradients.add_on_derivative(channel, column + 1, &g_v, sign * weight);
                 if moves_x {
                     gradients.add_on_design(channel, column + 1, &g_x, sign * weight);
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::any_nonzero;
+
+    /// `any_nonzero` is `iter().any(|g| *g != 0.0)` at every length and position: −0 is
+    /// zero, NaN and subnormals are not.
+    #[test]
+    fn any_nonzero_is_the_scalar_scan() {
+        for n in 0..40 {
+            let zeros = vec![0.0; n];
+            assert!(!any_nonzero(&zeros));
+            for at in 0..n {
+                for value in [-0.0, f64::NAN, 5e-324, -1.0, f64::INFINITY] {
+                    let mut g = zeros.clone();
+                    g[at] = value;
+                    assert_eq!(any_nonzero(&g), g.iter().any(|g| *g != 0.0), "{n} {at} {value}");
                 }
             }
         }
