@@ -235,10 +235,19 @@ const WIDE: usize = 40;
 /// t, f and x (N × WIDE) in C order (interleaved rows) or Fortran order (contiguous
 /// columns), x(s, j) a value of every sign and magnitude, with `nan` at (sample, column).
 fn wide_members(fortran: bool, nan: Option<(usize, usize)>) -> Vec<(&'static str, Vec<u8>)> {
-    let t: Vec<f64> = (0..N).map(|i| i as f64 * 1e-3).collect();
+    wide_members_of(N, fortran, nan.as_slice())
+}
+
+/// [`wide_members`] of `n` samples with NaNs at `nans`.
+fn wide_members_of(
+    n: usize,
+    fortran: bool,
+    nans: &[(usize, usize)],
+) -> Vec<(&'static str, Vec<u8>)> {
+    let t: Vec<f64> = (0..n).map(|i| i as f64 * 1e-3).collect();
     let value = |s: usize, j: usize| {
         let x = (2.0 * std::f64::consts::PI * t[s] / 0.4 + j as f64).sin();
-        if Some((s, j)) == nan {
+        if nans.contains(&(s, j)) {
             f64::NAN
         } else {
             x * 10f64.powi(j as i32 % 7 - 3)
@@ -246,20 +255,20 @@ fn wide_members(fortran: bool, nan: Option<(usize, usize)>) -> Vec<(&'static str
     };
     let x: Vec<f64> = if fortran {
         (0..WIDE)
-            .flat_map(|j| (0..N).map(move |s| (s, j)))
+            .flat_map(|j| (0..n).map(move |s| (s, j)))
             .map(|(s, j)| value(s, j))
             .collect()
     } else {
-        (0..N)
+        (0..n)
             .flat_map(|s| (0..WIDE).map(move |j| (s, j)))
             .map(|(s, j)| value(s, j))
             .collect()
     };
-    let f: Vec<f64> = (0..N).map(|s| value(s, 0)).collect();
+    let f: Vec<f64> = (0..n).map(|s| value(s, 0)).collect();
     vec![
-        ("t", npy("<f8", false, &format!("({N},)"), &t)),
-        ("x", npy("<f8", fortran, &format!("({N}, {WIDE})"), &x)),
-        ("f", npy("<f8", false, &format!("({N},)"), &f)),
+        ("t", npy("<f8", false, &format!("({n},)"), &t)),
+        ("x", npy("<f8", fortran, &format!("({n}, {WIDE})"), &x)),
+        ("f", npy("<f8", false, &format!("({n},)"), &f)),
     ]
 }
 
@@ -342,4 +351,87 @@ fn wide_members_read_in_place_equal_the_table_path_and_locate_a_nan() {
         std::fs::remove_file(stored).ok();
         std::fs::remove_file(deflated).ok();
     }
+}
+
+/// Samples of the large record: its x member (N × 40 doubles, 19 MB) is read in two
+/// parts by two threads (`io/parts.rs`: parts of at least 8 MiB).
+const LARGE: usize = 60_013;
+
+/// A large member read in parallel parts, by interleaved rows (C order) or by whole
+/// columns (Fortran order), gives the record of the table path bit for bit; with a NaN
+/// in each part, the error is at the first in file order (C order: sample 10,001 of
+/// DOF 31, in the first part; Fortran order: sample 50,001 of DOF 4, whose column comes
+/// first); a byte changed in the last part is the CRC-32 error.
+#[test]
+fn large_members_read_in_parts_equal_the_table_path_and_name_the_first_error() {
+    let parse_wide = |file: &Path| {
+        dampid::model_file::parse(
+            &wide_model(file),
+            "m.toml",
+            Path::new("."),
+            Default::default(),
+        )
+    };
+    let bits = |m: faer::MatRef<'_, f64>| -> Vec<u64> {
+        (0..m.ncols())
+            .flat_map(|j| (0..m.nrows()).map(move |i| m[(i, j)].to_bits()))
+            .collect()
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    pool.install(|| {
+        for fortran in [false, true] {
+            let (stored, deflated) = (
+                scratch(&format!("large{fortran}.npz")),
+                scratch(&format!("large{fortran}z.npz")),
+            );
+            let members = wide_members_of(LARGE, fortran, &[]);
+            write_npz(&stored, &members, true);
+            write_npz(&deflated, &members, false);
+            let (a, b) = (parse_wide(&stored).unwrap(), parse_wide(&deflated).unwrap());
+            let (a, b) = (&a.records[0], &b.records[0]);
+            assert_eq!(
+                bits(a.displacements()),
+                bits(b.displacements()),
+                "{fortran}"
+            );
+            assert_eq!(bits(a.velocities().unwrap()), bits(b.velocities().unwrap()));
+
+            let nans = [(50_000, 3), (10_000, 30)];
+            write_npz(&stored, &wide_members_of(LARGE, fortran, &nans), true);
+            let e = parse_wide(&stored).map(|_| ()).unwrap_err();
+            let Error::Data { row, column, .. } = e.innermost() else {
+                panic!("{e}");
+            };
+            let first = if fortran {
+                (50_001, "x[4]")
+            } else {
+                (10_001, "x[31]")
+            };
+            assert_eq!((*row, column.as_str()), first, "{fortran}");
+
+            // The low byte of the member's last double: still finite.
+            write_npz(&stored, &members, true);
+            let mut bytes = std::fs::read(&stored).unwrap();
+            let name = bytes.windows(5).position(|w| w == b"x.npy").unwrap();
+            let local = name - 30;
+            let extra = u16::from_le_bytes([bytes[local + 28], bytes[local + 29]]) as usize;
+            let x = &members[1].1;
+            bytes[name + 5 + extra + x.len() - 8] ^= 1;
+            std::fs::write(&stored, &bytes).unwrap();
+            let e = parse_wide(&stored).map(|_| ()).unwrap_err();
+            let Error::Data {
+                column, message, ..
+            } = e.innermost()
+            else {
+                panic!("{e}");
+            };
+            assert_eq!(column, "x");
+            assert!(message.contains("CRC-32"), "{message}");
+            std::fs::remove_file(stored).ok();
+            std::fs::remove_file(deflated).ok();
+        }
+    });
 }

@@ -237,7 +237,9 @@ impl Npz {
         let data = header.data_bytes().expect("checked by require_data");
         let start = stored.start + consumed;
         let targets = (INTO_BLOCK, targets);
-        crc.combine(&read_parts(opened, &self.path, start, header, targets, name, file)?);
+        crc.combine(&read_parts(
+            opened, &self.path, start, header, targets, name, file,
+        )?);
         // The CRC covers the whole member, whatever follows the data.
         let trailing = stored.size - consumed - data;
         if trailing > 0 {

@@ -466,7 +466,11 @@ mod tests {
                 for value in [-0.0, f64::NAN, 5e-324, -1.0, f64::INFINITY] {
                     let mut g = zeros.clone();
                     g[at] = value;
-                    assert_eq!(any_nonzero(&g), g.iter().any(|g| *g != 0.0), "{n} {at} {value}");
+                    assert_eq!(
+                        any_nonzero(&g),
+                        g.iter().any(|g| *g != 0.0),
+                        "{n} {at} {value}"
+                    );
                 }
             }
         }
