@@ -435,3 +435,36 @@ fn large_members_read_in_parts_equal_the_table_path_and_name_the_first_error() {
         }
     });
 }
+
+/// A stored member with bytes after its data (the header asks for fewer than the member
+/// holds) is read in place like the same member without them, and its CRC-32 covers
+/// them: one of them changed is the CRC error.
+#[test]
+fn bytes_after_a_members_data_are_in_its_crc() {
+    let mut padded = members();
+    padded[1].1.extend_from_slice(&[7u8; 24]);
+    let (path, plain) = (scratch("padded.npz"), scratch("unpadded.npz"));
+    write_npz(&path, &padded, true);
+    write_npz(&plain, &members(), true);
+    let (a, b) = (parse(&path).unwrap(), parse(&plain).unwrap());
+    let bits = |m: faer::MatRef<'_, f64>| -> Vec<u64> {
+        (0..m.ncols())
+            .flat_map(|j| (0..m.nrows()).map(move |i| m[(i, j)].to_bits()))
+            .collect()
+    };
+    assert_eq!(
+        bits(a.records[0].displacements()),
+        bits(b.records[0].displacements())
+    );
+    let mut bytes = std::fs::read(&path).unwrap();
+    let name = bytes.windows(5).position(|w| w == b"x.npy").unwrap();
+    let local = name - 30;
+    let extra = u16::from_le_bytes([bytes[local + 28], bytes[local + 29]]) as usize;
+    bytes[name + 5 + extra + padded[1].1.len() - 1] ^= 1;
+    std::fs::write(&path, &bytes).unwrap();
+    let (_, _, column, message) = data_error(&path);
+    assert_eq!(column, "x");
+    assert!(message.contains("CRC-32"), "{message}");
+    std::fs::remove_file(path).ok();
+    std::fs::remove_file(plain).ok();
+}

@@ -13,9 +13,10 @@
 //!
 //! which is what the table path computes (`Columns::move_into` of
 //! `model_file/measured.rs`), so the values are the same bit for bit. The members are read
-//! in parallel (rayon), each with the checks of the table path: its data inside the
-//! member, every value finite (an error at its sample and column), its CRC-32. Every
-//! other format, and deflated members, go through the table.
+//! in parallel (rayon), a large one in parts of whole rows or columns (`io/parts.rs`),
+//! each with the checks of the table path: its data inside the member, every value finite
+//! (an error at its sample and column), its CRC-32. Every other format, and deflated
+//! members, go through the table.
 
 use std::mem::MaybeUninit;
 

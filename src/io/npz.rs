@@ -209,30 +209,20 @@ impl Npz {
             ));
         };
         let error = |e: &dyn std::fmt::Display| data_error(file, name, e);
-        // The header's length, then its bytes again for the CRC (NPY headers are a few
-        // hundred bytes: a small buffer reads little more).
+        // The header read unbuffered (npyz reads exactly its bytes, in a few reads): the
+        // file is then at the first data byte, and the hasher has seen the header only.
         let mut opened = File::open(&self.path).map_err(|e| error(&e))?;
         opened
             .seek(SeekFrom::Start(stored.start))
             .map_err(|e| error(&e))?;
-        let mut reader = BufReader::with_capacity(
-            512,
-            Counted {
-                inner: (&mut opened).take(stored.size),
-                count: 0,
-            },
-        );
-        read_header(&mut reader).map_err(|e| error(&e))?;
-        let consumed = reader.get_ref().count - reader.buffer().len() as u64;
-        drop(reader);
+        let mut head = Crc {
+            inner: (&mut opened).take(stored.size),
+            hasher: crc32fast::Hasher::new(),
+        };
+        read_header(&mut head).map_err(|e| error(&e))?;
+        let consumed = stored.size - head.inner.limit();
+        let mut crc = head.hasher;
         require_data(header, stored.size - consumed, name, file)?;
-        let mut crc = crc32fast::Hasher::new();
-        let mut head = vec![0u8; consumed as usize];
-        opened
-            .seek(SeekFrom::Start(stored.start))
-            .and_then(|_| opened.read_exact(&mut head))
-            .map_err(|e| error(&e))?;
-        crc.update(&head);
         // cannot fail: require_data checked that the data bytes fit the member
         let data = header.data_bytes().expect("checked by require_data");
         let start = stored.start + consumed;
