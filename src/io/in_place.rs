@@ -125,12 +125,22 @@ impl InPlace {
             return Ok(());
         };
         members.sort_by_key(|(m, _)| *m);
+        // Each member's share of the threads, by its bytes: one large member is read by
+        // all of them in parts, two of equal size by one each (more parts than threads
+        // only interleave the same work).
+        let bytes = |m: usize| match &npz.members[m].header {
+            Ok(header) => header.data_bytes().unwrap_or(u64::MAX) as f64,
+            Err(_) => 0.0,
+        };
+        let total: f64 = members.iter().map(|(m, _)| bytes(*m)).sum();
+        let threads = rayon::current_num_threads() as f64;
         members
             .into_par_iter()
             .map(|(m, mut targets)| {
                 let member = &npz.members[m];
+                let share = (threads * bytes(m) / total.max(1.0)).round().max(1.0) as usize;
                 match &member.header {
-                    Ok(header) => npz.read_into(member, header, &mut targets),
+                    Ok(header) => npz.read_into(member, header, &mut targets, share),
                     Err(problem) => Err(crate::io::npy::data_error(
                         npz.file(),
                         &member.name,

@@ -189,7 +189,7 @@ impl Npz {
 
     /// Reads the data of the stored `member` (whose header is `header`) straight into
     /// `targets`, in blocks that stay in cache ([`Layout::scatter`]), a large member in
-    /// parts read in parallel ([`read_parts`]), with the checks of [`Npz::read`]: the
+    /// parts read by up to `threads` threads ([`read_parts`]), with the checks of [`Npz::read`]: the
     /// data inside the member, every value finite, its CRC-32. A member that is not
     /// stored is an error (use [`Npz::read`]).
     ///
@@ -199,6 +199,7 @@ impl Npz {
         member: &Member,
         header: &Header,
         targets: &mut [Target<'_>],
+        threads: usize,
     ) -> Result<()> {
         let (file, name) = (self.file.as_str(), member.name.as_str());
         let Some(stored) = member.stored else {
@@ -226,7 +227,7 @@ impl Npz {
         // cannot fail: require_data checked that the data bytes fit the member
         let data = header.data_bytes().expect("checked by require_data");
         let start = stored.start + consumed;
-        let targets = (INTO_BLOCK, targets);
+        let targets = (INTO_BLOCK, targets, threads);
         crc.combine(&read_parts(
             opened, &self.path, start, header, targets, name, file,
         )?);

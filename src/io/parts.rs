@@ -9,6 +9,7 @@
 //!   part i = flat elements [u_i·w, u_{i+1}·w),   w = k (rows) or N (columns),
 //!   u_i = ⌊i·U/P⌋,   U = N (rows) or k (columns),
 //!   P = min(threads, bytes / 8 MiB, U), at least 1,
+//!   threads = the member's share of the pool by its bytes (`io/in_place.rs`),
 //! ```
 //!
 //! so a part writes samples u_i..u_{i+1} of every column (rows), or whole columns
@@ -61,14 +62,19 @@ struct Part<'a> {
 }
 
 /// Cuts `targets` (each N samples) into the parts' disjoint slices (module doc).
-fn parts<'a>(layout: Layout, bytes: u64, targets: &mut [Target<'a>]) -> Vec<Part<'a>> {
+fn parts<'a>(
+    layout: Layout,
+    bytes: u64,
+    threads: usize,
+    targets: &mut [Target<'a>],
+) -> Vec<Part<'a>> {
     let (width, units) = if layout.interleaved {
         (layout.columns, layout.samples)
     } else {
         (layout.samples, layout.columns)
     };
     let count = (bytes / PART_BYTES)
-        .min(rayon::current_num_threads() as u64)
+        .min(threads as u64)
         .min(units as u64)
         .max(1) as usize;
     let bounds: Vec<usize> = (0..=count).map(|i| i * units / count).collect();
@@ -107,14 +113,14 @@ fn parts<'a>(layout: Layout, bytes: u64, targets: &mut [Target<'a>]) -> Vec<Part
 
 /// Reads the data of the array of `header`, which start at byte `start` of the file
 /// `opened` (at `path`), into `targets` (every sample of every target written when it
-/// returns `Ok`), in parts read in parallel (module doc); returns the CRC-32 state of
-/// the data bytes. `name` and `file` name the array in errors.
+/// returns `Ok`), in at most `threads` parts read in parallel (module doc); returns the
+/// CRC-32 state of the data bytes. `name` and `file` name the array in errors.
 pub(crate) fn read_parts(
     opened: File,
     path: &Path,
     start: u64,
     header: &Header,
-    (block, targets): (usize, &mut [Target<'_>]),
+    (block, targets, threads): (usize, &mut [Target<'_>], usize),
     name: &str,
     file: &str,
 ) -> Result<crc32fast::Hasher> {
@@ -149,7 +155,7 @@ pub(crate) fn read_parts(
         // Every byte of the part was handed out, so the hasher has seen exactly them.
         Ok(reader.into_inner().hasher)
     };
-    let mut parts = parts(layout, bytes, targets);
+    let mut parts = parts(layout, bytes, threads, targets);
     if parts.len() == 1 {
         return read(opened, &mut parts[0]);
     }
@@ -181,46 +187,43 @@ mod tests {
     /// each target's slices add up to its N samples.
     #[test]
     fn parts_cover_every_element_once_at_whole_units() {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(3)
-            .build()
-            .unwrap();
-        pool.install(|| {
-            for interleaved in [true, false] {
-                let layout = Layout {
-                    samples: 1000,
-                    columns: 7,
-                    interleaved,
-                };
-                let mut out = vec![vec![MaybeUninit::new(0.0); 1000]; 9];
-                let mut targets: Vec<Target<'_>> = out
-                    .iter_mut()
-                    .enumerate()
-                    .map(|(j, into)| Target {
-                        column: j % 7,
-                        into,
-                        gain: (1.0, 0.0),
-                    })
-                    .collect();
-                let cut = parts(layout, 3 * PART_BYTES, &mut targets);
-                assert_eq!(cut.len(), 3);
-                let width = if interleaved { 7 } else { 1000 };
-                let mut next = 0;
-                for part in &cut {
-                    assert_eq!(part.elements.start, next);
-                    assert!(part.elements.start.is_multiple_of(width));
-                    next = part.elements.end;
-                }
-                assert_eq!(next, 7000);
-                let mut samples = [0usize; 7];
-                for part in &cut {
-                    for t in &part.targets {
-                        samples[t.column] += t.into.len();
-                    }
-                }
-                // Columns 0 and 1 have two targets each.
-                assert_eq!(samples, [2000, 2000, 1000, 1000, 1000, 1000, 1000]);
+        for interleaved in [true, false] {
+            let layout = Layout {
+                samples: 1000,
+                columns: 7,
+                interleaved,
+            };
+            let mut out = vec![vec![MaybeUninit::new(0.0); 1000]; 9];
+            let mut targets: Vec<Target<'_>> = out
+                .iter_mut()
+                .enumerate()
+                .map(|(j, into)| Target {
+                    column: j % 7,
+                    into,
+                    gain: (1.0, 0.0),
+                })
+                .collect();
+            let cut = parts(layout, 3 * PART_BYTES, 3, &mut targets);
+            assert_eq!(cut.len(), 3);
+            let width = if interleaved { 7 } else { 1000 };
+            let mut next = 0;
+            for part in &cut {
+                assert_eq!(part.elements.start, next);
+                assert!(part.elements.start.is_multiple_of(width));
+                next = part.elements.end;
             }
-        });
+            assert_eq!(next, 7000);
+            let mut samples = [0usize; 7];
+            for part in &cut {
+                for t in &part.targets {
+                    samples[t.column] += t.into.len();
+                }
+            }
+            // Columns 0 and 1 have two targets each.
+            assert_eq!(samples, [2000, 2000, 1000, 1000, 1000, 1000, 1000]);
+            // Fewer threads, fewer parts; a small array, one.
+            assert_eq!(parts(layout, 3 * PART_BYTES, 2, &mut []).len(), 2);
+            assert_eq!(parts(layout, PART_BYTES - 1, 3, &mut []).len(), 1);
+        }
     }
 }
