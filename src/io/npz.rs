@@ -24,7 +24,7 @@ use zip::{CompressionMethod, ZipArchive};
 use crate::error::Result;
 use crate::io::arrays::NamedArray;
 use crate::io::npy::{Header, data_error, read_data, read_header, require_data};
-use crate::io::parts::{Crc, read_parts};
+use crate::io::parts::{Crc, Source, read_parts};
 use crate::io::scatter::Target;
 
 /// Elements converted per block when a member is read into place: 128 KiB of f64, so
@@ -189,9 +189,9 @@ impl Npz {
 
     /// Reads the data of the stored `member` (whose header is `header`) straight into
     /// `targets`, in blocks that stay in cache ([`Layout::scatter`]), a large member in
-    /// parts read by up to `threads` threads ([`read_parts`]), with the checks of [`Npz::read`]: the
-    /// data inside the member, every value finite, its CRC-32. A member that is not
-    /// stored is an error (use [`Npz::read`]).
+    /// parts read by up to `threads` threads ([`read_parts`]), with the checks of
+    /// [`Npz::read`]: the data inside the member, every value finite, its CRC-32. A
+    /// member that is not stored is an error (use [`Npz::read`]).
     ///
     /// [`Layout::scatter`]: crate::io::arrays::Layout::scatter
     pub fn read_into(
@@ -227,10 +227,13 @@ impl Npz {
         // cannot fail: require_data checked that the data bytes fit the member
         let data = header.data_bytes().expect("checked by require_data");
         let start = stored.start + consumed;
-        let targets = (INTO_BLOCK, targets, threads);
-        crc.combine(&read_parts(
-            opened, &self.path, start, header, targets, name, file,
-        )?);
+        let source = Source {
+            opened,
+            path: &self.path,
+            start,
+        };
+        let data_crc = read_parts(source, header, INTO_BLOCK, threads, targets, name, file)?;
+        crc.combine(&data_crc);
         // The CRC covers the whole member, whatever follows the data.
         let trailing = stored.size - consumed - data;
         if trailing > 0 {

@@ -111,25 +111,37 @@ fn parts<'a>(
     parts
 }
 
-/// Reads the data of the array of `header`, which start at byte `start` of the file
-/// `opened` (at `path`), into `targets` (every sample of every target written when it
-/// returns `Ok`), in at most `threads` parts read in parallel (module doc); returns the
-/// CRC-32 state of the data bytes. `name` and `file` name the array in errors.
+/// Where an array's data lie: the file at `path`, already open (`opened`, which the
+/// first part reads), from byte `start`.
+pub(crate) struct Source<'p> {
+    pub opened: File,
+    pub path: &'p Path,
+    pub start: u64,
+}
+
+/// Reads the data of the array of `header` at `source` into `targets` (every sample of
+/// every target written when it returns `Ok`), in blocks of about `block` elements and
+/// at most `threads` parts read in parallel (module doc); returns the CRC-32 state of the
+/// data bytes. `name` and `file` name the array in errors.
 pub(crate) fn read_parts(
-    opened: File,
-    path: &Path,
-    start: u64,
+    source: Source<'_>,
     header: &Header,
-    (block, targets, threads): (usize, &mut [Target<'_>], usize),
+    block: usize,
+    threads: usize,
+    targets: &mut [Target<'_>],
     name: &str,
     file: &str,
 ) -> Result<crc32fast::Hasher> {
     let layout = header.layout;
     let size = header.element_size();
     let bytes = (layout.elements() as u64).saturating_mul(size as u64);
-    let read = |handle: File, part: &mut Part<'_>| -> Result<crc32fast::Hasher> {
+    let Source {
+        opened,
+        path,
+        start,
+    } = source;
+    let read = |mut handle: File, part: &mut Part<'_>| -> Result<crc32fast::Hasher> {
         let error = |e: &dyn std::fmt::Display| data_error(file, name, e);
-        let mut handle = handle;
         let offset = start + (part.elements.start as u64) * size as u64;
         handle
             .seek(SeekFrom::Start(offset))

@@ -366,8 +366,8 @@ fn element_columns(
     let rows = projected.x.nrows();
     let (x, v) = (projected.x.as_ref(), projected.v.as_ref());
     // relative motion of two-ended elements (a grounded one reads its DOF's columns)
-    let mut xr = vec![0.0; rows];
-    let mut vr = vec![0.0; rows];
+    let mut x_rel = vec![0.0; rows];
+    let mut v_rel = vec![0.0; rows];
     // per-sample noise variances and weighted slopes, one set of buffers per term
     let (mut var_x, mut var_v) = (vec![0.0; count], vec![0.0; count]);
     let (mut g_x, mut g_v) = (vec![0.0; count], vec![0.0; count]);
@@ -383,15 +383,15 @@ fn element_columns(
             Some(b) => {
                 let (xb, vb) = (col(x, b), col(v, b));
                 for i in 0..rows {
-                    xr[i] = xa[i] - xb[i];
-                    vr[i] = va[i] - vb[i];
+                    x_rel[i] = xa[i] - xb[i];
+                    v_rel[i] = va[i] - vb[i];
                 }
                 if projected.sensors[b] == projected.sensors[element.a] {
                     variance += sigma[b].powi(2);
                 } else {
                     other = Some((sigma[b].powi(2), b));
                 }
-                (&xr, &vr)
+                (&x_rel, &v_rel)
             }
         };
         if law.is_total_variation() {
