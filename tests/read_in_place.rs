@@ -105,6 +105,23 @@ fn parse(file: &Path) -> dampid::Result<Job> {
     dampid::model_file::parse(&model(file), "m.toml", Path::new("."), Default::default())
 }
 
+/// The bits of every element of `m`, column by column.
+fn bits(m: faer::MatRef<'_, f64>) -> Vec<u64> {
+    (0..m.ncols())
+        .flat_map(|j| (0..m.nrows()).map(move |i| m[(i, j)].to_bits()))
+        .collect()
+}
+
+/// The wide record's job (`wide_model`) for the archive `file`.
+fn parse_wide(file: &Path) -> dampid::Result<Job> {
+    dampid::model_file::parse(
+        &wide_model(file),
+        "m.toml",
+        Path::new("."),
+        Default::default(),
+    )
+}
+
 /// The data error under the model file's location of a record that does not read.
 fn data_error(file: &Path) -> (String, usize, String, String) {
     match parse(file).map(|_| ()).unwrap_err().innermost() {
@@ -128,11 +145,6 @@ fn stored_members_read_in_place_equal_the_table_path_bitwise() {
     write_npz(&deflated, &members(), false);
     let (a, b) = (parse(&stored).unwrap(), parse(&deflated).unwrap());
     let (a, b) = (&a.records[0], &b.records[0]);
-    let bits = |m: faer::MatRef<'_, f64>| -> Vec<u64> {
-        (0..m.ncols())
-            .flat_map(|j| (0..m.nrows()).map(move |i| m[(i, j)].to_bits()))
-            .collect()
-    };
     assert_eq!(bits(a.displacements()), bits(b.displacements()));
     assert_eq!(bits(a.velocities().unwrap()), bits(b.velocities().unwrap()));
     assert_eq!(a.step().to_bits(), b.step().to_bits());
@@ -299,19 +311,6 @@ fn wide_model(file: &Path) -> String {
 /// error at its sample and column, on either path.
 #[test]
 fn wide_members_read_in_place_equal_the_table_path_and_locate_a_nan() {
-    let parse_wide = |file: &Path| {
-        dampid::model_file::parse(
-            &wide_model(file),
-            "m.toml",
-            Path::new("."),
-            Default::default(),
-        )
-    };
-    let bits = |m: faer::MatRef<'_, f64>| -> Vec<u64> {
-        (0..m.ncols())
-            .flat_map(|j| (0..m.nrows()).map(move |i| m[(i, j)].to_bits()))
-            .collect()
-    };
     for fortran in [false, true] {
         let (stored, deflated) = (
             scratch(&format!("wide{fortran}.npz")),
@@ -364,19 +363,6 @@ const LARGE: usize = 60_013;
 /// first); a byte changed in the last part is the CRC-32 error.
 #[test]
 fn large_members_read_in_parts_equal_the_table_path_and_name_the_first_error() {
-    let parse_wide = |file: &Path| {
-        dampid::model_file::parse(
-            &wide_model(file),
-            "m.toml",
-            Path::new("."),
-            Default::default(),
-        )
-    };
-    let bits = |m: faer::MatRef<'_, f64>| -> Vec<u64> {
-        (0..m.ncols())
-            .flat_map(|j| (0..m.nrows()).map(move |i| m[(i, j)].to_bits()))
-            .collect()
-    };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(2)
         .build()
@@ -447,11 +433,6 @@ fn bytes_after_a_members_data_are_in_its_crc() {
     write_npz(&path, &padded, true);
     write_npz(&plain, &members(), true);
     let (a, b) = (parse(&path).unwrap(), parse(&plain).unwrap());
-    let bits = |m: faer::MatRef<'_, f64>| -> Vec<u64> {
-        (0..m.ncols())
-            .flat_map(|j| (0..m.nrows()).map(move |i| m[(i, j)].to_bits()))
-            .collect()
-    };
     assert_eq!(
         bits(a.records[0].displacements()),
         bits(b.records[0].displacements())
