@@ -71,10 +71,18 @@ use crate::record::col;
 /// periods, the order of the round-off of the least-squares fit itself.
 pub(crate) const WHOLE_SAMPLES: f64 = 1e-12;
 
+/// N = T/h when it is a whole number (to [`WHOLE_SAMPLES`] relative) of at least 2.
+pub(crate) fn whole_samples(step: f64, period: f64) -> Option<usize> {
+    let per_period = period / step;
+    let whole = per_period.round();
+    (whole.is_finite() && whole >= 2.0 && (per_period - whole).abs() <= WHOLE_SAMPLES * per_period)
+        .then_some(whole as usize)
+}
+
 thread_local! {
     /// One planner per thread: it caches a plan (twiddles, factorisation) per length,
     /// so the windows of a record, which share their length, plan once.
-    static PLANNER: RefCell<RealFftPlanner<f64>> = RefCell::new(RealFftPlanner::new());
+    pub(super) static PLANNER: RefCell<RealFftPlanner<f64>> = RefCell::new(RealFftPlanner::new());
 }
 
 /// The DFT bins of a window's channels that the harmonic projection and the noise floor
@@ -129,15 +137,7 @@ impl WholeSampleDft {
         between_bins: &[usize],
         residual: bool,
     ) -> Option<Self> {
-        let per_period = period / step;
-        let whole = per_period.round();
-        if !whole.is_finite()
-            || whole < 2.0
-            || (per_period - whole).abs() > WHOLE_SAMPLES * per_period
-        {
-            return None;
-        }
-        let length = periods.checked_mul(whole as usize)?;
+        let length = periods.checked_mul(whole_samples(step, period)?)?;
         let samples = x.nrows();
         if periods == 0 || !(samples == length || samples == length + 1) {
             return None;

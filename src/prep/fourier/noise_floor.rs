@@ -179,46 +179,121 @@ pub(super) fn select_with(
     } else {
         None
     };
-    let mut kept = vec![1];
-    let mut noise_amplitude = Vec::with_capacity(x.ncols());
-    let mut amplitudes = Vec::with_capacity(x.ncols());
-    let mut above = vec![false; most + 1];
-    for channel in 0..x.ncols() {
-        let amps = amplitudes_of(coefficients.col(channel), most);
-        let mut powers: Vec<i64> = match &between {
-            // the upper half of the band, then the residual bins between harmonics
-            Some(bins) => amps[most / 2..]
-                .iter()
-                .map(|a| order_key(a * a))
-                .chain(bins.iter().map(|powers| order_key(powers[channel])))
-                .collect(),
-            None => amps[1..].iter().map(|a| order_key(a * a)).collect(),
-        };
+    // per channel, its powers at the bins in order
+    let between = between.map(|bins| {
+        (0..x.ncols())
+            .map(|channel| bins.iter().map(|powers| powers[channel]).collect())
+            .collect::<Vec<Vec<f64>>>()
+    });
+    Ok(select_from(
+        &coefficients,
+        between.as_deref(),
+        m,
+        periods,
+        most,
+    ))
+}
+
+/// The rule of the module doc on a window's coefficients (a_0, then a_k, b_k for
+/// k = 1..=`most`, per channel) and, with P ≥ 2, the noise bins other than the upper
+/// half of the band (`noise_bins[channel][b]`, powers a² + b² on the coefficients'
+/// scale): the harmonics kept and each channel's noise.
+pub(super) fn select_from(
+    coefficients: &faer::Mat<f64>,
+    noise_bins: Option<&[Vec<f64>]>,
+    m: usize,
+    periods: usize,
+    most: usize,
+) -> HarmonicSelection {
+    let mut selector = Selector::new(m, periods, most, coefficients.ncols());
+    for channel in 0..coefficients.ncols() {
+        selector.channel(
+            coefficients.col_as_slice(channel),
+            noise_bins.map(|bins| bins[channel].as_slice()),
+        );
+    }
+    selector.finish()
+}
+
+/// The rule of the module doc, one channel at a time: each channel's amplitudes and
+/// noise, and the harmonics that stand above the noise in any channel.
+pub(super) struct Selector {
+    /// m, the samples of the window.
+    samples: usize,
+    /// P, its whole periods.
+    periods: usize,
+    /// K_max.
+    most: usize,
+    /// Whether harmonic k stands above the noise in a channel so far.
+    above: Vec<bool>,
+    noise_amplitude: Vec<f64>,
+    amplitudes: Vec<Vec<f64>>,
+    /// The order keys of a channel's noise bins (scratch).
+    keys: Vec<i64>,
+}
+
+impl Selector {
+    /// A selection over `m` samples of `periods` periods on harmonics 1..=`most`, for
+    /// `channels` channels.
+    pub(super) fn new(m: usize, periods: usize, most: usize, channels: usize) -> Self {
+        Selector {
+            samples: m,
+            periods,
+            most,
+            above: vec![false; most + 1],
+            noise_amplitude: Vec::with_capacity(channels),
+            amplitudes: Vec::with_capacity(channels),
+            keys: Vec::new(),
+        }
+    }
+
+    /// The next channel, from its coefficients [a_0, a_1, b_1, …] (harmonics up to K_max
+    /// at least) and, with P ≥ 2, its powers at the noise bins between the harmonics.
+    pub(super) fn channel(&mut self, coefficients: &[f64], noise_bins: Option<&[f64]>) {
+        let most = self.most;
+        let amps = amplitudes_of(coefficients, most);
+        self.keys.clear();
+        match noise_bins {
+            // the upper half of the band, then the noise bins between harmonics
+            Some(bins) => self.keys.extend(
+                amps[most / 2..]
+                    .iter()
+                    .map(|a| order_key(a * a))
+                    .chain(bins.iter().map(|&power| order_key(power))),
+            ),
+            None => self.keys.extend(amps[1..].iter().map(|a| order_key(a * a))),
+        }
         let floor = ROUND_OFF * amps.iter().cloned().fold(0.0, f64::max);
-        let noise = median(&mut powers).map_or(floor, |median| {
+        let noise = median(&mut self.keys).map_or(floor, |median| {
             (median / std::f64::consts::LN_2).sqrt().max(floor)
         });
         for (k, a) in amps.iter().enumerate().skip(1) {
             if *a > NOISE_THRESHOLD * noise {
-                above[k + 1] = true;
+                self.above[k + 1] = true;
             }
         }
-        noise_amplitude.push(noise);
-        amplitudes.push(amps);
+        self.noise_amplitude.push(noise);
+        self.amplitudes.push(amps);
     }
-    kept.extend((2..=most).filter(|&k| above[k]));
-    let noise_std = noise_amplitude
-        .iter()
-        .map(|a| a * (m as f64).sqrt() / 2.0)
-        .collect();
-    Ok(HarmonicSelection {
-        periods,
-        samples: m,
-        kept,
-        noise_amplitude,
-        noise_std,
-        amplitudes,
-    })
+
+    /// The selection over the channels given.
+    pub(super) fn finish(self) -> HarmonicSelection {
+        let mut kept = vec![1];
+        kept.extend((2..=self.most).filter(|&k| self.above[k]));
+        let noise_std = self
+            .noise_amplitude
+            .iter()
+            .map(|a| a * (self.samples as f64).sqrt() / 2.0)
+            .collect();
+        HarmonicSelection {
+            periods: self.periods,
+            samples: self.samples,
+            kept,
+            noise_amplitude: self.noise_amplitude,
+            noise_std,
+            amplitudes: self.amplitudes,
+        }
+    }
 }
 
 /// A_k = √(a_k² + b_k²) for k = 1..=`most` of one channel's coefficients
@@ -226,7 +301,7 @@ pub(super) fn select_with(
 /// the largest (exact), so that neither overflows nor loses bits below the normal range
 /// at any scale the data check lets through: as accurate as `hypot` (within an ulp of
 /// it), at the cost of a square root.
-fn amplitudes_of(c: faer::ColRef<'_, f64>, most: usize) -> Vec<f64> {
+fn amplitudes_of(c: &[f64], most: usize) -> Vec<f64> {
     let largest = (1..=2 * most).fold(0.0f64, |m, k| m.max(c[k].abs()));
     let scale = if largest > 0.0 && largest.is_finite() {
         2f64.powi(-largest.log2().round() as i32)
@@ -375,10 +450,11 @@ mod tests {
     fn amplitudes_are_hypot_at_every_scale() {
         for exponent in [-505, -300, 0, 300, 505] {
             let s = 2f64.powi(exponent);
-            let c = faer::Col::from_fn(7, |k| {
-                s * [0.3, 1.0, -0.75, 1e-16, 3e-17, -2.5e-13, 1e-12][k]
-            });
-            let amps = amplitudes_of(c.as_ref(), 3);
+            let c: Vec<f64> = [0.3, 1.0, -0.75, 1e-16, 3e-17, -2.5e-13, 1e-12]
+                .iter()
+                .map(|v| s * v)
+                .collect();
+            let amps = amplitudes_of(&c, 3);
             for (k, a) in amps.iter().enumerate() {
                 let reference = c[2 * k + 1].hypot(c[2 * k + 2]);
                 assert!(
@@ -388,10 +464,7 @@ mod tests {
                 );
             }
         }
-        assert_eq!(
-            amplitudes_of(faer::Col::<f64>::zeros(5).as_ref(), 2),
-            vec![0.0, 0.0]
-        );
+        assert_eq!(amplitudes_of(&[0.0; 5], 2), vec![0.0, 0.0]);
     }
 
     /// The median by selection equals the middle of the sorted values (odd and even

@@ -7,7 +7,8 @@
 //!
 //! 1. selects the harmonic orders S and the per-sample noise σ̂_j of every channel j from
 //!    the samples of the whole span (`prep::fourier`: out-of-band median,
-//!    harmonics above 3.5 σ̂_A; with k' ≥ 2 the bins between harmonics are available);
+//!    harmonics above 3.5 σ̂_A; with k' ≥ 2 the bins between harmonics, or with whole
+//!    samples per period the contrasts between the periods, are available);
 //! 2. projects each requested period [u₀ + pL, u₀ + (p + 1)L), L = T/h, over the samples
 //!    inside it (half open, so neighbouring periods share none), t measured from the
 //!    period's first sample:
@@ -38,26 +39,35 @@
 //! as the displacement it would be at the drive frequency, r_j/ω^d (d = 1 for velocity,
 //! 2 for acceleration), which overstates content above ω and understates it below.
 //!
-//! **Cost.** Where the span holds a whole number of samples per period, step 1 is one
-//! real FFT per channel and step 3 reads the residual off the same spectrum (Parseval,
-//! `prep::fourier::dft`): RSS_j is the power of every bin but the constant and the kept
-//! harmonics. Otherwise step 3 is a least-squares fit and its residual. Every other
-//! product is a pass over a channel's samples against a table of the basis
-//! (`table.rs`): the period fits and the half ranges of x̂ and v̂ over each period (the
-//! amplitudes the mismatches are relative to) cost O(m p) per channel. A period's table
-//! and its covariance per sensor kind (σ̂_j² times a unit covariance shared by the
-//! channels of that kind) depend on its length and harmonics only, t being measured
-//! from its first sample, so they are made once per record for all its periods of one
-//! length (`PeriodBasis`). Steps 1 and 3 (`fit_span`) and step 2 (`fit_period`) are
-//! separate so that a period compared in two spans on the same harmonics is fitted once
-//! (`spans.rs`); [`project_periods`] is the two for one span.
+//! **Cost.** Where a period holds a whole number N = T/h of samples (and the span P N
+//! of them), each period is transformed once, by one real FFT per channel
+//! (`prep::fourier::periods`), and everything else is read off the periods' spectra:
+//! the span's harmonic amplitudes are the sums of its periods' bins; its noise floor
+//! reads the contrasts between its periods' bins in place of the bins between the
+//! harmonics (the same distribution on noise, the same count; `periods.rs` derives
+//! both); its residual on S is the power of every other bin (Parseval); and each
+//! period's coefficients on S are its own bins. A period in two spans is transformed
+//! once for both ([`span_periods`], `spans.rs`). Otherwise step 1 fits the span by one
+//! FFT or by least squares (`prep::fourier::noise_floor`) and steps 2 and 3 are
+//! least-squares passes over a channel's samples against a table of the basis
+//! (`table.rs`). Either way the half ranges of x̂ and v̂ over each period (the
+//! amplitudes the mismatches are relative to) cost O(N p) per channel on the table. A
+//! period's table and its covariance per sensor kind (σ̂_j² times a unit covariance
+//! shared by the channels of that kind) depend on its length and harmonics only, t
+//! being measured from its first sample (`PeriodBasis`). Steps 1 and 3 (`fit_span`)
+//! and step 2 (`fit_period`) are separate so that a period compared in two spans on
+//! the same harmonics is fitted once (`spans.rs`); [`project_periods`] is the two for
+//! one span.
 
 use std::sync::Arc;
 
 use faer::Mat;
 
 use crate::error::{Error, Result};
-use crate::prep::fourier::{HarmonicBasis, select_with_residuals};
+use crate::prep::fourier::{
+    HarmonicBasis, HarmonicSelection, PeriodSpectrum, select_from_periods, select_with_residuals,
+    span_harmonics, whole_samples,
+};
 use crate::record::{Record, Sensor, col};
 
 use super::table::HarmonicTable;
@@ -231,27 +241,55 @@ pub(super) fn period_samples(record: &Record, origin: f64, k: usize) -> (usize, 
     (first, end - first)
 }
 
+/// The first sample of each period of the span of `periods` periods from the sample
+/// position `origin` of `record`, and N, when the span's step 1 and 3 read off its
+/// periods' spectra (`prep::fourier::periods`): N = T/h whole and the span exactly P N
+/// samples from a whole sample. `None` otherwise, where the span is fitted as a whole.
+pub(super) fn span_periods(
+    record: &Record,
+    origin: f64,
+    periods: usize,
+) -> Option<(Vec<usize>, usize)> {
+    let n = whole_samples(record.step(), record.period())?;
+    let length = record.period() / record.step();
+    let (first, end) = samples_in(origin, periods as f64 * length, record.samples());
+    (end - first == periods * n).then(|| ((0..periods).map(|i| first + i * n).collect(), n))
+}
+
+/// The spectrum of the period of `length` samples from sample `first` of `record`'s
+/// signals, with the bins a span of its periods reads.
+pub(super) fn period_spectrum(record: &Record, first: usize, length: usize) -> PeriodSpectrum {
+    let (x, _) = signals(record);
+    let most = span_harmonics(length, record.step(), record.period());
+    PeriodSpectrum::new(x.subrows(first, length), most)
+}
+
 /// Steps 1 and 3 over the span of `periods` whole periods from the sample position
-/// `origin` of `record`.
+/// `origin` of `record`: from its periods' spectra where [`span_periods`] allows, else
+/// over the whole span.
 pub(super) fn fit_span(record: &Record, origin: f64, periods: usize) -> Result<SpanFit> {
+    if let Some((firsts, n)) = span_periods(record, origin, periods) {
+        let spectra: Vec<PeriodSpectrum> = firsts
+            .iter()
+            .map(|&first| period_spectrum(record, first, n))
+            .collect();
+        return fit_span_from(record, &spectra.iter().collect::<Vec<_>>());
+    }
     let (step, period) = (record.step(), record.period());
     let length = period / step;
-    let (x, sensors) = signals(record);
+    let (x, _) = signals(record);
     let (first, end) = samples_in(origin, periods as f64 * length, record.samples());
     let whole = x.subrows(first, end - first);
     let (selection, spectrum) = select_with_residuals(whole, step, period, periods)?;
     let omega = 2.0 * std::f64::consts::PI / period;
-    let orders = selection.kept;
-    let sigma = selection.noise_std;
+    let orders = &selection.kept;
     // Step 3: the whole span's residual on S, from the spectrum when the span holds
     // whole samples per period (Parseval), else one pass per channel for the fit and
     // one for its residual.
     let m = whole.nrows();
-    let p = 2 * orders.len() + 1;
-    let dof = m.saturating_sub(p).max(1);
     let from_spectrum: Option<Vec<f64>> = spectrum.as_ref().and_then(|s| {
         (0..x.ncols())
-            .map(|j| s.residual_sum_of_squares(&orders, j))
+            .map(|j| s.residual_sum_of_squares(orders, j))
             .collect()
     });
     let residuals = match from_spectrum {
@@ -267,8 +305,30 @@ pub(super) fn fit_span(record: &Record, origin: f64, periods: usize) -> Result<S
                 .collect()
         }
     };
-    let mut non_harmonic = Vec::with_capacity(x.ncols());
-    let mut residual_ratio = Vec::with_capacity(x.ncols());
+    Ok(span_fit(record, selection, residuals))
+}
+
+/// Steps 1 and 3 over the span made of the periods `spectra` of `record` (in time
+/// order, from [`period_spectrum`]).
+pub(super) fn fit_span_from(record: &Record, spectra: &[&PeriodSpectrum]) -> Result<SpanFit> {
+    let (selection, span) = select_from_periods(spectra, record.step(), record.period())?;
+    let residuals = (0..selection.noise_std.len())
+        .map(|j| span.residual_sum_of_squares(&selection.kept, j))
+        .collect();
+    Ok(span_fit(record, selection, residuals))
+}
+
+/// A span's [`SpanFit`] from its selection (over m samples) and its residual sums of
+/// squares on the kept harmonics, per channel.
+fn span_fit(record: &Record, selection: HarmonicSelection, residuals: Vec<f64>) -> SpanFit {
+    let omega = 2.0 * std::f64::consts::PI / record.period();
+    let (_, sensors) = signals(record);
+    let orders = selection.kept;
+    let sigma = selection.noise_std;
+    let p = 2 * orders.len() + 1;
+    let dof = selection.samples.saturating_sub(p).max(1);
+    let mut non_harmonic = Vec::with_capacity(residuals.len());
+    let mut residual_ratio = Vec::with_capacity(residuals.len());
     for (j, rss) in residuals.into_iter().enumerate() {
         let mean_square = rss / dof as f64;
         let as_displacement = omega.powi(sensors[j].order() as i32);
@@ -279,13 +339,13 @@ pub(super) fn fit_span(record: &Record, origin: f64, periods: usize) -> Result<S
             mean_square / (sigma[j] * sigma[j])
         });
     }
-    Ok(SpanFit {
+    SpanFit {
         orders,
         noise_std: sigma,
         non_harmonic,
         residual_ratio,
         residual_dof: dof,
-    })
+    }
 }
 
 /// One channel's fit over one period: c_x, c_v, the unit covariance, ½ range of x̂ and
@@ -311,6 +371,8 @@ pub(super) struct PeriodFit {
 /// the unit covariance per sensor kind, and the record's sensors.
 pub(super) struct PeriodBasis {
     table: HarmonicTable,
+    /// The harmonic orders S of the basis.
+    orders: Vec<usize>,
     /// Whether (BᵀB)⁻¹ is finite.
     regular: bool,
     /// Per sensor kind present: [I; J] S and its unit covariance.
@@ -352,29 +414,71 @@ pub(super) fn period_basis(record: &Record, rows: usize, orders: &[usize]) -> Re
     }
     Ok(PeriodBasis {
         table,
+        orders: orders.to_vec(),
         regular,
         kinds,
         sensors,
     })
 }
 
-/// Step 2 for the `rows` samples of `record` from sample `first`, projected on `orders`.
+/// Step 2 for the `rows` samples of `record` from sample `first`, projected on `orders`:
+/// read off the period's spectrum when it is one period of N = T/h whole samples, as in
+/// a check (`spans.rs`), else by least squares.
 pub(super) fn fit_period(
     record: &Record,
     first: usize,
     rows: usize,
     orders: &[usize],
 ) -> Result<PeriodFit> {
-    fit_period_with(record, &period_basis(record, rows, orders)?, first)
+    let basis = period_basis(record, rows, orders)?;
+    match whole_samples(record.step(), record.period()) {
+        Some(n) if n == rows => {
+            fit_period_from(record, &basis, first, &period_spectrum(record, first, n))
+        }
+        _ => fit_period_with(record, &basis, first),
+    }
 }
 
-/// Step 2 for the period of `record` from sample `first`, with its [`PeriodBasis`].
+/// Step 2 for the period of `record` from sample `first`, with its [`PeriodBasis`], by
+/// least squares on the basis' table.
 pub(super) fn fit_period_with(
     record: &Record,
     basis: &PeriodBasis,
     first: usize,
 ) -> Result<PeriodFit> {
     let (x, _) = signals(record);
+    let rows = basis.table.rows();
+    period_fit(basis, first, |j| {
+        basis.table.fit(&col(x, j)[first..first + rows])
+    })
+}
+
+/// Step 2 for the period of `record` from sample `first`, with its [`PeriodBasis`] and
+/// its spectrum (`spectrum` of the same samples): the coefficients read off the bins
+/// (`prep::fourier::dft`: the least-squares ones on whole samples per period), by least
+/// squares where the spectrum does not hold an order.
+pub(super) fn fit_period_from(
+    record: &Record,
+    basis: &PeriodBasis,
+    first: usize,
+    spectrum: &PeriodSpectrum,
+) -> Result<PeriodFit> {
+    let (x, _) = signals(record);
+    let rows = basis.table.rows();
+    period_fit(basis, first, |j| {
+        spectrum
+            .coefficients(j, &basis.orders)
+            .unwrap_or_else(|| basis.table.fit(&col(x, j)[first..first + rows]))
+    })
+}
+
+/// Step 2 from each channel's coefficients c on the basis: c_x and c_v through [I; J] S,
+/// the unit covariance, and the half ranges of x̂ and v̂ over the period's samples.
+fn period_fit(
+    basis: &PeriodBasis,
+    first: usize,
+    coefficients: impl Fn(usize) -> Vec<f64>,
+) -> Result<PeriodFit> {
     let table = &basis.table;
     let rows = table.rows();
     if !basis.regular {
@@ -386,7 +490,7 @@ pub(super) fn fit_period_with(
         });
     }
     let p = table.columns();
-    let channels = (0..x.ncols())
+    let channels = (0..basis.sensors.len())
         .map(|j| {
             // cannot fail: every sensor of `sensors` was added to `kinds` by period_basis
             let (_, full, unit) = basis
@@ -394,7 +498,7 @@ pub(super) fn fit_period_with(
                 .iter()
                 .find(|(s, _, _)| *s == basis.sensors[j])
                 .expect("each sensor kind has its map");
-            let c = table.fit(&col(x, j)[first..first + rows]);
+            let c = coefficients(j);
             let stacked: Vec<f64> = (0..2 * p)
                 .map(|a| (0..p).map(|k| full[(a, k)] * c[k]).sum())
                 .collect();

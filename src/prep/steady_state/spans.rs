@@ -1,27 +1,41 @@
 //! The projections of every compared span of a check, each piece computed once:
 //!
 //! ```text
+//!   period (record, first)               → its spectrum, when T/h = N is whole   (steps 1, 2)
 //!   span (record, origin, k')            → harmonics S, σ̂_j, non-harmonic RMS   (steps 1, 3)
 //!   period (record, first, samples, S)   → c_x, c_v, Cov/σ̂², ½ ranges          (step 2)
 //! ```
 //!
 //! A one-period window is compared with the next period and with the previous one, so
-//! each period of a record takes part in two spans; both usually keep the same
-//! harmonics, and then its fit (which depends on its samples and S alone, not on the
-//! span's noise) is done once and shared. A span's projection is then its steps 1 and 3
-//! with its periods' fits and σ̂_j² (`projection::assemble`): the same values bit for
-//! bit as [`projection::project_periods`] of the span. The periods of a record with the
-//! same number of samples and the same harmonics share one basis, its factor and its
-//! covariances (`projection::PeriodBasis`).
+//! each period of a record takes part in two spans. Consecutive spans are projected
+//! together, [`SPANS_PER_TASK`] to a task (the tasks in parallel), and within a task:
+//!
+//! - with N whole, each period is transformed once (`prep::fourier::periods`), and the
+//!   spans' steps 1 and 3 and the periods' coefficients are read off the spectra;
+//!   otherwise each span is fitted whole and each period by least squares;
+//! - a period kept on the same harmonics by both its spans (the usual case) is fitted
+//!   once (the fit depends on its samples and S alone, not on the span's noise), and
+//!   the periods with the same number of samples and the same harmonics share one
+//!   basis, its factor and its covariances (`projection::PeriodBasis`).
+//!
+//! A span's projection is then its steps 1 and 3 with its periods' fits and σ̂_j²
+//! (`projection::assemble`): the same values bit for bit as
+//! [`projection::project_periods`] of the span, at any thread count.
 
 use std::collections::HashMap;
 
 use rayon::prelude::*;
 
 use crate::error::Result;
+use crate::prep::fourier::PeriodSpectrum;
 use crate::record::Record;
 
-use super::projection::{self, StateProjection};
+use super::projection::{self, PeriodBasis, PeriodFit, StateProjection};
+
+/// Consecutive spans whose steps 1 and 3 one task does, sharing its periods' spectra:
+/// one period in this many + 1 is transformed twice, and a task holds at most this
+/// many + 1 periods' spectra (160 kB each for 100 channels and K = 100).
+const SPANS_PER_TASK: usize = 16;
 
 /// A compared span: (record, origin in samples, periods k').
 pub(super) type SpanKey<'a> = (&'a Record, usize, f64, usize);
@@ -29,72 +43,72 @@ pub(super) type SpanKey<'a> = (&'a Record, usize, f64, usize);
 /// The projection of each span of `spans` ((record, record index, origin, k')), its
 /// first and last periods projected; one result per span, in order.
 pub(super) fn project_spans(spans: &[SpanKey<'_>]) -> Result<Vec<Result<StateProjection>>> {
-    let fits = spans
-        .par_iter()
-        .map(|&(record, _, origin, periods)| {
-            crate::cancel::check("the steady-state check")?;
-            Ok(projection::fit_span(record, origin, periods))
-        })
+    let tasks = spans
+        .par_chunks(SPANS_PER_TASK)
+        .map(project_task)
         .collect::<Result<Vec<_>>>()?;
-    // The distinct (record, first sample, samples, S) of the periods the spans project.
-    let mut known = HashMap::new();
-    let mut periods: Vec<(&Record, usize, usize, usize, &[usize])> = Vec::new();
-    let ids: Vec<Vec<usize>> = spans
-        .iter()
-        .zip(&fits)
-        .map(|(&(record, index, origin, count), fit)| {
-            let Ok(fit) = fit else { return Vec::new() };
-            [0, count - 1]
-                .iter()
-                .map(|&k| {
-                    let (first, rows) = projection::period_samples(record, origin, k);
-                    *known
-                        .entry((index, first, rows, fit.orders.as_slice()))
-                        .or_insert_with(|| {
-                            periods.push((record, index, first, rows, fit.orders.as_slice()));
-                            periods.len() - 1
-                        })
-                })
-                .collect()
-        })
-        .collect();
-    // Periods of one record with the same samples and harmonics share their basis, its
-    // factor and its covariances (t is measured from each period's first sample).
-    let mut bases = HashMap::new();
-    let mut distinct: Vec<(&Record, usize, &[usize])> = Vec::new();
-    let basis_ids: Vec<usize> = periods
-        .iter()
-        .map(|&(record, index, _, rows, orders)| {
-            *bases.entry((index, rows, orders)).or_insert_with(|| {
-                distinct.push((record, rows, orders));
-                distinct.len() - 1
-            })
-        })
-        .collect();
-    let shared: Vec<Result<projection::PeriodBasis>> = distinct
-        .par_iter()
-        .map(|&(record, rows, orders)| projection::period_basis(record, rows, orders))
-        .collect();
-    let period_fits = periods
-        .par_iter()
-        .zip(&basis_ids)
-        .map(|(&(record, _, first, _, _), &id)| {
+    Ok(tasks.into_iter().flatten().collect())
+}
+
+/// The periods of one record: (record index, first sample).
+type PeriodKey = (usize, usize);
+
+/// The projections of the consecutive spans `task`: each period's spectrum, each basis
+/// (record, samples, S) and each period's fit on S made once for the task.
+fn project_task(task: &[SpanKey<'_>]) -> Result<Vec<Result<StateProjection>>> {
+    let mut spectra: HashMap<PeriodKey, PeriodSpectrum> = HashMap::new();
+    let mut bases: HashMap<(usize, usize, Vec<usize>), Result<PeriodBasis>> = HashMap::new();
+    let mut fits: HashMap<(PeriodKey, usize, Vec<usize>), Result<PeriodFit>> = HashMap::new();
+    task.iter()
+        .map(|&(record, index, origin, count)| {
             crate::cancel::check("the steady-state check")?;
-            Ok(match &shared[id] {
-                Ok(basis) => projection::fit_period_with(record, basis, first),
-                Err(e) => Err(e.clone()),
-            })
+            let whole = projection::span_periods(record, origin, count);
+            let span = match &whole {
+                Some((firsts, n)) => {
+                    for &first in firsts {
+                        spectra
+                            .entry((index, first))
+                            .or_insert_with(|| projection::period_spectrum(record, first, *n));
+                    }
+                    let own: Vec<&PeriodSpectrum> = firsts
+                        .iter()
+                        .filter_map(|&f| spectra.get(&(index, f)))
+                        .collect();
+                    projection::fit_span_from(record, &own)
+                }
+                None => projection::fit_span(record, origin, count),
+            };
+            let Ok(fit) = &span else {
+                return Ok(projection::assemble(record, &span, &[]));
+            };
+            let mut keys = Vec::with_capacity(2);
+            for k in [0, count - 1] {
+                let (first, rows) = projection::period_samples(record, origin, k);
+                let key = ((index, first), rows, fit.orders.clone());
+                if !fits.contains_key(&key) {
+                    let basis = bases
+                        .entry((index, rows, fit.orders.clone()))
+                        .or_insert_with(|| projection::period_basis(record, rows, &fit.orders));
+                    let spectrum = whole
+                        .as_ref()
+                        .filter(|(_, n)| *n == rows)
+                        .and_then(|_| spectra.get(&(index, first)));
+                    let period = match (basis, spectrum) {
+                        (Ok(basis), Some(spectrum)) => {
+                            projection::fit_period_from(record, basis, first, spectrum)
+                        }
+                        (Ok(basis), None) => projection::fit_period_with(record, basis, first),
+                        (Err(e), _) => Err(e.clone()),
+                    };
+                    fits.insert(key.clone(), period);
+                }
+                keys.push(key);
+            }
+            let periods: Vec<&Result<PeriodFit>> =
+                keys.iter().filter_map(|key| fits.get(key)).collect();
+            Ok(projection::assemble(record, &span, &periods))
         })
-        .collect::<Result<Vec<_>>>()?;
-    Ok(spans
-        .par_iter()
-        .zip(&fits)
-        .zip(&ids)
-        .map(|((&(record, ..), fit), ids)| {
-            let fits: Vec<_> = ids.iter().map(|&i| &period_fits[i]).collect();
-            projection::assemble(record, fit, &fits)
-        })
-        .collect())
+        .collect()
 }
 
 #[cfg(test)]
@@ -108,19 +122,29 @@ mod tests {
 
     /// Each span's projection with its periods fitted once and shared equals
     /// `project_periods` of the span alone, value for value, for one-period windows
-    /// (each period in two spans; T/h not whole) and three-period ones, with and
-    /// without noise.
+    /// (each period in two spans) and three-period ones, with and without noise, with
+    /// T/h not whole (spans fitted whole) and whole (spans read off their periods'
+    /// spectra, each period's spectrum shared by the spans of a task).
     #[test]
     fn shared_period_fits_are_the_spans_own() {
         let period = 2.0 * std::f64::consts::PI / 0.618;
-        let settings = SimSettings {
-            transient_steps: 3000,
-            recorded_steps: (6.0 * period / 0.1).ceil() as usize + 4,
-            ..SimSettings::default()
-        };
-        let clean = four_mass_records_with(false, &settings).unwrap();
-        let noisy = with_displacement_noise(&clean, 0.01, 7).unwrap();
-        for records in [&clean, &noisy] {
+        for step in [0.1, period / 64.0] {
+            let settings = SimSettings {
+                step,
+                transient_steps: (300.0 / step) as usize,
+                recorded_steps: (40.0 * period / step).ceil() as usize + 4,
+                ..SimSettings::default()
+            };
+            let clean = four_mass_records_with(false, &settings).unwrap();
+            let noisy = with_displacement_noise(&clean, 0.01, 7).unwrap();
+            let whole = projection::span_periods(&clean[0], 0.0, 2).is_some();
+            assert_eq!(whole, step != 0.1, "h = {step}");
+            shared_fits_for(&clean, &noisy);
+        }
+    }
+
+    fn shared_fits_for(clean: &[Record], noisy: &[Record]) {
+        for records in [clean, noisy] {
             for cycles in [1, 3] {
                 let record = &records[0];
                 let windows = WindowSpec::cycles(cycles)
