@@ -256,26 +256,12 @@ pub(crate) fn select_from_periods(
         coefficients[0] = prefix.re / m as f64 + reference;
         // bins 1 … K (contrasts of weight 2), every `stride`-th contrast a noise bin
         let mut powers = Vec::with_capacity(most);
-        let mut between = 0.0;
-        let (mut until, mut next) = (0, 0);
-        for (k, pair) in (1..=most).zip(coefficients[1..].chunks_exact_mut(2)) {
-            let mut prefix = rows[0][k];
-            for (c, (row, weight)) in (1..).zip(rows[1..].iter().zip(&weights)) {
-                let x = row[k];
-                let h2 = ((prefix - x * c as f64) * *weight).norm_sqr();
-                between += h2;
-                if until == 0 {
-                    noise[next] = scale * scale * h2;
-                    (until, next) = (stride - 1, next + 1);
-                } else {
-                    until -= 1;
-                }
-                prefix += x;
-            }
-            powers.push(prefix.norm_sqr());
-            pair[0] = scale * prefix.re;
-            pair[1] = -scale * prefix.im;
-        }
+        let bins = BinsOut {
+            coefficients: &mut coefficients[1..],
+            noise: &mut noise,
+            powers: &mut powers,
+        };
+        let between = harmonic_bins(&rows, &weights, most, stride, scale, bins);
         selector.channel(&coefficients, (periods >= 2).then_some(noise.as_slice()));
         let above: f64 = spectra.iter().map(|s| s.above[channel]).sum();
         non_harmonic.push(power + 2.0 * between + periods as f64 * above);
@@ -289,6 +275,66 @@ pub(crate) fn select_from_periods(
             non_harmonic,
         },
     ))
+}
+
+/// Where [`harmonic_bins`] writes one channel's bins 1 … K.
+struct BinsOut<'a> {
+    /// a_k, b_k of the sums for k = 1 … K (2K values).
+    coefficients: &'a mut [f64],
+    /// The noise bins' powers (2/m)² |H_c[k]|².
+    noise: &'a mut [f64],
+    /// |Y_{kP}|², pushed for k = 1 … K.
+    powers: &'a mut Vec<f64>,
+}
+
+/// One channel's bins 1 … K from its periods' `rows` of bins: the sums' coefficients
+/// (scaled by `scale` = 2/m) and powers, every `stride`-th contrast's power as a noise
+/// bin, and Σ_k Σ_c |H_c[k]|², returned. Two periods (every contrast a noise bin, the
+/// usual check) take a loop of their own, with the same operations.
+fn harmonic_bins(
+    rows: &[&[Complex<f64>]],
+    weights: &[f64],
+    most: usize,
+    stride: usize,
+    scale: f64,
+    out: BinsOut<'_>,
+) -> f64 {
+    let mut between = 0.0;
+    let pairs = out.coefficients.chunks_exact_mut(2);
+    if let ([first, second], 1) = (rows, stride) {
+        // H_1[k] = X_0[k] − X_1[k]: the weight √(2/2) is 1
+        let bins = first[1..=most].iter().zip(&second[1..=most]);
+        for ((&x0, &x1), (pair, noise)) in bins.zip(pairs.zip(out.noise.iter_mut())) {
+            let h2 = (x0 - x1).norm_sqr();
+            between += h2;
+            *noise = scale * scale * h2;
+            let sum = x0 + x1;
+            out.powers.push(sum.norm_sqr());
+            pair[0] = scale * sum.re;
+            pair[1] = -scale * sum.im;
+        }
+        return between;
+    }
+    let (mut until, mut next) = (0, 0);
+    for (k, pair) in (1..=most).zip(pairs) {
+        let mut prefix = rows[0][k];
+        for (c, (row, weight)) in (1..).zip(rows[1..].iter().zip(weights)) {
+            let x = row[k];
+            let h2 = ((prefix - x * c as f64) * *weight).norm_sqr();
+            between += h2;
+            if until == 0 {
+                out.noise[next] = scale * scale * h2;
+                (until, next) = (stride - 1, next + 1);
+            } else {
+                until -= 1;
+            }
+            prefix += x;
+        }
+        out.powers.push(prefix.norm_sqr());
+        pair[0] = scale * prefix.re;
+        pair[1] = -scale * prefix.im;
+    }
+    between
 }
 
 #[cfg(test)]

@@ -149,62 +149,84 @@ impl Kernel for Projections<'_> {
     }
 }
 
-/// Samples of B c evaluated side by side in registers by [`Extremes`].
+/// Samples of B c evaluated side by side in registers by [`ExtremesPair`].
 const LANES: usize = 8;
 
-/// The least and the largest of ŷ_i = Σ_k c_k B_ik over the first `n` samples, each ŷ_i
-/// the nonzero terms added to 0.0 in the order of k (the operations of
+/// The least and the largest of ŷ_i = Σ_k c_k B_ik over the first `n` samples, for
+/// c = c_x and c = c_v in one pass over the table (each column read once for both).
+/// Each ŷ_i is its own nonzero terms added to 0.0 in the order of k (the operations of
 /// [`HarmonicTable::chunks`]), [`LANES`] samples at a time in registers with their
 /// extremes kept per lane: no buffer, and no comparison waits on the one before.
 /// `if y < lo` is the hardware's minimum (the same as `f64::min` for finite values but
 /// for the sign of a zero). Compiled for the widest instruction set the CPU has.
-struct Extremes<'a> {
+struct ExtremesPair<'a> {
     design: &'a Mat<f64>,
-    coefficients: &'a [f64],
+    displacement: &'a [f64],
+    velocity: &'a [f64],
     n: usize,
 }
 
-impl Kernel for Extremes<'_> {
-    type Output = (f64, f64);
+impl Kernel for ExtremesPair<'_> {
+    type Output = [(f64, f64); 2];
     #[inline(always)]
-    fn run(self) -> (f64, f64) {
+    fn run(self) -> [(f64, f64); 2] {
         let n = self.n;
-        // the nonzero terms in the order of k, each with its column
-        let terms: Vec<(f64, &[f64])> = self
-            .coefficients
+        // the columns with a nonzero term in either, and each one's term where nonzero
+        let terms: Vec<(&[f64], [Option<f64>; 2])> = self
+            .displacement
             .iter()
+            .zip(self.velocity)
             .enumerate()
-            .filter(|&(_, &ck)| ck != 0.0)
-            .map(|(k, &ck)| (ck, &self.design.col_as_slice(k)[..n]))
+            .filter(|&(_, (&cx, &cv))| cx != 0.0 || cv != 0.0)
+            .map(|(k, (&cx, &cv))| {
+                let nonzero = |c: f64| (c != 0.0).then_some(c);
+                (
+                    &self.design.col_as_slice(k)[..n],
+                    [nonzero(cx), nonzero(cv)],
+                )
+            })
             .collect();
-        let (mut lo, mut hi) = ([f64::INFINITY; LANES], [f64::NEG_INFINITY; LANES]);
+        let mut lo = [[f64::INFINITY; LANES]; 2];
+        let mut hi = [[f64::NEG_INFINITY; LANES]; 2];
         let whole = n - n % LANES;
         for start in (0..whole).step_by(LANES) {
-            let mut y = [0.0f64; LANES];
-            for &(ck, column) in &terms {
+            let mut y = [[0.0f64; LANES]; 2];
+            for (column, cs) in &terms {
                 let column = &column[start..start + LANES];
-                for l in 0..LANES {
-                    y[l] += ck * column[l];
+                for (y, c) in y.iter_mut().zip(cs) {
+                    if let Some(c) = *c {
+                        for l in 0..LANES {
+                            y[l] += c * column[l];
+                        }
+                    }
                 }
             }
-            for l in 0..LANES {
-                lo[l] = if y[l] < lo[l] { y[l] } else { lo[l] };
-                hi[l] = if y[l] > hi[l] { y[l] } else { hi[l] };
+            for ((y, lo), hi) in y.iter().zip(&mut lo).zip(&mut hi) {
+                for l in 0..LANES {
+                    lo[l] = if y[l] < lo[l] { y[l] } else { lo[l] };
+                    hi[l] = if y[l] > hi[l] { y[l] } else { hi[l] };
+                }
             }
         }
         for i in whole..n {
-            let mut y = 0.0f64;
-            for &(ck, column) in &terms {
-                y += ck * column[i];
-            }
             let l = i - whole;
-            lo[l] = if y < lo[l] { y } else { lo[l] };
-            hi[l] = if y > hi[l] { y } else { hi[l] };
+            for (s, (lo, hi)) in lo.iter_mut().zip(&mut hi).enumerate() {
+                let mut y = 0.0f64;
+                for (column, cs) in &terms {
+                    if let Some(c) = cs[s] {
+                        y += c * column[i];
+                    }
+                }
+                lo[l] = if y < lo[l] { y } else { lo[l] };
+                hi[l] = if y > hi[l] { y } else { hi[l] };
+            }
         }
-        (
-            lo.iter().fold(f64::INFINITY, |a, &b| a.min(b)),
-            hi.iter().fold(f64::NEG_INFINITY, |a, &b| a.max(b)),
-        )
+        [0, 1].map(|s| {
+            (
+                lo[s].iter().fold(f64::INFINITY, |a, &b| a.min(b)),
+                hi[s].iter().fold(f64::NEG_INFINITY, |a, &b| a.max(b)),
+            )
+        })
     }
 }
 
@@ -270,30 +292,24 @@ impl HarmonicTable {
         }
     }
 
-    /// ½ (max − min) of B c over the first `n` samples ([`Extremes`]): the least and
-    /// the largest of finite values do not depend on the order they are met in, so the
-    /// range is the same as in sample order (a zero range might differ in the sign of its
-    /// zero only, which every use of it treats alike).
-    fn half_range(&self, coefficients: &[f64], n: usize) -> f64 {
-        let (lo, hi) = simd::dispatch(Extremes {
-            design: &self.design,
-            coefficients,
-            n,
-        });
-        0.5 * (hi - lo)
-    }
-
-    /// The ½ ranges of B c_x and of B c_v over the first `n` samples.
+    /// The ½ ranges (max − min)/2 of B c_x and of B c_v over the first `n` samples, in
+    /// one pass ([`ExtremesPair`]): the least and the largest of finite values do not
+    /// depend on the order they are met in, so each range is the same as in sample order
+    /// (a zero range might differ in the sign of its zero only, which every use of it
+    /// treats alike).
     pub(super) fn half_ranges(
         &self,
         displacement: &[f64],
         velocity: &[f64],
         n: usize,
     ) -> (f64, f64) {
-        (
-            self.half_range(displacement, n),
-            self.half_range(velocity, n),
-        )
+        let [(xl, xh), (vl, vh)] = simd::dispatch(ExtremesPair {
+            design: &self.design,
+            displacement,
+            velocity,
+            n,
+        });
+        (0.5 * (xh - xl), 0.5 * (vh - vl))
     }
 
     /// Σ_i (x_i − (B c)_i)² over the samples of `x`, summed in sample order.
@@ -371,6 +387,26 @@ mod tests {
             let rss: f64 = b.iter().zip(&alone).map(|(a, y)| (a - y).powi(2)).sum();
             let (half, _) = table.half_ranges(&coefficients, &coefficients, m);
             assert_eq!(half.to_bits(), (0.5 * (hi - lo)).to_bits(), "m = {m}");
+            // the second of the pair on its own terms: a zero where the first has none,
+            // and none where the first has a zero
+            let mut other: Vec<f64> = coefficients.iter().map(|c| -0.7 * c).collect();
+            (other[0], other[2]) = (0.0, 1.25);
+            let mut second = vec![0.0; m];
+            for (k, &ck) in other.iter().enumerate() {
+                if ck != 0.0 {
+                    for (y, b) in second.iter_mut().zip(table.design.col_as_slice(k)) {
+                        *y += ck * b;
+                    }
+                }
+            }
+            let (lo, hi) = second
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &y| {
+                    (lo.min(y), hi.max(y))
+                });
+            let pair = table.half_ranges(&coefficients, &other, m);
+            assert_eq!(pair.0.to_bits(), half.to_bits(), "m = {m}");
+            assert_eq!(pair.1.to_bits(), (0.5 * (hi - lo)).to_bits(), "m = {m}");
             let ours = table.residual_sum_of_squares(&coefficients, &b);
             assert_eq!(ours.to_bits(), rss.to_bits(), "m = {m}");
             // p = 3, 5, 7, 11, 15: one pass of p columns, or passes of four and the rest
@@ -434,7 +470,7 @@ mod tests {
         let (lo, hi) = (0..m).fold((f64::INFINITY, f64::NEG_INFINITY), |(l, u), i| {
             (l.min(fitted[(i, 0)]), u.max(fitted[(i, 0)]))
         });
-        let half = table.half_range(&c, m);
+        let (half, _) = table.half_ranges(&c, &c, m);
         assert!((half - 0.5 * (hi - lo)).abs() < 1e-12, "{half}");
     }
 }
