@@ -431,12 +431,17 @@ pub(super) fn fit_period(
     orders: &[usize],
 ) -> Result<PeriodFit> {
     let basis = period_basis(record, rows, orders)?;
-    match whole_samples(record.step(), record.period()) {
-        Some(n) if n == rows => {
-            fit_period_from(record, &basis, first, &period_spectrum(record, first, n))
-        }
-        _ => fit_period_with(record, &basis, first),
+    if whole_period(record, rows) {
+        fit_period_from(record, &basis, first, &period_spectrum(record, first, rows))
+    } else {
+        fit_period_with(record, &basis, first)
     }
+}
+
+/// Whether `rows` samples of `record` are one period of N = T/h whole samples, whose
+/// step 2 reads off its spectrum.
+pub(super) fn whole_period(record: &Record, rows: usize) -> bool {
+    whole_samples(record.step(), record.period()) == Some(rows)
 }
 
 /// Step 2 for the period of `record` from sample `first`, with its [`PeriodBasis`], by

@@ -89,10 +89,13 @@ fn project_task(task: &[SpanKey<'_>]) -> Result<Vec<Result<StateProjection>>> {
                     let basis = bases
                         .entry((index, rows, fit.orders.clone()))
                         .or_insert_with(|| projection::period_basis(record, rows, &fit.orders));
-                    let spectrum = whole
-                        .as_ref()
-                        .filter(|(_, n)| *n == rows)
-                        .and_then(|_| spectra.get(&(index, first)));
+                    // a period of N whole samples is read off its spectrum, as in
+                    // `projection::fit_period`
+                    let spectrum = projection::whole_period(record, rows).then(|| {
+                        &*spectra
+                            .entry((index, first))
+                            .or_insert_with(|| projection::period_spectrum(record, first, rows))
+                    });
                     let period = match (basis, spectrum) {
                         (Ok(basis), Some(spectrum)) => {
                             projection::fit_period_from(record, basis, first, spectrum)
