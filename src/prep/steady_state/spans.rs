@@ -109,7 +109,14 @@ fn project_task(task: &[SpanKey<'_>]) -> Result<Vec<Result<StateProjection>>> {
             }
             let periods: Vec<&Result<PeriodFit>> =
                 keys.iter().filter_map(|key| fits.get(key)).collect();
-            Ok(projection::assemble(record, &span, &periods))
+            let projection = projection::assemble(record, &span, &periods);
+            // The next span of the task starts at this one's last period at the
+            // earliest: what lies before it is not read again (and if it were, it
+            // would be made again, the same), so its memory is reused at once.
+            let last = keys.last().map_or(0, |((_, first), ..)| *first);
+            spectra.retain(|&(i, first), _| i == index && first >= last);
+            fits.retain(|((i, first), ..), _| *i == index && *first >= last);
+            Ok(projection)
         })
         .collect()
 }
