@@ -47,7 +47,7 @@
 //! harmonics (the same distribution on noise, the same count; `periods.rs` derives
 //! both); its residual on S is the power of every other bin (Parseval); and each
 //! period's coefficients on S are its own bins. A period in two spans is transformed
-//! once for both ([`span_periods`], `spans.rs`). Otherwise step 1 fits the span by one
+//! once for both (`span_periods`, `spans.rs`). Otherwise step 1 fits the span by one
 //! FFT or by least squares (`prep::fourier::noise_floor`) and steps 2 and 3 are
 //! least-squares passes over a channel's samples against a table of the basis
 //! (`table.rs`). Either way the half ranges of x̂ and v̂ over each period (the
