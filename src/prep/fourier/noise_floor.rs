@@ -23,7 +23,10 @@
 //!
 //! When the window holds a whole number of samples per period the fit and the residual
 //! bins are read off one real FFT per channel ([`WholeSampleDft`], whose module doc
-//! derives why they equal the least-squares ones); otherwise by least squares.
+//! derives why they equal the least-squares ones); otherwise by least squares. A span
+//! whose periods were transformed one by one (the steady-state check) reads the
+//! contrasts between its periods' bins in place of the bins between the harmonics,
+//! through the same rule ([`Selector`]; `periods.rs` derives why they are equivalent).
 
 use faer::MatRef;
 

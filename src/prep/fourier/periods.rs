@@ -19,9 +19,10 @@
 //!   H_c[k] = √(P / (c (c + 1))) (Σ_{i<c} X_i[k] − c X_c[k]),   c = 1 … P − 1,
 //! ```
 //!
-//! are √P times an orthonormal transform of (X_0[k], …, X_{P−1}[k]) that Y_{kP}/P
-//! completes, so Σ_c |H_c[k]|² + |Y_{kP}|² = P Σ_i |X_i[k]|², and Parseval over the span
-//! and over each period (Σ_j |Y_j|² = m Σ x², Σ_k |X_i[k]|² = N Σ x_i²) gives
+//! are √P times an orthonormal transform of (X_0[k], …, X_{P−1}[k]) whose remaining
+//! row, (1, …, 1)/√P, gives Y_{kP}/√P; so Σ_c |H_c[k]|² + |Y_{kP}|² = P Σ_i |X_i[k]|²,
+//! and Parseval over the span and over each period (Σ_j |Y_j|² = m Σ x²,
+//! Σ_k |X_i[k]|² = N Σ x_i²) gives
 //!
 //! ```text
 //!   Σ_{j ≢ 0 (mod P)} |Y_j|² = Σ_{k<N} Σ_c |H_c[k]|²:

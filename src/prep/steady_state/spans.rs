@@ -32,9 +32,8 @@ use crate::record::Record;
 
 use super::projection::{self, PeriodBasis, PeriodFit, StateProjection};
 
-/// Consecutive spans whose steps 1 and 3 one task does, sharing its periods' spectra:
-/// one period in this many + 1 is transformed twice, and a task holds at most this
-/// many + 1 periods' spectra (160 kB each for 100 channels and K = 100).
+/// Consecutive spans one task projects, sharing its periods' spectra, bases and fits:
+/// at task boundaries one period in this many + 1 is transformed and fitted twice.
 const SPANS_PER_TASK: usize = 16;
 
 /// A compared span: (record, origin in samples, periods k').
