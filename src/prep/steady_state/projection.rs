@@ -612,3 +612,73 @@ fn to_displacement(sensor: Sensor, orders: &[usize], omega: f64) -> Mat<f64> {
     }
     s
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::record::MeasuredMotion;
+    use crate::reference::{four_mass_records_with, with_displacement_noise};
+    use crate::simulate::SimSettings;
+
+    /// A period of N whole samples read off its spectrum (`fit_period_from`) gives the
+    /// least-squares fit on the table (`fit_period_with`) to round-off: the same c_x,
+    /// c_v and half ranges, the same unit covariance, for displacement channels and for
+    /// channels measured as velocities and accelerations (mapped per harmonic), with
+    /// noise, on one harmonic and on several.
+    #[test]
+    fn period_fits_read_off_the_spectrum_are_the_least_squares_ones() {
+        let period = 2.0 * std::f64::consts::PI / 0.618;
+        let n = 64;
+        let settings = SimSettings {
+            step: period / n as f64,
+            transient_steps: 2000,
+            recorded_steps: 4 * n + 1,
+            ..SimSettings::default()
+        };
+        let clean = four_mass_records_with(false, &settings).unwrap();
+        let record = with_displacement_noise(&clean, 0.01, 3).unwrap().remove(0);
+        let (x, v) = (record.displacements(), clean[0].velocities().unwrap());
+        let sensors = vec![
+            Sensor::Displacement,
+            Sensor::Velocity,
+            Sensor::Acceleration,
+            Sensor::Velocity,
+        ];
+        // any signal serves: both fits read the same one
+        let signals = Mat::from_fn(record.samples(), 4, |i, j| match sensors[j] {
+            Sensor::Displacement => x[(i, j)],
+            Sensor::Velocity => v[(i, j)],
+            Sensor::Acceleration => 0.3 * v[(i, j)] - x[(i, j)],
+        });
+        let measured = record
+            .clone()
+            .with_measured_motion(MeasuredMotion { sensors, signals })
+            .unwrap();
+        assert!(whole_period(&record, n));
+        for record in [&record, &measured] {
+            for orders in [vec![1], vec![1, 2, 3, 5]] {
+                let basis = period_basis(record, n, &orders).unwrap();
+                for first in [0, n, 2 * n + 1] {
+                    let spectrum = period_spectrum(record, first, n);
+                    let ours = fit_period_from(record, &basis, first, &spectrum).unwrap();
+                    let table = fit_period_with(record, &basis, first).unwrap();
+                    for (a, b) in ours.channels.iter().zip(&table.channels) {
+                        let scale =
+                            b.0.iter()
+                                .chain(&b.1)
+                                .fold(1e-300f64, |m, c| m.max(c.abs()));
+                        for (p, q) in a.0.iter().chain(&a.1).zip(b.0.iter().chain(&b.1)) {
+                            assert!(
+                                (p - q).abs() <= 1e-12 * scale,
+                                "{orders:?} from {first}: {p} vs {q}"
+                            );
+                        }
+                        assert!((a.3 - b.3).abs() <= 1e-12 * b.3.max(1e-300));
+                        assert!((a.4 - b.4).abs() <= 1e-12 * b.4.max(1e-300));
+                        assert!(Arc::ptr_eq(&a.2, &b.2));
+                    }
+                }
+            }
+        }
+    }
+}
