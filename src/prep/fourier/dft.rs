@@ -82,7 +82,44 @@ pub(crate) fn whole_samples(step: f64, period: f64) -> Option<usize> {
 thread_local! {
     /// One planner per thread: it caches a plan (twiddles, factorisation) per length,
     /// so the windows of a record, which share their length, plan once.
-    pub(super) static PLANNER: RefCell<RealFftPlanner<f64>> = RefCell::new(RealFftPlanner::new());
+    static PLANNER: RefCell<RealFftPlanner<f64>> = RefCell::new(RealFftPlanner::new());
+}
+
+/// A real FFT of one length with its buffers, planned once (per thread, `PLANNER`), that
+/// transforms each channel relative to its first sample, so that a large offset costs no
+/// accuracy.
+pub(super) struct RelativeFft {
+    fft: std::sync::Arc<dyn realfft::RealToComplex<f64>>,
+    input: Vec<f64>,
+    output: Vec<Complex<f64>>,
+    scratch: Vec<Complex<f64>>,
+}
+
+impl RelativeFft {
+    /// The transform of `length` samples.
+    pub(super) fn new(length: usize) -> Self {
+        let fft = PLANNER.with(|p| p.borrow_mut().plan_fft_forward(length));
+        RelativeFft {
+            input: vec![0.0; length],
+            output: fft.make_output_vec(),
+            scratch: fft.make_scratch_vec(),
+            fft,
+        }
+    }
+
+    /// x_0 and the half spectrum X_0 … X_⌊L/2⌋ of x_n − x_0 over the first L samples of
+    /// `x` (at least L of them).
+    pub(super) fn transform(&mut self, x: &[f64]) -> (f64, &[Complex<f64>]) {
+        let x0 = x[0];
+        for (slot, value) in self.input.iter_mut().zip(x) {
+            *slot = value - x0;
+        }
+        // cannot fail: realfft errs only on buffer lengths, and these come from the plan
+        self.fft
+            .process_with_scratch(&mut self.input, &mut self.output, &mut self.scratch)
+            .expect("buffers made by the plan have its lengths");
+        (x0, &self.output)
+    }
 }
 
 /// The DFT bins of a window's channels that the harmonic projection and the noise floor
@@ -148,10 +185,7 @@ impl WholeSampleDft {
             return None;
         }
         let n = x.ncols();
-        let fft = PLANNER.with(|p| p.borrow_mut().plan_fft_forward(length));
-        let mut input = vec![0.0; length];
-        let mut output = fft.make_output_vec();
-        let mut scratch = fft.make_scratch_vec();
+        let mut fft = RelativeFft::new(length);
         let mut first = Vec::with_capacity(n);
         let mut closing = (samples == length + 1).then(|| Vec::with_capacity(n));
         let mut harmonics = Vec::with_capacity(n * (highest + 1));
@@ -159,13 +193,7 @@ impl WholeSampleDft {
         let mut residual = (residual && samples == length).then(|| Vec::with_capacity(n));
         for c in 0..n {
             let xc = col(x, c);
-            let x0 = xc[0];
-            for (slot, value) in input.iter_mut().zip(xc) {
-                *slot = value - x0;
-            }
-            // cannot fail: realfft errs only on buffer lengths, and these come from the plan
-            fft.process_with_scratch(&mut input, &mut output, &mut scratch)
-                .expect("buffers made by the plan have its lengths");
+            let (x0, output) = fft.transform(xc);
             first.push(x0);
             if let Some(closing) = closing.as_mut() {
                 closing.push(xc[length] - x0);
@@ -173,7 +201,7 @@ impl WholeSampleDft {
             harmonics.extend((0..=highest).map(|k| output[k * periods]));
             between.extend(between_bins.iter().map(|&j| output[j]));
             if let Some(residual) = residual.as_mut() {
-                residual.push(non_harmonic_power(&output, periods, highest, length));
+                residual.push(non_harmonic_power(output, periods, highest, length));
             }
         }
         Some(WholeSampleDft {

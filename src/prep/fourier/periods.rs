@@ -60,7 +60,7 @@
 use faer::MatRef;
 use realfft::num_complex::Complex;
 
-use super::dft::PLANNER;
+use super::dft::RelativeFft;
 use super::noise_floor::{MAX_NOISE_BINS, Selector, most_harmonics};
 use super::{HarmonicSelection, first_orders};
 use crate::error::{Error, Result};
@@ -94,22 +94,12 @@ impl PeriodSpectrum {
     pub(crate) fn new(x: MatRef<'_, f64>, highest: usize) -> Self {
         let (length, n) = x.shape();
         debug_assert!(2 * highest < length);
-        let fft = PLANNER.with(|p| p.borrow_mut().plan_fft_forward(length));
-        let mut input = vec![0.0; length];
-        let mut output = fft.make_output_vec();
-        let mut scratch = fft.make_scratch_vec();
+        let mut fft = RelativeFft::new(length);
         let mut first = Vec::with_capacity(n);
         let mut bins = Vec::with_capacity(n);
         let mut above = Vec::with_capacity(n);
         for c in 0..n {
-            let xc = col(x, c);
-            let x0 = xc[0];
-            for (slot, value) in input.iter_mut().zip(xc) {
-                *slot = value - x0;
-            }
-            // cannot fail: realfft errs only on buffer lengths, and these come from the plan
-            fft.process_with_scratch(&mut input, &mut output, &mut scratch)
-                .expect("buffers made by the plan have its lengths");
+            let (x0, output) = fft.transform(col(x, c));
             first.push(x0);
             bins.push(output[..=highest].to_vec());
             above.push(half_spectrum_power(&output[highest + 1..], length));
