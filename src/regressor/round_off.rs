@@ -79,8 +79,8 @@ pub(crate) fn zero_round_off(
     let was_zero: Vec<bool> = (0..p)
         .map(|k| (0..matrix.nrows()).all(|r| matrix[(r, k)] == 0.0))
         .collect();
-    // Each window's gross work on its own (bitwise the same on any thread; its
-    // samples are n cache misses per DOF on a long record), then the entries in order.
+    // Each window's gross work on its own (bitwise the same on any thread), then the
+    // entries in order.
     let gross: Vec<Option<Vec<f64>>> = windows
         .par_iter()
         .with_min_len(16)
@@ -123,15 +123,37 @@ fn gross_of(
     let vs: Option<Vec<&[f64]>> = measured.map(|v| (0..dofs).map(|j| col(v, j)).collect());
     let p = testable.len();
     let mut gross = vec![0.0; p];
-    // Displacements are read only when a law uses them (each sample's n values are n
-    // cache misses on a long record) or the velocities are their differences; laws
+    // Displacements are read only when a law uses them (a second read of each DOF's
+    // samples) or the velocities are their differences; laws
     // that do not use them are given zeros, as the kernel gives them none.
     let read_x = vs.is_none()
         || model.terms().iter().any(|t| match t {
             Term::Elements(t) => t.law().uses_displacement(),
             Term::Matrix(_) | Term::History(_) | Term::Structural(_) => false,
         });
-    let (mut xi, mut vi, mut force) = (vec![0.0; dofs], vec![0.0; dofs], vec![0.0; dofs]);
+    // The n samples' displacements and velocities, read DOF by DOF (each DOF's samples
+    // lie within one window of its column: a few dozen cache lines, where reading all
+    // DOFs at one sample then the next is n × DOFs misses a column apart, about a tenth
+    // of a 100-DOF record's run), stored sample by sample for the terms below.
+    let samples: Vec<(usize, usize, usize)> = (0..n)
+        .map(|j| {
+            let i = w.start + j * intervals / n;
+            (i, i.saturating_sub(1), (i + 1).min(last))
+        })
+        .collect();
+    let (mut x_at, mut v_at) = (vec![0.0; n * dofs], vec![0.0; n * dofs]);
+    for d in 0..dofs {
+        for (j, &(i, before, after)) in samples.iter().enumerate() {
+            if read_x {
+                x_at[j * dofs + d] = xs[d][i];
+            }
+            v_at[j * dofs + d] = match &vs {
+                Some(vs) => vs[d][i],
+                None => (xs[d][after] - xs[d][before]) / ((after - before) as f64 * h),
+            };
+        }
+    }
+    let mut force = vec![0.0; dofs];
     // The unit coefficients of one term (all zero between uses), allocated once per
     // window rather than per sample and term: on a small record these allocations were
     // about a third of this function's instructions.
@@ -144,17 +166,10 @@ fn gross_of(
     // the terms and their column ranges, once per window rather than per sample
     let term_columns: Vec<(&Term, std::ops::Range<usize>)> = model.term_columns().collect();
     for j in 0..n {
-        let i = w.start + j * intervals / n;
-        let (before, after) = (i.saturating_sub(1), (i + 1).min(last));
-        for d in 0..dofs {
-            if read_x {
-                xi[d] = xs[d][i];
-            }
-            vi[d] = match &vs {
-                Some(vs) => vs[d][i],
-                None => (xs[d][after] - xs[d][before]) / ((after - before) as f64 * h),
-            };
-        }
+        let (xi, vi) = (
+            &x_at[j * dofs..(j + 1) * dofs],
+            &v_at[j * dofs..(j + 1) * dofs],
+        );
         for (term, range) in &term_columns {
             if let Term::Elements(t) = term
                 && matches!(t.coefficients(), Coefficients::PerElement(_))
@@ -163,7 +178,7 @@ fn gross_of(
                 // over every DOF per column (which made this O(elements × DOFs)).
                 for (e, k) in range.clone().enumerate() {
                     if testable[k] {
-                        gross[k] += element_power(t, e, &xi, &vi).abs();
+                        gross[k] += element_power(t, e, xi, vi).abs();
                     }
                 }
                 continue;
@@ -175,7 +190,7 @@ fn gross_of(
                 }
                 unit[local] = 1.0;
                 force.iter_mut().for_each(|f| *f = 0.0);
-                term.add_force(unit, &xi, &vi, &mut force);
+                term.add_force(unit, xi, vi, &mut force);
                 unit[local] = 0.0;
                 let power: f64 = vi.iter().zip(&force).map(|(v, f)| v * f).sum();
                 gross[k] += power.abs();
