@@ -19,7 +19,9 @@
 //! 3. evaluates every term on (x̂, v̂) and subtracts its expected noise contribution,
 //!    Σ_i w_i E[p(x̂ + δx, v̂ + δv) − p(x̂, v̂)] ([`crate::terms::Law::noise_bias`]):
 //!    σ_v² for v² (linear laws, dashpots), 3σ_v²|v| for |v|³ (quadratic), Σ_j C₀,jj
-//!    Var v̂_j for a matrix term. Coulomb columns are the exact total variation of the
+//!    Var v̂_j for a matrix term (a viscous law's column is the quadratic form
+//!    cᵀ(DᵀWD)c in the element's relative coefficients less Σ_j σ_j² tr(DᵀWD C_j), the
+//!    same sums taken once per window, `quadratic.rs`). Coulomb columns are the exact total variation of the
 //!    projected displacement (no velocity difference, no quadrature error at the kinks
 //!    of |v̂|), which zero-mean noise leaves unbiased to first order; the input work
 //!    ∫ rᵀ v̂ dt = ∫ rᵀ dx̂ needs no correction either (the noise is independent of r).
@@ -47,6 +49,7 @@
 
 mod gradients;
 mod projected;
+mod quadratic;
 mod row;
 mod sensitivity;
 mod structural;

@@ -24,6 +24,8 @@
 //! the turning points move with the coefficients, but v̂_e = 0 there, so only to second
 //! order.
 
+use std::cell::OnceCell;
+
 use faer::Mat;
 
 use crate::error::{Error, Result};
@@ -50,10 +52,10 @@ pub(crate) struct ProjectedWindow {
     pub(crate) end_row: Vec<f64>,
     /// Displacement coefficients c_x (p × n).
     pub(crate) coefficients: Mat<f64>,
-    /// x̂ (rows × n).
-    pub(crate) x: Mat<f64>,
-    /// v̂ (rows × n).
-    pub(crate) v: Mat<f64>,
+    /// x̂ per channel (rows), formed on first use ([`ProjectedWindow::x`]).
+    x: Vec<OnceCell<Vec<f64>>>,
+    /// v̂ per channel (rows), formed on first use ([`ProjectedWindow::v`]).
+    v: Vec<OnceCell<Vec<f64>>>,
     /// What each channel's sensor measures.
     pub(crate) sensors: Vec<Sensor>,
     /// S of each channel whose sensor is not a displacement (c_x = S c_m).
@@ -124,8 +126,9 @@ impl ProjectedWindow {
         };
         let design = basis.design(rows);
         let derivative = derivative_of(&design, basis.orders(), omega);
-        let x = &design * &coefficients;
-        let v = &derivative * &coefficients;
+        let channels = coefficients.ncols();
+        let x = (0..channels).map(|_| OnceCell::new()).collect();
+        let v = (0..channels).map(|_| OnceCell::new()).collect();
         let mut variances = Vec::new();
         for kind in [Sensor::Displacement, Sensor::Velocity, Sensor::Acceleration] {
             let Some(j) = sensors.iter().position(|s| *s == kind) else {
@@ -156,6 +159,23 @@ impl ProjectedWindow {
             maps,
             variances,
         })
+    }
+
+    /// x̂ of channel `j` at the samples read: B c_j, formed the first time it is asked
+    /// for (a term whose column is a quadratic form in the coefficients never reads the
+    /// samples, `quadratic.rs`).
+    pub(crate) fn x(&self, j: usize) -> &[f64] {
+        self.x[j].get_or_init(|| series(&self.design, self.coefficients.col_as_slice(j)))
+    }
+
+    /// v̂ of channel `j` at the samples read: D c_j, formed on first use.
+    pub(crate) fn v(&self, j: usize) -> &[f64] {
+        self.v[j].get_or_init(|| series(&self.derivative, self.coefficients.col_as_slice(j)))
+    }
+
+    /// The number of samples read (rows of the design).
+    pub(crate) fn rows(&self) -> usize {
+        self.design.nrows()
     }
 
     fn variances(&self, channel: usize) -> &(Sensor, Vec<f64>, Vec<f64>) {
@@ -356,6 +376,18 @@ fn derivative_of(design: &Mat<f64>, orders: &[usize], omega: f64) -> Mat<f64> {
         }
     }
     derivative
+}
+
+/// Σ_k c_k rows_k: the series with coefficients `c` at every row of `rows` (rows × p),
+/// one column of the basis at a time.
+fn series(rows: &Mat<f64>, c: &[f64]) -> Vec<f64> {
+    let mut out = vec![0.0; rows.nrows()];
+    for (k, ck) in c.iter().enumerate() {
+        for (o, b) in out.iter_mut().zip(rows.col_as_slice(k)) {
+            *o += ck * b;
+        }
+    }
+    out
 }
 
 /// ‖R⁻ᵀ row_i‖² for every row of `rows` (rows × p).

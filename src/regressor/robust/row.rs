@@ -16,13 +16,13 @@ use crate::model::DampingModel;
 use crate::prep::fourier::{WholePeriods, select_harmonics};
 use crate::prep::quadrature::Quadrature;
 use crate::prep::window::Window;
-use crate::record::{LoadDistribution, Record, Sensor, col};
+use crate::record::{LoadDistribution, Record, Sensor};
 use crate::regressor::derivative_free::{Path, stieltjes};
 use crate::regressor::robust::WindowNoise;
 use crate::regressor::robust::gradients::Gradients;
 use crate::regressor::robust::projected::ProjectedWindow;
 use crate::regressor::robust::sensitivity::RowNoise;
-use crate::regressor::robust::structural;
+use crate::regressor::robust::{quadratic, structural};
 use crate::regressor::settings::WorkForm;
 use crate::terms::{ElementTerm, MatrixTerm, Term};
 
@@ -143,8 +143,8 @@ pub(super) fn robust_row(
         if r.iter().all(|v| *v == 0.0) {
             continue;
         }
-        let x = col(projected.x.as_ref(), j);
-        let v = col(projected.v.as_ref(), j);
+        let x = projected.x(j);
+        let v = projected.v(j);
         let mut g = vec![0.0; rows];
         if derivative_free {
             let x_end = projected.end_value(j);
@@ -211,6 +211,15 @@ pub(super) fn robust_row(
             ),
             // refused before the robust rows are built (Regressor::build)
             Term::History(_) => {}
+            Term::Elements(t) if quadratic::applies(t) => quadratic::add_columns(
+                t,
+                &projected,
+                &weights,
+                &sigma,
+                range.start,
+                &mut columns,
+                &mut gradients,
+            ),
             Term::Elements(t) => element_columns(
                 t,
                 &projected,
@@ -304,7 +313,6 @@ fn matrix_column(
     let c0 = term.matrix();
     let n = c0.nrows();
     let count = weights.len();
-    let v = projected.v.as_ref();
     // (C₀ + C₀ᵀ) v̂_i, per sample, column-major (count × n)
     let mut cv = Mat::<f64>::zeros(count, n);
     let mut value = 0.0;
@@ -314,7 +322,7 @@ fn matrix_column(
             if c == 0.0 {
                 continue;
             }
-            let (va, vb) = (col(v, a), col(v, b));
+            let (va, vb) = (projected.v(a), projected.v(b));
             for i in 0..count {
                 value += weights[i] * c * va[i] * vb[i];
             }
@@ -363,8 +371,7 @@ fn element_columns(
 ) {
     let law = term.law();
     let count = weights.len();
-    let rows = projected.x.nrows();
-    let (x, v) = (projected.x.as_ref(), projected.v.as_ref());
+    let rows = projected.rows();
     // relative motion of two-ended elements (a grounded one reads its DOF's columns)
     let mut x_rel = vec![0.0; rows];
     let mut v_rel = vec![0.0; rows];
@@ -374,14 +381,14 @@ fn element_columns(
     for (e, element) in term.elements().iter().enumerate() {
         let weight = term.weights().map_or(1.0, |w| w[e]);
         let column = first + term.coefficients().column_of(e);
-        let (xa, va) = (col(x, element.a), col(v, element.a));
+        let (xa, va) = (projected.x(element.a), projected.v(element.a));
         let mut variance = sigma[element.a].powi(2);
         // the second end's noise, when its sensor differs (its own Var per unit variance)
         let mut other: Option<(f64, usize)> = None;
         let (xr, vr): (&[f64], &[f64]) = match element.b {
             None => (xa, va),
             Some(b) => {
-                let (xb, vb) = (col(x, b), col(v, b));
+                let (xb, vb) = (projected.x(b), projected.v(b));
                 for i in 0..rows {
                     x_rel[i] = xa[i] - xb[i];
                     v_rel[i] = va[i] - vb[i];
@@ -453,7 +460,139 @@ fn element_columns(
 
 #[cfg(test)]
 mod tests {
-    use super::any_nonzero;
+    use std::sync::Arc;
+
+    use super::*;
+    use crate::prep::motion::{Integration, SensorParts, record_from_sensors};
+    use crate::record::Forcing;
+    use crate::terms::laws::Linear;
+    use crate::terms::{Coefficients, Element};
+
+    /// Viscous columns as quadratic forms in the coefficients (`quadratic.rs`) are the
+    /// sample path's sums to round-off: the columns less their noise bias, and every
+    /// whitened gradient. Two periods and the closing sample of 64 samples each, with
+    /// noise, mixed sensors (a velocity sensor between two displacement ones, so that an
+    /// element's ends have different unit variances), weighted elements to ground and
+    /// between DOFs, and two elements sharing one coefficient.
+    #[test]
+    fn quadratic_columns_are_the_sample_sums() {
+        let (n, periods, period) = (64, 2, 0.8);
+        let step = period / n as f64;
+        let rows = periods * n + 1;
+        let omega = 2.0 * std::f64::consts::PI / period;
+        let mut state = 12345u64;
+        let mut noise = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 2e-3
+        };
+        let mut motion = Mat::<f64>::zeros(rows, 3);
+        for i in 0..rows {
+            let t = i as f64 * step;
+            for j in 0..3 {
+                let phase = 0.7 * j as f64;
+                let x = (omega * t + phase).cos() + 0.2 * (3.0 * omega * t - phase).sin();
+                let v = -omega * (omega * t + phase).sin()
+                    + 0.6 * omega * (3.0 * omega * t - phase).cos();
+                motion[(i, j)] = if j == 1 { v } else { x } + noise();
+            }
+        }
+        let force = Mat::from_fn(rows, 1, |i, _| (omega * i as f64 * step).sin());
+        let record = record_from_sensors(SensorParts {
+            label: "test".into(),
+            step,
+            start_time: 0.0,
+            motion,
+            sensors: vec![Sensor::Displacement, Sensor::Velocity, Sensor::Displacement],
+            forcing: Forcing::on_dofs(force, vec![0]),
+            period,
+            integration: Integration::WholePeriods,
+        })
+        .expect("a valid record");
+        let projected = ProjectedWindow::new(&record, 0, rows, rows, periods as f64 * period, None)
+            .expect("a projected window");
+        let weights: Vec<f64> = (0..rows)
+            .map(|i| {
+                if i == 0 || i == rows - 1 {
+                    step / 2.0
+                } else {
+                    step
+                }
+            })
+            .collect();
+        let sigma = projected.selection.noise_std.clone();
+        assert!(sigma.iter().all(|s| *s > 0.0), "noise estimated: {sigma:?}");
+        let elements = vec![
+            Element::to_ground(0),
+            Element::between(0, 1),
+            Element::between(1, 2),
+            Element::between(2, 0),
+        ];
+        let terms = [
+            ElementTerm::new(
+                Arc::new(Linear),
+                elements.clone(),
+                Coefficients::PerElement("c".into()),
+            )
+            .with_weights(vec![0.5, 1.5, 2.0, 0.25]),
+            ElementTerm::new(Arc::new(Linear), elements, Coefficients::Shared("c".into())),
+        ];
+        for term in &terms {
+            assert!(quadratic::applies(term));
+            let width = term.coefficients().count(term.elements().len());
+            let mut results = Vec::new();
+            for by_coefficients in [false, true] {
+                let mut columns = vec![0.0; width];
+                let mut gradients = Gradients::new(projected.columns(), rows);
+                if by_coefficients {
+                    quadratic::add_columns(
+                        term,
+                        &projected,
+                        &weights,
+                        &sigma,
+                        0,
+                        &mut columns,
+                        &mut gradients,
+                    );
+                } else {
+                    element_columns(
+                        term,
+                        &projected,
+                        &weights,
+                        periods as f64 * period,
+                        &sigma,
+                        0,
+                        &mut columns,
+                        &mut gradients,
+                    );
+                }
+                results.push((columns, gradients.whiten(&projected, &sigma)));
+            }
+            let close = |a: f64, b: f64, scale: f64| (a - b).abs() <= 1e-12 * scale;
+            let (samples, quadratic) = (&results[0], &results[1]);
+            let scale = samples.0.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            for (a, b) in samples.0.iter().zip(&quadratic.0) {
+                assert!(close(*a, *b, scale), "column {a} against {b}");
+            }
+            assert_eq!(samples.1.len(), quadratic.1.len());
+            for (a, b) in samples.1.iter().zip(&quadratic.1) {
+                assert_eq!(a.channel, b.channel);
+                assert_eq!(a.columns.len(), b.columns.len());
+                for ((ka, za), (kb, zb)) in a.columns.iter().zip(&b.columns) {
+                    assert_eq!(ka, kb);
+                    let scale = za.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                    for (x, y) in za.iter().zip(zb) {
+                        assert!(
+                            close(*x, *y, scale),
+                            "channel {} column {ka}: {x} against {y}",
+                            a.channel
+                        );
+                    }
+                }
+            }
+        }
+    }
 
     /// `any_nonzero` is `iter().any(|g| *g != 0.0)` at every length and position: −0 is
     /// zero, NaN and subnormals are not.

@@ -1,0 +1,123 @@
+//! Viscous elements (power v², [`PowerForm::Square`]) of the noise-robust rows in the
+//! projection coefficients, without a pass over the window's samples per element.
+//!
+//! **The column.** An element's relative velocity is the series v̂_e = D c with
+//! c = c_a − c_b (c_a alone to ground), so its weighted power over the window is a
+//! quadratic form in c:
+//!
+//! ```text
+//!   Σ_i w_i v̂_{e,i}² = cᵀ M c,   M = Σ_i w_i d_i d_iᵀ = Dᵀ W D   (p × p, once per window),
+//! ```
+//!
+//! and its expected noise contribution, Σ_i w_i Var v̂_{e,i} (the linear law's bias is σ_v²
+//! exactly), is Σ over the ends j of σ_j² Σ_i w_i ‖R⁻ᵀ S_jᵀ d_i‖² = σ_j² tr(M C_j), with
+//! C_j = S_j (RᵀR)⁻¹ S_jᵀ the unit covariance of the channel's displacement coefficients
+//! (one per sensor kind, [`ProjectedWindow::unit_covariance`]). The column is
+//! cᵀ M c − Σ_j σ_j² tr(M C_j): the sum the sample path forms, term for term, with the
+//! sums over samples taken once per window instead of once per element.
+//!
+//! **Its gradient.** ∂(cᵀ M c)/∂c_a = 2 M c and ∂/∂c_b = −2 M c, the sensitivities the
+//! row's noise model whitens (what the sample path gathers as Dᵀ (2 W v̂_e)).
+//!
+//! Cost: M is one p × p product over the window's samples (O(m p²)); then O(p²) per
+//! element, where the sample path took O(m) per element in the column, its slopes and
+//! their gather, and needed every channel's x̂ and v̂ formed (O(m p) per channel). On a
+//! 100-DOF chain of 201 viscous elements (m = 401, p = 5) that was about a third of the
+//! rows' instructions. The structural-damping column (`structural.rs`) is the same
+//! construction with the rotated Gram matrix.
+
+use faer::Mat;
+
+use crate::record::Sensor;
+use crate::regressor::robust::gradients::Gradients;
+use crate::regressor::robust::projected::ProjectedWindow;
+use crate::terms::{ElementTerm, OnElements, PowerForm};
+
+/// Whether `term`'s columns are quadratic forms in the projection coefficients: a law
+/// of power v² that does not read the displacement.
+pub(super) fn applies(term: &ElementTerm) -> bool {
+    let law = term.law();
+    law.power_form() == Some(PowerForm::Square) && !law.uses_displacement()
+}
+
+/// M = Σ_i w_i d_i d_iᵀ over the window's `weights.len()` samples: p × p.
+fn velocity_gram(projected: &ProjectedWindow, weights: &[f64]) -> Mat<f64> {
+    let count = weights.len();
+    let p = projected.columns();
+    let derivative = projected.derivative.as_ref().subrows(0, count);
+    let weighted = Mat::from_fn(count, p, |i, l| weights[i] * derivative[(i, l)]);
+    let mut m = Mat::<f64>::zeros(p, p);
+    // sequential: windows already run in parallel, and a split product's sums would
+    // depend on the thread count
+    faer::linalg::matmul::matmul(
+        m.as_mut(),
+        faer::Accum::Replace,
+        derivative.transpose(),
+        weighted.as_ref(),
+        1.0,
+        faer::Par::Seq,
+    );
+    m
+}
+
+/// Adds the columns of the viscous element term `term` (its first column `first`,
+/// [`applies`]) of the window `projected`, read with `weights`, to `columns`, less their
+/// expected noise contribution (channel noise `sigma`), and their gradients to
+/// `gradients`.
+pub(super) fn add_columns(
+    term: &ElementTerm,
+    projected: &ProjectedWindow,
+    weights: &[f64],
+    sigma: &[f64],
+    first: usize,
+    columns: &mut [f64],
+    gradients: &mut Gradients,
+) {
+    let m = velocity_gram(projected, weights);
+    let p = m.nrows();
+    // tr(M C_j) depends on channel j through its sensor kind only: one per kind present
+    let mut traces: Vec<(Sensor, f64)> = Vec::new();
+    let mut trace_of = |j: usize| -> f64 {
+        let kind = projected.sensors[j];
+        if let Some((_, t)) = traces.iter().find(|(k, _)| *k == kind) {
+            return *t;
+        }
+        let unit = projected.unit_covariance(j);
+        let mut trace = 0.0;
+        for a in 0..p {
+            for b in 0..p {
+                trace += m[(a, b)] * unit[(b, a)];
+            }
+        }
+        traces.push((kind, trace));
+        trace
+    };
+    let mut slope = vec![0.0; p];
+    for (e, element) in term.elements().iter().enumerate() {
+        let weight = term.weights().map_or(1.0, |w| w[e]);
+        let column = first + term.coefficients().column_of(e);
+        let mut ends = vec![(element.a, 1.0)];
+        if let Some(b) = element.b {
+            ends.push((b, -1.0));
+        }
+        let c = projected.combination(&ends);
+        // 2 M c and cᵀ M c
+        let mut value = 0.0;
+        for (j, s) in slope.iter_mut().enumerate() {
+            let row: f64 = (0..p).map(|l| m[(j, l)] * c[l]).sum();
+            value += c[j] * row;
+            *s = 2.0 * row;
+        }
+        let mut bias = 0.0;
+        for &(j, _) in &ends {
+            let variance = sigma[j] * sigma[j];
+            if variance != 0.0 {
+                bias += variance * trace_of(j);
+            }
+        }
+        columns[column] += weight * (value - bias);
+        for &(j, sign) in &ends {
+            gradients.add(j, column + 1, &slope, sign * weight);
+        }
+    }
+}
