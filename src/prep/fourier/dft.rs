@@ -240,24 +240,26 @@ impl WholeSampleDft {
         for j in 0..n {
             let bins = &self.harmonics[j * (self.highest + 1)..(j + 1) * (self.highest + 1)];
             let extra = self.closing.as_ref().map_or(0.0, |x| x[j]);
+            // one channel's column as a slice: the same arithmetic without a bounds
+            // check of (row, column) per value
+            let cj = c.col_as_slice_mut(j);
             // y = Bᵀx over the m samples, then D⁻¹y
-            c[(0, j)] = (bins[0].re + extra) / l;
-            for (q, &k) in orders.iter().enumerate() {
-                c[(2 * q + 1, j)] = 2.0 * (bins[k].re + extra) / l;
-                c[(2 * q + 2, j)] = -2.0 * bins[k].im / l;
+            cj[0] = (bins[0].re + extra) / l;
+            for (pair, &k) in cj[1..].chunks_exact_mut(2).zip(orders) {
+                pair[0] = 2.0 * (bins[k].re + extra) / l;
+                pair[1] = -2.0 * bins[k].im / l;
             }
             if self.closing.is_some() {
                 // Sherman–Morrison for BᵀB = D + uuᵀ, u = [1, 1, 0, 1, 0, …]:
                 // D⁻¹u = [1, 2, 0, 2, 0, …]/L, uᵀD⁻¹y = Σ of the cosine rows of D⁻¹y.
-                let projection =
-                    c[(0, j)] + (0..orders.len()).map(|q| c[(2 * q + 1, j)]).sum::<f64>();
+                let projection = cj[0] + cj[1..].iter().step_by(2).sum::<f64>();
                 let scale = projection / (1.0 + p as f64 / l);
-                c[(0, j)] -= scale / l;
-                for q in 0..orders.len() {
-                    c[(2 * q + 1, j)] -= 2.0 * scale / l;
+                cj[0] -= scale / l;
+                for cosine in cj[1..].iter_mut().step_by(2) {
+                    *cosine -= 2.0 * scale / l;
                 }
             }
-            c[(0, j)] += self.first[j];
+            cj[0] += self.first[j];
         }
         c
     }
