@@ -60,8 +60,10 @@ pub(crate) struct ProjectedWindow {
     pub(crate) sensors: Vec<Sensor>,
     /// S of each channel whose sensor is not a displacement (c_x = S c_m).
     maps: Vec<Option<Mat<f64>>>,
-    /// (Var x̂_i, Var v̂_i) per unit noise variance, one pair per sensor kind present.
-    variances: Vec<(Sensor, Vec<f64>, Vec<f64>)>,
+    /// (Var x̂_i, Var v̂_i) per unit noise variance per sensor kind (displacement,
+    /// velocity, acceleration), formed the first time a channel of that kind asks: only
+    /// the terms that read samples need them (not a viscous term, `quadratic.rs`).
+    variances: [OnceCell<(Vec<f64>, Vec<f64>)>; 3],
 }
 
 impl ProjectedWindow {
@@ -129,20 +131,7 @@ impl ProjectedWindow {
         let channels = coefficients.ncols();
         let x = (0..channels).map(|_| OnceCell::new()).collect();
         let v = (0..channels).map(|_| OnceCell::new()).collect();
-        let mut variances = Vec::new();
-        for kind in [Sensor::Displacement, Sensor::Velocity, Sensor::Acceleration] {
-            let Some(j) = sensors.iter().position(|s| *s == kind) else {
-                continue;
-            };
-            let pair = match &maps[j] {
-                None => (unit_variances(&r, &design), unit_variances(&r, &derivative)),
-                Some(map) => (
-                    unit_variances(&r, &(&design * map)),
-                    unit_variances(&r, &(&derivative * map)),
-                ),
-            };
-            variances.push((kind, pair.0, pair.1));
-        }
+        let variances = Default::default();
         let end_row = basis.row_at(span);
         Ok(ProjectedWindow {
             selection,
@@ -178,23 +167,33 @@ impl ProjectedWindow {
         self.design.nrows()
     }
 
-    fn variances(&self, channel: usize) -> &(Sensor, Vec<f64>, Vec<f64>) {
+    fn variances(&self, channel: usize) -> &(Vec<f64>, Vec<f64>) {
         let kind = self.sensors[channel];
-        // cannot fail: `new` forms one variance pair per sensor kind in `sensors`.
-        self.variances
-            .iter()
-            .find(|(k, _, _)| *k == kind)
-            .expect("a variance pair for every sensor kind present")
+        let slot = match kind {
+            Sensor::Displacement => 0,
+            Sensor::Velocity => 1,
+            Sensor::Acceleration => 2,
+        };
+        self.variances[slot].get_or_init(|| match &self.maps[channel] {
+            None => (
+                unit_variances(&self.r, &self.design),
+                unit_variances(&self.r, &self.derivative),
+            ),
+            Some(map) => (
+                unit_variances(&self.r, &(&self.design * map)),
+                unit_variances(&self.r, &(&self.derivative * map)),
+            ),
+        })
     }
 
     /// Var x̂_i of channel `j` per unit noise variance of that channel.
     pub(crate) fn var_x(&self, j: usize) -> &[f64] {
-        &self.variances(j).1
+        &self.variances(j).0
     }
 
     /// Var v̂_i of channel `j` per unit noise variance of that channel.
     pub(crate) fn var_v(&self, j: usize) -> &[f64] {
-        &self.variances(j).2
+        &self.variances(j).1
     }
 
     /// Number of projection coefficients per channel, p.
@@ -245,13 +244,12 @@ impl ProjectedWindow {
 impl ProjectedWindow {
     /// The coefficients Σ_j s_j c_j of the combination `terms` = [(channel j, s_j)].
     pub(crate) fn combination(&self, terms: &[(usize, f64)]) -> Vec<f64> {
+        let columns: Vec<(&[f64], f64)> = terms
+            .iter()
+            .map(|&(j, s)| (self.coefficients.col_as_slice(j), s))
+            .collect();
         (0..self.columns())
-            .map(|k| {
-                terms
-                    .iter()
-                    .map(|(j, s)| s * self.coefficients[(k, *j)])
-                    .sum()
-            })
+            .map(|k| columns.iter().map(|(c, s)| s * c[k]).sum())
             .collect()
     }
 
@@ -328,24 +326,25 @@ fn bisect(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, fa: f64) -> f64 {
 /// those of the displacement, for the basis [1, cos k₁ωt, sin k₁ωt, …] of `orders`;
 /// `None` for a displacement (S = I).
 fn sensor_map(sensor: Sensor, orders: &[usize], omega: f64) -> Option<Mat<f64>> {
+    let velocity = match sensor {
+        Sensor::Displacement => return None,
+        Sensor::Velocity => true,
+        Sensor::Acceleration => false,
+    };
     let p = 2 * orders.len() + 1;
     let mut map = Mat::zeros(p, p);
     for (q, k) in orders.iter().enumerate() {
         let w = *k as f64 * omega;
         let (cos, sin) = (2 * q + 1, 2 * q + 2);
-        match sensor {
-            Sensor::Displacement => return None,
-            Sensor::Velocity => {
-                map[(cos, sin)] = -1.0 / w;
-                map[(sin, cos)] = 1.0 / w;
-            }
-            Sensor::Acceleration => {
-                map[(cos, cos)] = -1.0 / (w * w);
-                map[(sin, sin)] = -1.0 / (w * w);
-            }
+        if velocity {
+            map[(cos, sin)] = -1.0 / w;
+            map[(sin, cos)] = 1.0 / w;
+        } else {
+            map[(cos, cos)] = -1.0 / (w * w);
+            map[(sin, sin)] = -1.0 / (w * w);
         }
     }
-    (sensor != Sensor::Displacement).then_some(map)
+    Some(map)
 }
 
 /// The derivative rows d_i of the design rows b_i = [1, cos k₁ωt_i, sin k₁ωt_i, …] of
