@@ -196,6 +196,33 @@ impl ProjectedWindow {
         &self.variances(j).1
     }
 
+    /// Dᵀ W Y = Σ_i w_i d_i y_iᵀ over the window's first `weights.len()` samples (p × p),
+    /// with y_i the derivative rows (`of_derivative`) or the design rows: the sums over
+    /// samples of the terms that are quadratic forms in the coefficients (`quadratic.rs`,
+    /// `structural.rs`).
+    pub(crate) fn weighted_gram(&self, weights: &[f64], of_derivative: bool) -> Mat<f64> {
+        let count = weights.len();
+        let p = self.columns();
+        let rows = if of_derivative {
+            &self.derivative
+        } else {
+            &self.design
+        };
+        let weighted = Mat::from_fn(count, p, |i, l| weights[i] * rows[(i, l)]);
+        let mut gram = Mat::<f64>::zeros(p, p);
+        // sequential: windows already run in parallel, and a split product's sums would
+        // depend on the thread count
+        faer::linalg::matmul::matmul(
+            gram.as_mut(),
+            faer::Accum::Replace,
+            self.derivative.as_ref().subrows(0, count).transpose(),
+            weighted.as_ref(),
+            1.0,
+            faer::Par::Seq,
+        );
+        gram
+    }
+
     /// Number of projection coefficients per channel, p.
     pub(crate) fn columns(&self) -> usize {
         self.r.ncols()

@@ -26,8 +26,6 @@
 //! rows' instructions. The structural-damping column (`structural.rs`) is the same
 //! construction with the rotated Gram matrix.
 
-use faer::Mat;
-
 use crate::record::Sensor;
 use crate::regressor::robust::gradients::Gradients;
 use crate::regressor::robust::projected::ProjectedWindow;
@@ -38,26 +36,6 @@ use crate::terms::{ElementTerm, OnElements, PowerForm};
 pub(super) fn applies(term: &ElementTerm) -> bool {
     let law = term.law();
     law.power_form() == Some(PowerForm::Square) && !law.uses_displacement()
-}
-
-/// M = Σ_i w_i d_i d_iᵀ over the window's `weights.len()` samples: p × p.
-fn velocity_gram(projected: &ProjectedWindow, weights: &[f64]) -> Mat<f64> {
-    let count = weights.len();
-    let p = projected.columns();
-    let derivative = projected.derivative.as_ref().subrows(0, count);
-    let weighted = Mat::from_fn(count, p, |i, l| weights[i] * derivative[(i, l)]);
-    let mut m = Mat::<f64>::zeros(p, p);
-    // sequential: windows already run in parallel, and a split product's sums would
-    // depend on the thread count
-    faer::linalg::matmul::matmul(
-        m.as_mut(),
-        faer::Accum::Replace,
-        derivative.transpose(),
-        weighted.as_ref(),
-        1.0,
-        faer::Par::Seq,
-    );
-    m
 }
 
 /// Adds the columns of the viscous element term `term` (its first column `first`,
@@ -73,7 +51,7 @@ pub(super) fn add_columns(
     columns: &mut [f64],
     gradients: &mut Gradients,
 ) {
-    let m = velocity_gram(projected, weights);
+    let m = projected.weighted_gram(weights, true);
     let p = m.nrows();
     // tr(M C_j) depends on channel j through its sensor kind only: one per kind present
     let mut traces: Vec<(Sensor, f64)> = Vec::new();

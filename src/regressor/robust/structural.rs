@@ -61,20 +61,8 @@ use crate::terms::StructuralDamping;
 
 /// N = −(Σ_i w_i d_i b_iᵀ) H of the window (module doc): p × p.
 fn rotated_gram(projected: &ProjectedWindow, weights: &[f64]) -> Mat<f64> {
-    let count = weights.len();
     let p = projected.columns();
-    let weighted = Mat::from_fn(count, p, |i, l| weights[i] * projected.design[(i, l)]);
-    let mut g = Mat::<f64>::zeros(p, p);
-    // sequential: windows already run in parallel, and a split product's sums would
-    // depend on the thread count
-    faer::linalg::matmul::matmul(
-        g.as_mut(),
-        faer::Accum::Replace,
-        projected.derivative.as_ref().subrows(0, count).transpose(),
-        weighted.as_ref(),
-        1.0,
-        faer::Par::Seq,
-    );
+    let g = projected.weighted_gram(weights, false);
     // (G H)_{j,cos} = G_{j,sin}, (G H)_{j,sin} = −G_{j,cos}, (G H)_{j,0} = 0; N = −G H
     let mut n = Mat::<f64>::zeros(p, p);
     for j in 0..p {
