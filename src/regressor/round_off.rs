@@ -124,17 +124,17 @@ fn gross_of(
     let p = testable.len();
     let mut gross = vec![0.0; p];
     // Displacements are read only when a law uses them (a second read of each DOF's
-    // samples) or the velocities are their differences; laws
-    // that do not use them are given zeros, as the kernel gives them none.
+    // samples) or the velocities are their differences; laws that do not use them are
+    // given zeros, as the kernel gives them none.
     let read_x = vs.is_none()
         || model.terms().iter().any(|t| match t {
             Term::Elements(t) => t.law().uses_displacement(),
             Term::Matrix(_) | Term::History(_) | Term::Structural(_) => false,
         });
     // The n samples' displacements and velocities, read DOF by DOF (each DOF's samples
-    // lie within one window of its column: a few dozen cache lines, where reading all
-    // DOFs at one sample then the next is n × DOFs misses a column apart, about a tenth
-    // of a 100-DOF record's run), stored sample by sample for the terms below.
+    // lie within one window of its column: a few dozen cache lines, where reading every
+    // DOF at one sample, then at the next, is n × DOFs cache misses a column apart),
+    // stored sample by sample for the terms below.
     let samples: Vec<(usize, usize, usize)> = (0..n)
         .map(|j| {
             let i = w.start + j * intervals / n;
