@@ -33,6 +33,7 @@ use crate::prep::fourier::{
     HarmonicBasis, HarmonicSelection, WholePeriods, first_orders, select_with_spectrum,
 };
 use crate::record::{Record, Sensor};
+use crate::terms::Element;
 
 /// The projection of one window's displacements.
 pub(crate) struct ProjectedWindow {
@@ -64,6 +65,17 @@ pub(crate) struct ProjectedWindow {
     /// velocity, acceleration), formed the first time a channel of that kind asks: only
     /// the terms that read samples need them (not a viscous term, `quadratic.rs`).
     variances: [OnceCell<(Vec<f64>, Vec<f64>)>; 3],
+    /// S (RᵀR)⁻¹ Sᵀ per sensor kind, likewise formed on first use.
+    covariances: [OnceCell<Mat<f64>>; 3],
+}
+
+/// The slot of a sensor kind in the per-kind caches of [`ProjectedWindow`].
+fn kind_slot(kind: Sensor) -> usize {
+    match kind {
+        Sensor::Displacement => 0,
+        Sensor::Velocity => 1,
+        Sensor::Acceleration => 2,
+    }
 }
 
 impl ProjectedWindow {
@@ -132,6 +144,7 @@ impl ProjectedWindow {
         let x = (0..channels).map(|_| OnceCell::new()).collect();
         let v = (0..channels).map(|_| OnceCell::new()).collect();
         let variances = Default::default();
+        let covariances = Default::default();
         let end_row = basis.row_at(span);
         Ok(ProjectedWindow {
             selection,
@@ -147,6 +160,7 @@ impl ProjectedWindow {
             sensors,
             maps,
             variances,
+            covariances,
         })
     }
 
@@ -168,13 +182,7 @@ impl ProjectedWindow {
     }
 
     fn variances(&self, channel: usize) -> &(Vec<f64>, Vec<f64>) {
-        let kind = self.sensors[channel];
-        let slot = match kind {
-            Sensor::Displacement => 0,
-            Sensor::Velocity => 1,
-            Sensor::Acceleration => 2,
-        };
-        self.variances[slot].get_or_init(|| match &self.maps[channel] {
+        self.variances[kind_slot(self.sensors[channel])].get_or_init(|| match &self.maps[channel] {
             None => (
                 unit_variances(&self.r, &self.design),
                 unit_variances(&self.r, &self.derivative),
@@ -238,17 +246,35 @@ impl ProjectedWindow {
     }
 
     /// Cov(c_x) of channel `j` per unit noise variance of its measured signal,
-    /// S (RᵀR)⁻¹ Sᵀ = YᵀY with Rᵀ Y = Sᵀ (S = I for a displacement), p × p.
-    pub(crate) fn unit_covariance(&self, j: usize) -> Mat<f64> {
+    /// S (RᵀR)⁻¹ Sᵀ = YᵀY with Rᵀ Y = Sᵀ (S = I for a displacement), p × p: one per
+    /// sensor kind, formed the first time a channel of that kind asks.
+    pub(crate) fn unit_covariance(&self, j: usize) -> &Mat<f64> {
+        self.covariances[kind_slot(self.sensors[j])].get_or_init(|| {
+            let p = self.columns();
+            let mut y = match &self.maps[j] {
+                None => Mat::<f64>::identity(p, p),
+                Some(map) => map.transpose().to_owned(),
+            };
+            self.r
+                .transpose()
+                .solve_lower_triangular_in_place(y.as_mut());
+            y.transpose() * &y
+        })
+    }
+
+    /// tr(A C_j) for a p × p matrix `a` and C_j the [`Self::unit_covariance`] of
+    /// channel `j`: the expected noise contribution per unit variance of a quadratic form
+    /// cᵀ A c in channel j's coefficients.
+    pub(crate) fn covariance_trace(&self, a: &Mat<f64>, j: usize) -> f64 {
+        let unit = self.unit_covariance(j);
         let p = self.columns();
-        let mut y = match &self.maps[j] {
-            None => Mat::<f64>::identity(p, p),
-            Some(map) => map.transpose().to_owned(),
-        };
-        self.r
-            .transpose()
-            .solve_lower_triangular_in_place(y.as_mut());
-        y.transpose() * &y
+        let mut trace = 0.0;
+        for r in 0..p {
+            for c in 0..p {
+                trace += a[(r, c)] * unit[(c, r)];
+            }
+        }
+        trace
     }
 
     /// σ R⁻ᵀ Sᵀ u: the whitened sensitivity of a quantity with gradient `u` in the
@@ -266,6 +292,14 @@ impl ProjectedWindow {
             .solve_lower_triangular_in_place(y.as_mut());
         (0..u.len()).map(|k| sigma * y[(k, 0)]).collect()
     }
+}
+
+/// An element's ends with the sign of each in its relative motion: (a, 1), then (b, −1)
+/// for a two-ended element.
+pub(crate) fn signed_ends(element: &Element) -> Vec<(usize, f64)> {
+    std::iter::once((element.a, 1.0))
+        .chain(element.b.map(|b| (b, -1.0)))
+        .collect()
 }
 
 impl ProjectedWindow {

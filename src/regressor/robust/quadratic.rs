@@ -26,9 +26,8 @@
 //! rows' instructions. The structural-damping column (`structural.rs`) is the same
 //! construction with the rotated Gram matrix.
 
-use crate::record::Sensor;
 use crate::regressor::robust::gradients::Gradients;
-use crate::regressor::robust::projected::ProjectedWindow;
+use crate::regressor::robust::projected::{ProjectedWindow, signed_ends};
 use crate::terms::{ElementTerm, OnElements, PowerForm};
 
 /// Whether `term`'s columns are quadratic forms in the projection coefficients: a law
@@ -53,31 +52,11 @@ pub(super) fn add_columns(
 ) {
     let m = projected.weighted_gram(weights, true);
     let p = m.nrows();
-    // tr(M C_j) depends on channel j through its sensor kind only: one per kind present
-    let mut traces: Vec<(Sensor, f64)> = Vec::new();
-    let mut trace_of = |j: usize| -> f64 {
-        let kind = projected.sensors[j];
-        if let Some((_, t)) = traces.iter().find(|(k, _)| *k == kind) {
-            return *t;
-        }
-        let unit = projected.unit_covariance(j);
-        let mut trace = 0.0;
-        for a in 0..p {
-            for b in 0..p {
-                trace += m[(a, b)] * unit[(b, a)];
-            }
-        }
-        traces.push((kind, trace));
-        trace
-    };
     let mut slope = vec![0.0; p];
     for (e, element) in term.elements().iter().enumerate() {
         let weight = term.weights().map_or(1.0, |w| w[e]);
         let column = first + term.coefficients().column_of(e);
-        let mut ends = vec![(element.a, 1.0)];
-        if let Some(b) = element.b {
-            ends.push((b, -1.0));
-        }
+        let ends = signed_ends(element);
         let c = projected.combination(&ends);
         // 2 M c and cᵀ M c
         let mut value = 0.0;
@@ -90,7 +69,7 @@ pub(super) fn add_columns(
         for &(j, _) in &ends {
             let variance = sigma[j] * sigma[j];
             if variance != 0.0 {
-                bias += variance * trace_of(j);
+                bias += variance * projected.covariance_trace(&m, j);
             }
         }
         columns[column] += weight * (value - bias);

@@ -20,7 +20,7 @@ use crate::record::{LoadDistribution, Record, Sensor};
 use crate::regressor::derivative_free::{Path, stieltjes};
 use crate::regressor::robust::WindowNoise;
 use crate::regressor::robust::gradients::Gradients;
-use crate::regressor::robust::projected::ProjectedWindow;
+use crate::regressor::robust::projected::{ProjectedWindow, signed_ends};
 use crate::regressor::robust::sensitivity::RowNoise;
 use crate::regressor::robust::{quadratic, structural};
 use crate::regressor::settings::WorkForm;
@@ -403,10 +403,8 @@ fn element_columns(
         };
         if law.is_total_variation() {
             // ∫ |v̂| dt exactly: the total variation of the projected displacement
-            let terms: Vec<(usize, f64)> = std::iter::once((element.a, 1.0))
-                .chain(element.b.map(|b| (b, -1.0)))
-                .collect();
-            let (tv, u) = projected.total_variation(&projected.combination(&terms), vr, span);
+            let ends = signed_ends(element);
+            let (tv, u) = projected.total_variation(&projected.combination(&ends), vr, span);
             columns[column] += weight * tv;
             gradients.add(element.a, column + 1, &u, weight);
             if let Some(b) = element.b {
@@ -446,9 +444,7 @@ fn element_columns(
             );
             columns[column] += weight * value;
             let moves_x = any_nonzero(&g_x);
-            for (channel, sign) in
-                std::iter::once((element.a, 1.0)).chain(element.b.map(|b| (b, -1.0)))
-            {
+            for (channel, sign) in signed_ends(element) {
                 gradients.add_on_derivative(channel, column + 1, &g_v, sign * weight);
                 if moves_x {
                     gradients.add_on_design(channel, column + 1, &g_x, sign * weight);

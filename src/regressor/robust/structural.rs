@@ -54,9 +54,8 @@
 use crate::terms::OnElements;
 use faer::Mat;
 
-use crate::record::Sensor;
 use crate::regressor::robust::gradients::Gradients;
-use crate::regressor::robust::projected::ProjectedWindow;
+use crate::regressor::robust::projected::{ProjectedWindow, signed_ends};
 use crate::terms::StructuralDamping;
 
 /// N = −(Σ_i w_i d_i b_iᵀ) H of the window (module doc): p × p.
@@ -89,14 +88,9 @@ pub(super) fn add_columns(
 ) {
     let n = rotated_gram(projected, weights);
     let p = n.nrows();
-    // C_j depends on channel j through its sensor kind only (S_j): one per kind present
-    let mut covariance: Vec<(Sensor, Mat<f64>)> = Vec::new();
     for (index, (element, &k)) in term.elements().iter().zip(term.stiffness()).enumerate() {
         let column = first + term.column_of(index);
-        let mut ends = vec![(element.a, 1.0)];
-        if let Some(b) = element.b {
-            ends.push((b, -1.0));
-        }
+        let ends = signed_ends(element);
         let c = projected.combination(&ends);
         // (N + Nᵀ) c and cᵀ N c
         let mut sym_c = vec![0.0; p];
@@ -116,22 +110,7 @@ pub(super) fn add_columns(
             if variance == 0.0 {
                 continue;
             }
-            let kind = projected.sensors[j];
-            let at = match covariance.iter().position(|(k, _)| *k == kind) {
-                Some(at) => at,
-                None => {
-                    covariance.push((kind, projected.unit_covariance(j)));
-                    covariance.len() - 1
-                }
-            };
-            let unit = &covariance[at].1;
-            let mut trace = 0.0;
-            for a in 0..p {
-                for b in 0..p {
-                    trace += n[(a, b)] * unit[(b, a)];
-                }
-            }
-            bias += variance * trace;
+            bias += variance * projected.covariance_trace(&n, j);
         }
         columns[column] += k * (value - bias);
         for &(j, sign) in &ends {
