@@ -51,7 +51,9 @@
 //! FFT or by least squares (`prep::fourier::noise_floor`) and steps 2 and 3 are
 //! least-squares passes over a channel's samples against a table of the basis
 //! (`table.rs`). Either way the half ranges of x̂ and v̂ over each period (the
-//! amplitudes the mismatches are relative to) cost O(N p) per channel on the table. A
+//! amplitudes the mismatches are relative to: only the largest over the channels is
+//! used) cost O(N p) per channel on the table, for the channels whose bound
+//! Σ_q |c_q| can reach the largest (usually a few: the others are skipped, `table.rs`). A
 //! period's table and its covariance per sensor kind (σ̂_j² times a unit covariance
 //! shared by the channels of that kind) depend on its length and harmonics only, t
 //! being measured from its first sample (`PeriodBasis`). Steps 1 and 3 (`fit_span`)
@@ -85,10 +87,6 @@ pub struct ChannelProjection {
     pub unit_covariance: Arc<Mat<f64>>,
     /// σ̂_j², the channel's noise variance per sample.
     pub noise_variance: f64,
-    /// ½ range of x̂ over the period's samples.
-    pub half_range_displacement: f64,
-    /// ½ range of v̂ over the period's samples.
-    pub half_range_velocity: f64,
 }
 
 impl ChannelProjection {
@@ -130,6 +128,10 @@ pub struct PeriodProjection {
     pub samples: usize,
     /// One entry per channel (DOF).
     pub channels: Vec<ChannelProjection>,
+    /// The largest ½ range of x̂ over the period's samples among its channels.
+    pub half_range_displacement: f64,
+    /// The largest ½ range of v̂ over the period's samples among its channels.
+    pub half_range_velocity: f64,
 }
 
 /// The projections of a compared span.
@@ -175,15 +177,12 @@ impl StateProjection {
     /// Half the range of x̂ (and of v̂) over the samples of every projected period, the
     /// largest over the channels.
     pub fn amplitudes(&self) -> (f64, f64) {
-        self.periods
-            .iter()
-            .flat_map(|p| &p.channels)
-            .fold((0.0f64, 0.0f64), |(ax, av), c| {
-                (
-                    ax.max(c.half_range_displacement),
-                    av.max(c.half_range_velocity),
-                )
-            })
+        self.periods.iter().fold((0.0f64, 0.0f64), |(ax, av), p| {
+            (
+                ax.max(p.half_range_displacement),
+                av.max(p.half_range_velocity),
+            )
+        })
     }
 }
 
@@ -348,9 +347,8 @@ fn span_fit(record: &Record, selection: HarmonicSelection, residuals: Vec<f64>) 
     }
 }
 
-/// One channel's fit over one period: c_x, c_v, the unit covariance, ½ range of x̂ and
-/// of v̂.
-type ChannelFit = (Vec<f64>, Vec<f64>, Arc<Mat<f64>>, f64, f64);
+/// One channel's fit over one period: c_x, c_v and the unit covariance.
+type ChannelFit = (Vec<f64>, Vec<f64>, Arc<Mat<f64>>);
 
 /// Step 2 for one period: what it gives every span that projects it on the same
 /// harmonics (a one-period window's period is compared with the previous one and with
@@ -361,8 +359,10 @@ pub(super) struct PeriodFit {
     first: usize,
     /// Samples fitted.
     samples: usize,
-    /// Per channel: c_x, c_v, the unit covariance, ½ range of x̂ and of v̂.
+    /// Per channel: c_x, c_v and the unit covariance.
     channels: Vec<ChannelFit>,
+    /// The largest ½ ranges of x̂ and of v̂ over the period's samples among the channels.
+    half_ranges: (f64, f64),
 }
 
 /// What step 2 needs for periods of `rows` samples projected on `orders`, the same for
@@ -478,7 +478,8 @@ pub(super) fn fit_period_from(
 }
 
 /// Step 2 from each channel's coefficients c on the basis: c_x and c_v through [I; J] S,
-/// the unit covariance, and the half ranges of x̂ and v̂ over the period's samples.
+/// the unit covariance, and the largest half ranges of x̂ and v̂ over the period's
+/// samples (evaluated on the channels that can hold them, `table.rs`).
 fn period_fit(
     basis: &PeriodBasis,
     first: usize,
@@ -495,7 +496,7 @@ fn period_fit(
         });
     }
     let p = table.columns();
-    let channels = (0..basis.sensors.len())
+    let channels: Vec<ChannelFit> = (0..basis.sensors.len())
         .map(|j| {
             // cannot fail: every sensor of `sensors` was added to `kinds` by period_basis
             let (_, full, unit) = basis
@@ -508,14 +509,19 @@ fn period_fit(
                 .map(|a| (0..p).map(|k| full[(a, k)] * c[k]).sum())
                 .collect();
             let (displacement, velocity) = (stacked[..p].to_vec(), stacked[p..].to_vec());
-            let (hx, hv) = table.half_ranges(&displacement, &velocity, rows);
-            (displacement, velocity, Arc::clone(unit), hx, hv)
+            (displacement, velocity, Arc::clone(unit))
         })
         .collect();
+    let states: Vec<(&[f64], &[f64])> = channels
+        .iter()
+        .map(|(x, v, _)| (x.as_slice(), v.as_slice()))
+        .collect();
+    let half_ranges = table.largest_half_ranges(&states, rows);
     Ok(PeriodFit {
         first,
         samples: rows,
         channels,
+        half_ranges,
     })
 }
 
@@ -539,16 +545,16 @@ pub(super) fn assemble(
                     .iter()
                     .zip(&span.noise_std)
                     .map(
-                        |((displacement, velocity, unit, hx, hv), sigma)| ChannelProjection {
+                        |((displacement, velocity, unit), sigma)| ChannelProjection {
                             displacement: displacement.clone(),
                             velocity: velocity.clone(),
                             unit_covariance: Arc::clone(unit),
                             noise_variance: sigma * sigma,
-                            half_range_displacement: *hx,
-                            half_range_velocity: *hv,
                         },
                     )
                     .collect(),
+                half_range_displacement: fit.half_ranges.0,
+                half_range_velocity: fit.half_ranges.1,
             })
         })
         .collect::<Result<Vec<_>>>()?;
@@ -673,10 +679,11 @@ mod tests {
                                 "{orders:?} from {first}: {p} vs {q}"
                             );
                         }
-                        assert!((a.3 - b.3).abs() <= 1e-12 * b.3.max(1e-300));
-                        assert!((a.4 - b.4).abs() <= 1e-12 * b.4.max(1e-300));
                         assert!(Arc::ptr_eq(&a.2, &b.2));
                     }
+                    let ((ax, av), (bx, bv)) = (ours.half_ranges, table.half_ranges);
+                    assert!((ax - bx).abs() <= 1e-12 * bx.max(1e-300));
+                    assert!((av - bv).abs() <= 1e-12 * bv.max(1e-300));
                 }
             }
         }
