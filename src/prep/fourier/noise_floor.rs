@@ -33,6 +33,7 @@ use faer::MatRef;
 use super::dft::WholeSampleDft;
 use super::{HarmonicBasis, default_harmonics, first_orders};
 use crate::error::Result;
+use crate::terms::simd::{self, Kernel};
 
 /// Amplitude over the per-bin noise amplitude above which a harmonic is kept.
 pub(crate) const NOISE_THRESHOLD: f64 = 3.5;
@@ -252,7 +253,20 @@ impl Selector {
 
     /// The next channel, from its coefficients [a_0, a_1, b_1, …] (harmonics up to K_max
     /// at least) and, with P ≥ 2, its powers at the noise bins between the harmonics.
+    /// The passes over the harmonics are compiled for the widest instruction set the CPU
+    /// has ([`simd::dispatch`]): element by element the same operations, and maxima
+    /// (exact) in lanes, so the same bits at every level.
     pub(super) fn channel(&mut self, coefficients: &[f64], noise_bins: Option<&[f64]>) {
+        simd::dispatch(NextChannel {
+            selector: self,
+            coefficients,
+            noise_bins,
+        })
+    }
+
+    /// [`Selector::channel`] at the level it is compiled for.
+    #[inline(always)]
+    fn channel_at_level(&mut self, coefficients: &[f64], noise_bins: Option<&[f64]>) {
         let most = self.most;
         let amps = amplitudes_of(coefficients, most);
         self.keys.clear();
@@ -266,14 +280,13 @@ impl Selector {
             ),
             None => self.keys.extend(amps[1..].iter().map(|a| order_key(a * a))),
         }
-        let floor = ROUND_OFF * amps.iter().cloned().fold(0.0, f64::max);
+        let floor = ROUND_OFF * largest_magnitude(&amps);
         let noise = median(&mut self.keys).map_or(floor, |median| {
             (median / std::f64::consts::LN_2).sqrt().max(floor)
         });
-        for (k, a) in amps.iter().enumerate().skip(1) {
-            if *a > NOISE_THRESHOLD * noise {
-                self.above[k + 1] = true;
-            }
+        let threshold = NOISE_THRESHOLD * noise;
+        for (above, a) in self.above[2..].iter_mut().zip(&amps[1..]) {
+            *above |= *a > threshold;
         }
         self.noise_amplitude.push(noise);
         self.amplitudes.push(amps);
@@ -299,21 +312,60 @@ impl Selector {
     }
 }
 
+/// [`Selector::channel`] as a [`Kernel`].
+struct NextChannel<'a> {
+    selector: &'a mut Selector,
+    coefficients: &'a [f64],
+    noise_bins: Option<&'a [f64]>,
+}
+
+impl Kernel for NextChannel<'_> {
+    type Output = ();
+    #[inline(always)]
+    fn run(self) {
+        self.selector
+            .channel_at_level(self.coefficients, self.noise_bins)
+    }
+}
+
+/// Lanes of [`largest`].
+const LANES: usize = 8;
+
+/// The largest of |v| over `values` and 0, NaN ignored: `f64::max` folded in [`LANES`]
+/// lanes and then across them, the same value as one fold in order (the maximum of
+/// numbers is exact, |v| has no negative zero, and `f64::max` ignores NaN either way).
+#[inline(always)]
+fn largest_magnitude(values: &[f64]) -> f64 {
+    let mut lanes = [0.0f64; LANES];
+    let mut chunks = values.chunks_exact(LANES);
+    for chunk in &mut chunks {
+        for (m, v) in lanes.iter_mut().zip(chunk) {
+            *m = m.max(v.abs());
+        }
+    }
+    lanes
+        .iter()
+        .chain(chunks.remainder())
+        .fold(0.0, |m, &v| m.max(v.abs()))
+}
+
 /// A_k = √(a_k² + b_k²) for k = 1..=`most` of one channel's coefficients
 /// [a₀, a₁, b₁, …], the squares formed on the coefficients scaled by a power of two near
 /// the largest (exact), so that neither overflows nor loses bits below the normal range
 /// at any scale the data check lets through: as accurate as `hypot` (within an ulp of
 /// it), at the cost of a square root.
+#[inline(always)]
 fn amplitudes_of(c: &[f64], most: usize) -> Vec<f64> {
-    let largest = (1..=2 * most).fold(0.0f64, |m, k| m.max(c[k].abs()));
+    let largest = largest_magnitude(&c[1..=2 * most]);
     let scale = if largest > 0.0 && largest.is_finite() {
         2f64.powi(-largest.log2().round() as i32)
     } else {
         1.0
     };
-    (0..most)
-        .map(|k| {
-            let (a, b) = (scale * c[2 * k + 1], scale * c[2 * k + 2]);
+    c[1..=2 * most]
+        .chunks_exact(2)
+        .map(|pair| {
+            let (a, b) = (scale * pair[0], scale * pair[1]);
             (a * a + b * b).sqrt() / scale
         })
         .collect()
@@ -322,6 +374,7 @@ fn amplitudes_of(c: &[f64], most: usize) -> Vec<f64> {
 /// The key of `x` in IEEE 754's total order as an integer: `order_key(a) < order_key(b)`
 /// exactly when `a.total_cmp(&b)` is `Less` (the bit transform `f64::total_cmp` applies
 /// to both sides of every comparison, applied once per value; its own inverse).
+#[inline(always)]
 fn order_key(x: f64) -> i64 {
     let bits = x.to_bits() as i64;
     bits ^ ((((bits >> 63) as u64) >> 1) as i64)
