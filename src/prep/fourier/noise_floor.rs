@@ -328,7 +328,7 @@ impl Kernel for NextChannel<'_> {
     }
 }
 
-/// Lanes of [`largest`].
+/// Lanes of [`largest_magnitude`].
 const LANES: usize = 8;
 
 /// The largest of |v| over `values` and 0, NaN ignored: `f64::max` folded in [`LANES`]

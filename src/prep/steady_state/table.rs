@@ -352,8 +352,8 @@ impl HarmonicTable {
             .iter()
             .map(|(cx, cv)| [self.range_bound(cx), self.range_bound(cv)])
             .collect();
-        // the channel of the largest bound on each, first (a NaN bound, which never
-        // skips, orders above every number)
+        // the channel of the largest bound on each, first (a channel with a NaN bound is
+        // never skipped, wherever it orders)
         let leader =
             |s: usize| (0..channels.len()).max_by(|&a, &b| bounds[a][s].total_cmp(&bounds[b][s]));
         let leaders = [leader(0), leader(1)];
