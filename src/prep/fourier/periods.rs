@@ -65,6 +65,7 @@ use super::noise_floor::{MAX_NOISE_BINS, Selector, most_harmonics};
 use super::{HarmonicSelection, first_orders};
 use crate::error::{Error, Result};
 use crate::record::col;
+use crate::terms::simd::{self, Kernel};
 
 /// One period's spectrum, per channel: the bins X[k], k = 0 … K, of x − x_0 and the power
 /// of the half spectrum above K.
@@ -290,22 +291,16 @@ fn harmonic_bins(
     scale: f64,
     out: BinsOut<'_>,
 ) -> f64 {
+    if let ([first, second], 1) = (rows, stride) {
+        return simd::dispatch(TwoPeriods {
+            first: &first[1..=most],
+            second: &second[1..=most],
+            scale,
+            out,
+        });
+    }
     let mut between = 0.0;
     let pairs = out.coefficients.chunks_exact_mut(2);
-    if let ([first, second], 1) = (rows, stride) {
-        // H_1[k] = X_0[k] − X_1[k]: the weight √(2/2) is 1
-        let bins = first[1..=most].iter().zip(&second[1..=most]);
-        for ((&x0, &x1), (pair, noise)) in bins.zip(pairs.zip(out.noise.iter_mut())) {
-            let h2 = (x0 - x1).norm_sqr();
-            between += h2;
-            *noise = scale * scale * h2;
-            let sum = x0 + x1;
-            out.powers.push(sum.norm_sqr());
-            pair[0] = scale * sum.re;
-            pair[1] = -scale * sum.im;
-        }
-        return between;
-    }
     let (mut until, mut next) = (0, 0);
     for (k, pair) in (1..=most).zip(pairs) {
         let mut prefix = rows[0][k];
@@ -326,6 +321,50 @@ fn harmonic_bins(
         pair[1] = -scale * prefix.im;
     }
     between
+}
+
+/// [`harmonic_bins`] of two periods (every contrast a noise bin, the usual check):
+/// H_1[k] = X_0[k] − X_1[k] (the weight √(2/2) is 1). Each bin's values are formed
+/// element by element, compiled for the widest instruction set the CPU has
+/// ([`simd::dispatch`]), and Σ_k |H_1[k]|² is then added in the order of k: the same
+/// operations in the same order as one loop, so the same bits at every level.
+struct TwoPeriods<'a> {
+    first: &'a [Complex<f64>],
+    second: &'a [Complex<f64>],
+    scale: f64,
+    out: BinsOut<'a>,
+}
+
+impl Kernel for TwoPeriods<'_> {
+    type Output = f64;
+    #[inline(always)]
+    fn run(self) -> f64 {
+        let TwoPeriods {
+            first,
+            second,
+            scale,
+            out,
+        } = self;
+        let start = out.powers.len();
+        out.powers.resize(start + first.len(), 0.0);
+        let bins = first.iter().zip(second);
+        let outputs = out
+            .coefficients
+            .chunks_exact_mut(2)
+            .zip(out.noise.iter_mut());
+        for (((&x0, &x1), (pair, noise)), power) in bins.zip(outputs).zip(&mut out.powers[start..])
+        {
+            *noise = scale * scale * (x0 - x1).norm_sqr();
+            let sum = x0 + x1;
+            *power = sum.norm_sqr();
+            pair[0] = scale * sum.re;
+            pair[1] = -scale * sum.im;
+        }
+        first
+            .iter()
+            .zip(second)
+            .fold(0.0, |between, (&x0, &x1)| between + (x0 - x1).norm_sqr())
+    }
 }
 
 #[cfg(test)]
