@@ -64,6 +64,7 @@ use realfft::RealFftPlanner;
 use realfft::num_complex::Complex;
 
 use crate::record::col;
+use crate::terms::simd::{self, Kernel};
 
 /// The largest relative distance of T/h from a whole number for which the samples are
 /// taken as whole per period. Below it the least-squares basis (which uses the exact
@@ -119,6 +120,26 @@ impl RelativeFft {
             .process_with_scratch(&mut self.input, &mut self.output, &mut self.scratch)
             .expect("buffers made by the plan have its lengths");
         (x0, &self.output)
+    }
+}
+
+/// [`WholeSampleDft::fit`]'s harmonic coefficients of one channel on orders 1..=K:
+/// a_k = 2 (Re X_k + x_L − x_0)/L, b_k = −2 Im X_k / L into `out` (2K values).
+struct Harmonics<'a> {
+    out: &'a mut [f64],
+    bins: &'a [Complex<f64>],
+    extra: f64,
+    l: f64,
+}
+
+impl Kernel for Harmonics<'_> {
+    type Output = ();
+    #[inline(always)]
+    fn run(self) {
+        for (pair, bin) in self.out.chunks_exact_mut(2).zip(self.bins) {
+            pair[0] = 2.0 * (bin.re + self.extra) / self.l;
+            pair[1] = -2.0 * bin.im / self.l;
+        }
     }
 }
 
@@ -237,6 +258,7 @@ impl WholeSampleDft {
         let p = 2 * orders.len() + 1;
         let l = self.length as f64;
         let mut c = Mat::zeros(p, n);
+        let contiguous = orders.iter().enumerate().all(|(i, &k)| k == i + 1);
         for j in 0..n {
             let bins = &self.harmonics[j * (self.highest + 1)..(j + 1) * (self.highest + 1)];
             let extra = self.closing.as_ref().map_or(0.0, |x| x[j]);
@@ -245,9 +267,20 @@ impl WholeSampleDft {
             let cj = c.col_as_slice_mut(j);
             // y = Bᵀx over the m samples, then D⁻¹y
             cj[0] = (bins[0].re + extra) / l;
-            for (pair, &k) in cj[1..].chunks_exact_mut(2).zip(orders) {
-                pair[0] = 2.0 * (bins[k].re + extra) / l;
-                pair[1] = -2.0 * bins[k].im / l;
+            if contiguous {
+                // orders 1..=K (the noise floor's): the bins in order, at the widest
+                // instruction set, each value the same operations as below
+                simd::dispatch(Harmonics {
+                    out: &mut cj[1..],
+                    bins: &bins[1..=orders.len()],
+                    extra,
+                    l,
+                });
+            } else {
+                for (pair, &k) in cj[1..].chunks_exact_mut(2).zip(orders) {
+                    pair[0] = 2.0 * (bins[k].re + extra) / l;
+                    pair[1] = -2.0 * bins[k].im / l;
+                }
             }
             if self.closing.is_some() {
                 // Sherman–Morrison for BᵀB = D + uuᵀ, u = [1, 1, 0, 1, 0, …]:
