@@ -10,11 +10,21 @@
 //!   rectangular (uniform weights), trapezoid and spectral (per-sample weights) rules
 //!   and with measured and central-difference velocities;
 //! - `terms::lanes` (`sum`, `sum_of_difference`, `dot`) are compared bitwise on every
-//!   length from 0 to 69, with per-sample and uniform weights.
+//!   length from 0 to 69, with per-sample and uniform weights;
+//! - the default pipeline's identification (steady-state check, noise floors, harmonic
+//!   projections, noise-robust rows, reweighted fit) of noisy records with whole samples
+//!   per period, the records simulated at the level (and their range and finiteness
+//!   pass), is compared as JSON: every number of its report, the check's included.
 //!
 //! The level is process-wide, so this file holds one test.
 
+use dampid::campaign;
 use dampid::prelude::*;
+use dampid::prep::steady_state::SteadyStateSettings;
+use dampid::reference::{
+    FOUR_MASS_OMEGA, four_mass_model, four_mass_records_with, with_displacement_noise,
+};
+use dampid::simulate::SimSettings;
 use dampid::terms::lanes;
 use dampid::terms::simd::{self, Level};
 use dampid::terms::{Element, Weights};
@@ -114,6 +124,35 @@ fn regressors(model: &DampingModel, record: &Record) -> Vec<Regressor> {
         .collect()
 }
 
+/// The default pipeline's report, as JSON, on the four-mass records with 64 samples
+/// per period (so the check and the noise floors read real FFTs) and 1 % displacement
+/// noise, made at the current level; windows of one period, the steady-state check on.
+fn default_pipeline() -> String {
+    let period = 2.0 * std::f64::consts::PI / FOUR_MASS_OMEGA;
+    let simulation = SimSettings {
+        step: period / 64.0,
+        transient_steps: 2000,
+        recorded_steps: 6 * 64 + 1,
+        ..SimSettings::default()
+    };
+    let clean = four_mass_records_with(false, &simulation).unwrap();
+    let records = with_displacement_noise(&clean, 0.01, 3).unwrap();
+    let model = four_mass_model();
+    let mut settings = IdentifySettings::default();
+    settings.regressor.windows = WindowSpec::cycles(1).into();
+    settings.steady_state = Some(SteadyStateSettings::default());
+    let rows = campaign::rows(&model, &records, 0, &settings).unwrap();
+    let found = identify(
+        &ParametricRegressor::linear(&model, &rows),
+        &settings,
+        &silent,
+    )
+    .unwrap();
+    let check = found.steady_state.expect("the check was asked for");
+    assert!(check.windows.len() == 24, "every window judged");
+    serde_json::to_string(&(&found.report, &*check)).unwrap()
+}
+
 /// `lanes` on every length from 0 to 69, per-sample and uniform weights.
 fn lane_sums() -> Vec<f64> {
     let mut out = Vec::new();
@@ -144,15 +183,16 @@ fn every_level_gives_bitwise_the_same_sums() {
     );
     let model = model();
     let record = record(5_000);
-    let mut first: Option<(Level, Vec<Regressor>, Vec<f64>)> = None;
+    let mut first: Option<(Level, Vec<Regressor>, Vec<f64>, String)> = None;
     for level in levels {
         assert!(simd::force(Some(level)), "{} is available", level.name());
         assert_eq!(simd::level(), level);
         let built = regressors(&model, &record);
         let sums = lane_sums();
+        let report = default_pipeline();
         match &first {
-            None => first = Some((level, built, sums)),
-            Some((reference, built_then, sums_then)) => {
+            None => first = Some((level, built, sums, report)),
+            Some((reference, built_then, sums_then, report_then)) => {
                 let (a, b) = (reference.name(), level.name());
                 for (case, (one, other)) in built_then.iter().zip(&built).enumerate() {
                     let (rows, columns) = one.matrix().shape();
@@ -175,6 +215,10 @@ fn every_level_gives_bitwise_the_same_sums() {
                 for (i, (x, y)) in sums_then.iter().zip(&sums).enumerate() {
                     assert_eq!(x.to_bits(), y.to_bits(), "lane sum {i}: {a} {x} vs {b} {y}");
                 }
+                assert!(
+                    report == *report_then,
+                    "the default pipeline's report differs between {a} and {b}"
+                );
             }
         }
     }
