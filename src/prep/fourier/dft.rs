@@ -137,10 +137,16 @@ impl Kernel for Harmonics<'_> {
     #[inline(always)]
     fn run(self) {
         for (pair, bin) in self.out.chunks_exact_mut(2).zip(self.bins) {
-            pair[0] = 2.0 * (bin.re + self.extra) / self.l;
-            pair[1] = -2.0 * bin.im / self.l;
+            pair.copy_from_slice(&harmonic_pair(bin, self.extra, self.l));
         }
     }
+}
+
+/// (a_k, b_k) = (2 (Re X_k + x_L − x_0)/L, −2 Im X_k / L) from bin X_k, `extra` = x_L − x_0
+/// (0 without a closing sample).
+#[inline(always)]
+fn harmonic_pair(bin: &Complex<f64>, extra: f64, l: f64) -> [f64; 2] {
+    [2.0 * (bin.re + extra) / l, -2.0 * bin.im / l]
 }
 
 /// The DFT bins of a window's channels that the harmonic projection and the noise floor
@@ -269,7 +275,7 @@ impl WholeSampleDft {
             cj[0] = (bins[0].re + extra) / l;
             if contiguous {
                 // orders 1..=K (the noise floor's): the bins in order, at the widest
-                // instruction set, each value the same operations as below
+                // instruction set
                 simd::dispatch(Harmonics {
                     out: &mut cj[1..],
                     bins: &bins[1..=orders.len()],
@@ -278,8 +284,7 @@ impl WholeSampleDft {
                 });
             } else {
                 for (pair, &k) in cj[1..].chunks_exact_mut(2).zip(orders) {
-                    pair[0] = 2.0 * (bins[k].re + extra) / l;
-                    pair[1] = -2.0 * bins[k].im / l;
+                    pair.copy_from_slice(&harmonic_pair(&bins[k], extra, l));
                 }
             }
             if self.closing.is_some() {

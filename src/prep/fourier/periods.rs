@@ -326,8 +326,9 @@ fn harmonic_bins(
 /// [`harmonic_bins`] of two periods (every contrast a noise bin, the usual check):
 /// H_1[k] = X_0[k] − X_1[k] (the weight √(2/2) is 1). Each bin's values are formed
 /// element by element, compiled for the widest instruction set the CPU has
-/// ([`simd::dispatch`]), and Σ_k |H_1[k]|² is then added in the order of k: the same
-/// operations in the same order as one loop, so the same bits at every level.
+/// ([`simd::dispatch`]), with |H_1[k]|² held in the noise bins; Σ_k |H_1[k]|² is then
+/// added in the order of k and the noise bins scaled by (2/m)²: the same operations in
+/// the same order as one loop, so the same bits at every level.
 struct TwoPeriods<'a> {
     first: &'a [Complex<f64>],
     second: &'a [Complex<f64>],
@@ -354,16 +355,18 @@ impl Kernel for TwoPeriods<'_> {
             .zip(out.noise.iter_mut());
         for (((&x0, &x1), (pair, noise)), power) in bins.zip(outputs).zip(&mut out.powers[start..])
         {
-            *noise = scale * scale * (x0 - x1).norm_sqr();
+            *noise = (x0 - x1).norm_sqr();
             let sum = x0 + x1;
             *power = sum.norm_sqr();
             pair[0] = scale * sum.re;
             pair[1] = -scale * sum.im;
         }
-        first
-            .iter()
-            .zip(second)
-            .fold(0.0, |between, (&x0, &x1)| between + (x0 - x1).norm_sqr())
+        let noise = &mut out.noise[..first.len()];
+        let between = noise.iter().fold(0.0, |between, h2| between + h2);
+        for h2 in noise {
+            *h2 *= scale * scale;
+        }
+        between
     }
 }
 
