@@ -60,6 +60,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 use crate::model::DampingModel;
+use crate::prep::fourier::WindowFits;
 use crate::prep::steady_state::SteadyStateReport;
 use crate::prep::velocity::VelocitySource;
 use crate::prep::window::Window;
@@ -194,16 +195,18 @@ impl Regressor {
         source: impl Into<Source<'a>>,
         settings: &RegressorSettings,
     ) -> Result<Self> {
-        Self::build_with(model, source, settings, None)
+        Self::build_with(model, source, settings, None, None)
     }
 
     /// [`Regressor::build`], a free decay's η-independent part kept in `cache` across
-    /// calls (`free_decay.rs`).
+    /// calls (`free_decay.rs`), and the noise-robust rows' harmonic fits read from
+    /// `fits` where the steady-state check made them (`prep/fourier/window_fit.rs`).
     pub(crate) fn build_with<'a>(
         model: &DampingModel,
         source: impl Into<Source<'a>>,
         settings: &RegressorSettings,
         cache: Option<&free_decay::DecayCache>,
+        fits: Option<&WindowFits>,
     ) -> Result<Self> {
         let records = match source.into() {
             Source::Records(records) => records,
@@ -291,6 +294,7 @@ impl Regressor {
                 settings.quadrature,
                 harmonics,
                 settings.work_form,
+                fits,
             )?;
             let mut regressor = Self::assemble(records, &windows, rows, columns)?;
             regressor.noise = Some(Arc::new(noise));

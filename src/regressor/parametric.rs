@@ -9,9 +9,15 @@
 //! residual unknowns. A job with nothing estimated is the case q = 0 of the same type,
 //! whose one regressor is `regressor(&[], settings)`.
 
+use std::sync::{Arc, OnceLock};
+
 use crate::error::{Error, Result};
 use crate::model::DampingModel;
-use crate::prep::steady_state::{SteadyStateReport, SteadyStateSettings, StoredEnergy};
+use crate::prep::fourier::WindowFits;
+use crate::prep::steady_state::{
+    RowHarmonics, SteadyStateReport, SteadyStateSettings, StoredEnergy,
+};
+use crate::prep::velocity::VelocitySource;
 use crate::record::Record;
 use crate::regressor::nonlinear::{NonlinearParameter, Parametric, ParametricModel};
 use crate::regressor::source::Source;
@@ -29,6 +35,9 @@ pub struct ParametricRegressor<'a> {
     steady: Option<SteadyStateInput<'a>>,
     /// A free decay's cycles and weights, made at the first trial (`free_decay.rs`).
     decay: super::DecayCache,
+    /// The noise-robust rows' harmonic fits of one-period windows, made by the
+    /// steady-state check ([`ParametricRegressor::steady_state_before_rows`]).
+    fits: Arc<OnceLock<WindowFits>>,
 }
 
 /// What the steady-state check of a problem reads when it is not the problem's own
@@ -55,6 +64,7 @@ impl<'a> ParametricRegressor<'a> {
             source,
             steady: None,
             decay: super::DecayCache::default(),
+            fits: Arc::default(),
         }
     }
 
@@ -95,6 +105,52 @@ impl<'a> ParametricRegressor<'a> {
         };
         crate::prep::steady_state::check(records, windows, settings.quadrature, energy, thresholds)
             .map(Some)
+    }
+
+    /// [`Self::steady_state`] before the regressor is built with `settings`: where the
+    /// check reads the problem's own records and the rows are noise-robust, it also
+    /// makes each one-period window's harmonic fit as it transforms the window's
+    /// period, and the rows read it instead of transforming the period again
+    /// (`prep/fourier/window_fit.rs`). The same report and the same rows, bit for bit.
+    pub(crate) fn steady_state_before_rows(
+        &self,
+        settings: &RegressorSettings,
+        thresholds: &SteadyStateSettings,
+    ) -> Result<Option<SteadyStateReport>> {
+        let own = match (self.steady, self.source) {
+            (None, Source::Records(records)) => Some((records, settings)),
+            (Some(input), Source::Records(records))
+                if std::ptr::eq(input.records, records) && input.settings == settings =>
+            {
+                Some((records, settings))
+            }
+            _ => None,
+        };
+        let harmonics = match settings.velocity {
+            VelocitySource::HarmonicProjection { harmonics } => harmonics,
+            _ => None,
+        };
+        let Some((records, settings)) = own.filter(|_| settings.noise_robust().unwrap_or(false))
+        else {
+            return self.steady_state(settings, thresholds);
+        };
+        let Some(windows) = settings.windows.cycles() else {
+            return Ok(None);
+        };
+        let energy = self.steady.and_then(|input| input.energy);
+        let (report, fits) = crate::prep::steady_state::check_making_fits(
+            records,
+            windows,
+            settings.quadrature,
+            energy,
+            thresholds,
+            Some(RowHarmonics(harmonics)),
+        )?;
+        if let Some(fits) = fits {
+            // a second check of the same problem made the same fits
+            let _ = self.fits.set(fits);
+        }
+        Ok(Some(report))
     }
 
     /// A damping model with nothing estimated on the equations of `source`.
@@ -174,7 +230,7 @@ impl<'a> ParametricRegressor<'a> {
             }
             other => other,
         };
-        Regressor::build_with(&model, source, settings, Some(&self.decay))
+        Regressor::build_with(&model, source, settings, Some(&self.decay), self.fits.get())
     }
 
     /// The group of each equation whose errors may be correlated and which a bootstrap
@@ -184,5 +240,101 @@ impl<'a> ParametricRegressor<'a> {
         self.source
             .stepped_sine()
             .map(|t| t.table.sweeps.as_slice())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::prep::quadrature::Quadrature;
+    use crate::prep::window::WindowSpec;
+    use crate::record::{MeasuredMotion, Sensor};
+    use crate::reference::{four_mass_model, four_mass_records_with, with_displacement_noise};
+    use crate::regressor::Windows;
+    use crate::regressor::settings::{NoiseTreatment, WorkForm};
+    use crate::simulate::SimSettings;
+
+    /// The noise-robust rows built after the check made their windows' fits are the
+    /// rows built alone, bit for bit (the regressor with its noise model, as JSON), on
+    /// records of whole samples per period with displacement sensors and with velocity
+    /// and acceleration sensors, on the noise floor's harmonics and on 1..K, in both work
+    /// forms; and every window's fit was made by the check.
+    #[test]
+    fn rows_after_the_check_are_the_rows_alone() {
+        let period = 2.0 * std::f64::consts::PI / 0.618;
+        let step = period / 64.0;
+        let settings = SimSettings {
+            step,
+            transient_steps: (300.0 / step) as usize,
+            recorded_steps: 12 * 64 + 3,
+            ..SimSettings::default()
+        };
+        let clean = four_mass_records_with(false, &settings).unwrap();
+        let noisy = with_displacement_noise(&clean, 0.01, 5).unwrap();
+        let sensors = vec![
+            Sensor::Displacement,
+            Sensor::Velocity,
+            Sensor::Acceleration,
+            Sensor::Velocity,
+        ];
+        let measured: Vec<Record> = noisy
+            .iter()
+            .zip(&clean)
+            .map(|(record, truth)| {
+                let (x, v) = (record.displacements(), truth.velocities().unwrap());
+                let signals = faer::Mat::from_fn(record.samples(), 4, |i, j| match sensors[j] {
+                    Sensor::Displacement => x[(i, j)],
+                    Sensor::Velocity => v[(i, j)] + 0.001 * x[(i, j)],
+                    Sensor::Acceleration => -0.618 * 0.618 * x[(i, j)],
+                });
+                let motion = MeasuredMotion {
+                    sensors: sensors.clone(),
+                    signals,
+                };
+                record.clone().with_measured_motion(motion).unwrap()
+            })
+            .collect();
+        let model = four_mass_model();
+        let thresholds = SteadyStateSettings {
+            accept_transient: true,
+            ..SteadyStateSettings::default()
+        };
+        for records in [&noisy, &measured] {
+            for harmonics in [None, Some(3)] {
+                for work_form in [WorkForm::Velocity, WorkForm::DerivativeFree] {
+                    let settings = RegressorSettings {
+                        windows: Windows::Cycles(WindowSpec::cycles(1)),
+                        quadrature: Quadrature::Trapezoid,
+                        velocity: VelocitySource::HarmonicProjection { harmonics },
+                        noise: NoiseTreatment::Auto,
+                        work_form,
+                    };
+                    let problem = ParametricRegressor::linear(&model, records.as_slice());
+                    let report = problem
+                        .steady_state_before_rows(&settings, &thresholds)
+                        .unwrap();
+                    let windows = report.expect("a check").windows.len();
+                    assert_eq!(problem.fits.get().map(WindowFits::len), Some(windows));
+                    let after = problem.regressor(&[], &settings).unwrap();
+                    let alone = Regressor::build(&model, records.as_slice(), &settings).unwrap();
+                    assert_eq!(
+                        serde_json::to_string(&after).unwrap(),
+                        serde_json::to_string(&alone).unwrap(),
+                        "{harmonics:?}, {work_form:?}"
+                    );
+                }
+            }
+        }
+        // plain rows ask for no fits
+        let plain = RegressorSettings::plain(
+            WindowSpec::cycles(1),
+            Quadrature::Trapezoid,
+            VelocitySource::Measured,
+        );
+        let problem = ParametricRegressor::linear(&model, clean.as_slice());
+        problem
+            .steady_state_before_rows(&plain, &thresholds)
+            .unwrap();
+        assert!(problem.fits.get().is_none());
     }
 }

@@ -80,6 +80,30 @@ pub(crate) fn whole_samples(step: f64, period: f64) -> Option<usize> {
         .then_some(whole as usize)
 }
 
+/// L = P N, the length of the transform of a window of `samples` samples over `periods`
+/// whole periods, when the window's projection reads its bins (module doc, **When**):
+/// N = T/h whole, m = L or L + 1, harmonics up to `highest` and `between_bins` below
+/// Nyquist. `None` where the caller fits by least squares.
+pub(super) fn transform_length(
+    samples: usize,
+    step: f64,
+    period: f64,
+    periods: usize,
+    highest: usize,
+    between_bins: &[usize],
+) -> Option<usize> {
+    let length = periods.checked_mul(whole_samples(step, period)?)?;
+    if periods == 0 || !(samples == length || samples == length + 1) {
+        return None;
+    }
+    if 2 * highest.checked_mul(periods)? >= length
+        || between_bins.iter().any(|&j| j == 0 || 2 * j >= length)
+    {
+        return None;
+    }
+    Some(length)
+}
+
 thread_local! {
     /// One planner per thread: it caches a plan (twiddles, factorisation) per length,
     /// so the windows of a record, which share their length, plan once.
@@ -201,16 +225,8 @@ impl WholeSampleDft {
         between_bins: &[usize],
         residual: bool,
     ) -> Option<Self> {
-        let length = periods.checked_mul(whole_samples(step, period)?)?;
         let samples = x.nrows();
-        if periods == 0 || !(samples == length || samples == length + 1) {
-            return None;
-        }
-        if 2 * highest.checked_mul(periods)? >= length
-            || between_bins.iter().any(|&j| j == 0 || 2 * j >= length)
-        {
-            return None;
-        }
+        let length = transform_length(samples, step, period, periods, highest, between_bins)?;
         let n = x.ncols();
         let mut fft = RelativeFft::new(length);
         let mut first = Vec::with_capacity(n);
@@ -242,6 +258,31 @@ impl WholeSampleDft {
             between,
             residual,
         })
+    }
+
+    /// The spectrum [`WholeSampleDft::new`] makes of a window of one period (no bins
+    /// between harmonics), from bins made already: `harmonics[c]` = X_0 … X_K of channel
+    /// c's first `length` samples less `first[c]`, and `closing[c]` = x_L − x_0 when the
+    /// window holds `length` + 1 samples. The caller checked the shape
+    /// ([`transform_length`]).
+    pub(super) fn of_one_period(
+        length: usize,
+        first: Vec<f64>,
+        closing: Option<Vec<f64>>,
+        harmonics: Vec<Complex<f64>>,
+    ) -> Self {
+        let highest = harmonics.len() / first.len().max(1) - 1;
+        WholeSampleDft {
+            length,
+            samples: length + usize::from(closing.is_some()),
+            highest,
+            first,
+            closing,
+            harmonics,
+            between_bins: Vec::new(),
+            between: Vec::new(),
+            residual: None,
+        }
     }
 
     /// Whether the bins of every order of `orders` were kept.

@@ -60,7 +60,7 @@
 use faer::MatRef;
 use realfft::num_complex::Complex;
 
-use super::dft::RelativeFft;
+use super::dft::{RelativeFft, WholeSampleDft, transform_length};
 use super::noise_floor::{MAX_NOISE_BINS, Selector, most_harmonics};
 use super::{HarmonicSelection, first_orders};
 use crate::error::{Error, Result};
@@ -112,6 +112,41 @@ impl PeriodSpectrum {
             bins,
             above,
         }
+    }
+
+    /// The spectrum of the window of one period that starts at this period's first
+    /// sample, `x` its m = N or N + 1 samples (the closing one at t_0 + T), with the bins
+    /// of harmonics 0 … `highest` that [`WholeSampleDft::new`]`(x, step, period, 1,
+    /// highest, &[])` keeps: its transform is this one (the same N samples less the same
+    /// x_0, the same plan), so its bins are these, bit for bit. `None` where that is
+    /// `None` (the window fitted by least squares) or `highest` is above the bins kept.
+    pub(crate) fn one_period_window(
+        &self,
+        x: MatRef<'_, f64>,
+        step: f64,
+        period: f64,
+        highest: usize,
+    ) -> Option<WholeSampleDft> {
+        let length = transform_length(x.nrows(), step, period, 1, highest, &[])?;
+        if length != self.length || highest > self.highest || x.ncols() != self.first.len() {
+            return None;
+        }
+        debug_assert!((0..x.ncols()).all(|c| x[(0, c)].to_bits() == self.first[c].to_bits()));
+        let closing = (x.nrows() == length + 1).then(|| {
+            (0..x.ncols())
+                .map(|c| x[(length, c)] - self.first[c])
+                .collect()
+        });
+        let mut harmonics = Vec::with_capacity(self.bins.len() * (highest + 1));
+        for bins in &self.bins {
+            harmonics.extend_from_slice(&bins[..=highest]);
+        }
+        Some(WholeSampleDft::of_one_period(
+            length,
+            self.first.clone(),
+            closing,
+            harmonics,
+        ))
     }
 
     /// X[0 … K] of channel `c`, of x − x_0.

@@ -81,9 +81,11 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
+use crate::prep::fourier::{WholePeriods, WindowFits};
 use crate::prep::quadrature::Quadrature;
 use crate::prep::window::WindowSpec;
 use crate::record::Record;
+use spans::FitRequests;
 
 pub use energy::StoredEnergy;
 
@@ -456,6 +458,26 @@ pub fn check(
     energy: Option<&StoredEnergy>,
     settings: &SteadyStateSettings,
 ) -> Result<SteadyStateReport> {
+    Ok(check_making_fits(records, windows, quadrature, energy, settings, None)?.0)
+}
+
+/// The harmonics the noise-robust rows will fit each window on: `Some(K)` for 1..K,
+/// `None` for those above the noise floor.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct RowHarmonics(pub(crate) Option<usize>);
+
+/// [`check`], also making, when `rows` says the noise-robust rows will be built on the
+/// same windows, the harmonic fit of each one-period window from its period's spectrum
+/// as the check transforms it (`prep/fourier/window_fit.rs`): the rows then read it
+/// instead of transforming the period again.
+pub(crate) fn check_making_fits(
+    records: &[Record],
+    windows: &WindowSpec,
+    quadrature: Quadrature,
+    energy: Option<&StoredEnergy>,
+    settings: &SteadyStateSettings,
+    rows: Option<RowHarmonics>,
+) -> Result<(SteadyStateReport, Option<WindowFits>)> {
     settings.validate()?;
     crate::prep::data_scale::require_representable(records)?;
     let spec = windows;
@@ -498,7 +520,11 @@ pub fn check(
         .iter()
         .map(|&(k, origin, periods)| (cut[k].0, cut[k].1.record, origin, periods))
         .collect();
-    let projections = self::spans::project_spans(&keys)?;
+    let requests = rows.map(|RowHarmonics(harmonics)| FitRequests {
+        harmonics,
+        per_span: fit_requests(&cut, &span_ids, spans.len(), quadrature),
+    });
+    let (projections, fits) = self::spans::project_spans(&keys, requests.as_ref())?;
     // Each window is judged on its own; rayon's collect keeps window order, so the
     // report is the same at any thread count.
     let windows = cut
@@ -512,9 +538,37 @@ pub fn check(
             )
         })
         .collect::<Result<Vec<_>>>()?;
-    Ok(SteadyStateReport {
+    let report = SteadyStateReport {
         settings: *settings,
         energy_known: energy.is_some(),
         windows,
-    })
+    };
+    Ok((report, rows.map(|_| WindowFits::new(records, fits))))
+}
+
+/// Per compared span, the one-period windows whose harmonic fit it makes: (first
+/// sample, samples m the rows fit, [`WholePeriods::of_window`] as they count them).
+/// Each window's fit is made by the first span it compares, which holds its period.
+fn fit_requests(
+    cut: &[(&Record, crate::prep::window::Window)],
+    span_ids: &[Vec<usize>],
+    spans: usize,
+    quadrature: Quadrature,
+) -> Vec<Vec<(usize, usize)>> {
+    let mut requests = vec![Vec::new(); spans];
+    for ((record, window), ids) in cut.iter().zip(span_ids) {
+        let (step, period) = (record.step(), record.period());
+        let Some(&span) = ids.first() else { continue };
+        let whole = window
+            .window_weights(quadrature, step, period)
+            .ok()
+            .and_then(|weights| {
+                let available = record.samples().saturating_sub(window.start);
+                WholePeriods::of_window(weights.len(), available, step, period).ok()
+            });
+        if let Some(whole) = whole.filter(|w| window.cycles == 1 && w.periods == 1) {
+            requests[span].push((window.start, whole.samples));
+        }
+    }
+    requests
 }

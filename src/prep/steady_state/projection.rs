@@ -67,8 +67,8 @@ use faer::Mat;
 
 use crate::error::{Error, Result};
 use crate::prep::fourier::{
-    HarmonicBasis, HarmonicSelection, PeriodSpectrum, select_from_periods, select_with_residuals,
-    span_harmonics, whole_samples,
+    HarmonicBasis, HarmonicSelection, PeriodSpectrum, WindowFit, select_from_periods,
+    select_with_residuals, span_harmonics, whole_samples,
 };
 use crate::record::{Record, Sensor, col};
 
@@ -261,6 +261,24 @@ pub(super) fn period_spectrum(record: &Record, first: usize, length: usize) -> P
     let (x, _) = signals(record);
     let most = span_harmonics(length, record.step(), record.period());
     PeriodSpectrum::new(x.subrows(first, length), most)
+}
+
+/// The harmonic fit the noise-robust rows make of the one-period window of `m` samples
+/// from sample `first` of `record` (`prep/fourier/window_fit.rs`), read off its
+/// period's `spectrum`; `None` where the rows must make it themselves.
+pub(super) fn window_fit(
+    record: &Record,
+    spectrum: &PeriodSpectrum,
+    first: usize,
+    m: usize,
+    harmonics: Option<usize>,
+) -> Option<WindowFit> {
+    if first.checked_add(m)? > record.samples() {
+        return None;
+    }
+    let (x, _) = signals(record);
+    let (step, period) = (record.step(), record.period());
+    WindowFit::from_period(spectrum, x.subrows(first, m), step, period, harmonics)
 }
 
 /// Steps 1 and 3 over the span of `periods` whole periods from the sample position

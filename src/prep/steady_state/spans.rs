@@ -27,7 +27,7 @@ use std::collections::HashMap;
 use rayon::prelude::*;
 
 use crate::error::Result;
-use crate::prep::fourier::PeriodSpectrum;
+use crate::prep::fourier::{PeriodSpectrum, WindowFit};
 use crate::record::Record;
 
 use super::projection::{self, PeriodBasis, PeriodFit, StateProjection};
@@ -39,27 +39,59 @@ const SPANS_PER_TASK: usize = 16;
 /// A compared span: (record, origin in samples, periods k').
 pub(super) type SpanKey<'a> = (&'a Record, usize, f64, usize);
 
+/// The one-period windows whose harmonic fit the check makes for the noise-robust
+/// rows (`prep/fourier/window_fit.rs`), from the spectrum of their period.
+pub(super) struct FitRequests {
+    /// The harmonics the rows fit on (`None`: the noise floor's).
+    pub(super) harmonics: Option<usize>,
+    /// Per span, the windows it makes the fit of: (first sample, samples m).
+    pub(super) per_span: Vec<Vec<(usize, usize)>>,
+}
+
+/// A window's fit, by (record index, first sample).
+pub(super) type MadeFit = ((usize, usize), WindowFit);
+
 /// The projection of each span of `spans` ((record, record index, origin, k')), its
-/// first and last periods projected; one result per span, in order.
-pub(super) fn project_spans(spans: &[SpanKey<'_>]) -> Result<Vec<Result<StateProjection>>> {
+/// first and last periods projected; one result per span, in order. With `requests`,
+/// also the fits of the windows each span makes (on spans whose periods are
+/// transformed; in span order).
+pub(super) fn project_spans(
+    spans: &[SpanKey<'_>],
+    requests: Option<&FitRequests>,
+) -> Result<(Vec<Result<StateProjection>>, Vec<MadeFit>)> {
     let tasks = spans
         .par_chunks(SPANS_PER_TASK)
-        .map(project_task)
+        .enumerate()
+        .map(|(t, task)| project_task(task, requests, t * SPANS_PER_TASK))
         .collect::<Result<Vec<_>>>()?;
-    Ok(tasks.into_iter().flatten().collect())
+    let mut projections = Vec::with_capacity(spans.len());
+    let mut fits = Vec::new();
+    for (p, f) in tasks {
+        projections.extend(p);
+        fits.extend(f);
+    }
+    Ok((projections, fits))
 }
 
 /// The periods of one record: (record index, first sample).
 type PeriodKey = (usize, usize);
 
 /// The projections of the consecutive spans `task`: each period's spectrum, each basis
-/// (record, samples, S) and each period's fit on S made once for the task.
-fn project_task(task: &[SpanKey<'_>]) -> Result<Vec<Result<StateProjection>>> {
+/// (record, samples, S) and each period's fit on S made once for the task; with
+/// `requests` (of every span; the task's first is span `offset`), the windows' fits.
+fn project_task(
+    task: &[SpanKey<'_>],
+    requests: Option<&FitRequests>,
+    offset: usize,
+) -> Result<(Vec<Result<StateProjection>>, Vec<MadeFit>)> {
     let mut spectra: HashMap<PeriodKey, PeriodSpectrum> = HashMap::new();
     let mut bases: HashMap<(usize, usize, Vec<usize>), Result<PeriodBasis>> = HashMap::new();
     let mut fits: HashMap<(PeriodKey, usize, Vec<usize>), Result<PeriodFit>> = HashMap::new();
-    task.iter()
-        .map(|&(record, index, origin, count)| {
+    let mut made = Vec::new();
+    let projections = task
+        .iter()
+        .enumerate()
+        .map(|(s, &(record, index, origin, count))| {
             crate::cancel::check("the steady-state check")?;
             let whole = projection::span_periods(record, origin, count);
             let span = match &whole {
@@ -68,6 +100,20 @@ fn project_task(task: &[SpanKey<'_>]) -> Result<Vec<Result<StateProjection>>> {
                         spectra
                             .entry((index, first))
                             .or_insert_with(|| projection::period_spectrum(record, first, *n));
+                    }
+                    if let Some(FitRequests {
+                        harmonics,
+                        per_span,
+                    }) = requests
+                    {
+                        for &(first, m) in &per_span[offset + s] {
+                            if let Some(spectrum) = spectra.get(&(index, first)) {
+                                made.extend(
+                                    projection::window_fit(record, spectrum, first, m, *harmonics)
+                                        .map(|fit| ((index, first), fit)),
+                                );
+                            }
+                        }
                     }
                     let own: Vec<&PeriodSpectrum> = firsts
                         .iter()
@@ -117,7 +163,8 @@ fn project_task(task: &[SpanKey<'_>]) -> Result<Vec<Result<StateProjection>>> {
             fits.retain(|((i, first), ..), _| *i == index && *first >= last);
             Ok(projection)
         })
-        .collect()
+        .collect::<Result<Vec<_>>>()?;
+    Ok((projections, made))
 }
 
 #[cfg(test)]
@@ -168,7 +215,7 @@ mod tests {
                     }
                 }
                 assert!(spans.len() >= 2, "{} spans", spans.len());
-                let shared = project_spans(&spans).unwrap();
+                let shared = project_spans(&spans, None).unwrap().0;
                 for (&(_, _, origin, periods), projection) in spans.iter().zip(&shared) {
                     let alone =
                         projection::project_periods(record, origin, periods, &[0, periods - 1]);
@@ -176,5 +223,80 @@ mod tests {
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod window_fits {
+    use crate::prep::fourier::{WholePeriods, WindowFit};
+    use crate::prep::quadrature::Quadrature;
+    use crate::prep::steady_state::{RowHarmonics, SteadyStateSettings, check, check_making_fits};
+    use crate::prep::window::WindowSpec;
+    use crate::reference::{four_mass_records_with, with_displacement_noise};
+    use crate::simulate::SimSettings;
+
+    /// The check made with the rows' fits gives the same report, and a fit for every
+    /// one-period window (every rule, with and without the closing sample, a window
+    /// that closes periodically among them) that is the window's own, bit for bit, on
+    /// the harmonics the rows ask for. Windows of several periods get none (their
+    /// spans' periods are not their windows).
+    #[test]
+    fn the_check_makes_every_one_period_windows_own_fit() {
+        let period = 2.0 * std::f64::consts::PI / 0.618;
+        let step = period / 64.0;
+        let settings = SimSettings {
+            step,
+            transient_steps: (300.0 / step) as usize,
+            recorded_steps: 20 * 64,
+            ..SimSettings::default()
+        };
+        let clean = four_mass_records_with(false, &settings).unwrap();
+        let noisy = with_displacement_noise(&clean, 0.01, 7).unwrap();
+        let thresholds = SteadyStateSettings::default();
+        let mut closed = 0;
+        for quadrature in [
+            Quadrature::Trapezoid,
+            Quadrature::Rectangular,
+            Quadrature::Spectral,
+        ] {
+            for harmonics in [None, Some(3)] {
+                let rows = Some(RowHarmonics(harmonics));
+                let spec = WindowSpec::cycles(1);
+                let (report, fits) =
+                    check_making_fits(&noisy, &spec, quadrature, None, &thresholds, rows).unwrap();
+                let alone = check(&noisy, &spec, quadrature, None, &thresholds).unwrap();
+                assert_eq!(report, alone);
+                let fits = fits.expect("fits asked for");
+                let mut windows = 0;
+                for (index, record) in noisy.iter().enumerate() {
+                    for w in spec.windows(record, index, quadrature).unwrap() {
+                        let (h, t) = (record.step(), record.period());
+                        let count = w.weights(quadrature, h, t).unwrap().len();
+                        let available = record.samples() - w.start;
+                        let whole = WholePeriods::of_window(count, available, h, t).unwrap();
+                        let x = record.displacements().subrows(w.start, whole.samples);
+                        let own = WindowFit::new(x, h, t, whole, harmonics).unwrap();
+                        let made = fits.get(&noisy, index, w.start).expect("a fit per window");
+                        assert!(made.is_of(whole, harmonics));
+                        assert_eq!(made, &own, "{quadrature:?}, record {index}, {w:?}");
+                        windows += 1;
+                        closed += usize::from(w.closed);
+                    }
+                }
+                assert_eq!(fits.len(), windows);
+            }
+            let spec = WindowSpec::cycles(3);
+            let (_, fits) = check_making_fits(
+                &noisy,
+                &spec,
+                quadrature,
+                None,
+                &thresholds,
+                Some(RowHarmonics(None)),
+            )
+            .unwrap();
+            assert_eq!(fits.map(|f| f.len()), Some(0));
+        }
+        assert!(closed > 0, "a window that closes periodically");
     }
 }

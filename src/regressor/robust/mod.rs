@@ -62,6 +62,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::Result;
 use crate::model::DampingModel;
+use crate::prep::fourier::WindowFits;
 use crate::prep::quadrature::Quadrature;
 use crate::prep::window::Window;
 use crate::record::Record;
@@ -70,7 +71,8 @@ use crate::regressor::{Row, map_windows};
 
 /// The noise-robust rows of `windows` of `records` (in parallel), and their noise
 /// model. `harmonics`: `Some(K)` keeps harmonics 1..K, `None` those above the noise
-/// floor.
+/// floor. `fits`: the windows' harmonic fits made already by the steady-state check,
+/// where it made them (`prep/fourier/window_fit.rs`).
 pub(crate) fn rows(
     model: &DampingModel,
     records: &[Record],
@@ -78,6 +80,7 @@ pub(crate) fn rows(
     quadrature: Quadrature,
     harmonics: Option<usize>,
     work_form: WorkForm,
+    fits: Option<&WindowFits>,
 ) -> Result<(Vec<Row>, NoiseModel)> {
     let robust = map_windows(true, windows, |w| {
         row::robust_row(
@@ -87,6 +90,7 @@ pub(crate) fn rows(
             quadrature,
             harmonics,
             work_form,
+            fits.and_then(|fits| fits.get(records, w.record, w.start)),
         )
     })?;
     let mut rows = Vec::with_capacity(robust.len());

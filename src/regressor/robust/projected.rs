@@ -29,16 +29,16 @@ use std::cell::OnceCell;
 use faer::Mat;
 
 use crate::error::{Error, Result};
-use crate::prep::fourier::{
-    HarmonicBasis, HarmonicSelection, WholePeriods, first_orders, select_with_spectrum,
-};
+use crate::prep::fourier::{HarmonicBasis, WholePeriods, WindowFit};
 use crate::record::{Record, Sensor};
 use crate::terms::Element;
 
 /// The projection of one window's displacements.
 pub(crate) struct ProjectedWindow {
-    /// The harmonics kept and the noise estimates of the displacement channels.
-    pub(crate) selection: HarmonicSelection,
+    /// Harmonic orders kept, ascending.
+    pub(crate) kept: Vec<usize>,
+    /// Per channel, the noise standard deviation per sample of its signal.
+    pub(crate) noise_std: Vec<f64>,
     /// R of the QR factorization of the m × p design (upper triangular).
     r: Mat<f64>,
     /// The basis, for evaluating the series between samples.
@@ -81,7 +81,9 @@ fn kind_slot(kind: Sensor) -> usize {
 impl ProjectedWindow {
     /// Projects samples `start..start + rows` of `record`, a window of `span` = kT read
     /// by a rule over `count` samples (rows ≥ count), on harmonics 1..K when `harmonics`
-    /// is `Some(K)`, else on those above the noise floor.
+    /// is `Some(K)`, else on those above the noise floor; with the window's fit `made`
+    /// already (by the steady-state check, `prep/fourier/window_fit.rs`) where it is of
+    /// these samples and harmonics, else fitting them here.
     pub(crate) fn new(
         record: &Record,
         start: usize,
@@ -89,6 +91,7 @@ impl ProjectedWindow {
         rows: usize,
         span: f64,
         harmonics: Option<usize>,
+        made: Option<&WindowFit>,
     ) -> Result<Self> {
         let available = record.samples().saturating_sub(start);
         if rows > available {
@@ -108,21 +111,26 @@ impl ProjectedWindow {
             ),
         };
         let fitted = signals.subrows(start, whole.samples);
-        let (mut selection, spectrum) =
-            select_with_spectrum(fitted, step, period, whole.periods, harmonics.unwrap_or(0))?;
-        if let Some(k) = harmonics {
-            selection.kept = first_orders(k, whole.samples)?;
-        }
+        let fit = match made.filter(|fit| fit.is_of(whole, harmonics)) {
+            Some(fit) => fit.clone(),
+            None => WindowFit::new(fitted, step, period, whole, harmonics)?,
+        };
+        let WindowFit {
+            kept,
+            noise_std,
+            coefficients: measured,
+            ..
+        } = fit;
         let omega = 2.0 * std::f64::consts::PI / period;
-        let basis = HarmonicBasis::with_orders(omega, selection.kept.clone(), step, whole.samples)?;
+        let basis = HarmonicBasis::with_orders(omega, kept.clone(), step, whole.samples)?;
         let r = basis.r_factor();
-        let measured = match spectrum.filter(|s| s.covers(&selection.kept)) {
-            Some(spectrum) => spectrum.fit(&selection.kept),
+        let measured = match measured {
+            Some(measured) => measured,
             None => basis.fit_with(&r, fitted),
         };
         let maps: Vec<Option<Mat<f64>>> = sensors
             .iter()
-            .map(|s| sensor_map(*s, &selection.kept, omega))
+            .map(|s| sensor_map(*s, &kept, omega))
             .collect();
         let coefficients = if maps.iter().all(Option::is_none) {
             measured
@@ -147,7 +155,8 @@ impl ProjectedWindow {
         let covariances = Default::default();
         let end_row = basis.row_at(span);
         Ok(ProjectedWindow {
-            selection,
+            kept,
+            noise_std,
             r,
             basis,
             step,

@@ -13,7 +13,7 @@ use faer::Mat;
 
 use crate::error::{Error, Result};
 use crate::model::DampingModel;
-use crate::prep::fourier::{WholePeriods, select_harmonics};
+use crate::prep::fourier::{WholePeriods, WindowFit, select_harmonics};
 use crate::prep::quadrature::Quadrature;
 use crate::prep::window::Window;
 use crate::record::{LoadDistribution, Record, Sensor};
@@ -114,7 +114,8 @@ fn force_noise(record: &Record, start: usize, count: usize) -> Result<Vec<f64>> 
     Ok(select_harmonics(block, record.step(), record.period(), whole.periods)?.noise_std)
 }
 
-/// The equation of window `w` of `record`.
+/// The equation of window `w` of `record`, with the window's harmonic fit `made`
+/// already where the steady-state check made it ([`ProjectedWindow::new`]).
 pub(super) fn robust_row(
     model: &DampingModel,
     record: &Record,
@@ -122,13 +123,14 @@ pub(super) fn robust_row(
     quadrature: Quadrature,
     harmonics: Option<usize>,
     work_form: WorkForm,
+    made: Option<&WindowFit>,
 ) -> Result<RobustRow> {
     let weights = w.weights(quadrature, record.step(), record.period())?;
     let count = weights.len();
     let path = Path::of_window(w, record.step());
     let rows = count.max(path.samples());
-    let projected = ProjectedWindow::new(record, w.start, count, rows, w.span, harmonics)?;
-    let sigma = projected.selection.noise_std.clone();
+    let projected = ProjectedWindow::new(record, w.start, count, rows, w.span, harmonics, made)?;
+    let sigma = projected.noise_std.clone();
     let force_sigma = force_noise(record, w.start, count)?;
     let forces = generalized_forces(record, w.start, rows);
     let derivative_free = work_form == WorkForm::DerivativeFree;
@@ -248,7 +250,7 @@ pub(super) fn robust_row(
         window: WindowNoise {
             record: record.label().to_string(),
             window: w.index,
-            harmonics: projected.selection.kept.clone(),
+            harmonics: projected.kept.clone(),
             displacement_noise: sigma,
             sensors: if projected.sensors.iter().all(|s| *s == Sensor::Displacement) {
                 Vec::new()
@@ -506,8 +508,9 @@ mod tests {
             integration: Integration::WholePeriods,
         })
         .expect("a valid record");
-        let projected = ProjectedWindow::new(&record, 0, rows, rows, periods as f64 * period, None)
-            .expect("a projected window");
+        let projected =
+            ProjectedWindow::new(&record, 0, rows, rows, periods as f64 * period, None, None)
+                .expect("a projected window");
         let weights: Vec<f64> = (0..rows)
             .map(|i| {
                 if i == 0 || i == rows - 1 {
@@ -517,7 +520,7 @@ mod tests {
                 }
             })
             .collect();
-        let sigma = projected.selection.noise_std.clone();
+        let sigma = projected.noise_std.clone();
         assert!(sigma.iter().all(|s| *s > 0.0), "noise estimated: {sigma:?}");
         let elements = vec![
             Element::to_ground(0),
