@@ -21,6 +21,10 @@
 //! A span's projection is then its steps 1 and 3 with its periods' fits and σ̂_j²
 //! (`projection::assemble`): the same values bit for bit as
 //! [`projection::project_periods`] of the span, at any thread count.
+//!
+//! Before noise-robust rows ([`FitRequests`]), the first span a one-period window
+//! compares also makes the window's harmonic fit from its period's spectrum
+//! (`prep/fourier/window_fit.rs`), so that the rows do not transform the period again.
 
 use std::collections::HashMap;
 
