@@ -62,7 +62,6 @@ use crate::error::{Error, Result};
 use crate::model::DampingModel;
 use crate::prep::fourier::WindowFits;
 use crate::prep::steady_state::SteadyStateReport;
-use crate::prep::velocity::VelocitySource;
 use crate::prep::window::Window;
 use crate::record::Record;
 use robust::NoiseModel;
@@ -283,16 +282,12 @@ impl Regressor {
                 "the noise-robust rows",
                 "their columns are corrected for the noise of each law's f(x, v), which a force with memory does not have; use `velocity = \"measured\"`, `central_difference` or `spectral`, or `noise = \"ignore\"`",
             )?;
-            let harmonics = match settings.velocity {
-                VelocitySource::HarmonicProjection { harmonics } => harmonics,
-                _ => None,
-            };
             let (rows, noise) = robust::rows(
                 model,
                 records,
                 &windows,
                 settings.quadrature,
-                harmonics,
+                settings.projection_harmonics(),
                 settings.work_form,
                 fits,
             )?;

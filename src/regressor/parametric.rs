@@ -17,7 +17,6 @@ use crate::prep::fourier::WindowFits;
 use crate::prep::steady_state::{
     RowHarmonics, SteadyStateReport, SteadyStateSettings, StoredEnergy,
 };
-use crate::prep::velocity::VelocitySource;
 use crate::record::Record;
 use crate::regressor::nonlinear::{NonlinearParameter, Parametric, ParametricModel};
 use crate::regressor::source::Source;
@@ -95,62 +94,62 @@ impl<'a> ParametricRegressor<'a> {
         settings: &RegressorSettings,
         thresholds: &SteadyStateSettings,
     ) -> Result<Option<SteadyStateReport>> {
-        let (records, settings, energy) = match (self.steady, self.source) {
-            (Some(input), _) => (input.records, input.settings, input.energy),
-            (None, Source::Records(records)) => (records, settings, None),
-            (None, _) => return Ok(None),
-        };
-        let Some(windows) = settings.windows.cycles() else {
-            return Ok(None);
-        };
-        crate::prep::steady_state::check(records, windows, settings.quadrature, energy, thresholds)
-            .map(Some)
+        Ok(self
+            .check(settings, thresholds, false)?
+            .map(|(report, _)| report))
     }
 
     /// [`Self::steady_state`] before the regressor is built with `settings`: where the
-    /// check reads the problem's own records and the rows are noise-robust, it also
-    /// makes each one-period window's harmonic fit as it transforms the window's
-    /// period, and the rows read it instead of transforming the period again
-    /// (`prep/fourier/window_fit.rs`). The same report and the same rows, bit for bit.
+    /// check reads the problem's own records cut as the rows are, and the rows are
+    /// noise-robust, it also makes each one-period window's harmonic fit as it
+    /// transforms the window's period, and the rows read it instead of transforming the
+    /// period again (`prep/fourier/window_fit.rs`). The same report and the same rows,
+    /// bit for bit.
     pub(crate) fn steady_state_before_rows(
         &self,
         settings: &RegressorSettings,
         thresholds: &SteadyStateSettings,
     ) -> Result<Option<SteadyStateReport>> {
-        let own = match (self.steady, self.source) {
-            (None, Source::Records(records)) => Some((records, settings)),
-            (Some(input), Source::Records(records))
-                if std::ptr::eq(input.records, records) && input.settings == settings =>
-            {
-                Some((records, settings))
-            }
-            _ => None,
-        };
-        let harmonics = match settings.velocity {
-            VelocitySource::HarmonicProjection { harmonics } => harmonics,
-            _ => None,
-        };
-        let Some((records, settings)) = own.filter(|_| settings.noise_robust().unwrap_or(false))
-        else {
-            return self.steady_state(settings, thresholds);
-        };
-        let Some(windows) = settings.windows.cycles() else {
+        let Some((report, fits)) = self.check(settings, thresholds, true)? else {
             return Ok(None);
         };
-        let energy = self.steady.and_then(|input| input.energy);
-        let (report, fits) = crate::prep::steady_state::check_making_fits(
-            records,
-            windows,
-            settings.quadrature,
-            energy,
-            thresholds,
-            Some(RowHarmonics(harmonics)),
-        )?;
         if let Some(fits) = fits {
             // a second check of the same problem made the same fits
             let _ = self.fits.set(fits);
         }
         Ok(Some(report))
+    }
+
+    /// The check of [`Self::steady_state`], with the rows' window fits when `for_rows`
+    /// and they would read them.
+    fn check(
+        &self,
+        settings: &RegressorSettings,
+        thresholds: &SteadyStateSettings,
+        for_rows: bool,
+    ) -> Result<Option<(SteadyStateReport, Option<WindowFits>)>> {
+        let (records, checked, energy) = match (self.steady, self.source) {
+            (Some(input), _) => (input.records, input.settings, input.energy),
+            (None, Source::Records(records)) => (records, settings, None),
+            (None, _) => return Ok(None),
+        };
+        let Some(windows) = checked.windows.cycles() else {
+            return Ok(None);
+        };
+        let own = matches!(self.source, Source::Records(r) if std::ptr::eq(r, records));
+        // a settings error is the build's to report, after the check's verdict
+        let robust = settings.noise_robust().unwrap_or(false);
+        let rows = (for_rows && own && checked == settings && robust)
+            .then(|| RowHarmonics(settings.projection_harmonics()));
+        crate::prep::steady_state::check_making_fits(
+            records,
+            windows,
+            checked.quadrature,
+            energy,
+            thresholds,
+            rows,
+        )
+        .map(Some)
     }
 
     /// A damping model with nothing estimated on the equations of `source`.
@@ -247,6 +246,7 @@ impl<'a> ParametricRegressor<'a> {
 mod tests {
     use super::*;
     use crate::prep::quadrature::Quadrature;
+    use crate::prep::velocity::VelocitySource;
     use crate::prep::window::WindowSpec;
     use crate::record::{MeasuredMotion, Sensor};
     use crate::reference::{four_mass_model, four_mass_records_with, with_displacement_noise};

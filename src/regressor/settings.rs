@@ -263,6 +263,15 @@ impl RegressorSettings {
         }
     }
 
+    /// The harmonics a harmonic projection keeps: `Some(K)` for 1..K, `None` for those
+    /// above the noise floor (and for every other velocity source).
+    pub fn projection_harmonics(&self) -> Option<usize> {
+        match self.velocity {
+            VelocitySource::HarmonicProjection { harmonics } => harmonics,
+            _ => None,
+        }
+    }
+
     /// Whether the noise-robust pipeline runs: `Auto` runs it with harmonic-projection
     /// velocities; `Correct` with any other source is an error.
     pub fn noise_robust(&self) -> Result<bool> {
