@@ -261,17 +261,18 @@ impl WholeSampleDft {
     }
 
     /// The spectrum [`WholeSampleDft::new`] makes of a window of one period (no bins
-    /// between harmonics), from bins made already: `harmonics[c]` = X_0 … X_K of channel
-    /// c's first `length` samples less `first[c]`, and `closing[c]` = x_L − x_0 when the
-    /// window holds `length` + 1 samples. The caller checked the shape
-    /// ([`transform_length`]).
+    /// between harmonics), from bins made already: X_0 … X_K (K = `highest`) of channel
+    /// c's first `length` samples less `first[c]` at `harmonics[c (K + 1)..]`, and
+    /// `closing[c]` = x_L − x_0 when the window holds `length` + 1 samples. The caller
+    /// checked the shape ([`transform_length`]).
     pub(super) fn of_one_period(
         length: usize,
+        highest: usize,
         first: Vec<f64>,
         closing: Option<Vec<f64>>,
         harmonics: Vec<Complex<f64>>,
     ) -> Self {
-        let highest = harmonics.len() / first.len().max(1) - 1;
+        debug_assert_eq!(harmonics.len(), first.len() * (highest + 1));
         WholeSampleDft {
             length,
             samples: length + usize::from(closing.is_some()),

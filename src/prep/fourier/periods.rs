@@ -143,6 +143,7 @@ impl PeriodSpectrum {
         }
         Some(WholeSampleDft::of_one_period(
             length,
+            highest,
             self.first.clone(),
             closing,
             harmonics,
