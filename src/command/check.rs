@@ -80,8 +80,10 @@ pub fn run(job: &Job, options: CheckOptions) -> Result<CheckReport> {
     }
     settings.fit.accept_negative_work |= options.accept_negative_work;
     let problem = job.problem();
+    // the check before the rows, as `identify` runs it: the rows read the window fits
+    // it made (`prep/fourier/window_fit.rs`)
     let steady = match &settings.steady_state {
-        Some(thresholds) => problem.steady_state(&settings.regressor, thresholds)?,
+        Some(thresholds) => problem.steady_state_before_rows(&settings.regressor, thresholds)?,
         None => None,
     };
     let refused = steady
@@ -90,7 +92,8 @@ pub fn run(job: &Job, options: CheckOptions) -> Result<CheckReport> {
         .map(|e| format!("{e}; {}", super::TRANSIENT_HINT));
     let source = problem.source();
     settings.fit.validate()?;
-    let regressor = job.initial_regressor()?;
+    // the job's initial regressor (Job::initial_regressor), of the problem checked above
+    let regressor = problem.regressor(&problem.initial_values(), &settings.regressor)?;
     Ok(CheckReport {
         model: job.title.clone(),
         detected_periods: job.detected(),
