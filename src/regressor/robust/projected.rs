@@ -271,6 +271,18 @@ impl ProjectedWindow {
         })
     }
 
+    /// [`Self::covariance_trace`] of `a` for channel `j`, kept in `traces` per sensor
+    /// kind (C_j is one per kind): a term's elements ask for it once per end, a window's
+    /// channels have at most three kinds.
+    pub(crate) fn covariance_trace_in(
+        &self,
+        traces: &mut [Option<f64>; 3],
+        a: &Mat<f64>,
+        j: usize,
+    ) -> f64 {
+        *traces[kind_slot(self.sensors[j])].get_or_insert_with(|| self.covariance_trace(a, j))
+    }
+
     /// tr(A C_j) for a p × p matrix `a` and C_j the [`Self::unit_covariance`] of
     /// channel `j`: the expected noise contribution per unit variance of a quadratic form
     /// cᵀ A c in channel j's coefficients.
@@ -314,13 +326,20 @@ pub(crate) fn signed_ends(element: &Element) -> Vec<(usize, f64)> {
 impl ProjectedWindow {
     /// The coefficients Σ_j s_j c_j of the combination `terms` = [(channel j, s_j)].
     pub(crate) fn combination(&self, terms: &[(usize, f64)]) -> Vec<f64> {
-        let columns: Vec<(&[f64], f64)> = terms
-            .iter()
-            .map(|&(j, s)| (self.coefficients.col_as_slice(j), s))
-            .collect();
-        (0..self.columns())
-            .map(|k| columns.iter().map(|(c, s)| s * c[k]).sum())
-            .collect()
+        let mut c = vec![0.0; self.columns()];
+        self.combination_into(terms, &mut c);
+        c
+    }
+
+    /// [`Self::combination`] written into `out` (p values), for a caller that forms one
+    /// per element.
+    pub(crate) fn combination_into(&self, terms: &[(usize, f64)], out: &mut [f64]) {
+        for (k, value) in out.iter_mut().enumerate() {
+            *value = terms
+                .iter()
+                .map(|&(j, s)| s * self.coefficients[(k, j)])
+                .sum();
+        }
     }
 
     /// The exact total variation over [0, `span`] of the series with coefficients `c`,

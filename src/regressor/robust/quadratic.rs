@@ -53,11 +53,14 @@ pub(super) fn add_columns(
     let m = projected.weighted_gram(weights, true);
     let p = m.nrows();
     let mut slope = vec![0.0; p];
+    let mut c = vec![0.0; p];
+    // tr(M C_j) per sensor kind, M being the window's
+    let mut traces = [None; 3];
     for (e, element) in term.elements().iter().enumerate() {
         let weight = term.weights().map_or(1.0, |w| w[e]);
         let column = first + term.coefficients().column_of(e);
         let ends = signed_ends(element);
-        let c = projected.combination(&ends);
+        projected.combination_into(&ends, &mut c);
         // 2 M c and cᵀ M c
         let mut value = 0.0;
         for (j, s) in slope.iter_mut().enumerate() {
@@ -69,7 +72,7 @@ pub(super) fn add_columns(
         for &(j, _) in &ends {
             let variance = sigma[j] * sigma[j];
             if variance != 0.0 {
-                bias += variance * projected.covariance_trace(&m, j);
+                bias += variance * projected.covariance_trace_in(&mut traces, &m, j);
             }
         }
         columns[column] += weight * (value - bias);

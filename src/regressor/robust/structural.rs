@@ -88,10 +88,13 @@ pub(super) fn add_columns(
 ) {
     let n = rotated_gram(projected, weights);
     let p = n.nrows();
+    let mut c = vec![0.0; p];
+    // tr(N C_j) per sensor kind, N being the window's
+    let mut traces = [None; 3];
     for (index, (element, &k)) in term.elements().iter().zip(term.stiffness()).enumerate() {
         let column = first + term.column_of(index);
         let ends = signed_ends(element);
-        let c = projected.combination(&ends);
+        projected.combination_into(&ends, &mut c);
         // (N + Nᵀ) c and cᵀ N c
         let mut sym_c = vec![0.0; p];
         let mut value = 0.0;
@@ -110,7 +113,7 @@ pub(super) fn add_columns(
             if variance == 0.0 {
                 continue;
             }
-            bias += variance * projected.covariance_trace(&n, j);
+            bias += variance * projected.covariance_trace_in(&mut traces, &n, j);
         }
         columns[column] += k * (value - bias);
         for &(j, sign) in &ends {
