@@ -407,7 +407,7 @@ impl Kernel for TwoPeriods<'_> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::prep::fourier::{WholeSampleDft, select_with_residuals};
     use faer::Mat;
@@ -415,8 +415,8 @@ mod tests {
 
     /// A periodic response (harmonics 1, 2, 3, 5, an offset), with seeded Gaussian-like
     /// noise (a sum of uniforms) and optionally a decaying transient, on `periods`
-    /// periods of `per_period` samples.
-    fn signal(
+    /// periods of `per_period` samples (also `window_fit.rs`'s).
+    pub(in crate::prep::fourier) fn signal(
         per_period: usize,
         periods: usize,
         channels: usize,

@@ -182,29 +182,9 @@ impl WindowFits {
 
 #[cfg(test)]
 mod tests {
+    use super::super::periods::tests::signal;
     use super::super::span_harmonics;
     use super::*;
-    use rand::{Rng, SeedableRng};
-
-    /// `samples` samples of a response with harmonics 1, 2, 3, 5 of ω = 2π/T, an offset
-    /// of 40 and Gaussian-like noise of standard deviation `noise`, on h = T/N.
-    fn signal(samples: usize, per_period: usize, noise: f64, seed: u64) -> (Mat<f64>, f64, f64) {
-        let period = 0.8;
-        let step = period / per_period as f64;
-        let omega = 2.0 * std::f64::consts::PI / period;
-        let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
-        let x = Mat::from_fn(samples, 4, |i, j| {
-            let t = i as f64 * step;
-            let s = 1.0 + j as f64;
-            let gauss: f64 = (0..12).map(|_| rng.random::<f64>()).sum::<f64>() - 6.0;
-            40.0 + s * (omega * t - 0.3 * s).cos()
-                + 0.2 * (2.0 * omega * t).sin()
-                + 0.05 * s * (3.0 * omega * t + 1.0).cos()
-                + 0.01 * (5.0 * omega * t).sin()
-                + noise * gauss
-        });
-        (x, step, period)
-    }
 
     /// A one-period window's fit read off its period's spectrum (the one the
     /// steady-state check makes, with the bins a span of two periods reads) is the
@@ -216,7 +196,8 @@ mod tests {
     fn a_windows_fit_off_its_periods_spectrum_is_its_own() {
         for per_period in [64usize, 101, 400] {
             for noise in [0.0, 1e-3] {
-                let (x, step, period) = signal(per_period + 1, per_period, noise, 3);
+                // two periods, of which the window reads one and the closing sample
+                let (x, step, period) = signal(per_period, 2, 4, noise, 0.0, 3);
                 let kept = span_harmonics(per_period, step, period);
                 let spectrum = PeriodSpectrum::new(x.as_ref().subrows(0, per_period), kept);
                 for m in [per_period, per_period + 1] {
@@ -256,12 +237,13 @@ mod tests {
     /// sample, and for no other list of records.
     #[test]
     fn fits_answer_for_their_own_records_only() {
-        let (x, step, period) = signal(65, 64, 1e-3, 9);
+        let (x, step, period) = signal(64, 2, 4, 1e-3, 0.0, 9);
+        let x = x.subrows(0, 65);
         let whole = WholePeriods {
             periods: 1,
             samples: 65,
         };
-        let fit = WindowFit::new(x.as_ref(), step, period, whole, None).unwrap();
+        let fit = WindowFit::new(x, step, period, whole, None).unwrap();
         let records = crate::reference::four_mass_records(false, 3).unwrap();
         let fits = WindowFits::new(&records, [((1, 130), fit.clone()), ((1, 130), fit)]);
         assert_eq!(fits.len(), 1);
