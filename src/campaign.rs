@@ -59,7 +59,7 @@ fn rows_in_pool(
     }
     let problem = ParametricRegressor::linear(model, records);
     let steady = match &settings.steady_state {
-        Some(thresholds) => problem.steady_state_before_rows(&settings.regressor, thresholds)?,
+        Some(thresholds) => problem.steady_state(&settings.regressor, thresholds)?,
         None => None,
     };
     if let Some(steady) = &steady {

@@ -173,7 +173,7 @@ pub fn identify(
         // Rows built apart carry the check made where they were built (crate::campaign).
         (_, Source::Rows(rows)) => rows.shared_steady_state(),
         (Some(steady), _) => problem
-            .steady_state_before_rows(&settings.regressor, steady)?
+            .steady_state(&settings.regressor, steady)?
             .map(Arc::new),
         (None, _) => None,
     };

@@ -272,9 +272,12 @@ fn named<'a>(report: &'a FitReport, off: &[String]) -> Vec<&'a Warning> {
 
 /// The fuzz finding 13f68…: a 3-DOF chain, dashpots (1, 1, 1, 2)/64; five records driven
 /// on DOF 2 near mode 2 (its node) and two on DOF 1 near mode 1, 10⁻⁴ noise, the default
-/// pipeline, nonnegative. Noise puts c[0-1] on 0, and c[2-3] comes out 22 of its standard
-/// errors from the truth, "determined", with the χ² check passing. The report must say
-/// that the bound sets it, and the truth of c[0-1] lies within what the data allow.
+/// pipeline, nonnegative. Noise puts c[0-1] on 0, and c[2-3] comes out many of its
+/// standard errors from the truth, "determined", with the χ² check passing: with about
+/// two draws of the noise in five (seeds 1 and 2 of the first eight here; seed 0 did
+/// when each window estimated its own noise). Wherever it does, the report must say that
+/// the bound sets it, and where the data allow values above the bound, the truth of
+/// c[0-1] lies among them.
 #[test]
 fn a_coefficient_that_noise_puts_on_its_bound_is_said_to_set_the_others() {
     let truth = [1.0 / 64.0, 1.0 / 64.0, 1.0 / 64.0, 2.0 / 64.0];
@@ -287,31 +290,48 @@ fn a_coefficient_that_noise_puts_on_its_bound_is_said_to_set_the_others() {
         (0, 1, detune(254.0), amplitude(106.0)),
         (0, 1, detune(255.0), amplitude(101.0)),
     ];
-    let regressor = RegressorSettings {
-        windows: Windows::Cycles(WindowSpec::cycles(1)),
-        ..RegressorSettings::default()
-    };
-    let (report, off) = fuzz_case(3, &truth, &experiments, 1e-4, 0, regressor);
-    for w in named(&report, &off) {
-        let Warning::BoundSetsCoefficients {
-            coefficient,
-            allowed,
-            ..
-        } = w
-        else {
-            unreachable!()
+    let (mut reproduced, mut within) = (0, 0);
+    for seed in 0..4 {
+        let regressor = RegressorSettings {
+            windows: Windows::Cycles(WindowSpec::cycles(1)),
+            ..RegressorSettings::default()
         };
-        let t = truth[report
-            .coefficients
-            .iter()
-            .position(|c| &c.name == coefficient)
-            .unwrap()];
-        let allowed = allowed.expect("the data allow values above the bound");
-        assert!(
-            t <= allowed,
-            "{coefficient}: truth {t}, allowed up to {allowed}"
-        );
+        let (report, off) = fuzz_case(3, &truth, &experiments, 1e-4, seed, regressor);
+        if off.is_empty() {
+            continue;
+        }
+        reproduced += 1;
+        for w in named(&report, &off) {
+            let Warning::BoundSetsCoefficients {
+                coefficient,
+                allowed,
+                ..
+            } = w
+            else {
+                unreachable!()
+            };
+            let t = truth[report
+                .coefficients
+                .iter()
+                .position(|c| &c.name == coefficient)
+                .unwrap()];
+            // where the data allow values above the bound, the truth is among them (a
+            // draw may also put the free estimate beyond the bound's other side: then
+            // the warning says the data contradict the bound, and names the same)
+            if let Some(allowed) = *allowed {
+                assert!(
+                    t <= allowed,
+                    "seed {seed}, {coefficient}: truth {t}, allowed up to {allowed}"
+                );
+                within += 1;
+            }
+        }
     }
+    assert!(
+        reproduced >= 1,
+        "the case no longer reproduces with seeds 0..4"
+    );
+    assert!(within >= 1, "no draw where the data allow the truth:\n");
 }
 
 /// The fuzz finding 18351…: a 2-DOF chain, dashpots (6, 16, 16)/64, six records driven

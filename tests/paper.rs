@@ -33,9 +33,11 @@ fn four_mass_cases_meet_their_tolerances_with_exact_rules() {
 }
 
 /// The chain with the cubic spring and a spurious Coulomb term on every mass (true value
-/// 0): least squares puts it slightly below zero (−1.2e-4 with these settings; the
-/// simulation is deterministic), the nonnegative fit holds it exactly at 0 and keeps c
-/// and d on the truth.
+/// 0), on measured velocities: least squares puts it slightly below zero (−1.1e-4 with
+/// these settings; the simulation is deterministic), the nonnegative fit holds it
+/// exactly at 0 and keeps c and d on the truth. (The default pipeline puts it at
+/// +8e-5 on these noise-free records, where its weights are set by round-off, so it
+/// has no bound to hold there.)
 #[test]
 fn nonnegative_fit_holds_a_spurious_friction_term_at_zero() {
     let records = four_mass_records(true, 4).unwrap();
@@ -49,6 +51,7 @@ fn nonnegative_fit_holds_a_spurious_friction_term_at_zero() {
         .with(Term::per_dof(Coulomb, 4, Coefficients::Shared("mu".into())));
     let mut settings = IdentifySettings::default();
     settings.regressor.windows = WindowSpec::cycles(1).first(4).into();
+    settings.regressor.velocity = VelocitySource::Measured;
     let ls = identify(
         &ParametricRegressor::linear(&model, &records),
         &settings,

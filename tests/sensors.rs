@@ -431,7 +431,10 @@ fn study(sensors: [Sensor; 4], level: f64, seeds: u64) -> Vec<[(f64, f64); 2]> {
 /// 0.5 % whatever the sensor, displacement sensors included; see
 /// `sensor_kind_costs_no_accuracy`.) At 0.2 % noise every draw is within 0.5 %.
 fn assert_accurate_and_calibrated(sensors: [Sensor; 4]) {
-    let results = study(sensors, 0.01, 12);
+    // 24 draws: c and d of a draw err together, so 12 draws are about 12 samples of the
+    // calibration, too few for 80 % (the first 12 gave 19 of 24 within 2 SE with
+    // accelerometers; 48 draws give 91 of 96, mean z² 1.09)
+    let results = study(sensors, 0.01, 24);
     let mut within_two = 0;
     let mut mean = [0.0; 2];
     for draw in &results {

@@ -2,9 +2,11 @@
 # The steady-state check's share of one `dampid identify` run by instructions (issue 32's
 # "the check ≤ 15 % of the run"), which neither the machine's load nor this VM's page
 # zeroing moves: `valgrind --tool=callgrind` on one thread, the check being the inclusive
-# cost of its four entry points (the spans' noise floor and residual `fit_span_from`, the
-# periods' transforms `period_spectrum`, the periods' fits `fit_period_from`, the judging
-# `check_window`; none calls another). Callgrind runs AVX2 code where the CPU has AVX-512,
+# cost of its entry points on rayon's worker (the records' noise `RecordNoise::of`, the
+# spans' tasks `project_task`: period fits and span residuals, the judging `check_window`)
+# and of `check_with` itself on the main thread (its serial part: the spans' plan, the report,
+# the drops); none calls another. In the default run the records' noise is also the
+# rows': the check estimates it for both. Callgrind runs AVX2 code where the CPU has AVX-512,
 # so the instruction mix is not the machine's; wall time is `check_phase.sh`'s and
 # `one_record.sh`'s. Takes 3–4 minutes per run on the 323 MB record. Not run in CI.
 #
@@ -16,15 +18,15 @@ out=$(mktemp)
 trap 'rm -f "$out"' EXIT
 (cd "$(dirname "$model")" && RAYON_NUM_THREADS=1 valgrind --tool=callgrind --callgrind-out-file="$out" \
     "$bin" identify "$model" >/dev/null 2>&1)
-callgrind_annotate --inclusive=yes "$out" 2>/dev/null | python3 -c '
+callgrind_annotate --inclusive=yes --threshold=100 "$out" 2>/dev/null | python3 -c '
 import re, sys
-parts = ("projection::fit_span_from", "projection::period_spectrum",
-         "projection::fit_period_from", "judge::check_window")
+parts = ("fourier::noise_floor::select_with_spectrum", "fourier::record_noise::RecordNoise::of", "steady_state::spans::project_task",
+         "steady_state::judge::check_window", "steady_state::check_with")
 total, found = None, {}
 for line in sys.stdin:
     if "PROGRAM TOTALS" in line:
         total = int(line.split()[0].replace(",", ""))
-    m = re.match(r"\s*([\d,]+) .*\?\?\?:dampid::prep::steady_state::(\S+) ", line)
+    m = re.match(r"\s*([\d,]+) .*\?\?\?:dampid::prep::(\S+) ", line)
     if m and m.group(2) in parts:
         found.setdefault(m.group(2), int(m.group(1).replace(",", "")))
 check = sum(found.values())

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The steady-state check's share of one `dampid identify` run by wall time (issue 32's "the
 # check ≤ 15 % of the run"): perf samples the run at 2 kHz on every thread; the check's
-# phase is from its first to its last sample in the check's functions (the spans' spectra,
-# the noise floor, the period fits, the judging). Prints the phase, the run, and the
-# functions most sampled inside the phase. Needs `perf`. Not run in CI.
+# phase is from its first to its last sample in the check's functions (the records'
+# noise, the period fits, the judging; with the measured pipeline no other stage calls
+# them). Prints the phase, the run, and the functions most sampled inside the phase.
+# Needs `perf`. Not run in CI.
 #
 #   bash benches/end_to_end/check_phase.sh target/release/dampid /tmp/dampid-one/one_record_measured.toml 3
 #
@@ -23,7 +24,7 @@ for line in sys.stdin:
     p = line.split()
     if len(p) >= 4:
         rows.append((float(p[1].rstrip(":")), " ".join(p[3:])))
-keys = ("periods::", "steady_state", "WholeSampleDft", "realfft", "rustfft", "noise_floor")
+keys = ("steady_state", "record_noise", "noise_floor", "packed::", "WholeSampleDft", "realfft", "rustfft")
 inside = [t for t, s in rows if any(k in s for k in keys)]
 start, end = min(inside), max(inside)
 total = rows[-1][0] - rows[0][0]

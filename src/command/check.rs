@@ -80,10 +80,9 @@ pub fn run(job: &Job, options: CheckOptions) -> Result<CheckReport> {
     }
     settings.fit.accept_negative_work |= options.accept_negative_work;
     let problem = job.problem();
-    // the check before the rows, as `identify` runs it: the rows read the window fits
-    // it made (`prep/fourier/window_fit.rs`)
+    // the check, then the rows, of one problem, as `identify` runs them
     let steady = match &settings.steady_state {
-        Some(thresholds) => problem.steady_state_before_rows(&settings.regressor, thresholds)?,
+        Some(thresholds) => problem.steady_state(&settings.regressor, thresholds)?,
         None => None,
     };
     let refused = steady

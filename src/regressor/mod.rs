@@ -60,7 +60,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 use crate::model::DampingModel;
-use crate::prep::fourier::WindowFits;
+use crate::prep::fourier::RecordNoises;
 use crate::prep::steady_state::SteadyStateReport;
 use crate::prep::window::Window;
 use crate::record::Record;
@@ -198,14 +198,15 @@ impl Regressor {
     }
 
     /// [`Regressor::build`], a free decay's η-independent part kept in `cache` across
-    /// calls (`free_decay.rs`), and the noise-robust rows' harmonic fits read from
-    /// `fits` where the steady-state check made them (`prep/fourier/window_fit.rs`).
+    /// calls (`free_decay.rs`), and the noise-robust rows reading the records' harmonics
+    /// and noise from `noises` where they are of these records
+    /// (`prep/fourier/record_noise.rs`).
     pub(crate) fn build_with<'a>(
         model: &DampingModel,
         source: impl Into<Source<'a>>,
         settings: &RegressorSettings,
         cache: Option<&free_decay::DecayCache>,
-        fits: Option<&WindowFits>,
+        noises: Option<&RecordNoises>,
     ) -> Result<Self> {
         let records = match source.into() {
             Source::Records(records) => records,
@@ -289,7 +290,7 @@ impl Regressor {
                 settings.quadrature,
                 settings.projection_harmonics(),
                 settings.work_form,
-                fits,
+                noises,
             )?;
             let mut regressor = Self::assemble(records, &windows, rows, columns)?;
             regressor.noise = Some(Arc::new(noise));

@@ -13,10 +13,8 @@ use std::sync::{Arc, OnceLock};
 
 use crate::error::{Error, Result};
 use crate::model::DampingModel;
-use crate::prep::fourier::WindowFits;
-use crate::prep::steady_state::{
-    RowHarmonics, SteadyStateReport, SteadyStateSettings, StoredEnergy,
-};
+use crate::prep::fourier::RecordNoises;
+use crate::prep::steady_state::{SteadyStateReport, SteadyStateSettings, StoredEnergy};
 use crate::record::Record;
 use crate::regressor::nonlinear::{NonlinearParameter, Parametric, ParametricModel};
 use crate::regressor::source::Source;
@@ -34,9 +32,10 @@ pub struct ParametricRegressor<'a> {
     steady: Option<SteadyStateInput<'a>>,
     /// A free decay's cycles and weights, made at the first trial (`free_decay.rs`).
     decay: super::DecayCache,
-    /// The noise-robust rows' harmonic fits of one-period windows, made by the
-    /// steady-state check ([`ParametricRegressor::steady_state_before_rows`]).
-    fits: Arc<OnceLock<WindowFits>>,
+    /// The harmonics and noise of the problem's records, estimated by its steady-state
+    /// check or its first build of noise-robust rows, whichever comes first, and read by
+    /// every later one (`prep/fourier/record_noise.rs`).
+    noises: Arc<OnceLock<RecordNoises>>,
 }
 
 /// What the steady-state check of a problem reads when it is not the problem's own
@@ -63,7 +62,7 @@ impl<'a> ParametricRegressor<'a> {
             source,
             steady: None,
             decay: super::DecayCache::default(),
-            fits: Arc::default(),
+            noises: Arc::default(),
         }
     }
 
@@ -94,40 +93,6 @@ impl<'a> ParametricRegressor<'a> {
         settings: &RegressorSettings,
         thresholds: &SteadyStateSettings,
     ) -> Result<Option<SteadyStateReport>> {
-        Ok(self
-            .check(settings, thresholds, false)?
-            .map(|(report, _)| report))
-    }
-
-    /// [`Self::steady_state`] before the regressor is built with `settings`: where the
-    /// check reads the problem's own records cut as the rows are, and the rows are
-    /// noise-robust, it also makes each one-period window's harmonic fit as it
-    /// transforms the window's period, and the rows read it instead of transforming the
-    /// period again (`prep/fourier/window_fit.rs`). The same report and the same rows,
-    /// bit for bit.
-    pub(crate) fn steady_state_before_rows(
-        &self,
-        settings: &RegressorSettings,
-        thresholds: &SteadyStateSettings,
-    ) -> Result<Option<SteadyStateReport>> {
-        let Some((report, fits)) = self.check(settings, thresholds, true)? else {
-            return Ok(None);
-        };
-        if let Some(fits) = fits {
-            // a second check of the same problem made the same fits
-            let _ = self.fits.set(fits);
-        }
-        Ok(Some(report))
-    }
-
-    /// The check of [`Self::steady_state`], with the rows' window fits when `for_rows`
-    /// and they would read them.
-    fn check(
-        &self,
-        settings: &RegressorSettings,
-        thresholds: &SteadyStateSettings,
-        for_rows: bool,
-    ) -> Result<Option<(SteadyStateReport, Option<WindowFits>)>> {
         let (records, checked, energy) = match (self.steady, self.source) {
             (Some(input), _) => (input.records, input.settings, input.energy),
             (None, Source::Records(records)) => (records, settings, None),
@@ -136,18 +101,16 @@ impl<'a> ParametricRegressor<'a> {
         let Some(windows) = checked.windows.cycles() else {
             return Ok(None);
         };
+        // the problem's own records: their noise, estimated here, serves its rows too
         let own = matches!(self.source, Source::Records(r) if std::ptr::eq(r, records));
-        // a settings error is the build's to report, after the check's verdict
-        let robust = settings.noise_robust().unwrap_or(false);
-        let rows = (for_rows && own && checked == settings && robust)
-            .then(|| RowHarmonics(settings.projection_harmonics()));
-        crate::prep::steady_state::check_making_fits(
+        let noises = own.then(|| self.noises.get_or_init(|| RecordNoises::of(records)));
+        crate::prep::steady_state::check_with(
             records,
             windows,
             checked.quadrature,
             energy,
             thresholds,
-            rows,
+            noises,
         )
         .map(Some)
     }
@@ -229,7 +192,14 @@ impl<'a> ParametricRegressor<'a> {
             }
             other => other,
         };
-        Regressor::build_with(&model, source, settings, Some(&self.decay), self.fits.get())
+        // the records' noise once per problem, for noise-robust rows
+        let noises = match source {
+            Source::Records(records) if settings.noise_robust().unwrap_or(false) => {
+                Some(self.noises.get_or_init(|| RecordNoises::of(records)))
+            }
+            _ => None,
+        };
+        Regressor::build_with(&model, source, settings, Some(&self.decay), noises)
     }
 
     /// The group of each equation whose errors may be correlated and which a bootstrap
@@ -254,13 +224,14 @@ mod tests {
     use crate::regressor::settings::{NoiseTreatment, WorkForm};
     use crate::simulate::SimSettings;
 
-    /// The noise-robust rows built after the check made their windows' fits are the
-    /// rows built alone, bit for bit (the regressor with its noise model, as JSON), on
-    /// records of whole samples per period with displacement sensors and with velocity
-    /// and acceleration sensors, on the noise floor's harmonics and on 1..K, in both work
-    /// forms; and every window's fit was made by the check.
+    /// The noise-robust rows of a problem, which estimates its records' noise once (at
+    /// its steady-state check or its first build) and keeps it, are the rows built
+    /// alone, bit for bit (the regressor with its noise model, as JSON), at the first
+    /// build and at the next, on records with displacement sensors and with velocity
+    /// and acceleration sensors, on the noise floor's harmonics and on 1..K, in both
+    /// work forms. Plain rows estimate no noise.
     #[test]
-    fn rows_after_the_check_are_the_rows_alone() {
+    fn rows_on_the_problems_record_noise_are_the_rows_alone() {
         let period = 2.0 * std::f64::consts::PI / 0.618;
         let step = period / 64.0;
         let settings = SimSettings {
@@ -309,32 +280,33 @@ mod tests {
                         noise: NoiseTreatment::Auto,
                         work_form,
                     };
-                    let problem = ParametricRegressor::linear(&model, records.as_slice());
-                    let report = problem
-                        .steady_state_before_rows(&settings, &thresholds)
-                        .unwrap();
-                    let windows = report.expect("a check").windows.len();
-                    assert_eq!(problem.fits.get().map(WindowFits::len), Some(windows));
-                    let after = problem.regressor(&[], &settings).unwrap();
+                    let json = |r: &Regressor| serde_json::to_string(r).unwrap();
                     let alone = Regressor::build(&model, records.as_slice(), &settings).unwrap();
-                    assert_eq!(
-                        serde_json::to_string(&after).unwrap(),
-                        serde_json::to_string(&alone).unwrap(),
-                        "{harmonics:?}, {work_form:?}"
-                    );
+                    // estimated by the first build, or by the check before it
+                    for checked in [false, true] {
+                        let problem = ParametricRegressor::linear(&model, records.as_slice());
+                        if checked {
+                            problem.steady_state(&settings, &thresholds).unwrap();
+                            assert!(problem.noises.get().is_some(), "estimated by the check");
+                        }
+                        let first = problem.regressor(&[], &settings).unwrap();
+                        let noises = problem.noises.get().expect("estimated once");
+                        let after = problem.regressor(&[], &settings).unwrap();
+                        assert!(std::ptr::eq(noises, problem.noises.get().unwrap()));
+                        assert_eq!(json(&first), json(&after));
+                        assert_eq!(json(&after), json(&alone), "{harmonics:?}, {work_form:?}");
+                    }
                 }
             }
         }
-        // plain rows ask for no fits
+        // plain rows estimate no noise
         let plain = RegressorSettings::plain(
             WindowSpec::cycles(1),
             Quadrature::Trapezoid,
             VelocitySource::Measured,
         );
         let problem = ParametricRegressor::linear(&model, clean.as_slice());
-        problem
-            .steady_state_before_rows(&plain, &thresholds)
-            .unwrap();
-        assert!(problem.fits.get().is_none());
+        problem.regressor(&[], &plain).unwrap();
+        assert!(problem.noises.get().is_none());
     }
 }

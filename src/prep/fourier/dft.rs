@@ -45,15 +45,6 @@
 //! own bin, (Re X_j, −Im X_j), plus for m = L + 1 the closing residual
 //! (r_L, 0) with r_L = x_L − uᵀc (cos 2πj = 1, sin 2πj = 0).
 //!
-//! **Residual (m = L).** The fitted series on the orders S is the inverse DFT of the bins
-//! 0 and ±kP, k ∈ S, so the residual's DFT is X with those bins removed, and Parseval
-//! gives its sum of squares from the other bins of the half spectrum, with no
-//! cancellation between large terms:
-//!
-//! ```text
-//!   RSS_S = (1/L) Σ_{0 < j ≤ L/2, j ∉ P·S} w_j |X_j|²,   w_j = 1 at j = L/2 (L even), else 2.
-//! ```
-//!
 //! As in the least-squares fit, each channel is transformed relative to its first
 //! sample (x − x_0, added back to a_0), so that a large offset costs no accuracy.
 
@@ -192,9 +183,6 @@ pub(crate) struct WholeSampleDft {
     between_bins: Vec<usize>,
     /// Per channel, X_j at `between_bins` (channel c at c · bins + b).
     between: Vec<Complex<f64>>,
-    /// Per channel, Σ w_j |X_j|² over the bins 0 < j ≤ L/2 other than kP, k = 1..=K
-    /// (module doc), when asked for and m = L.
-    residual: Option<Vec<f64>>,
 }
 
 impl WholeSampleDft {
@@ -210,21 +198,6 @@ impl WholeSampleDft {
         highest: usize,
         between_bins: &[usize],
     ) -> Option<Self> {
-        Self::with_residual(x, step, period, periods, highest, between_bins, false)
-    }
-
-    /// [`WholeSampleDft::new`], also keeping (when `residual` and m = L) what
-    /// [`WholeSampleDft::residual_sum_of_squares`] needs: one more sum over each
-    /// channel's half spectrum.
-    pub(crate) fn with_residual(
-        x: MatRef<'_, f64>,
-        step: f64,
-        period: f64,
-        periods: usize,
-        highest: usize,
-        between_bins: &[usize],
-        residual: bool,
-    ) -> Option<Self> {
         let samples = x.nrows();
         let length = transform_length(samples, step, period, periods, highest, between_bins)?;
         let n = x.ncols();
@@ -233,7 +206,6 @@ impl WholeSampleDft {
         let mut closing = (samples == length + 1).then(|| Vec::with_capacity(n));
         let mut harmonics = Vec::with_capacity(n * (highest + 1));
         let mut between = Vec::with_capacity(n * between_bins.len());
-        let mut residual = (residual && samples == length).then(|| Vec::with_capacity(n));
         for c in 0..n {
             let xc = col(x, c);
             let (x0, output) = fft.transform(xc);
@@ -243,9 +215,6 @@ impl WholeSampleDft {
             }
             harmonics.extend((0..=highest).map(|k| output[k * periods]));
             between.extend(between_bins.iter().map(|&j| output[j]));
-            if let Some(residual) = residual.as_mut() {
-                residual.push(non_harmonic_power(output, periods, highest, length));
-            }
         }
         Some(WholeSampleDft {
             length,
@@ -256,34 +225,7 @@ impl WholeSampleDft {
             harmonics,
             between_bins: between_bins.to_vec(),
             between,
-            residual,
         })
-    }
-
-    /// The spectrum [`WholeSampleDft::new`] makes of a window of one period (no bins
-    /// between harmonics), from bins made already: X_0 … X_K (K = `highest`) of channel
-    /// c's first `length` samples less `first[c]` at `harmonics[c (K + 1)..]`, and
-    /// `closing[c]` = x_L − x_0 when the window holds `length` + 1 samples. The caller
-    /// checked the shape ([`transform_length`]).
-    pub(super) fn of_one_period(
-        length: usize,
-        highest: usize,
-        first: Vec<f64>,
-        closing: Option<Vec<f64>>,
-        harmonics: Vec<Complex<f64>>,
-    ) -> Self {
-        debug_assert_eq!(harmonics.len(), first.len() * (highest + 1));
-        WholeSampleDft {
-            length,
-            samples: length + usize::from(closing.is_some()),
-            highest,
-            first,
-            closing,
-            harmonics,
-            between_bins: Vec::new(),
-            between: Vec::new(),
-            residual: None,
-        }
     }
 
     /// Whether the bins of every order of `orders` were kept.
@@ -344,24 +286,6 @@ impl WholeSampleDft {
         c
     }
 
-    /// RSS_S of channel `channel` for the fit on `orders` (ascending, each at most the
-    /// `highest` given; the constant always fitted), by Parseval (module doc); `None`
-    /// unless made [`WholeSampleDft::with_residual`] on m = L samples.
-    pub(crate) fn residual_sum_of_squares(&self, orders: &[usize], channel: usize) -> Option<f64> {
-        let residual = self.residual.as_ref()?;
-        let bins =
-            &self.harmonics[channel * (self.highest + 1)..(channel + 1) * (self.highest + 1)];
-        // the harmonics 1..=K not in `orders` (both ascending: one merge)
-        let mut kept = orders.iter().copied().peekable();
-        let mut sum = 0.0;
-        for (k, bin) in bins.iter().enumerate().skip(1) {
-            if kept.next_if_eq(&k).is_none() {
-                sum += bin.norm_sqr();
-            }
-        }
-        Some((residual[channel] + 2.0 * sum) / self.length as f64)
-    }
-
     /// Per bin between the harmonics (the `between_bins` given to
     /// [`WholeSampleDft::new`]) and channel, the power (2/m)²(A² + B²) of the residual
     /// of the fit `coefficients` on orders 1..=K (from [`WholeSampleDft::fit`]), with
@@ -396,41 +320,6 @@ impl WholeSampleDft {
             })
             .collect()
     }
-}
-
-/// Σ w_j |X_j|² over the half spectrum `bins` (X_0 … X_⌊L/2⌋) but for X_0 and X_kP,
-/// k = 1..=`highest` (module doc): the groups of P − 1 bins between the harmonics, then
-/// every bin above the last, each part in four interleaved partial sums.
-fn non_harmonic_power(bins: &[Complex<f64>], periods: usize, highest: usize, length: usize) -> f64 {
-    let last = (highest * periods).min(bins.len() - 1);
-    let mut acc = [0.0f64; 4];
-    // bins kP + 1 ..= (k + 1)P: all but the group's last, the harmonic (k + 1)P
-    for (k, group) in bins[1..=last].chunks_exact(periods).enumerate() {
-        let between: f64 = group[..periods - 1].iter().map(|b| b.norm_sqr()).sum();
-        acc[k % 4] += between;
-    }
-    let above = &bins[last + 1..];
-    let nyquist = if length.is_multiple_of(2) {
-        above.last().map(|b| b.norm_sqr())
-    } else {
-        None
-    };
-    let above = if nyquist.is_some() {
-        &above[..above.len() - 1]
-    } else {
-        above
-    };
-    let (quads, rest) = above.as_chunks::<4>();
-    let mut top = [0.0f64; 4];
-    for quad in quads {
-        for l in 0..4 {
-            top[l] += quad[l].norm_sqr();
-        }
-    }
-    let rest: f64 = rest.iter().map(|b| b.norm_sqr()).sum();
-    2.0 * ((acc[0] + acc[1]) + (acc[2] + acc[3]))
-        + 2.0 * ((top[0] + top[1]) + (top[2] + top[3]) + rest)
-        + nyquist.unwrap_or(0.0)
 }
 
 #[cfg(test)]
@@ -553,58 +442,6 @@ mod tests {
                     }
                 }
             }
-        }
-    }
-
-    /// The residual sum of squares by Parseval equals that of the least-squares fit on
-    /// the same orders (to round-off relative to it, not to the signal), for even and
-    /// odd L, one period and several, with and without noise, and is declined for
-    /// m = L + 1 or when not asked for.
-    #[test]
-    fn residual_by_parseval_equals_least_squares() {
-        for (per_period, periods) in [(64usize, 1usize), (101, 3), (200, 2)] {
-            let length = per_period * periods;
-            for noise in [0.02, 1e-6] {
-                let (x, step) = signal(length, 3, per_period, noise, 11 + length as u64);
-                let period = step * per_period as f64;
-                let omega = 2.0 * std::f64::consts::PI / period;
-                let most = (per_period - 1) / 2;
-                let dft = WholeSampleDft::with_residual(
-                    x.as_ref(),
-                    step,
-                    period,
-                    periods,
-                    most,
-                    &[],
-                    true,
-                )
-                .expect("whole samples per period");
-                for orders in [vec![1], vec![1, 2, 3, 5], (1..=most).step_by(2).collect()] {
-                    let basis =
-                        HarmonicBasis::with_orders(omega, orders.clone(), step, length).unwrap();
-                    let c = basis.fit(x.as_ref());
-                    let fitted = basis.design(length) * &c;
-                    for j in 0..x.ncols() {
-                        let rss: f64 = (0..length)
-                            .map(|i| (x[(i, j)] - fitted[(i, j)]).powi(2))
-                            .sum();
-                        let ours = dft.residual_sum_of_squares(&orders, j).unwrap();
-                        assert!(
-                            (ours - rss).abs() < 1e-8 * rss,
-                            "N = {per_period}, P = {periods}, noise {noise}, {orders:?}, channel {j}: {ours:e} vs {rss:e}"
-                        );
-                    }
-                }
-                let plain =
-                    WholeSampleDft::new(x.as_ref(), step, period, periods, most, &[]).unwrap();
-                assert!(plain.residual_sum_of_squares(&[1], 0).is_none());
-            }
-            let (x, step) = signal(length + 1, 1, per_period, 0.02, 5);
-            let period = step * per_period as f64;
-            let closing =
-                WholeSampleDft::with_residual(x.as_ref(), step, period, periods, 3, &[], true)
-                    .expect("m = L + 1 is served");
-            assert!(closing.residual_sum_of_squares(&[1], 0).is_none());
         }
     }
 

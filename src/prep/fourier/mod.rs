@@ -18,22 +18,22 @@
 //! Files: `basis.rs` (the basis, its fit, derivative and integration weights),
 //! `dft.rs` (the same fit by one real FFT per channel on whole samples per period),
 //! `noise_floor.rs` (the noise floor and the harmonics that stand above it),
-//! `periods.rs` (a span's noise floor and residual read off its periods' spectra),
-//! `window_fit.rs` (a window's harmonics, noise and coefficients, made once for the
-//! steady-state check and the rows).
+//! `packed.rs` (one channel's fit on a design held column by column, in packed sums),
+//! `record_noise.rs` (a record's harmonics and noise, estimated once for all its
+//! windows).
 
 mod basis;
 mod dft;
 mod noise_floor;
-mod periods;
-mod window_fit;
+mod packed;
+mod record_noise;
 
 pub(crate) use basis::{HarmonicBasis, first_orders};
 pub(crate) use dft::{WholeSampleDft, whole_samples};
 pub use noise_floor::HarmonicSelection;
-pub(crate) use noise_floor::{select_harmonics, select_with_residuals, select_with_spectrum};
-pub(crate) use periods::{PeriodSpectrum, select_from_periods, span_harmonics};
-pub(crate) use window_fit::{WindowFit, WindowFits};
+pub(crate) use noise_floor::{select_harmonics, select_with_spectrum};
+pub(crate) use packed::{fit_on_design, fit_with_squares};
+pub(crate) use record_noise::{RecordNoise, RecordNoises};
 
 use crate::error::{Error, Result};
 

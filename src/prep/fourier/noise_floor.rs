@@ -23,10 +23,8 @@
 //!
 //! When the window holds a whole number of samples per period the fit and the residual
 //! bins are read off one real FFT per channel ([`WholeSampleDft`], whose module doc
-//! derives why they equal the least-squares ones); otherwise by least squares. A span
-//! whose periods were transformed one by one (the steady-state check) reads the
-//! contrasts between its periods' bins in place of the bins between the harmonics,
-//! through the same rule ([`Selector`]; `periods.rs` derives why they are equivalent).
+//! derives why they equal the least-squares ones); otherwise by least squares. A
+//! record's harmonics and noise (`record_noise.rs`) are this rule on a few of its spans.
 
 use faer::MatRef;
 
@@ -91,39 +89,13 @@ pub(crate) fn select_with_spectrum(
     periods: usize,
     highest: usize,
 ) -> Result<(HarmonicSelection, Option<WholeSampleDft>)> {
-    transform_and_select(x, step, period, periods, highest, false)
-}
-
-/// [`select_harmonics`], also returning the window's spectrum when it holds a whole
-/// number of samples per period, with what
-/// [`WholeSampleDft::residual_sum_of_squares`] needs for a fit on the kept harmonics.
-pub(crate) fn select_with_residuals(
-    x: MatRef<'_, f64>,
-    step: f64,
-    period: f64,
-    periods: usize,
-) -> Result<(HarmonicSelection, Option<WholeSampleDft>)> {
-    transform_and_select(x, step, period, periods, 0, true)
-}
-
-/// The window's spectrum when it holds a whole number of samples per period (bins up
-/// to max(K_max, `highest`), the residual's sums when `residual`), and the selection.
-fn transform_and_select(
-    x: MatRef<'_, f64>,
-    step: f64,
-    period: f64,
-    periods: usize,
-    highest: usize,
-    residual: bool,
-) -> Result<(HarmonicSelection, Option<WholeSampleDft>)> {
     let most = most_harmonics(x.nrows(), step, period);
     let bins = if periods >= 2 {
         between_bins(periods, most)
     } else {
         Vec::new()
     };
-    let spectrum =
-        WholeSampleDft::with_residual(x, step, period, periods, most.max(highest), &bins, residual);
+    let spectrum = WholeSampleDft::new(x, step, period, periods, most.max(highest), &bins);
     let selection = select_with(x, step, period, periods, spectrum.as_ref())?;
     Ok((selection, spectrum))
 }

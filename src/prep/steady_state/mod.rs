@@ -5,10 +5,12 @@
 //! its end equals that at its start. Raw samples cannot show it under measurement noise
 //! (a central-difference velocity multiplies displacement noise by about 1/(h√2)), so
 //! the states are taken from harmonic projections ([`projection`]): every displacement
-//! channel is projected on the harmonics of ω that stand above its noise floor
-//! (selected over the compared span), separately over single periods, and each
+//! channel is projected on the harmonics of ω that stand above the noise of its record
+//! (selected once per record, `prep/fourier/record_noise.rs`), separately over single
+//! periods, and each
 //! projection gives x̂(t) = bᵀ(t) c_x, v̂(t) = bᵀ(t) c_v with the covariance of
-//! (c_x, c_v) from the noise σ̂_j estimated out of band, `σ̂_j² [I; J](RᵀR)⁻¹[I; J]ᵀ`.
+//! (c_x, c_v) from the record's noise σ̂_j estimated out of band,
+//! `σ̂_j² [I; J](RᵀR)⁻¹[I; J]ᵀ`.
 //!
 //! **Which periods.** A window of k ≥ 2 periods compares the projection of its first
 //! period at t₀ with that of its last period at t₀ + kT (k' = k). A window of one period
@@ -65,9 +67,9 @@
 //! into coefficients and covariances), `table.rs` (a span's basis held once, and the
 //! passes over a channel's samples against it), `judge.rs` (one window), `energy.rs`
 //! (stored energy and its gradient), `spans.rs` (every compared span of a check, each
-//! span and each period fitted once). [`check`] projects each compared span once per
-//! record, however many windows compare it, and fits each period once for the two
-//! spans it takes part in.
+//! span and each period fitted once). [`check`] estimates each record's harmonics and
+//! noise once, projects each compared span once per record, however many windows
+//! compare it, and fits each period once for the spans it takes part in.
 
 mod energy;
 mod judge;
@@ -81,11 +83,10 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
-use crate::prep::fourier::{WholePeriods, WindowFits};
+use crate::prep::fourier::RecordNoises;
 use crate::prep::quadrature::Quadrature;
 use crate::prep::window::WindowSpec;
 use crate::record::Record;
-use spans::FitRequests;
 
 pub use energy::StoredEnergy;
 
@@ -458,26 +459,20 @@ pub fn check(
     energy: Option<&StoredEnergy>,
     settings: &SteadyStateSettings,
 ) -> Result<SteadyStateReport> {
-    Ok(check_making_fits(records, windows, quadrature, energy, settings, None)?.0)
+    check_with(records, windows, quadrature, energy, settings, None)
 }
 
-/// The harmonics the noise-robust rows will fit each window on: `Some(K)` for 1..K,
-/// `None` for those above the noise floor.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) struct RowHarmonics(pub(crate) Option<usize>);
-
-/// [`check`], also making, when `rows` says the noise-robust rows will be built on the
-/// same windows, the harmonic fit of each one-period window from its period's spectrum
-/// as the check transforms it (`prep/fourier/window_fit.rs`): the rows then read it
-/// instead of transforming the period again.
-pub(crate) fn check_making_fits(
+/// [`check`] reading the records' harmonics and noise from `noises` where they are of
+/// these records (estimated once for the check and the noise-robust rows of a problem,
+/// `prep/fourier/record_noise.rs`), else estimating them.
+pub(crate) fn check_with(
     records: &[Record],
     windows: &WindowSpec,
     quadrature: Quadrature,
     energy: Option<&StoredEnergy>,
     settings: &SteadyStateSettings,
-    rows: Option<RowHarmonics>,
-) -> Result<(SteadyStateReport, Option<WindowFits>)> {
+    noises: Option<&RecordNoises>,
+) -> Result<SteadyStateReport> {
     settings.validate()?;
     crate::prep::data_scale::require_representable(records)?;
     let spec = windows;
@@ -520,11 +515,16 @@ pub(crate) fn check_making_fits(
         .iter()
         .map(|&(k, origin, periods)| (cut[k].0, cut[k].1.record, origin, periods))
         .collect();
-    let requests = rows.map(|RowHarmonics(harmonics)| FitRequests {
-        harmonics,
-        per_span: fit_requests(&cut, &span_ids, spans.len(), quadrature),
-    });
-    let (projections, fits) = self::spans::project_spans(&keys, requests.as_ref())?;
+    // the harmonics and noise of each record, estimated once for all its spans
+    let own;
+    let noises = match noises.filter(|n| n.are_of(records)) {
+        Some(noises) => noises,
+        None => {
+            own = RecordNoises::of(records);
+            &own
+        }
+    };
+    let projections = self::spans::project_spans(&keys, noises)?;
     // Each window is judged on its own; rayon's collect keeps window order, so the
     // report is the same at any thread count.
     let windows = cut
@@ -538,37 +538,9 @@ pub(crate) fn check_making_fits(
             )
         })
         .collect::<Result<Vec<_>>>()?;
-    let report = SteadyStateReport {
+    Ok(SteadyStateReport {
         settings: *settings,
         energy_known: energy.is_some(),
         windows,
-    };
-    Ok((report, rows.map(|_| WindowFits::new(records, fits))))
-}
-
-/// Per compared span, the one-period windows whose harmonic fit it makes: (first
-/// sample, samples m the rows fit, [`WholePeriods::of_window`] as they count them).
-/// Each window's fit is made by the first span it compares, which holds its period.
-fn fit_requests(
-    cut: &[(&Record, crate::prep::window::Window)],
-    span_ids: &[Vec<usize>],
-    spans: usize,
-    quadrature: Quadrature,
-) -> Vec<Vec<(usize, usize)>> {
-    let mut requests = vec![Vec::new(); spans];
-    for ((record, window), ids) in cut.iter().zip(span_ids) {
-        let (step, period) = (record.step(), record.period());
-        let Some(&span) = ids.first() else { continue };
-        let whole = window
-            .window_weights(quadrature, step, period)
-            .ok()
-            .and_then(|weights| {
-                let available = record.samples().saturating_sub(window.start);
-                WholePeriods::of_window(weights.len(), available, step, period).ok()
-            });
-        if let Some(whole) = whole.filter(|w| window.cycles == 1 && w.periods == 1) {
-            requests[span].push((window.start, whole.samples));
-        }
-    }
-    requests
+    })
 }

@@ -1,15 +1,13 @@
 //! The denoised states the steady-state check compares: each channel projected on the
-//! harmonics of ω = 2π/T that stand above the noise floor, separately over single
+//! harmonics of ω = 2π/T that stand above its record's noise, separately over single
 //! periods of a compared span.
 //!
-//! Over a span of k' whole periods starting at the (fractional) sample position u₀,
-//! [`project_periods`]
+//! Over a span of k' whole periods starting at the (fractional) sample position u₀:
 //!
-//! 1. selects the harmonic orders S and the per-sample noise σ̂_j of every channel j from
-//!    the samples of the whole span (`prep::fourier`: out-of-band median,
-//!    harmonics above 3.5 σ̂_A; with k' ≥ 2 the bins between harmonics, or with whole
-//!    samples per period the contrasts between the periods, are available);
-//! 2. projects each requested period [u₀ + pL, u₀ + (p + 1)L), L = T/h, over the samples
+//! 1. the harmonic orders S and the per-sample noise σ̂_j of every channel j are the
+//!    record's (`prep/fourier/record_noise.rs`: selected on a few spans spread over the
+//!    record, σ̂_j the median of their out-of-band estimates), the same for every span;
+//! 2. each period [u₀ + pL, u₀ + (p + 1)L), L = T/h, is projected over the samples
 //!    inside it (half open, so neighbouring periods share none), t measured from the
 //!    period's first sample:
 //!
@@ -20,7 +18,7 @@
 //!      Cov [c_x; c_v] = σ̂_j² [I; J] (RᵀR)⁻¹ [I; J]ᵀ        (B = QR, white noise);
 //!    ```
 //!
-//! 3. fits the whole span at once on S and measures what no harmonic of ω explains: the
+//! 3. the whole span's fit on S measures what no harmonic of ω explains: the
 //!    non-harmonic RMS per channel, r_j = √max(0, RSS_j/(m − p) − σ̂_j²), and its
 //!    significance RSS_j / ((m − p) σ̂_j²) (≈ 1 for white noise alone).
 //!
@@ -39,37 +37,36 @@
 //! as the displacement it would be at the drive frequency, r_j/ω^d (d = 1 for velocity,
 //! 2 for acceleration), which overstates content above ω and understates it below.
 //!
-//! **Cost.** Where a period holds a whole number N = T/h of samples (and the span P N
-//! of them), each period is transformed once, by one real FFT per channel
-//! (`prep::fourier::periods`), and everything else is read off the periods' spectra:
-//! the span's harmonic amplitudes are the sums of its periods' bins; its noise floor
-//! reads the contrasts between its periods' bins in place of the bins between the
-//! harmonics (the same distribution on noise, the same count; `periods.rs` derives
-//! both); its residual on S is the power of every other bin (Parseval); and each
-//! period's coefficients on S are its own bins. A period in two spans is transformed
-//! once for both (`span_periods`, `spans.rs`). Otherwise step 1 fits the span by one
-//! FFT or by least squares (`prep::fourier::noise_floor`) and steps 2 and 3 are
-//! least-squares passes over a channel's samples against a table of the basis
-//! (`table.rs`). Either way the half ranges of x̂ and v̂ over each period (the
-//! amplitudes the mismatches are relative to: only the largest over the channels is
-//! used) cost O(N p) per channel on the table, for the channels whose bound
-//! Σ_q |c_q| can reach the largest (usually a few: the others are skipped, `table.rs`). A
-//! period's table and its covariance per sensor kind (σ̂_j² times a unit covariance
-//! shared by the channels of that kind) depend on its length and harmonics only, t
-//! being measured from its first sample (`PeriodBasis`). Steps 1 and 3 (`fit_span`)
-//! and step 2 (`fit_period`) are separate so that a period compared in two spans on
-//! the same harmonics is fitted once (`spans.rs`); [`project_periods`] is the two for
-//! one span.
+//! **The span's residual from its periods.** Where a period holds a whole number
+//! N = T/h of samples, every period of a span has the same design B (the basis is
+//! T-periodic), so the span's design is P copies of it and its fit is the mean of the
+//! periods' fits, c̄ = (1/P) Σ_p c_p. Its residual splits into the periods' own
+//! residuals and the spread of their fits about the mean,
+//!
+//! ```text
+//!   RSS = Σ_p RSS_p + Σ_p ‖R (c_p − c̄)‖²,   RSS_p = ‖x_p − s_p 1‖² − ‖R (c_p − s_p e₀)‖²,
+//! ```
+//!
+//! (RᵀR = BᵀB, s_p the period's first sample, which keeps an offset out of the
+//! difference of sums of squares), so the span is never read again: each period is read
+//! once for Bᵀx and ‖x − s 1‖², whichever spans it is in. Otherwise the span is fitted
+//! whole on its own table (`table.rs`) for its residual.
+//!
+//! **Cost.** O(m p) per channel and period, on a table of the basis shared by every
+//! period of a record (t measured from a period's first sample): no transform, no
+//! selection per span. The half ranges of x̂ and v̂ over each period (the amplitudes
+//! the mismatches are relative to: only the largest over the channels is used) cost
+//! O(N p) per channel, for the channels whose bound Σ_q |c_q| can reach the largest
+//! (usually a few: the others are skipped, `table.rs`). A period's covariance per
+//! sensor kind (σ̂_j² times a unit covariance shared by the channels of that kind)
+//! depends on its length and harmonics only (`PeriodBasis`).
 
 use std::sync::Arc;
 
 use faer::Mat;
 
 use crate::error::{Error, Result};
-use crate::prep::fourier::{
-    HarmonicBasis, HarmonicSelection, PeriodSpectrum, WindowFit, select_from_periods,
-    select_with_residuals, span_harmonics, whole_samples,
-};
+use crate::prep::fourier::{HarmonicBasis, RecordNoise, whole_samples};
 use crate::record::{Record, Sensor, col};
 
 use super::table::HarmonicTable;
@@ -240,110 +237,103 @@ pub(super) fn period_samples(record: &Record, origin: f64, k: usize) -> (usize, 
     (first, end - first)
 }
 
-/// The first sample of each period of the span of `periods` periods from the sample
-/// position `origin` of `record`, and N, when the span's step 1 and 3 read off its
-/// periods' spectra (`prep::fourier::periods`): N = T/h whole and the span exactly P N
-/// samples from a whole sample. `None` otherwise, where the span is fitted as a whole.
-pub(super) fn span_periods(
-    record: &Record,
-    origin: f64,
-    periods: usize,
-) -> Option<(Vec<usize>, usize)> {
-    let n = whole_samples(record.step(), record.period())?;
+/// Whether the span of `periods` periods from the sample position `origin` of `record`
+/// is made of periods of N = T/h whole samples, each with the same design, so that its
+/// residual comes from its periods' fits (module doc): N whole and the span exactly P N
+/// samples from a whole sample. Otherwise the span is fitted whole.
+pub(super) fn from_periods(record: &Record, origin: f64, periods: usize) -> bool {
+    let Some(n) = whole_samples(record.step(), record.period()) else {
+        return false;
+    };
     let length = record.period() / record.step();
     let (first, end) = samples_in(origin, periods as f64 * length, record.samples());
-    (end - first == periods * n).then(|| ((0..periods).map(|i| first + i * n).collect(), n))
+    end - first == periods * n
 }
 
-/// The spectrum of the period of `length` samples from sample `first` of `record`'s
-/// signals, with the bins a span of its periods reads.
-pub(super) fn period_spectrum(record: &Record, first: usize, length: usize) -> PeriodSpectrum {
-    let (x, _) = signals(record);
-    let most = span_harmonics(length, record.step(), record.period());
-    PeriodSpectrum::new(x.subrows(first, length), most)
-}
-
-/// The harmonic fit the noise-robust rows make of the one-period window of `m` samples
-/// from sample `first` of `record` (`prep/fourier/window_fit.rs`), read off its
-/// period's `spectrum`; `None` where the rows must make it themselves.
-pub(super) fn window_fit(
+/// The harmonic orders of `record`'s `noise` that a period of `rows` samples holds.
+pub(super) fn period_orders(
     record: &Record,
-    spectrum: &PeriodSpectrum,
-    first: usize,
-    m: usize,
-    harmonics: Option<usize>,
-) -> Option<WindowFit> {
-    if first.checked_add(m)? > record.samples() {
-        return None;
-    }
-    let (x, _) = signals(record);
-    let (step, period) = (record.step(), record.period());
-    WindowFit::from_period(spectrum, x.subrows(first, m), step, period, harmonics)
+    noise: &RecordNoise,
+    rows: usize,
+) -> Result<Vec<usize>> {
+    noise.orders_for(rows, record.step(), record.period(), None)
 }
 
-/// Steps 1 and 3 over the span of `periods` whole periods from the sample position
-/// `origin` of `record`: from its periods' spectra where [`span_periods`] allows, else
-/// over the whole span.
-pub(super) fn fit_span(record: &Record, origin: f64, periods: usize) -> Result<SpanFit> {
-    if let Some((firsts, n)) = span_periods(record, origin, periods) {
-        let spectra: Vec<PeriodSpectrum> = firsts
-            .iter()
-            .map(|&first| period_spectrum(record, first, n))
-            .collect();
-        return fit_span_from(record, &spectra.iter().collect::<Vec<_>>());
-    }
+/// Step 3 over a span of P periods of N whole samples from their fits (in time order,
+/// on one [`PeriodBasis`]): RSS = Σ_p RSS_p + Σ_p ‖R (c_p − c̄)‖² (module doc).
+pub(super) fn fit_span_from(
+    record: &Record,
+    noise: &RecordNoise,
+    basis: &PeriodBasis,
+    periods: &[&PeriodFit],
+) -> SpanFit {
+    let p = basis.table.columns();
+    let count = periods.len() as f64;
+    let (mut mean, mut spread) = (vec![0.0; p], vec![0.0; p]);
+    let residuals = (0..noise.motion_std.len())
+        .map(|j| {
+            mean.fill(0.0);
+            for fit in periods {
+                for (m, c) in mean.iter_mut().zip(&fit.measured[j]) {
+                    *m += c;
+                }
+            }
+            mean.iter_mut().for_each(|m| *m /= count);
+            periods
+                .iter()
+                .map(|fit| {
+                    for ((s, c), m) in spread.iter_mut().zip(&fit.measured[j]).zip(&mean) {
+                        *s = c - m;
+                    }
+                    fit.within[j] + basis.table.norm_squared(&spread)
+                })
+                .sum()
+        })
+        .collect();
+    let samples = periods.iter().map(|fit| fit.samples).sum();
+    span_fit(record, noise, basis.orders.clone(), samples, residuals)
+}
+
+/// Step 3 over the span of `periods` whole periods from the sample position `origin` of
+/// `record`, fitted whole on its own table (N = T/h not whole).
+pub(super) fn fit_span(
+    record: &Record,
+    noise: &RecordNoise,
+    origin: f64,
+    periods: usize,
+) -> Result<SpanFit> {
     let (step, period) = (record.step(), record.period());
     let length = period / step;
     let (x, _) = signals(record);
     let (first, end) = samples_in(origin, periods as f64 * length, record.samples());
-    let whole = x.subrows(first, end - first);
-    let (selection, spectrum) = select_with_residuals(whole, step, period, periods)?;
+    let m = end - first;
+    let orders = period_orders(record, noise, period_samples(record, origin, 0).1)?;
     let omega = 2.0 * std::f64::consts::PI / period;
-    let orders = &selection.kept;
-    // Step 3: the whole span's residual on S, from the spectrum when the span holds
-    // whole samples per period (Parseval), else one pass per channel for the fit and
-    // one for its residual.
-    let m = whole.nrows();
-    let from_spectrum: Option<Vec<f64>> = spectrum.as_ref().and_then(|s| {
-        (0..x.ncols())
-            .map(|j| s.residual_sum_of_squares(orders, j))
-            .collect()
-    });
-    let residuals = match from_spectrum {
-        Some(rss) => rss,
-        None => {
-            let basis = HarmonicBasis::with_orders(omega, orders.clone(), step, m)?;
-            let table = HarmonicTable::new(&basis, m);
-            (0..x.ncols())
-                .map(|j| {
-                    let samples = &col(x, j)[first..end];
-                    table.residual_sum_of_squares(&table.fit(samples), samples)
-                })
-                .collect()
-        }
-    };
-    Ok(span_fit(record, selection, residuals))
-}
-
-/// Steps 1 and 3 over the span made of the periods `spectra` of `record` (in time
-/// order, from [`period_spectrum`]).
-pub(super) fn fit_span_from(record: &Record, spectra: &[&PeriodSpectrum]) -> Result<SpanFit> {
-    let (selection, span) = select_from_periods(spectra, record.step(), record.period())?;
-    let residuals = (0..selection.noise_std.len())
-        .map(|j| span.residual_sum_of_squares(&selection.kept, j))
+    let basis = HarmonicBasis::with_orders(omega, orders.clone(), step, m)?;
+    let table = HarmonicTable::new(&basis, m);
+    let residuals = (0..x.ncols())
+        .map(|j| {
+            let samples = &col(x, j)[first..end];
+            table.residual_sum_of_squares(&table.fit(samples), samples)
+        })
         .collect();
-    Ok(span_fit(record, selection, residuals))
+    Ok(span_fit(record, noise, orders, m, residuals))
 }
 
-/// A span's [`SpanFit`] from its selection (over m samples) and its residual sums of
-/// squares on the kept harmonics, per channel.
-fn span_fit(record: &Record, selection: HarmonicSelection, residuals: Vec<f64>) -> SpanFit {
+/// A span's [`SpanFit`] on `orders` with the record's noise, from its residual sums of
+/// squares over its m = `samples` samples, per channel.
+fn span_fit(
+    record: &Record,
+    noise: &RecordNoise,
+    orders: Vec<usize>,
+    samples: usize,
+    residuals: Vec<f64>,
+) -> SpanFit {
     let omega = 2.0 * std::f64::consts::PI / record.period();
     let (_, sensors) = signals(record);
-    let orders = selection.kept;
-    let sigma = selection.noise_std;
+    let sigma = noise.motion_std.clone();
     let p = 2 * orders.len() + 1;
-    let dof = selection.samples.saturating_sub(p).max(1);
+    let dof = samples.saturating_sub(p).max(1);
     let mut non_harmonic = Vec::with_capacity(residuals.len());
     let mut residual_ratio = Vec::with_capacity(residuals.len());
     for (j, rss) in residuals.into_iter().enumerate() {
@@ -368,9 +358,9 @@ fn span_fit(record: &Record, selection: HarmonicSelection, residuals: Vec<f64>) 
 /// One channel's fit over one period: c_x, c_v and the unit covariance.
 type ChannelFit = (Vec<f64>, Vec<f64>, Arc<Mat<f64>>);
 
-/// Step 2 for one period: what it gives every span that projects it on the same
-/// harmonics (a one-period window's period is compared with the previous one and with
-/// the next, so it is fitted once for both), all but the noise of the span.
+/// Step 2 for one period: what it gives every span it is in (a one-period window's
+/// period is compared with the previous one and with the next, so it is fitted once for
+/// both), all but the record's noise.
 #[derive(Debug, Clone, PartialEq)]
 pub(super) struct PeriodFit {
     /// First sample fitted (record index).
@@ -379,6 +369,10 @@ pub(super) struct PeriodFit {
     samples: usize,
     /// Per channel: c_x, c_v and the unit covariance.
     channels: Vec<ChannelFit>,
+    /// Per channel, c of the signal as measured (before the map to displacements).
+    measured: Vec<Vec<f64>>,
+    /// Per channel, RSS_p of the period's own fit (module doc).
+    within: Vec<f64>,
     /// The largest ½ ranges of x̂ and of v̂ over the period's samples among the channels.
     half_ranges: (f64, f64),
 }
@@ -439,60 +433,22 @@ pub(super) fn period_basis(record: &Record, rows: usize, orders: &[usize]) -> Re
     })
 }
 
-/// Step 2 for the `rows` samples of `record` from sample `first`, projected on `orders`:
-/// read off the period's spectrum when it is one period of N = T/h whole samples, as in
-/// a check (`spans.rs`), else by least squares.
-pub(super) fn fit_period(
-    record: &Record,
-    first: usize,
-    rows: usize,
-    orders: &[usize],
-) -> Result<PeriodFit> {
-    let basis = period_basis(record, rows, orders)?;
-    if whole_period(record, rows) {
-        fit_period_from(record, &basis, first, &period_spectrum(record, first, rows))
-    } else {
-        fit_period_with(record, &basis, first)
-    }
-}
-
-/// Whether `rows` samples of `record` are one period of N = T/h whole samples, whose
-/// step 2 reads off its spectrum.
-pub(super) fn whole_period(record: &Record, rows: usize) -> bool {
-    whole_samples(record.step(), record.period()) == Some(rows)
-}
-
 /// Step 2 for the period of `record` from sample `first`, with its [`PeriodBasis`], by
-/// least squares on the basis' table.
-pub(super) fn fit_period_with(
-    record: &Record,
-    basis: &PeriodBasis,
-    first: usize,
-) -> Result<PeriodFit> {
+/// least squares on the basis' table, and the period's own residual RSS_p.
+pub(super) fn fit_period(record: &Record, basis: &PeriodBasis, first: usize) -> Result<PeriodFit> {
     let (x, _) = signals(record);
     let rows = basis.table.rows();
-    period_fit(basis, first, |j| {
-        basis.table.fit(&col(x, j)[first..first + rows])
-    })
-}
-
-/// Step 2 for the period of `record` from sample `first`, with its [`PeriodBasis`] and
-/// its spectrum (`spectrum` of the same samples): the coefficients read off the bins
-/// (`prep::fourier::dft`: the least-squares ones on whole samples per period), by least
-/// squares where the spectrum does not hold an order.
-pub(super) fn fit_period_from(
-    record: &Record,
-    basis: &PeriodBasis,
-    first: usize,
-    spectrum: &PeriodSpectrum,
-) -> Result<PeriodFit> {
-    let (x, _) = signals(record);
-    let rows = basis.table.rows();
-    period_fit(basis, first, |j| {
-        spectrum
-            .coefficients(j, &basis.orders)
-            .unwrap_or_else(|| basis.table.fit(&col(x, j)[first..first + rows]))
-    })
+    let channels = x.ncols();
+    let mut measured = Vec::with_capacity(channels);
+    let mut within = Vec::with_capacity(channels);
+    for j in 0..channels {
+        let (c, residual) = basis
+            .table
+            .fit_and_residual(&col(x, j)[first..first + rows]);
+        within.push(residual);
+        measured.push(c);
+    }
+    period_fit(basis, first, measured, within)
 }
 
 /// Step 2 from each channel's coefficients c on the basis: c_x and c_v through [I; J] S,
@@ -501,7 +457,8 @@ pub(super) fn fit_period_from(
 fn period_fit(
     basis: &PeriodBasis,
     first: usize,
-    coefficients: impl Fn(usize) -> Vec<f64>,
+    measured: Vec<Vec<f64>>,
+    within: Vec<f64>,
 ) -> Result<PeriodFit> {
     let table = &basis.table;
     let rows = table.rows();
@@ -522,12 +479,17 @@ fn period_fit(
                 .iter()
                 .find(|(s, _, _)| *s == basis.sensors[j])
                 .expect("each sensor kind has its map");
-            let c = coefficients(j);
-            let stacked: Vec<f64> = (0..2 * p)
-                .map(|a| (0..p).map(|k| full[(a, k)] * c[k]).sum())
-                .collect();
-            let (displacement, velocity) = (stacked[..p].to_vec(), stacked[p..].to_vec());
-            (displacement, velocity, Arc::clone(unit))
+            // [c_x; c_v] = [I; J] S c, a column of the map at a time
+            let mut stacked = vec![0.0; 2 * p];
+            for (k, &ck) in measured[j].iter().enumerate() {
+                if ck != 0.0 {
+                    for (s, f) in stacked.iter_mut().zip(full.col_as_slice(k)) {
+                        *s += f * ck;
+                    }
+                }
+            }
+            let velocity = stacked.split_off(p);
+            (stacked, velocity, Arc::clone(unit))
         })
         .collect();
     let states: Vec<(&[f64], &[f64])> = channels
@@ -539,6 +501,8 @@ fn period_fit(
         first,
         samples: rows,
         channels,
+        measured,
+        within,
         half_ranges,
     })
 }
@@ -589,22 +553,28 @@ pub(super) fn assemble(
 }
 
 /// Projects the span of `periods` whole periods from the sample position `origin` of
-/// `record` (steps 1–3 of the module doc), and the periods `which` (0-based, each
-/// < `periods`) one by one.
+/// `record` (steps 1–3 of the module doc, on the record's noise estimated here), and
+/// the periods `which` (0-based, each < `periods`) one by one.
 pub fn project_periods(
     record: &Record,
     origin: f64,
     periods: usize,
     which: &[usize],
 ) -> Result<StateProjection> {
-    let span = fit_span(record, origin, periods)?;
-    let fits = which
-        .iter()
-        .map(|&k| {
-            let (first, rows) = period_samples(record, origin, k);
-            fit_period(record, first, rows, &span.orders)
-        })
-        .collect::<Vec<_>>();
+    let noise = RecordNoise::of(record)?;
+    let fit = |k: usize| {
+        let (first, rows) = period_samples(record, origin, k);
+        let basis = period_basis(record, rows, &period_orders(record, &noise, rows)?)?;
+        fit_period(record, &basis, first).map(|fit| (fit, basis))
+    };
+    let span = if from_periods(record, origin, periods) {
+        let fits = (0..periods).map(fit).collect::<Result<Vec<_>>>()?;
+        let all: Vec<&PeriodFit> = fits.iter().map(|(fit, _)| fit).collect();
+        fit_span_from(record, &noise, &fits[0].1, &all)
+    } else {
+        fit_span(record, &noise, origin, periods)?
+    };
+    let fits: Vec<Result<PeriodFit>> = which.iter().map(|&k| fit(k).map(|(f, _)| f)).collect();
     assemble(record, &Ok(span), &fits.iter().collect::<Vec<_>>())
 }
 
@@ -644,64 +614,94 @@ mod tests {
     use crate::reference::{four_mass_records_with, with_displacement_noise};
     use crate::simulate::SimSettings;
 
-    /// A period of N whole samples read off its spectrum (`fit_period_from`) gives the
-    /// least-squares fit on the table (`fit_period_with`) to round-off: the same c_x,
-    /// c_v and half ranges, the same unit covariance, for displacement channels and for
-    /// channels measured as velocities and accelerations (mapped per harmonic), with
-    /// noise, on one harmonic and on several.
+    /// A span's residual from its periods' fits (RSS = Σ_p RSS_p + Σ_p ‖R (c_p − c̄)‖²)
+    /// is the residual of the span's own fit on its table, to round-off: the same
+    /// non-harmonic RMS and residual ratio, for spans of 2 and 3 periods of N = 64 whole
+    /// samples, noise-free and noisy, for displacement channels and for channels
+    /// measured as velocities and accelerations; and each period's coefficients are
+    /// its own least-squares fit on the basis.
     #[test]
-    fn period_fits_read_off_the_spectrum_are_the_least_squares_ones() {
+    fn a_spans_residual_from_its_periods_is_its_own_fits() {
         let period = 2.0 * std::f64::consts::PI / 0.618;
         let n = 64;
         let settings = SimSettings {
             step: period / n as f64,
             transient_steps: 2000,
-            recorded_steps: 4 * n + 1,
+            recorded_steps: 8 * n + 1,
             ..SimSettings::default()
         };
         let clean = four_mass_records_with(false, &settings).unwrap();
-        let record = with_displacement_noise(&clean, 0.01, 3).unwrap().remove(0);
-        let (x, v) = (record.displacements(), clean[0].velocities().unwrap());
+        let noisy = with_displacement_noise(&clean, 0.01, 3).unwrap().remove(0);
+        let (x, v) = (noisy.displacements(), clean[0].velocities().unwrap());
         let sensors = vec![
             Sensor::Displacement,
             Sensor::Velocity,
             Sensor::Acceleration,
             Sensor::Velocity,
         ];
-        // any signal serves: both fits read the same one
-        let signals = Mat::from_fn(record.samples(), 4, |i, j| match sensors[j] {
+        let motion = Mat::from_fn(noisy.samples(), 4, |i, j| match sensors[j] {
             Sensor::Displacement => x[(i, j)],
             Sensor::Velocity => v[(i, j)],
             Sensor::Acceleration => 0.3 * v[(i, j)] - x[(i, j)],
         });
-        let measured = record
+        let measured = noisy
             .clone()
-            .with_measured_motion(MeasuredMotion { sensors, signals })
+            .with_measured_motion(MeasuredMotion {
+                sensors,
+                signals: motion,
+            })
             .unwrap();
-        assert!(whole_period(&record, n));
-        for record in [&record, &measured] {
-            for orders in [vec![1], vec![1, 2, 3, 5]] {
+        for (record, with_noise) in [(&clean[0], false), (&noisy, true), (&measured, true)] {
+            let noise = RecordNoise::of(record).unwrap();
+            for (origin, periods) in [(0.0, 2), (64.0, 2), (128.0, 3)] {
+                assert!(from_periods(record, origin, periods));
+                let orders = period_orders(record, &noise, n).unwrap();
                 let basis = period_basis(record, n, &orders).unwrap();
-                for first in [0, n, 2 * n + 1] {
-                    let spectrum = period_spectrum(record, first, n);
-                    let ours = fit_period_from(record, &basis, first, &spectrum).unwrap();
-                    let table = fit_period_with(record, &basis, first).unwrap();
-                    for (a, b) in ours.channels.iter().zip(&table.channels) {
-                        let scale =
-                            b.0.iter()
-                                .chain(&b.1)
-                                .fold(1e-300f64, |m, c| m.max(c.abs()));
-                        for (p, q) in a.0.iter().chain(&a.1).zip(b.0.iter().chain(&b.1)) {
-                            assert!(
-                                (p - q).abs() <= 1e-12 * scale,
-                                "{orders:?} from {first}: {p} vs {q}"
-                            );
-                        }
-                        assert!(Arc::ptr_eq(&a.2, &b.2));
+                let fits: Vec<PeriodFit> = (0..periods)
+                    .map(|k| {
+                        let (first, rows) = period_samples(record, origin, k);
+                        assert_eq!(rows, n);
+                        fit_period(record, &basis, first).unwrap()
+                    })
+                    .collect();
+                let from = fit_span_from(record, &noise, &basis, &fits.iter().collect::<Vec<_>>());
+                let whole = fit_span(record, &noise, origin, periods).unwrap();
+                assert_eq!(from.orders, whole.orders);
+                assert_eq!(from.residual_dof, whole.residual_dof);
+                // to 10⁻⁶ of the value, or within round-off of the signal's size (the
+                // difference of sums of squares loses the digits a noise-free record's
+                // residual would need)
+                let (motion, _) = signals(record);
+                let size = (0..motion.ncols())
+                    .flat_map(|j| col(motion, j).iter())
+                    .fold(0.0f64, |m, x| m.max(x.abs()));
+                let close = |a: &[f64], b: &[f64], what: &str| {
+                    for (p, q) in a.iter().zip(b) {
+                        let tolerance = 1e-6 * q.abs() + 1e-7 * size;
+                        assert!((p - q).abs() <= tolerance, "{what}: {p} vs {q}");
                     }
-                    let ((ax, av), (bx, bv)) = (ours.half_ranges, table.half_ranges);
-                    assert!((ax - bx).abs() <= 1e-12 * bx.max(1e-300));
-                    assert!((av - bv).abs() <= 1e-12 * bv.max(1e-300));
+                };
+                // (on a channel without noise the ratio is round-off over round-off: the
+                // clean record, and the measured one's velocity channels)
+                for (p, q) in from.residual_ratio.iter().zip(&whole.residual_ratio) {
+                    if with_noise && *q < 1e3 {
+                        assert!((p - q).abs() <= 1e-6 * q, "ratio: {p} vs {q}");
+                    }
+                }
+                close(&from.non_harmonic, &whole.non_harmonic, "non-harmonic RMS");
+                // each period's coefficients: its own fit on the basis
+                let (signals, _) = signals(record);
+                let table = &basis.table;
+                for fit in &fits {
+                    for (j, c) in fit.measured.iter().enumerate() {
+                        let samples = &col(signals, j)[fit.first..fit.first + n];
+                        let own = table.fit(samples);
+                        assert_eq!(c, &own);
+                        let direct = table.residual_sum_of_squares(&own, samples);
+                        let total: f64 = samples.iter().map(|x| (x - samples[0]).powi(2)).sum();
+                        let tolerance = 1e-6 * direct + 1e-12 * total;
+                        assert!((fit.within[j] - direct).abs() <= tolerance, "{j}");
+                    }
                 }
             }
         }

@@ -19,16 +19,16 @@
 //!
 //! can reach the largest range found so far (the channels of the largest bounds first).
 //!
-//! Bᵀx reads x once for up to seven columns; for the range, ŷ is formed eight samples
-//! at a time in registers and reduced at once; for the residual, 128 samples at a time
-//! on the stack. The passes of the fit and the range are compiled
+//! Bᵀx reads x once per column from L1 in sixteen partial sums; for the range, ŷ is
+//! formed eight samples at a time in registers and reduced at once; for the residual,
+//! 128 samples at a time on the stack. The passes of the fit and the range are compiled
 //! for the widest instruction set the CPU has ([`simd::dispatch`]) with every lane doing
 //! the operations of the plain loop in its order, so the results are the same bits at
 //! every level.
 
 use faer::Mat;
 
-use crate::prep::fourier::HarmonicBasis;
+use crate::prep::fourier::{HarmonicBasis, fit_on_design, fit_with_squares};
 use crate::terms::simd::{self, Kernel};
 
 /// Samples of B c held at a time ([`HarmonicTable::chunks`]): on the stack, in L1.
@@ -40,135 +40,22 @@ pub(super) struct HarmonicTable {
     design: Mat<f64>,
     /// R (upper triangular, p × p), RᵀR = BᵀB.
     pub(super) r: Mat<f64>,
+    /// R row by row (p² values), for ‖R v‖².
+    r_rows: Vec<f64>,
     /// ρ_q = max_i √(B_{i,cos q}² + B_{i,sin q}²) per harmonic of the design (1 but
     /// for the round-off of the table's recurrence): |a B_cos + b B_sin| ≤ √(a² + b²) ρ_q.
     moduli: Vec<f64>,
-}
-
-/// Σ_i a_i (b_i − shift), in four interleaved partial sums (vectorisable): the
-/// reference each column's sum of [`dots_shifted`] equals bit for bit.
-#[cfg(test)]
-fn dot_shifted(a: &[f64], b: &[f64], shift: f64) -> f64 {
-    let mut acc = [0.0f64; 4];
-    let (a4, a_rest) = a.split_at(a.len() - a.len() % 4);
-    let (b4, b_rest) = b.split_at(a4.len());
-    for (x, y) in a4.chunks_exact(4).zip(b4.chunks_exact(4)) {
-        for l in 0..4 {
-            acc[l] += x[l] * (y[l] - shift);
-        }
-    }
-    let tail: f64 = a_rest
-        .iter()
-        .zip(b_rest)
-        .map(|(x, y)| x * (y - shift))
-        .sum();
-    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
-}
-
-/// [`dot_shifted`] of N columns `a` against one `b`, each sum bitwise the one
-/// `dot_shifted(a[c], b, shift)` gives (the same four partial sums, tail and order),
-/// with `b` read once.
-#[inline(always)]
-fn dots_shifted<const N: usize>(a: [&[f64]; N], b: &[f64], shift: f64) -> [f64; N] {
-    // The columns' length decides the split, as in `dot_shifted`.
-    let n = a.first().map_or(0, |column| column.len());
-    let whole = n - n % 4;
-    let (samples, _) = b[..whole].as_chunks::<4>();
-    let rows = samples.len();
-    let heads = a.map(|column| &column[..whole].as_chunks::<4>().0[..rows]);
-    let mut acc = [[0.0f64; 4]; N];
-    for (s, y) in samples.iter().enumerate() {
-        for l in 0..4 {
-            let d = y[l] - shift;
-            for (sums, head) in acc.iter_mut().zip(&heads) {
-                sums[l] += head[s][l] * d;
-            }
-        }
-    }
-    let mut out = [0.0; N];
-    for ((o, column), sums) in out.iter_mut().zip(a).zip(acc) {
-        let tail: f64 = column[whole..]
-            .iter()
-            .zip(&b[whole..])
-            .map(|(x, y)| x * (y - shift))
-            .sum();
-        *o = (sums[0] + sums[1]) + (sums[2] + sums[3]) + tail;
-    }
-    out
-}
-
-/// c ← (RᵀR)⁻¹ c in place: Rᵀ y = c, then R c = y (R upper triangular, p × p).
-fn solve_factored(r: &Mat<f64>, c: &mut [f64]) {
-    let p = c.len();
-    for i in 0..p {
-        let mut s = c[i];
-        for k in 0..i {
-            s -= r[(k, i)] * c[k];
-        }
-        c[i] = s / r[(i, i)];
-    }
-    for i in (0..p).rev() {
-        let mut s = c[i];
-        for k in i + 1..p {
-            s -= r[(i, k)] * c[k];
-        }
-        c[i] = s / r[(i, i)];
-    }
-}
-
-/// Bᵀ(x − shift) into `out`: up to seven columns per pass over x (four while eight or
-/// more are left), each sum bitwise the one [`dot_shifted`] gives alone (the same
-/// operations in the same order), with x read once per pass instead of once per column.
-/// Compiled for the widest instruction set the CPU has ([`simd::dispatch`]): the four
-/// partial sums are four lanes, so every level gives the same bits.
-struct Projections<'a> {
-    design: &'a Mat<f64>,
-    x: &'a [f64],
-    shift: f64,
-    out: &'a mut [f64],
-}
-
-impl Projections<'_> {
-    /// out_k.. out_{k+N−1} in one pass.
-    #[inline(always)]
-    fn dots<const N: usize>(&mut self, k: usize) {
-        let design = self.design;
-        let columns: [&[f64]; N] = std::array::from_fn(|l| design.col_as_slice(k + l));
-        self.out[k..k + N].copy_from_slice(&dots_shifted(columns, self.x, self.shift));
-    }
-}
-
-impl Kernel for Projections<'_> {
-    type Output = ();
-    #[inline(always)]
-    fn run(mut self) {
-        let p = self.design.ncols();
-        let mut k = 0;
-        while p - k >= 8 {
-            self.dots::<4>(k);
-            k += 4;
-        }
-        match p - k {
-            1 => self.dots::<1>(k),
-            2 => self.dots::<2>(k),
-            3 => self.dots::<3>(k),
-            4 => self.dots::<4>(k),
-            5 => self.dots::<5>(k),
-            6 => self.dots::<6>(k),
-            7 => self.dots::<7>(k),
-            _ => {}
-        }
-    }
 }
 
 /// Samples of B c evaluated side by side in registers by [`ExtremesPair`].
 const LANES: usize = 8;
 
 /// The least and the largest of ŷ_i = Σ_k c_k B_ik over the first `n` samples, for
-/// c = c_x and c = c_v in one pass over the table (each column read once for both).
-/// Each ŷ_i is its own nonzero terms added to 0.0 in the order of k (the operations of
-/// [`HarmonicTable::chunks`]), [`LANES`] samples at a time in registers with their
-/// extremes kept per lane: no buffer, and no comparison waits on the one before.
+/// c = c_x and c = c_v, [`LANES`] samples at a time (the columns of both read while in
+/// L1). Each ŷ_i is its own nonzero terms added to 0.0 in the order of k (the
+/// operations of [`HarmonicTable::chunks`]), in registers with their extremes kept per
+/// lane: no buffer, no branch in the inner loop, and no comparison waits on the one
+/// before.
 /// `if y < lo` is the hardware's minimum (the same as `f64::min` for finite values but
 /// for the sign of a zero). Compiled for the widest instruction set the CPU has.
 struct ExtremesPair<'a> {
@@ -183,37 +70,27 @@ impl Kernel for ExtremesPair<'_> {
     #[inline(always)]
     fn run(self) -> [(f64, f64); 2] {
         let n = self.n;
-        // the columns with a nonzero term in either, and each one's term where nonzero
-        let terms: Vec<(&[f64], [Option<f64>; 2])> = self
-            .displacement
-            .iter()
-            .zip(self.velocity)
-            .enumerate()
-            .filter(|&(_, (&cx, &cv))| cx != 0.0 || cv != 0.0)
-            .map(|(k, (&cx, &cv))| {
-                let nonzero = |c: f64| (c != 0.0).then_some(c);
-                (
-                    &self.design.col_as_slice(k)[..n],
-                    [nonzero(cx), nonzero(cv)],
-                )
-            })
-            .collect();
+        // per series, the columns with a nonzero term and the term, in the order of k
+        let terms = |c: &[f64]| -> Vec<(&[f64], f64)> {
+            c.iter()
+                .enumerate()
+                .filter(|&(_, &ck)| ck != 0.0)
+                .map(|(k, &ck)| (&self.design.col_as_slice(k)[..n], ck))
+                .collect()
+        };
+        let series = [terms(self.displacement), terms(self.velocity)];
         let mut lo = [[f64::INFINITY; LANES]; 2];
         let mut hi = [[f64::NEG_INFINITY; LANES]; 2];
         let whole = n - n % LANES;
         for start in (0..whole).step_by(LANES) {
-            let mut y = [[0.0f64; LANES]; 2];
-            for (column, cs) in &terms {
-                let column = &column[start..start + LANES];
-                for (y, c) in y.iter_mut().zip(cs) {
-                    if let Some(c) = *c {
-                        for l in 0..LANES {
-                            y[l] += c * column[l];
-                        }
+            for ((terms, lo), hi) in series.iter().zip(&mut lo).zip(&mut hi) {
+                let mut y = [0.0f64; LANES];
+                for &(column, c) in terms {
+                    let column = &column[start..start + LANES];
+                    for l in 0..LANES {
+                        y[l] += c * column[l];
                     }
                 }
-            }
-            for ((y, lo), hi) in y.iter().zip(&mut lo).zip(&mut hi) {
                 for l in 0..LANES {
                     lo[l] = if y[l] < lo[l] { y[l] } else { lo[l] };
                     hi[l] = if y[l] > hi[l] { y[l] } else { hi[l] };
@@ -222,12 +99,10 @@ impl Kernel for ExtremesPair<'_> {
         }
         for i in whole..n {
             let l = i - whole;
-            for (s, (lo, hi)) in lo.iter_mut().zip(&mut hi).enumerate() {
+            for ((terms, lo), hi) in series.iter().zip(&mut lo).zip(&mut hi) {
                 let mut y = 0.0f64;
-                for (column, cs) in &terms {
-                    if let Some(c) = cs[s] {
-                        y += c * column[i];
-                    }
+                for &(column, c) in terms {
+                    y += c * column[i];
                 }
                 lo[l] = if y < lo[l] { y } else { lo[l] };
                 hi[l] = if y > hi[l] { y } else { hi[l] };
@@ -255,9 +130,13 @@ impl HarmonicTable {
                     .fold(0.0f64, |m, (c, s)| m.max((c * c + s * s).sqrt()))
             })
             .collect();
+        let r = basis.r_factor();
+        let p = r.ncols();
+        let r_rows = (0..p * p).map(|i| r[(i / p, i % p)]).collect();
         HarmonicTable {
             design,
-            r: basis.r_factor(),
+            r,
+            r_rows,
             moduli,
         }
     }
@@ -274,20 +153,7 @@ impl HarmonicTable {
 
     /// The least-squares coefficients of the samples `x` (m of them): module doc.
     pub(super) fn fit(&self, x: &[f64]) -> Vec<f64> {
-        let p = self.columns();
-        let shift = x.first().copied().unwrap_or(0.0);
-        let mut c = vec![0.0; p];
-        simd::dispatch(Projections {
-            design: &self.design,
-            x,
-            shift,
-            out: &mut c,
-        });
-        solve_factored(&self.r, &mut c);
-        if let Some(a0) = c.first_mut() {
-            *a0 += shift;
-        }
-        c
+        fit_on_design(&self.design, &self.r, x)
     }
 
     /// ŷ = B c over the first `n` samples, [`CHUNK`] samples at a time into a buffer on
@@ -397,6 +263,34 @@ impl HarmonicTable {
         (amplitude + rounding + f64::MIN_POSITIVE) * (1.0 + 1e-12)
     }
 
+    /// ‖R v‖² = vᵀ BᵀB v: the sum of squares over the table's samples of the series
+    /// with coefficients `v`.
+    pub(super) fn norm_squared(&self, v: &[f64]) -> f64 {
+        let p = v.len();
+        (0..p)
+            .map(|i| {
+                let row = &self.r_rows[i * p..(i + 1) * p];
+                let dot: f64 = row[i..].iter().zip(&v[i..]).map(|(r, v)| r * v).sum();
+                dot * dot
+            })
+            .sum()
+    }
+
+    /// The least-squares coefficients of `x` and the residual sum of squares of that
+    /// fit, from sums instead of a pass over the fitted values: with s = x_0 (the shift
+    /// of [`HarmonicTable::fit`], which keeps an offset out of the difference),
+    /// ‖x − s 1‖² − ‖R (c − s e₀)‖², at least 0 (‖x − s 1‖² from the fit's own pass).
+    pub(super) fn fit_and_residual(&self, x: &[f64]) -> (Vec<f64>, f64) {
+        let (c, total) = fit_with_squares(&self.design, &self.r, x);
+        let shift = x.first().copied().unwrap_or(0.0);
+        let mut centred = c.clone();
+        if let Some(a0) = centred.first_mut() {
+            *a0 -= shift;
+        }
+        let residual = (total - self.norm_squared(&centred)).max(0.0);
+        (c, residual)
+    }
+
     /// Σ_i (x_i − (B c)_i)² over the samples of `x`, summed in sample order.
     pub(super) fn residual_sum_of_squares(&self, coefficients: &[f64], x: &[f64]) -> f64 {
         let mut sum = 0.0;
@@ -424,28 +318,13 @@ impl HarmonicTable {
 mod tests {
     use super::*;
 
-    /// The fused passes are bitwise the per-column ones: four dot products against one
-    /// sample column, and an evaluation by chunks with zero coefficients skipped (and
-    /// the ½ range and residual sum of squares from it) against one pass per column over
-    /// all samples, at lengths with every remainder mod 4 and over several chunks.
+    /// The evaluation by chunks with zero coefficients skipped (and the ½ range and
+    /// residual sum of squares from it) is bitwise one pass per column over all
+    /// samples, at lengths with every remainder mod 4 and over several chunks.
     #[test]
-    fn fused_passes_are_bitwise_the_per_column_ones() {
+    fn chunked_evaluation_is_bitwise_the_per_column_one() {
         for m in [8usize, 9, 10, 11, 13, 64, 101, 2 * CHUNK + 7] {
-            let column = |c: usize| -> Vec<f64> {
-                (0..m)
-                    .map(|i| {
-                        ((i * (c + 3)) as f64 * 0.731 + c as f64).sin() * 10f64.powi(c as i32 - 2)
-                    })
-                    .collect()
-            };
-            let columns: Vec<Vec<f64>> = (0..4).map(column).collect();
             let b: Vec<f64> = (0..m).map(|i| 1e3 + (i as f64 * 0.37).cos()).collect();
-            let shift = b[0];
-            let fused = dots_shifted([0, 1, 2, 3].map(|c| columns[c].as_slice()), &b, shift);
-            for c in 0..4 {
-                let alone = dot_shifted(&columns[c], &b, shift);
-                assert_eq!(fused[c].to_bits(), alone.to_bits(), "m = {m}, column {c}");
-            }
             let omega = 2.0 * std::f64::consts::PI / 7.3;
             let basis = HarmonicBasis::with_orders(omega, vec![1, 2, 3], 0.5, m).unwrap();
             let table = HarmonicTable::new(&basis, m);
@@ -494,32 +373,6 @@ mod tests {
             assert_eq!(pair.1.to_bits(), (0.5 * (hi - lo)).to_bits(), "m = {m}");
             let ours = table.residual_sum_of_squares(&coefficients, &b);
             assert_eq!(ours.to_bits(), rss.to_bits(), "m = {m}");
-            // p = 3, 5, 7, 11, 15: one pass of p columns, or passes of four and the rest
-            for orders in [
-                vec![1],
-                vec![1, 3],
-                vec![1, 2, 3],
-                vec![1, 2, 3, 4, 5],
-                (1..=7).collect(),
-            ] {
-                if 2 * orders.len() + 1 > m {
-                    continue;
-                }
-                let basis = HarmonicBasis::with_orders(omega, orders.clone(), 0.5, m).unwrap();
-                let table = HarmonicTable::new(&basis, m);
-                let c = table.fit(&b);
-                let by_column: Vec<f64> = (0..table.columns())
-                    .map(|k| dot_shifted(table.design.col_as_slice(k), &b, shift))
-                    .collect();
-                let mut reference = by_column;
-                solve_factored(&table.r, &mut reference);
-                reference[0] += shift;
-                assert_eq!(
-                    bits(&c),
-                    bits(&reference),
-                    "fit, m = {m}, orders {orders:?}"
-                );
-            }
         }
     }
 

@@ -62,7 +62,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::Result;
 use crate::model::DampingModel;
-use crate::prep::fourier::WindowFits;
+use crate::prep::fourier::RecordNoises;
 use crate::prep::quadrature::Quadrature;
 use crate::prep::window::Window;
 use crate::record::Record;
@@ -71,8 +71,9 @@ use crate::regressor::{Row, map_windows};
 
 /// The noise-robust rows of `windows` of `records` (in parallel), and their noise
 /// model. `harmonics`: `Some(K)` keeps harmonics 1..K, `None` those above the noise
-/// floor. `fits`: the windows' harmonic fits made already by the steady-state check,
-/// where it made them (`prep/fourier/window_fit.rs`).
+/// floor of their record. `noises`: the records' harmonics and noise estimated already
+/// (`prep/fourier/record_noise.rs`), where they are of these records; else estimated
+/// here.
 pub(crate) fn rows(
     model: &DampingModel,
     records: &[Record],
@@ -80,8 +81,16 @@ pub(crate) fn rows(
     quadrature: Quadrature,
     harmonics: Option<usize>,
     work_form: WorkForm,
-    fits: Option<&WindowFits>,
+    noises: Option<&RecordNoises>,
 ) -> Result<(Vec<Row>, NoiseModel)> {
+    let own;
+    let noises = match noises.filter(|n| n.are_of(records)) {
+        Some(noises) => noises,
+        None => {
+            own = RecordNoises::of(records);
+            &own
+        }
+    };
     let robust = map_windows(true, windows, |w| {
         row::robust_row(
             model,
@@ -90,7 +99,7 @@ pub(crate) fn rows(
             quadrature,
             harmonics,
             work_form,
-            fits.and_then(|fits| fits.get(records, w.record, w.start)),
+            noises.get(w.record)?,
         )
     })?;
     let mut rows = Vec::with_capacity(robust.len());

@@ -29,8 +29,8 @@ use std::cell::OnceCell;
 use faer::Mat;
 
 use crate::error::{Error, Result};
-use crate::prep::fourier::{HarmonicBasis, WholePeriods, WindowFit};
-use crate::record::{Record, Sensor};
+use crate::prep::fourier::{HarmonicBasis, RecordNoise, WholePeriods, fit_on_design};
+use crate::record::{Record, Sensor, col};
 use crate::terms::Element;
 
 /// The projection of one window's displacements.
@@ -81,9 +81,8 @@ fn kind_slot(kind: Sensor) -> usize {
 impl ProjectedWindow {
     /// Projects samples `start..start + rows` of `record`, a window of `span` = kT read
     /// by a rule over `count` samples (rows ≥ count), on harmonics 1..K when `harmonics`
-    /// is `Some(K)`, else on those above the noise floor; with the window's fit `made`
-    /// already (by the steady-state check, `prep/fourier/window_fit.rs`) where it is of
-    /// these samples and harmonics, else fitting them here.
+    /// is `Some(K)`, else on those of the record that stand above its noise, with the
+    /// record's noise σ̂ (`noise`, `prep/fourier/record_noise.rs`).
     pub(crate) fn new(
         record: &Record,
         start: usize,
@@ -91,7 +90,7 @@ impl ProjectedWindow {
         rows: usize,
         span: f64,
         harmonics: Option<usize>,
-        made: Option<&WindowFit>,
+        noise: &RecordNoise,
     ) -> Result<Self> {
         let available = record.samples().saturating_sub(start);
         if rows > available {
@@ -111,23 +110,26 @@ impl ProjectedWindow {
             ),
         };
         let fitted = signals.subrows(start, whole.samples);
-        let fit = match made.filter(|fit| fit.is_of(whole, harmonics)) {
-            Some(fit) => fit.clone(),
-            None => WindowFit::new(fitted, step, period, whole, harmonics)?,
-        };
-        let WindowFit {
-            kept,
-            noise_std,
-            coefficients: measured,
-            ..
-        } = fit;
+        let kept = noise.orders_for(whole.samples, step, period, harmonics)?;
+        let noise_std = noise.motion_std.clone();
         let omega = 2.0 * std::f64::consts::PI / period;
         let basis = HarmonicBasis::with_orders(omega, kept.clone(), step, whole.samples)?;
         let r = basis.r_factor();
-        let measured = match measured {
-            Some(measured) => measured,
-            None => basis.fit_with(&r, fitted),
+        let design = basis.design(rows);
+        // c_m of each channel on the first m rows of the design (or of its own design
+        // over the m samples, when the window reads fewer)
+        let longer;
+        let fit_design = if design.nrows() >= whole.samples {
+            &design
+        } else {
+            longer = basis.design(whole.samples);
+            &longer
         };
+        let mut measured = Mat::<f64>::zeros(basis.columns(), fitted.ncols());
+        for j in 0..fitted.ncols() {
+            let c = fit_on_design(fit_design, &r, &col(fitted, j)[..whole.samples]);
+            measured.col_as_slice_mut(j).copy_from_slice(&c);
+        }
         let maps: Vec<Option<Mat<f64>>> = sensors
             .iter()
             .map(|s| sensor_map(*s, &kept, omega))
@@ -146,7 +148,6 @@ impl ProjectedWindow {
             }
             c
         };
-        let design = basis.design(rows);
         let derivative = derivative_of(&design, basis.orders(), omega);
         let channels = coefficients.ncols();
         let x = (0..channels).map(|_| OnceCell::new()).collect();

@@ -13,7 +13,7 @@ use faer::Mat;
 
 use crate::error::{Error, Result};
 use crate::model::DampingModel;
-use crate::prep::fourier::{WholePeriods, WindowFit, select_harmonics};
+use crate::prep::fourier::RecordNoise;
 use crate::prep::quadrature::Quadrature;
 use crate::prep::window::Window;
 use crate::record::{LoadDistribution, Record, Sensor};
@@ -102,20 +102,8 @@ fn generalized_forces(record: &Record, start: usize, rows: usize) -> Vec<(usize,
     r
 }
 
-/// The noise standard deviation of each force channel over the window's whole periods.
-fn force_noise(record: &Record, start: usize, count: usize) -> Result<Vec<f64>> {
-    let signals = &record.forcing().signals;
-    if signals.ncols() == 0 {
-        return Ok(Vec::new());
-    }
-    let available = record.samples() - start;
-    let whole = WholePeriods::of_window(count, available, record.step(), record.period())?;
-    let block = signals.as_ref().subrows(start, whole.samples);
-    Ok(select_harmonics(block, record.step(), record.period(), whole.periods)?.noise_std)
-}
-
-/// The equation of window `w` of `record`, with the window's harmonic fit `made`
-/// already where the steady-state check made it ([`ProjectedWindow::new`]).
+/// The equation of window `w` of `record`, whose harmonics and noise are `noise`'s
+/// (`prep/fourier/record_noise.rs`).
 pub(super) fn robust_row(
     model: &DampingModel,
     record: &Record,
@@ -123,15 +111,15 @@ pub(super) fn robust_row(
     quadrature: Quadrature,
     harmonics: Option<usize>,
     work_form: WorkForm,
-    made: Option<&WindowFit>,
+    noise: &RecordNoise,
 ) -> Result<RobustRow> {
     let weights = w.weights(quadrature, record.step(), record.period())?;
     let count = weights.len();
     let path = Path::of_window(w, record.step());
     let rows = count.max(path.samples());
-    let projected = ProjectedWindow::new(record, w.start, count, rows, w.span, harmonics, made)?;
+    let projected = ProjectedWindow::new(record, w.start, count, rows, w.span, harmonics, noise)?;
     let sigma = projected.noise_std.clone();
-    let force_sigma = force_noise(record, w.start, count)?;
+    let force_sigma = noise.force_std.clone();
     let forces = generalized_forces(record, w.start, rows);
     let derivative_free = work_form == WorkForm::DerivativeFree;
     let mut gradients = Gradients::new(projected.columns(), count);
@@ -508,9 +496,10 @@ mod tests {
             integration: Integration::WholePeriods,
         })
         .expect("a valid record");
-        let projected =
-            ProjectedWindow::new(&record, 0, rows, rows, periods as f64 * period, None, None)
-                .expect("a projected window");
+        let noise = RecordNoise::of(&record).expect("the record's noise");
+        let span = periods as f64 * period;
+        let projected = ProjectedWindow::new(&record, 0, rows, rows, span, None, &noise)
+            .expect("a projected window");
         let weights: Vec<f64> = (0..rows)
             .map(|i| {
                 if i == 0 || i == rows - 1 {
