@@ -30,7 +30,7 @@ use super::projection::{self, PeriodBasis, PeriodFit, StateProjection};
 
 /// Consecutive spans one task projects, sharing its periods' bases and fits: at task
 /// boundaries one period in this many + 1 is fitted twice.
-const SPANS_PER_TASK: usize = 16;
+const SPANS_PER_TASK: usize = 64;
 
 /// A compared span: (record, record index, origin in samples, periods k').
 pub(super) type SpanKey<'a> = (&'a Record, usize, f64, usize);

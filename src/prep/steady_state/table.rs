@@ -28,7 +28,7 @@
 
 use faer::Mat;
 
-use crate::prep::fourier::{HarmonicBasis, fit_on_design, fit_with_squares};
+use crate::prep::fourier::{HarmonicBasis, fit_on_design, shifted_squares};
 use crate::terms::simd::{self, Kernel};
 
 /// Samples of B c held at a time ([`HarmonicTable::chunks`]): on the stack, in L1.
@@ -279,10 +279,11 @@ impl HarmonicTable {
     /// The least-squares coefficients of `x` and the residual sum of squares of that
     /// fit, from sums instead of a pass over the fitted values: with s = x_0 (the shift
     /// of [`HarmonicTable::fit`], which keeps an offset out of the difference),
-    /// ‖x − s 1‖² − ‖R (c − s e₀)‖², at least 0 (‖x − s 1‖² from the fit's own pass).
+    /// ‖x − s 1‖² − ‖R (c − s e₀)‖², at least 0.
     pub(super) fn fit_and_residual(&self, x: &[f64]) -> (Vec<f64>, f64) {
-        let (c, total) = fit_with_squares(&self.design, &self.r, x);
+        let c = fit_on_design(&self.design, &self.r, x);
         let shift = x.first().copied().unwrap_or(0.0);
+        let total = shifted_squares(x, shift);
         let mut centred = c.clone();
         if let Some(a0) = centred.first_mut() {
             *a0 -= shift;
