@@ -3,11 +3,12 @@
 //! accuracy are mixed. For periodic records whose velocities are estimated by harmonic
 //! projection ([`crate::prep::velocity::VelocitySource::HarmonicProjection`]) this module
 //!
-//! 1. estimates the noise of every displacement and force channel over the window's
-//!    whole periods from the out-of-band spectrum, by a median (see
-//!    [`crate::prep::velocity::harmonic_selection`]), and keeps the harmonics that stand above
-//!    it in any channel (one set per window, so that relative velocities of nearly
-//!    rigid DOF pairs are not biased by per-channel masks);
+//! 1. reads the noise of every displacement and force channel and the harmonics that
+//!    stand above it in any channel from its record, estimated once from the
+//!    out-of-band spectra of a few spans by medians (`prep/fourier/record_noise.rs`):
+//!    one set for every window of the record, so that relative velocities of nearly
+//!    rigid DOF pairs are not biased by per-channel masks, and every window is weighted
+//!    by the same noise;
 //!    A channel measured by a velocity or acceleration sensor is projected as measured
 //!    and mapped per harmonic to displacement coefficients, c_x = S c_m, with its noise
 //!    propagated through S (see `projected.rs`); below, c is c_x and R⁻ᵀ reads R⁻ᵀSᵀ;
