@@ -46,8 +46,8 @@ pub(crate) const MIN_SPANS_ABOVE: usize = 2;
 /// The harmonics and the noise of one record (module doc).
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct RecordNoise {
-    /// Harmonic orders S that stand above the noise in a sampled span, ascending,
-    /// starting with 1.
+    /// Harmonic orders S that stand above the noise in [`MIN_SPANS_ABOVE`] sampled spans
+    /// (in one when fewer than three are sampled), ascending, starting with 1.
     pub(crate) kept: Vec<usize>,
     /// Per motion channel, σ̂_j per sample (in its sensor's units).
     pub(crate) motion_std: Vec<f64>,
@@ -74,7 +74,7 @@ fn sampled_spans(record: &Record) -> Result<(Vec<(usize, usize)>, usize)> {
             "samples per record",
             available as f64,
             &format!(
-                "the record's noise needs a whole period and at least 3 samples in {per_span} periods, and {} holds {available} samples of a period of {length:.3}",
+                "estimating the record's noise needs a whole period, and 3 samples in spans of up to {SPAN_PERIODS} periods; {} holds {available} samples of a period of {length:.3} samples",
                 record.label()
             ),
         ));

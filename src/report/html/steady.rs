@@ -156,13 +156,12 @@ impl HtmlReport<'_> {
                     list(&w.force_noise)
                 );
             } else {
-                let harmonics: Vec<String> = w.harmonics.iter().map(|k| k.to_string()).collect();
                 let _ = writeln!(
                     section,
                     "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{sd:.3e}</td></tr>",
                     escape(&w.record),
                     w.window,
-                    harmonics.join(", "),
+                    orders_text(&w.harmonics),
                     list(&w.displacement_noise)
                 );
             }
@@ -172,5 +171,54 @@ impl HtmlReport<'_> {
             section.push_str("</details>\n");
         }
         section
+    }
+}
+
+/// Harmonic orders (ascending) as runs: three or more consecutive orders as "a–b", three
+/// or more every other order as "a–b odd" (or "even"), the others one by one, so that a
+/// record's set reads "1–9, 11–43 odd" and keeps its table inside the page.
+fn orders_text(orders: &[usize]) -> String {
+    let mut parts = Vec::new();
+    let mut i = 0;
+    while i < orders.len() {
+        // the last index of the run of `step` from i
+        let run = |step: usize| {
+            let mut j = i;
+            while j + 1 < orders.len() && orders[j + 1] == orders[j] + step {
+                j += 1;
+            }
+            j
+        };
+        let (one, two) = (run(1), run(2));
+        if one >= i + 2 && one >= two {
+            parts.push(format!("{}–{}", orders[i], orders[one]));
+            i = one + 1;
+        } else if two >= i + 2 {
+            let parity = if orders[i] % 2 == 1 { "odd" } else { "even" };
+            parts.push(format!("{}–{} {parity}", orders[i], orders[two]));
+            i = two + 1;
+        } else {
+            parts.push(orders[i].to_string());
+            i += 1;
+        }
+    }
+    parts.join(", ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Orders read as runs: consecutive, every other (odd or even), and single ones.
+    #[test]
+    fn harmonic_orders_read_as_runs() {
+        let mut record = vec![1, 2, 3, 4, 5, 6, 7, 8, 9];
+        record.extend((11..=43).step_by(2));
+        assert_eq!(orders_text(&record), "1–9, 11–43 odd");
+        assert_eq!(orders_text(&[1, 3]), "1, 3");
+        assert_eq!(orders_text(&[1, 2, 4, 6, 8, 9]), "1, 2–8 even, 9");
+        assert_eq!(orders_text(&[1, 2, 3, 5]), "1–3, 5");
+        assert_eq!(orders_text(&[1]), "1");
+        assert_eq!(orders_text(&[]), "");
     }
 }
