@@ -202,7 +202,7 @@ impl RecordNoise {
 /// The noise of each record of a list, estimated once and shared by every build that
 /// reads the same records (variable projection's trials, the steady-state check and the
 /// rows), keyed to the records' address as [`crate::regressor::DecayCache`] is.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub(crate) struct RecordNoises {
     /// The records' address and count.
     source: (usize, usize),
@@ -222,6 +222,17 @@ impl RecordNoises {
     /// Whether these are the noises of `records`.
     pub(crate) fn are_of(&self, records: &[Record]) -> bool {
         self.source == (records.as_ptr() as usize, records.len())
+    }
+
+    /// `given` where it holds the noises of `records`, else those estimated here.
+    pub(crate) fn given_or_of<'a>(
+        given: Option<&'a RecordNoises>,
+        records: &[Record],
+    ) -> std::borrow::Cow<'a, RecordNoises> {
+        match given.filter(|n| n.are_of(records)) {
+            Some(noises) => std::borrow::Cow::Borrowed(noises),
+            None => std::borrow::Cow::Owned(RecordNoises::of(records)),
+        }
     }
 
     /// The noise of `records[index]`.

@@ -516,15 +516,8 @@ pub(crate) fn check_with(
         .map(|&(k, origin, periods)| (cut[k].0, cut[k].1.record, origin, periods))
         .collect();
     // the harmonics and noise of each record, estimated once for all its spans
-    let own;
-    let noises = match noises.filter(|n| n.are_of(records)) {
-        Some(noises) => noises,
-        None => {
-            own = RecordNoises::of(records);
-            &own
-        }
-    };
-    let projections = self::spans::project_spans(&keys, noises)?;
+    let noises = RecordNoises::given_or_of(noises, records);
+    let projections = self::spans::project_spans(&keys, &noises)?;
     // Each window is judged on its own; rayon's collect keeps window order, so the
     // report is the same at any thread count.
     let windows = cut

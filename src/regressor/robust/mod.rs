@@ -84,14 +84,7 @@ pub(crate) fn rows(
     work_form: WorkForm,
     noises: Option<&RecordNoises>,
 ) -> Result<(Vec<Row>, NoiseModel)> {
-    let own;
-    let noises = match noises.filter(|n| n.are_of(records)) {
-        Some(noises) => noises,
-        None => {
-            own = RecordNoises::of(records);
-            &own
-        }
-    };
+    let noises = RecordNoises::given_or_of(noises, records);
     let robust = map_windows(true, windows, |w| {
         row::robust_row(
             model,
