@@ -146,6 +146,16 @@ impl HarmonicBasis {
         &self.orders
     }
 
+    /// ω.
+    pub(crate) fn omega(&self) -> f64 {
+        self.omega
+    }
+
+    /// h, the step between samples.
+    pub(crate) fn step(&self) -> f64 {
+        self.step
+    }
+
     pub(crate) fn columns(&self) -> usize {
         2 * self.orders.len() + 1
     }

@@ -32,7 +32,7 @@ pub(crate) use basis::{HarmonicBasis, first_orders};
 pub(crate) use dft::{WholeSampleDft, whole_samples};
 pub use noise_floor::HarmonicSelection;
 pub(crate) use noise_floor::{select_harmonics, select_with_spectrum};
-pub(crate) use packed::{fit_on_design, shifted_squares};
+pub(crate) use packed::{fit_on_design, fit_on_design_into, shifted_squares};
 pub(crate) use record_noise::{RecordNoise, RecordNoises};
 
 use crate::error::{Error, Result};

@@ -114,19 +114,24 @@ impl Kernel for ShiftedSquares<'_> {
 /// The coefficients of `x` on the first x.len() rows of `design`, whose R is `r`
 /// (module doc).
 pub(crate) fn fit_on_design(design: &Mat<f64>, r: &Mat<f64>, x: &[f64]) -> Vec<f64> {
-    let shift = x.first().copied().unwrap_or(0.0);
     let mut c = vec![0.0; design.ncols()];
+    fit_on_design_into(design, r, x, &mut c);
+    c
+}
+
+/// [`fit_on_design`] into `c` (one value per column of `design`).
+pub(crate) fn fit_on_design_into(design: &Mat<f64>, r: &Mat<f64>, x: &[f64], c: &mut [f64]) {
+    let shift = x.first().copied().unwrap_or(0.0);
     simd::dispatch(Projections {
         design,
         x,
         shift,
-        out: &mut c,
+        out: c,
     });
-    solve_factored(r, &mut c);
+    solve_factored(r, c);
     if let Some(a0) = c.first_mut() {
         *a0 += shift;
     }
-    c
 }
 
 /// Σ_i (x_i − shift)² in the lanes of the fit's sums (a second pass over samples in L1:

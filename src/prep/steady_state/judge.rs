@@ -2,8 +2,6 @@
 //! states, its noise, and the verdict in numbers and in words (formulas in the module
 //! doc of [`crate::prep::steady_state`]).
 
-use std::sync::Arc;
-
 use crate::error::{Error, Result};
 use crate::prep::quadrature::Quadrature;
 use crate::prep::velocity::VelocitySource;
@@ -143,12 +141,8 @@ fn state(p: &StateProjection, index: usize, at: f64) -> (Vec<f64>, Vec<f64>, Vec
     let period = &p.periods[index];
     let row = p.row_at_sample(period.first, at);
     let dot = |c: &[f64]| row.iter().zip(c).map(|(a, b)| a * b).sum::<f64>();
-    let x = period
-        .channels
-        .iter()
-        .map(|c| dot(&c.displacement))
-        .collect();
-    let v = period.channels.iter().map(|c| dot(&c.velocity)).collect();
+    let x = period.channels.displacements().map(dot).collect();
+    let v = period.channels.velocities().map(dot).collect();
     (x, v, row)
 }
 
@@ -195,13 +189,16 @@ fn judge(
     // per channel: (quantity, DOF, δ, sd, amplitude)
     let mut components = Vec::new();
     // bᵀ U b of each end, once per unit covariance U (shared by a sensor kind's channels)
-    let mut unit: Option<(&ChannelProjection, &ChannelProjection, [f64; 4])> = None;
+    let mut unit: Option<(ChannelProjection, ChannelProjection, [f64; 4])> = None;
     for j in 0..x_a.len() {
-        let (a, b) = (&p.periods[0].channels[j], &p.periods[1].channels[j]);
+        let (a, b) = (
+            p.periods[0].channels.channel(j),
+            p.periods[1].channels.channel(j),
+        );
         let u = match unit {
             Some((ua, ub, u))
-                if Arc::ptr_eq(&ua.unit_covariance, &a.unit_covariance)
-                    && Arc::ptr_eq(&ub.unit_covariance, &b.unit_covariance) =>
+                if std::ptr::eq(ua.unit_covariance, a.unit_covariance)
+                    && std::ptr::eq(ub.unit_covariance, b.unit_covariance) =>
             {
                 u
             }
@@ -249,7 +246,10 @@ fn judge(
         let (gx_b, gv_b) = e.gradient(&x_b, &v_b);
         let variance: f64 = (0..x_a.len())
             .map(|j| {
-                let (a, b) = (&p.periods[0].channels[j], &p.periods[1].channels[j]);
+                let (a, b) = (
+                    p.periods[0].channels.channel(j),
+                    p.periods[1].channels.channel(j),
+                );
                 a.variance(&scaled(&row_a, gx_a[j]), &scaled(&row_a, gv_a[j]))
                     + b.variance(&scaled(&row_b, gx_b[j]), &scaled(&row_b, gv_b[j]))
             })

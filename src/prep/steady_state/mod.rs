@@ -74,6 +74,7 @@
 mod energy;
 mod judge;
 pub mod projection;
+mod range_grid;
 mod spans;
 mod table;
 

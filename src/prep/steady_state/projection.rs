@@ -56,10 +56,12 @@
 //! period of a record (t measured from a period's first sample): no transform, no
 //! selection per span. The half ranges of x̂ and v̂ over each period (the amplitudes
 //! the mismatches are relative to: only the largest over the channels is used) cost
-//! O(N p) per channel, for the channels whose bound Σ_q |c_q| can reach the largest
-//! (usually a few: the others are skipped, `table.rs`). A period's covariance per
-//! sensor kind (σ̂_j² times a unit covariance shared by the channels of that kind)
-//! depends on its length and harmonics only (`PeriodBasis`).
+//! O(N p) per channel, for the channels whose bounds (by amplitudes, then from a grid
+//! of every eighth sample) can reach the largest (usually one or two: the others are
+//! skipped, `table.rs`, `range_grid.rs`). A period's covariance per sensor kind (σ̂_j²
+//! times a unit covariance shared by the channels of that kind) depends on its length
+//! and harmonics only (`PeriodBasis`). A period's channels are made once, side by side
+//! ([`PeriodChannels`]), and shared by the spans it is in.
 
 use std::sync::Arc;
 
@@ -69,24 +71,25 @@ use crate::error::{Error, Result};
 use crate::prep::fourier::{HarmonicBasis, RecordNoise, whole_samples};
 use crate::record::{Record, Sensor, col};
 
+use super::range_grid::RangeGrid;
 use super::table::HarmonicTable;
 
 /// One channel over one period: coefficients of x̂ and v̂ in the basis b(t), and their
-/// joint covariance.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ChannelProjection {
+/// joint covariance (a view of its period's [`PeriodChannels`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ChannelProjection<'a> {
     /// c_x: [a₀, a_q, b_q, …] of the displacement (p = 2|S| + 1).
-    pub displacement: Vec<f64>,
+    pub displacement: &'a [f64],
     /// c_v: the velocity's coefficients in the same basis (its a₀ is 0).
-    pub velocity: Vec<f64>,
+    pub velocity: &'a [f64],
     /// Cov [c_x; c_v] / σ̂_j² (2p × 2p), shared by the period's channels of one sensor
     /// kind.
-    pub unit_covariance: Arc<Mat<f64>>,
+    pub unit_covariance: &'a Mat<f64>,
     /// σ̂_j², the channel's noise variance per sample.
     pub noise_variance: f64,
 }
 
-impl ChannelProjection {
+impl ChannelProjection<'_> {
     /// The variance of g_xᵀ c_x + g_vᵀ c_v.
     pub fn variance(&self, g_x: &[f64], g_v: &[f64]) -> f64 {
         self.scaled(self.unit_variance(g_x, g_v))
@@ -97,7 +100,7 @@ impl ChannelProjection {
     pub fn unit_variance(&self, g_x: &[f64], g_v: &[f64]) -> f64 {
         let p = g_x.len();
         let g = |k: usize| if k < p { g_x[k] } else { g_v[k - p] };
-        let unit = &*self.unit_covariance;
+        let unit = self.unit_covariance;
         let mut sum = 0.0;
         for a in 0..2 * p {
             let ga = g(a);
@@ -116,6 +119,60 @@ impl ChannelProjection {
     }
 }
 
+/// Every channel of one period, their coefficients side by side: made once per period
+/// and shared by every span the period is in.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PeriodChannels {
+    /// p, the coefficients per channel.
+    columns: usize,
+    /// c_x of every channel, channel j's at j p..(j + 1) p.
+    displacement: Vec<f64>,
+    /// c_v of every channel, as `displacement`.
+    velocity: Vec<f64>,
+    /// Per channel, the unit covariance of its sensor kind.
+    units: Arc<[Arc<Mat<f64>>]>,
+    /// Per channel, σ̂_j².
+    noise_variance: Arc<[f64]>,
+}
+
+impl PeriodChannels {
+    /// The number of channels.
+    pub fn len(&self) -> usize {
+        self.units.len()
+    }
+
+    /// Whether the period has no channel.
+    pub fn is_empty(&self) -> bool {
+        self.units.is_empty()
+    }
+
+    /// Channel `j` (0-based).
+    pub fn channel(&self, j: usize) -> ChannelProjection<'_> {
+        let at = j * self.columns..(j + 1) * self.columns;
+        ChannelProjection {
+            displacement: &self.displacement[at.clone()],
+            velocity: &self.velocity[at],
+            unit_covariance: &self.units[j],
+            noise_variance: self.noise_variance[j],
+        }
+    }
+
+    /// Every channel, in order.
+    pub fn iter(&self) -> impl Iterator<Item = ChannelProjection<'_>> {
+        (0..self.len()).map(|j| self.channel(j))
+    }
+
+    /// c_x of every channel, in order.
+    pub fn displacements(&self) -> std::slice::ChunksExact<'_, f64> {
+        self.displacement.chunks_exact(self.columns)
+    }
+
+    /// c_v of every channel, in order.
+    pub fn velocities(&self) -> std::slice::ChunksExact<'_, f64> {
+        self.velocity.chunks_exact(self.columns)
+    }
+}
+
 /// The projection of one period of the span.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PeriodProjection {
@@ -123,8 +180,8 @@ pub struct PeriodProjection {
     pub first: usize,
     /// Samples fitted.
     pub samples: usize,
-    /// One entry per channel (DOF).
-    pub channels: Vec<ChannelProjection>,
+    /// Every channel (DOF), shared by every span the period is in.
+    pub channels: Arc<PeriodChannels>,
     /// The largest ½ range of x̂ over the period's samples among its channels.
     pub half_range_displacement: f64,
     /// The largest ½ range of v̂ over the period's samples among its channels.
@@ -272,9 +329,10 @@ pub(super) fn fit_span_from(
     let (mut mean, mut spread) = (vec![0.0; p], vec![0.0; p]);
     let residuals = (0..noise.motion_std.len())
         .map(|j| {
+            let at = j * p..(j + 1) * p;
             mean.fill(0.0);
             for fit in periods {
-                for (m, c) in mean.iter_mut().zip(&fit.measured[j]) {
+                for (m, c) in mean.iter_mut().zip(&fit.measured[at.clone()]) {
                     *m += c;
                 }
             }
@@ -282,7 +340,7 @@ pub(super) fn fit_span_from(
             periods
                 .iter()
                 .map(|fit| {
-                    for ((s, c), m) in spread.iter_mut().zip(&fit.measured[j]).zip(&mean) {
+                    for ((s, c), m) in spread.iter_mut().zip(&fit.measured[at.clone()]).zip(&mean) {
                         *s = c - m;
                     }
                     fit.within[j] + basis.table.norm_squared(&spread)
@@ -355,22 +413,20 @@ fn span_fit(
     }
 }
 
-/// One channel's fit over one period: c_x, c_v and the unit covariance.
-type ChannelFit = (Vec<f64>, Vec<f64>, Arc<Mat<f64>>);
-
 /// Step 2 for one period: what it gives every span it is in (a one-period window's
 /// period is compared with the previous one and with the next, so it is fitted once for
-/// both), all but the record's noise.
+/// both, and its channels' projections are shared by both).
 #[derive(Debug, Clone, PartialEq)]
 pub(super) struct PeriodFit {
     /// First sample fitted (record index).
     first: usize,
     /// Samples fitted.
     samples: usize,
-    /// Per channel: c_x, c_v and the unit covariance.
-    channels: Vec<ChannelFit>,
-    /// Per channel, c of the signal as measured (before the map to displacements).
-    measured: Vec<Vec<f64>>,
+    /// Per channel: c_x, c_v, the unit covariance and the record's σ̂_j².
+    channels: Arc<PeriodChannels>,
+    /// c of the signal as measured (before the map to displacements), channel j's p
+    /// coefficients at j p.
+    measured: Vec<f64>,
     /// Per channel, RSS_p of the period's own fit (module doc).
     within: Vec<f64>,
     /// The largest ½ ranges of x̂ and of v̂ over the period's samples among the channels.
@@ -389,16 +445,29 @@ pub(super) struct PeriodBasis {
     regular: bool,
     /// Per sensor kind present: [I; J] S and its unit covariance.
     kinds: Vec<(Sensor, Mat<f64>, Arc<Mat<f64>>)>,
-    /// The sensor of each channel.
-    sensors: Vec<Sensor>,
+    /// The sensor kind of each channel (its index in `kinds`; empty when not `regular`).
+    kind_of: Vec<usize>,
+    /// Per channel, the unit covariance of its sensor kind (empty when not `regular`).
+    units: Arc<[Arc<Mat<f64>>]>,
+    /// Per channel, the record's σ̂_j².
+    noise_variance: Arc<[f64]>,
+    /// The table on a coarse grid, for the half ranges.
+    grid: RangeGrid,
 }
 
-/// The [`PeriodBasis`] of `record` for periods of `rows` samples on `orders`.
-pub(super) fn period_basis(record: &Record, rows: usize, orders: &[usize]) -> Result<PeriodBasis> {
+/// The [`PeriodBasis`] of `record` for periods of `rows` samples on `orders`, with the
+/// record's `noise`.
+pub(super) fn period_basis(
+    record: &Record,
+    noise: &RecordNoise,
+    rows: usize,
+    orders: &[usize],
+) -> Result<PeriodBasis> {
     let omega = 2.0 * std::f64::consts::PI / record.period();
     let (_, sensors) = signals(record);
     let basis = HarmonicBasis::with_orders(omega, orders.to_vec(), record.step(), rows)?;
     let table = HarmonicTable::new(&basis, rows);
+    let grid = RangeGrid::new(&basis, table.design());
     let p = table.columns();
     let gram_inverse = table.gram_inverse();
     let regular = (0..p).all(|k| gram_inverse[(k, k)].is_finite());
@@ -415,21 +484,32 @@ pub(super) fn period_basis(record: &Record, rows: usize, orders: &[usize]) -> Re
     // [I; J] S and its unit covariance [I; J] S (RᵀR)⁻¹ Sᵀ [I; J]ᵀ, once per sensor
     // kind present.
     let mut kinds: Vec<(Sensor, Mat<f64>, Arc<Mat<f64>>)> = Vec::new();
+    let (mut kind_of, mut units) = (Vec::new(), Vec::new());
     if regular {
         for &sensor in &sensors {
-            if !kinds.iter().any(|(s, _, _)| *s == sensor) {
-                let full = &map * to_displacement(sensor, orders, omega);
-                let unit = &full * &gram_inverse * full.transpose();
-                kinds.push((sensor, full, Arc::new(unit)));
-            }
+            let kind = match kinds.iter().position(|(s, _, _)| *s == sensor) {
+                Some(kind) => kind,
+                None => {
+                    let full = &map * to_displacement(sensor, orders, omega);
+                    let unit = &full * &gram_inverse * full.transpose();
+                    kinds.push((sensor, full, Arc::new(unit)));
+                    kinds.len() - 1
+                }
+            };
+            kind_of.push(kind);
+            units.push(Arc::clone(&kinds[kind].2));
         }
     }
+    let noise_variance = noise.motion_std.iter().map(|s| s * s).collect();
     Ok(PeriodBasis {
         table,
         orders: orders.to_vec(),
         regular,
         kinds,
-        sensors,
+        kind_of,
+        units: units.into(),
+        noise_variance,
+        grid,
     })
 }
 
@@ -437,31 +517,8 @@ pub(super) fn period_basis(record: &Record, rows: usize, orders: &[usize]) -> Re
 /// least squares on the basis' table, and the period's own residual RSS_p.
 pub(super) fn fit_period(record: &Record, basis: &PeriodBasis, first: usize) -> Result<PeriodFit> {
     let (x, _) = signals(record);
-    let rows = basis.table.rows();
-    let channels = x.ncols();
-    let mut measured = Vec::with_capacity(channels);
-    let mut within = Vec::with_capacity(channels);
-    for j in 0..channels {
-        let (c, residual) = basis
-            .table
-            .fit_and_residual(&col(x, j)[first..first + rows]);
-        within.push(residual);
-        measured.push(c);
-    }
-    period_fit(basis, first, measured, within)
-}
-
-/// Step 2 from each channel's coefficients c on the basis: c_x and c_v through [I; J] S,
-/// the unit covariance, and the largest half ranges of x̂ and v̂ over the period's
-/// samples (evaluated on the channels that can hold them, `table.rs`).
-fn period_fit(
-    basis: &PeriodBasis,
-    first: usize,
-    measured: Vec<Vec<f64>>,
-    within: Vec<f64>,
-) -> Result<PeriodFit> {
     let table = &basis.table;
-    let rows = table.rows();
+    let (rows, p) = (table.rows(), table.columns());
     if !basis.regular {
         return Err(Error::Numerical {
             stage: "steady-state check".into(),
@@ -470,33 +527,46 @@ fn period_fit(
             ),
         });
     }
-    let p = table.columns();
-    let channels: Vec<ChannelFit> = (0..basis.sensors.len())
-        .map(|j| {
-            // cannot fail: every sensor of `sensors` was added to `kinds` by period_basis
-            let (_, full, unit) = basis
-                .kinds
-                .iter()
-                .find(|(s, _, _)| *s == basis.sensors[j])
-                .expect("each sensor kind has its map");
-            // [c_x; c_v] = [I; J] S c, a column of the map at a time
-            let mut stacked = vec![0.0; 2 * p];
-            for (k, &ck) in measured[j].iter().enumerate() {
-                if ck != 0.0 {
-                    for (s, f) in stacked.iter_mut().zip(full.col_as_slice(k)) {
-                        *s += f * ck;
-                    }
+    let channels = x.ncols();
+    let mut measured = vec![0.0; channels * p];
+    let within = measured
+        .chunks_exact_mut(p)
+        .enumerate()
+        .map(|(j, c)| table.fit_and_residual(&col(x, j)[first..first + rows], c))
+        .collect();
+    let (mut displacement, mut velocity) = (vec![0.0; channels * p], vec![0.0; channels * p]);
+    let states = displacement
+        .chunks_exact_mut(p)
+        .zip(velocity.chunks_exact_mut(p));
+    for ((c, &kind), (c_x, c_v)) in measured.chunks_exact(p).zip(&basis.kind_of).zip(states) {
+        let full = &basis.kinds[kind].1;
+        // [c_x; c_v] = [I; J] S c, a column of the map at a time
+        for (k, &ck) in c.iter().enumerate() {
+            if ck != 0.0 {
+                let (top, bottom) = full.col_as_slice(k).split_at(p);
+                for (s, f) in c_x.iter_mut().zip(top) {
+                    *s += f * ck;
+                }
+                for (s, f) in c_v.iter_mut().zip(bottom) {
+                    *s += f * ck;
                 }
             }
-            let velocity = stacked.split_off(p);
-            (stacked, velocity, Arc::clone(unit))
-        })
+        }
+    }
+    // the largest half ranges of x̂ and v̂ over the period's samples (evaluated on the
+    // channels that can hold them, `table.rs`)
+    let states: Vec<(&[f64], &[f64])> = displacement
+        .chunks_exact(p)
+        .zip(velocity.chunks_exact(p))
         .collect();
-    let states: Vec<(&[f64], &[f64])> = channels
-        .iter()
-        .map(|(x, v, _)| (x.as_slice(), v.as_slice()))
-        .collect();
-    let half_ranges = table.largest_half_ranges(&states, rows);
+    let half_ranges = table.largest_half_ranges(&states, rows, Some(&basis.grid));
+    let channels = Arc::new(PeriodChannels {
+        columns: p,
+        displacement,
+        velocity,
+        units: Arc::clone(&basis.units),
+        noise_variance: Arc::clone(&basis.noise_variance),
+    });
     Ok(PeriodFit {
         first,
         samples: rows,
@@ -522,19 +592,7 @@ pub(super) fn assemble(
             Ok(PeriodProjection {
                 first: fit.first,
                 samples: fit.samples,
-                channels: fit
-                    .channels
-                    .iter()
-                    .zip(&span.noise_std)
-                    .map(
-                        |((displacement, velocity, unit), sigma)| ChannelProjection {
-                            displacement: displacement.clone(),
-                            velocity: velocity.clone(),
-                            unit_covariance: Arc::clone(unit),
-                            noise_variance: sigma * sigma,
-                        },
-                    )
-                    .collect(),
+                channels: Arc::clone(&fit.channels),
                 half_range_displacement: fit.half_ranges.0,
                 half_range_velocity: fit.half_ranges.1,
             })
@@ -564,7 +622,7 @@ pub fn project_periods(
     let noise = RecordNoise::of(record)?;
     let fit = |k: usize| {
         let (first, rows) = period_samples(record, origin, k);
-        let basis = period_basis(record, rows, &period_orders(record, &noise, rows)?)?;
+        let basis = period_basis(record, &noise, rows, &period_orders(record, &noise, rows)?)?;
         fit_period(record, &basis, first).map(|fit| (fit, basis))
     };
     let span = if from_periods(record, origin, periods) {
@@ -656,7 +714,7 @@ mod tests {
             for (origin, periods) in [(0.0, 2), (64.0, 2), (128.0, 3)] {
                 assert!(from_periods(record, origin, periods));
                 let orders = period_orders(record, &noise, n).unwrap();
-                let basis = period_basis(record, n, &orders).unwrap();
+                let basis = period_basis(record, &noise, n, &orders).unwrap();
                 let fits: Vec<PeriodFit> = (0..periods)
                     .map(|k| {
                         let (first, rows) = period_samples(record, origin, k);
@@ -693,10 +751,10 @@ mod tests {
                 let (signals, _) = signals(record);
                 let table = &basis.table;
                 for fit in &fits {
-                    for (j, c) in fit.measured.iter().enumerate() {
+                    for (j, c) in fit.measured.chunks_exact(basis.table.columns()).enumerate() {
                         let samples = &col(signals, j)[fit.first..fit.first + n];
                         let own = table.fit(samples);
-                        assert_eq!(c, &own);
+                        assert_eq!(c, own.as_slice());
                         let direct = table.residual_sum_of_squares(&own, samples);
                         let total: f64 = samples.iter().map(|x| (x - samples[0]).powi(2)).sum();
                         let tolerance = 1e-6 * direct + 1e-12 * total;

@@ -114,6 +114,7 @@ fn project_task(
 fn basis_of(record: &Record, noise: &RecordNoise, rows: usize) -> Result<PeriodBasis> {
     projection::period_basis(
         record,
+        noise,
         rows,
         &projection::period_orders(record, noise, rows)?,
     )
