@@ -270,21 +270,12 @@ impl HarmonicTable {
                 }
             }
         };
-        match leaders {
-            [Some(a), Some(b)] if a == b => {
-                merge(
-                    &mut largest,
-                    ranges_on(&self.design, channels[a], n, [true, true]),
-                );
-            }
-            [a, b] => {
-                for (s, leader) in [a, b].into_iter().enumerate() {
-                    if let Some(j) = leader {
-                        let which = [s == 0, s == 1];
-                        merge(&mut largest, ranges_on(&self.design, channels[j], n, which));
-                    }
-                }
-            }
+        // each leader on the series it leads (both in one pass when it leads both)
+        let mut led: Vec<usize> = leaders.iter().flatten().copied().collect();
+        led.dedup();
+        for j in led {
+            let which = leaders.map(|leader| leader == Some(j));
+            merge(&mut largest, ranges_on(&self.design, channels[j], n, which));
         }
         for (j, bound) in bounds.iter().enumerate() {
             // a series is evaluated unless its bound is below the largest range found
