@@ -17,6 +17,7 @@
 //!
 //! Files: `basis.rs` (the basis, its fit, derivative and integration weights),
 //! `dft.rs` (the same fit by one real FFT per channel on whole samples per period),
+//! `fused_sums.rs` (the sums of `packed.rs`, several columns per pass over the samples),
 //! `noise_floor.rs` (the noise floor and the harmonics that stand above it),
 //! `packed.rs` (one channel's fit on a design held column by column, in packed sums),
 //! `record_noise.rs` (a record's harmonics and noise, estimated once for all its
@@ -24,6 +25,7 @@
 
 mod basis;
 mod dft;
+mod fused_sums;
 mod noise_floor;
 mod packed;
 mod record_noise;
@@ -32,7 +34,7 @@ pub(crate) use basis::{HarmonicBasis, first_orders};
 pub(crate) use dft::{WholeSampleDft, whole_samples};
 pub use noise_floor::HarmonicSelection;
 pub(crate) use noise_floor::{select_harmonics, select_with_spectrum};
-pub(crate) use packed::{fit_on_design, fit_on_design_into, shifted_squares};
+pub(crate) use packed::{fit_and_shifted_squares, fit_on_design};
 pub(crate) use record_noise::{RecordNoise, RecordNoises};
 
 use crate::error::{Error, Result};

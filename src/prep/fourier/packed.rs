@@ -17,6 +17,7 @@
 
 use faer::Mat;
 
+use super::fused_sums::shifted_sums;
 use crate::terms::lanes::{LANES as SUM_LANES, combine};
 use crate::terms::simd::{self, Kernel};
 
@@ -43,8 +44,55 @@ fn dot_shifted(a: &[f64], b: &[f64], shift: f64) -> f64 {
     combine(lanes) + tail
 }
 
-/// c ← (RᵀR)⁻¹ c in place: Rᵀ y = c, then R c = y (R upper triangular, p × p).
+/// c ← (RᵀR)⁻¹ c in place: Rᵀ y = c, then R c = y (R upper triangular, p × p):
+///
+/// ```text
+///   y_i = (c_i − Σ_{k<i} R_ki y_k) / R_ii   (i ascending),
+///   c_i = (y_i − Σ_{k>i} R_ik c_k) / R_ii   (i descending),
+/// ```
+///
+/// each sum subtracted term by term in the order of k. Unrolled for p = 3, 5, 7, 9 and
+/// 11 (one to five harmonics) on a copy of R's columns, where a loop of a few turns
+/// costs more in its setup and bounds checks than in its products: the same operations
+/// in the same order, so the same bits.
 fn solve_factored(r: &Mat<f64>, c: &mut [f64]) {
+    match c.len() {
+        3 => solve_of::<3>(r, c),
+        5 => solve_of::<5>(r, c),
+        7 => solve_of::<7>(r, c),
+        9 => solve_of::<9>(r, c),
+        11 => solve_of::<11>(r, c),
+        _ => solve_any(r, c),
+    }
+}
+
+/// [`solve_factored`] for p = `P`.
+#[inline(always)]
+fn solve_of<const P: usize>(r: &Mat<f64>, c: &mut [f64]) {
+    // columns[k][i] = R_ik
+    let mut columns = [[0.0f64; P]; P];
+    for (k, column) in columns.iter_mut().enumerate() {
+        column.copy_from_slice(&r.col_as_slice(k)[..P]);
+    }
+    let c = &mut c[..P];
+    for i in 0..P {
+        let mut s = c[i];
+        for k in 0..i {
+            s -= columns[i][k] * c[k];
+        }
+        c[i] = s / columns[i][i];
+    }
+    for i in (0..P).rev() {
+        let mut s = c[i];
+        for k in i + 1..P {
+            s -= columns[k][i] * c[k];
+        }
+        c[i] = s / columns[i][i];
+    }
+}
+
+/// [`solve_factored`] for any p.
+fn solve_any(r: &Mat<f64>, c: &mut [f64]) {
     let p = c.len();
     for i in 0..p {
         let mut s = c[i];
@@ -115,29 +163,53 @@ impl Kernel for ShiftedSquares<'_> {
 /// (module doc).
 pub(crate) fn fit_on_design(design: &Mat<f64>, r: &Mat<f64>, x: &[f64]) -> Vec<f64> {
     let mut c = vec![0.0; design.ncols()];
-    fit_on_design_into(design, r, x, &mut c);
+    fit_with_squares(design, r, x, &mut c, false);
     c
 }
 
-/// [`fit_on_design`] into `c` (one value per column of `design`).
-pub(crate) fn fit_on_design_into(design: &Mat<f64>, r: &Mat<f64>, x: &[f64], c: &mut [f64]) {
+/// [`fit_on_design`] into `c` (one value per column of `design`), and Σ_i (x_i − x₀)²
+/// (x₀ the first sample, the fit's shift) in the same passes over the samples.
+pub(crate) fn fit_and_shifted_squares(
+    design: &Mat<f64>,
+    r: &Mat<f64>,
+    x: &[f64],
+    c: &mut [f64],
+) -> f64 {
+    fit_with_squares(design, r, x, c, true)
+}
+
+/// The fit into `c`, and Σ_i (x_i − x₀)² when `squares` (else 0): the sums several
+/// columns per pass where the CPU has AVX2 or AVX-512 (`fused_sums.rs`), else one
+/// column per pass here, the same bits either way.
+fn fit_with_squares(
+    design: &Mat<f64>,
+    r: &Mat<f64>,
+    x: &[f64],
+    c: &mut [f64],
+    squares: bool,
+) -> f64 {
     let shift = x.first().copied().unwrap_or(0.0);
-    simd::dispatch(Projections {
-        design,
-        x,
-        shift,
-        out: c,
-    });
+    let total = match shifted_sums(design, x, shift, c, squares) {
+        Some(total) => total,
+        None => {
+            simd::dispatch(Projections {
+                design,
+                x,
+                shift,
+                out: c,
+            });
+            if squares {
+                simd::dispatch(ShiftedSquares { x, shift })
+            } else {
+                0.0
+            }
+        }
+    };
     solve_factored(r, c);
     if let Some(a0) = c.first_mut() {
         *a0 += shift;
     }
-}
-
-/// Σ_i (x_i − shift)² in the lanes of the fit's sums (a second pass over samples in L1:
-/// fused into the fit's first pass it kept the compiler from packing either).
-pub(crate) fn shifted_squares(x: &[f64], shift: f64) -> f64 {
-    simd::dispatch(ShiftedSquares { x, shift })
+    total
 }
 
 #[cfg(test)]
@@ -145,24 +217,16 @@ mod tests {
     use super::*;
 
     /// The packed sums are bitwise the plain ones: Bᵀ(x − s 1) and Σ (x − s)² at the
-    /// CPU's level against sixteen partial sums in plain Rust (sample i in sum i mod 16,
+    /// CPU's level, one column per pass and several (`fused_sums.rs`, at each level the
+    /// CPU has), against sixteen partial sums in plain Rust (sample i in sum i mod 16,
     /// the sums in lane order, then the tail), at lengths with every remainder mod 16,
-    /// on a design with more rows than the samples fitted.
+    /// on designs of 0 to 10 columns (whole groups per pass and every remainder) with
+    /// more rows than the samples fitted, with and without the squares.
     #[test]
     fn packed_sums_are_bitwise_the_plain_ones() {
         for m in [1usize, 8, 15, 16, 17, 31, 64, 101, 263] {
-            let design = Mat::from_fn(m + 3, 4, |i, c| {
-                ((i * (c + 3)) as f64 * 0.731 + c as f64).sin() * 10f64.powi(c as i32 - 2)
-            });
             let b: Vec<f64> = (0..m).map(|i| 1e3 + (i as f64 * 0.37).cos()).collect();
             let shift = b[0];
-            let mut packed = [0.0; 4];
-            simd::dispatch(Projections {
-                design: &design,
-                x: &b,
-                shift,
-                out: &mut packed,
-            });
             let plain = |term: &dyn Fn(usize) -> f64| {
                 let mut lanes = [0.0f64; SUM_LANES];
                 let whole = m - m % SUM_LANES;
@@ -175,16 +239,65 @@ mod tests {
                 }
                 total + (whole..m).map(term).sum::<f64>()
             };
-            for c in 0..4 {
-                let alone = plain(&|i| design[(i, c)] * (b[i] - shift));
-                assert_eq!(packed[c].to_bits(), alone.to_bits(), "m = {m}, column {c}");
+            let squares = plain(&|i| (b[i] - shift) * (b[i] - shift));
+            let one_per_pass = simd::dispatch(ShiftedSquares { x: &b, shift });
+            assert_eq!(one_per_pass.to_bits(), squares.to_bits(), "m = {m}");
+            let bits = |v: &[f64]| v.iter().map(|y| y.to_bits()).collect::<Vec<_>>();
+            for p in 0..=10 {
+                let design = Mat::from_fn(m + 3, p, |i, c| {
+                    ((i * (c + 3)) as f64 * 0.731 + c as f64).sin() * 10f64.powi(c as i32 - 2)
+                });
+                let expected: Vec<u64> = (0..p)
+                    .map(|c| plain(&|i| design[(i, c)] * (b[i] - shift)).to_bits())
+                    .collect();
+                let mut packed = vec![0.0; p];
+                simd::dispatch(Projections {
+                    design: &design,
+                    x: &b,
+                    shift,
+                    out: &mut packed,
+                });
+                assert_eq!(bits(&packed), expected, "m = {m}, {p} columns");
+                for with_squares in [false, true] {
+                    let levels =
+                        super::super::fused_sums::every_level(&design, &b, shift, with_squares);
+                    for (level, sums, total) in levels {
+                        let what = format!("{level:?}, m = {m}, {p} columns, {with_squares}");
+                        assert_eq!(bits(&sums), expected, "{what}");
+                        let squares = if with_squares { squares } else { 0.0 };
+                        assert_eq!(total.to_bits(), squares.to_bits(), "{what}");
+                    }
+                }
             }
-            let alone = plain(&|i| (b[i] - shift) * (b[i] - shift));
-            assert_eq!(
-                shifted_squares(&b, shift).to_bits(),
-                alone.to_bits(),
-                "m = {m}"
-            );
+        }
+    }
+
+    /// The unrolled solves are bit for bit the loop, for p = 1 to 13 on a random upper
+    /// triangle with values over twenty decades.
+    #[test]
+    fn the_unrolled_solves_are_the_loop() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let value = 10f64.powi((state % 21) as i32 - 10) * (1 + (state >> 8) % 1000) as f64;
+            if state.is_multiple_of(3) {
+                -value
+            } else {
+                value
+            }
+        };
+        for p in 1..=13 {
+            for _ in 0..20 {
+                let r = Mat::from_fn(p + 2, p, |i, k| if i <= k { next() } else { 0.0 });
+                let c: Vec<f64> = (0..p).map(|_| next()).collect();
+                let (mut ours, mut theirs) = (c.clone(), c.clone());
+                solve_factored(&r, &mut ours);
+                solve_any(&r, &mut theirs);
+                let bits = |v: &[f64]| v.iter().map(|y| y.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(&ours), bits(&theirs), "p = {p}");
+            }
         }
     }
 

@@ -2,13 +2,16 @@
 //! states, its noise, and the verdict in numbers and in words (formulas in the module
 //! doc of [`crate::prep::steady_state`]).
 
+use faer::Mat;
+
 use crate::error::{Error, Result};
 use crate::prep::quadrature::Quadrature;
 use crate::prep::velocity::VelocitySource;
 use crate::prep::window::Window;
-use crate::record::{LoadDistribution, Record};
+use crate::record::{LoadDistribution, Record, col};
 
-use super::projection::{ChannelProjection, StateProjection, snap};
+use super::few;
+use super::projection::{StateProjection, snap};
 use super::{
     ComparedPeriods, Decisive, MIN_NEIGHBOUR, MIN_SAMPLES_PER_PERIOD, NON_HARMONIC_MARGIN,
     SteadyStateSettings, StoredEnergy, WindowCheck,
@@ -140,10 +143,20 @@ pub(super) fn excess(w: &WindowCheck, settings: &SteadyStateSettings) -> f64 {
 fn state(p: &StateProjection, index: usize, at: f64) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
     let period = &p.periods[index];
     let row = p.row_at_sample(period.first, at);
-    let dot = |c: &[f64]| row.iter().zip(c).map(|(a, b)| a * b).sum::<f64>();
+    let dot = |c: &[f64]| few::dot(&row, c);
     let x = period.channels.displacements().map(dot).collect();
     let v = period.channels.velocities().map(dot).collect();
     (x, v, row)
+}
+
+/// One quantity of one channel compared: δ, its noise sd and the amplitude it is
+/// relative to.
+struct Component {
+    quantity: &'static str,
+    dof: usize,
+    delta: f64,
+    sd: f64,
+    amplitude: f64,
 }
 
 /// Formats a noise-relative mismatch.
@@ -185,48 +198,75 @@ fn judge(
     let (x_b, v_b, row_b) = state(p, 1, origin + periods as f64 * length);
     let (amp_x, amp_v) = p.amplitudes();
     let zero = vec![0.0; row_a.len()];
-    let scaled = |g: &[f64], s: f64| g.iter().map(|a| a * s).collect::<Vec<f64>>();
-    // per channel: (quantity, DOF, δ, sd, amplitude)
-    let mut components = Vec::new();
+    let excess = |delta: f64, sd: f64, amplitude: f64| {
+        ratio(delta, (settings.max_state_mismatch * amplitude).max(z * sd))
+    };
+    // one pass over the channels: the largest relative mismatch of each quantity, and
+    // the component of the largest excess over its threshold (the last of equals, in
+    // the order displacement then velocity of DOF 1, 2, …)
+    let (mut displacement_mismatch, mut velocity_mismatch) = (0.0f64, 0.0f64);
+    let mut worst: Option<(Component, f64)> = None;
     // bᵀ U b of each end, once per unit covariance U (shared by a sensor kind's channels)
-    let mut unit: Option<(ChannelProjection, ChannelProjection, [f64; 4])> = None;
-    for j in 0..x_a.len() {
-        let (a, b) = (
-            p.periods[0].channels.channel(j),
-            p.periods[1].channels.channel(j),
-        );
+    let mut unit: Option<(&Mat<f64>, &Mat<f64>, [f64; 4])> = None;
+    let (ends_a, ends_b) = (&p.periods[0].channels, &p.periods[1].channels);
+    let worse = |e: f64, worst: &Option<(Component, f64)>| {
+        worst
+            .as_ref()
+            .is_none_or(|(_, w)| e.total_cmp(w) != std::cmp::Ordering::Less)
+    };
+    let units = ends_a
+        .unit_covariances()
+        .iter()
+        .zip(ends_b.unit_covariances());
+    let noises = ends_a
+        .noise_variances()
+        .iter()
+        .zip(ends_b.noise_variances());
+    let ends = x_a.iter().zip(&x_b).zip(v_a.iter().zip(&v_b));
+    for (j, ((units, noises), ((x_a, x_b), (v_a, v_b)))) in units.zip(noises).zip(ends).enumerate()
+    {
+        let (unit_a, unit_b): (&Mat<f64>, &Mat<f64>) = (units.0, units.1);
         let u = match unit {
-            Some((ua, ub, u))
-                if std::ptr::eq(ua.unit_covariance, a.unit_covariance)
-                    && std::ptr::eq(ub.unit_covariance, b.unit_covariance) =>
-            {
-                u
-            }
+            Some((ua, ub, u)) if std::ptr::eq(ua, unit_a) && std::ptr::eq(ub, unit_b) => u,
             _ => {
+                let (a, b) = (ends_a.channel(j), ends_b.channel(j));
                 let u = [
                     a.unit_variance(&row_a, &zero),
                     b.unit_variance(&row_b, &zero),
                     a.unit_variance(&zero, &row_a),
                     b.unit_variance(&zero, &row_b),
                 ];
-                unit = Some((a, b, u));
+                unit = Some((unit_a, unit_b, u));
                 u
             }
         };
-        let sd_x = scale * (a.scaled(u[0]) + b.scaled(u[1])).sqrt();
-        let sd_v = scale * (a.scaled(u[2]) + b.scaled(u[3])).sqrt();
-        components.push(("displacement", j, scale * (x_b[j] - x_a[j]), sd_x, amp_x));
-        components.push(("velocity", j, scale * (v_b[j] - v_a[j]), sd_v, amp_v));
+        // σ̂_j² times each unit variance, at least 0 (`ChannelProjection::scaled`)
+        let (noise_a, noise_b) = (*noises.0, *noises.1);
+        let scaled = |noise: f64, unit: f64| (noise * unit).max(0.0);
+        let sd_x = scale * (scaled(noise_a, u[0]) + scaled(noise_b, u[1])).sqrt();
+        let sd_v = scale * (scaled(noise_a, u[2]) + scaled(noise_b, u[3])).sqrt();
+        let (delta_x, delta_v) = (scale * (x_b - x_a), scale * (v_b - v_a));
+        displacement_mismatch = displacement_mismatch.max(ratio(delta_x, amp_x));
+        velocity_mismatch = velocity_mismatch.max(ratio(delta_v, amp_v));
+        for (quantity, delta, sd, amplitude) in [
+            ("displacement", delta_x, sd_x, amp_x),
+            ("velocity", delta_v, sd_v, amp_v),
+        ] {
+            let e = excess(delta, sd, amplitude);
+            if worse(e, &worst) {
+                let component = Component {
+                    quantity,
+                    dof: j,
+                    delta,
+                    sd,
+                    amplitude,
+                };
+                worst = Some((component, e));
+            }
+        }
     }
-    let relative = |quantity: &str| {
-        components
-            .iter()
-            .filter(|c| c.0 == quantity)
-            .map(|c| ratio(c.2, c.4))
-            .fold(0.0, f64::max)
-    };
-    check.displacement_mismatch = relative("displacement");
-    check.velocity_mismatch = relative("velocity");
+    check.displacement_mismatch = displacement_mismatch;
+    check.velocity_mismatch = velocity_mismatch;
     check.compared = compared;
     check.harmonics = p.orders.clone();
     // Non-harmonic content: significant and above the state tolerance.
@@ -244,14 +284,15 @@ fn judge(
         let change = scale * (e.energy(&x_b, &v_b) - e.energy(&x_a, &v_a));
         let (gx_a, gv_a) = e.gradient(&x_a, &v_a);
         let (gx_b, gv_b) = e.gradient(&x_b, &v_b);
+        let times = |g: &[f64], s: f64| g.iter().map(|a| a * s).collect::<Vec<f64>>();
         let variance: f64 = (0..x_a.len())
             .map(|j| {
                 let (a, b) = (
                     p.periods[0].channels.channel(j),
                     p.periods[1].channels.channel(j),
                 );
-                a.variance(&scaled(&row_a, gx_a[j]), &scaled(&row_a, gv_a[j]))
-                    + b.variance(&scaled(&row_b, gx_b[j]), &scaled(&row_b, gv_b[j]))
+                a.variance(&times(&row_a, gx_a[j]), &times(&row_a, gv_a[j]))
+                    + b.variance(&times(&row_b, gx_b[j]), &times(&row_b, gv_b[j]))
             })
             .sum();
         let sd = scale * variance.sqrt();
@@ -274,16 +315,16 @@ fn judge(
             of: "of the input work",
         }
     } else {
-        let excess = |c: &(&str, usize, f64, f64, f64)| {
-            ratio(c.2, (settings.max_state_mismatch * c.4).max(z * c.3))
-        };
         // cannot fail: two components per DOF, and Record::new refuses a record
         // without DOFs.
-        let worst = components
-            .iter()
-            .max_by(|a, b| excess(a).total_cmp(&excess(b)))
-            .expect("at least one DOF");
-        let (quantity, dof, delta, sd, amplitude) = *worst;
+        let (worst, _) = worst.expect("at least one DOF");
+        let Component {
+            quantity,
+            dof,
+            delta,
+            sd,
+            amplitude,
+        } = worst;
         Decisive {
             measure: format!("state mismatch ({quantity} of DOF {})", dof + 1),
             mismatch: ratio(delta, amplitude),
@@ -366,13 +407,17 @@ fn input_work(record: &Record, window: &Window, rule: Quadrature) -> Result<f64>
                 .iter()
                 .map(|dof| loaded.partition_point(|d| d < dof))
                 .collect();
+            // each force channel's samples over the window and its DOF's velocities
+            let pairs: Vec<(&[f64], &[f64])> = at
+                .iter()
+                .enumerate()
+                .map(|(c, &q)| {
+                    let force = &col(signals.as_ref(), c)[window.start..window.start + count];
+                    (force, &col(v.as_ref(), q)[..count])
+                })
+                .collect();
             for (k, w) in weights.iter().enumerate().take(count) {
-                let i = window.start + k;
-                let power: f64 = at
-                    .iter()
-                    .enumerate()
-                    .map(|(c, &q)| signals[(i, c)] * v[(k, q)])
-                    .sum();
+                let power: f64 = pairs.iter().map(|(f, v)| f[k] * v[k]).sum();
                 work += w * power;
             }
         }

@@ -65,13 +65,16 @@
 //!
 //! Files: `projection.rs` (the projection of periods, the one place that turns samples
 //! into coefficients and covariances), `table.rs` (a span's basis held once, and the
-//! passes over a channel's samples against it), `judge.rs` (one window), `energy.rs`
+//! passes over a channel's samples against it), `range_grid.rs` (a period's ½ ranges
+//! bounded from every eighth sample), `few.rs` (products of a channel's few
+//! coefficients, unrolled), `judge.rs` (one window), `energy.rs`
 //! (stored energy and its gradient), `spans.rs` (every compared span of a check, each
 //! span and each period fitted once). [`check`] estimates each record's harmonics and
 //! noise once, projects each compared span once per record, however many windows
 //! compare it, and fits each period once for the spans it takes part in.
 
 mod energy;
+mod few;
 mod judge;
 pub mod projection;
 mod range_grid;

@@ -157,6 +157,16 @@ impl PeriodChannels {
         }
     }
 
+    /// Per channel, Cov [c_x; c_v] / σ̂_j² (shared by the channels of a sensor kind).
+    pub fn unit_covariances(&self) -> &[Arc<Mat<f64>>] {
+        &self.units
+    }
+
+    /// Per channel, σ̂_j².
+    pub fn noise_variances(&self) -> &[f64] {
+        &self.noise_variance
+    }
+
     /// Every channel, in order.
     pub fn iter(&self) -> impl Iterator<Item = ChannelProjection<'_>> {
         (0..self.len()).map(|j| self.channel(j))
@@ -325,29 +335,29 @@ pub(super) fn fit_span_from(
     periods: &[&PeriodFit],
 ) -> SpanFit {
     let p = basis.table.columns();
+    let channels = noise.motion_std.len();
+    // c̄ of every channel, side by side as the periods' coefficients
+    let mut mean = vec![0.0; channels * p];
+    for fit in periods {
+        for (m, c) in mean.iter_mut().zip(&fit.measured) {
+            *m += c;
+        }
+    }
     let count = periods.len() as f64;
-    let (mut mean, mut spread) = (vec![0.0; p], vec![0.0; p]);
-    let residuals = (0..noise.motion_std.len())
-        .map(|j| {
-            let at = j * p..(j + 1) * p;
-            mean.fill(0.0);
-            for fit in periods {
-                for (m, c) in mean.iter_mut().zip(&fit.measured[at.clone()]) {
-                    *m += c;
-                }
+    mean.iter_mut().for_each(|m| *m /= count);
+    // per channel, Σ_p (RSS_p + ‖R (c_p − c̄)‖²) in the order of the periods
+    let mut residuals = vec![0.0; channels];
+    let mut spread = vec![0.0; p];
+    for fit in periods {
+        let coefficients = fit.measured.chunks_exact(p).zip(mean.chunks_exact(p));
+        for ((residual, within), (c, m)) in residuals.iter_mut().zip(&fit.within).zip(coefficients)
+        {
+            for ((s, c), m) in spread.iter_mut().zip(c).zip(m) {
+                *s = c - m;
             }
-            mean.iter_mut().for_each(|m| *m /= count);
-            periods
-                .iter()
-                .map(|fit| {
-                    for ((s, c), m) in spread.iter_mut().zip(&fit.measured[at.clone()]).zip(&mean) {
-                        *s = c - m;
-                    }
-                    fit.within[j] + basis.table.norm_squared(&spread)
-                })
-                .sum()
-        })
-        .collect();
+            *residual += within + basis.table.norm_squared(&spread);
+        }
+    }
     let samples = periods.iter().map(|fit| fit.samples).sum();
     span_fit(record, noise, basis.orders.clone(), samples, residuals)
 }
@@ -433,6 +443,57 @@ pub(super) struct PeriodFit {
     half_ranges: (f64, f64),
 }
 
+/// The map of one sensor kind's coefficients to [c_x; c_v] and their unit covariance.
+struct SensorKind {
+    sensor: Sensor,
+    /// F = [I; J] S (2p × p).
+    full: Mat<f64>,
+    /// Per row i of F, its nonzero entries (k, F_ik) in the order of k, padded to two
+    /// with (k, 0): [I; J] S is a 2 × 2 block per harmonic, so a row holds one or two.
+    /// `None` when a row holds more, or an entry is not finite.
+    pairs: Option<Vec<[(usize, f64); 2]>>,
+    /// F (RᵀR)⁻¹ Fᵀ.
+    unit: Arc<Mat<f64>>,
+}
+
+impl SensorKind {
+    /// [c_x; c_v] = F c into `c_x` and `c_v` (zeroed), each entry Σ_k F_ik c_k added to
+    /// 0.0 in the order of k over the c_k ≠ 0. Where F's entries and every c_k are
+    /// finite, a term F_ik c_k with F_ik = 0 or c_k = 0 is a zero, which added to a sum
+    /// that starts at +0.0 changes nothing (the sum is never −0.0): so each entry is its
+    /// two terms of [`SensorKind::pairs`]. Otherwise every column is used (0 · ∞ is NaN).
+    fn map(&self, c: &[f64], c_x: &mut [f64], c_v: &mut [f64]) {
+        if let Some(pairs) = self
+            .pairs
+            .as_ref()
+            .filter(|_| c.iter().all(|c| c.is_finite()))
+        {
+            let (top, bottom) = pairs.split_at(c_x.len());
+            for (pairs, out) in [(top, c_x), (bottom, c_v)] {
+                for (pair, out) in pairs.iter().zip(out) {
+                    let mut sum = 0.0;
+                    sum += pair[0].1 * c[pair[0].0];
+                    sum += pair[1].1 * c[pair[1].0];
+                    *out = sum;
+                }
+            }
+            return;
+        }
+        let p = c.len();
+        for (k, &ck) in c.iter().enumerate() {
+            if ck != 0.0 {
+                let (top, bottom) = self.full.col_as_slice(k).split_at(p);
+                for (s, f) in c_x.iter_mut().zip(top) {
+                    *s += f * ck;
+                }
+                for (s, f) in c_v.iter_mut().zip(bottom) {
+                    *s += f * ck;
+                }
+            }
+        }
+    }
+}
+
 /// What step 2 needs for periods of `rows` samples projected on `orders`, the same for
 /// every such period of a record (t is measured from a period's first sample, so the
 /// basis values do not depend on where it starts): the table of the basis, [I; J] S and
@@ -444,7 +505,7 @@ pub(super) struct PeriodBasis {
     /// Whether (BᵀB)⁻¹ is finite.
     regular: bool,
     /// Per sensor kind present: [I; J] S and its unit covariance.
-    kinds: Vec<(Sensor, Mat<f64>, Arc<Mat<f64>>)>,
+    kinds: Vec<SensorKind>,
     /// The sensor kind of each channel (its index in `kinds`; empty when not `regular`).
     kind_of: Vec<usize>,
     /// Per channel, the unit covariance of its sensor kind (empty when not `regular`).
@@ -483,21 +544,41 @@ pub(super) fn period_basis(
     }
     // [I; J] S and its unit covariance [I; J] S (RᵀR)⁻¹ Sᵀ [I; J]ᵀ, once per sensor
     // kind present.
-    let mut kinds: Vec<(Sensor, Mat<f64>, Arc<Mat<f64>>)> = Vec::new();
+    let mut kinds: Vec<SensorKind> = Vec::new();
     let (mut kind_of, mut units) = (Vec::new(), Vec::new());
     if regular {
         for &sensor in &sensors {
-            let kind = match kinds.iter().position(|(s, _, _)| *s == sensor) {
+            let kind = match kinds.iter().position(|kind| kind.sensor == sensor) {
                 Some(kind) => kind,
                 None => {
                     let full = &map * to_displacement(sensor, orders, omega);
                     let unit = &full * &gram_inverse * full.transpose();
-                    kinds.push((sensor, full, Arc::new(unit)));
+                    let pairs = (0..2 * p)
+                        .map(|i| {
+                            let nonzero: Vec<(usize, f64)> = (0..p)
+                                .filter(|&k| full[(i, k)] != 0.0)
+                                .map(|k| (k, full[(i, k)]))
+                                .collect();
+                            let finite = nonzero.iter().all(|(_, f)| f.is_finite());
+                            match nonzero[..] {
+                                [] if finite => Some([(0, 0.0), (0, 0.0)]),
+                                [one] if finite => Some([one, (one.0, 0.0)]),
+                                [one, two] if finite => Some([one, two]),
+                                _ => None,
+                            }
+                        })
+                        .collect();
+                    kinds.push(SensorKind {
+                        sensor,
+                        full,
+                        pairs,
+                        unit: Arc::new(unit),
+                    });
                     kinds.len() - 1
                 }
             };
             kind_of.push(kind);
-            units.push(Arc::clone(&kinds[kind].2));
+            units.push(Arc::clone(&kinds[kind].unit));
         }
     }
     let noise_variance = noise.motion_std.iter().map(|s| s * s).collect();
@@ -539,19 +620,7 @@ pub(super) fn fit_period(record: &Record, basis: &PeriodBasis, first: usize) -> 
         .chunks_exact_mut(p)
         .zip(velocity.chunks_exact_mut(p));
     for ((c, &kind), (c_x, c_v)) in measured.chunks_exact(p).zip(&basis.kind_of).zip(states) {
-        let full = &basis.kinds[kind].1;
-        // [c_x; c_v] = [I; J] S c, a column of the map at a time
-        for (k, &ck) in c.iter().enumerate() {
-            if ck != 0.0 {
-                let (top, bottom) = full.col_as_slice(k).split_at(p);
-                for (s, f) in c_x.iter_mut().zip(top) {
-                    *s += f * ck;
-                }
-                for (s, f) in c_v.iter_mut().zip(bottom) {
-                    *s += f * ck;
-                }
-            }
-        }
+        basis.kinds[kind].map(c, c_x, c_v);
     }
     // the largest half ranges of x̂ and v̂ over the period's samples (evaluated on the
     // channels that can hold them, `table.rs`)
@@ -671,6 +740,83 @@ mod tests {
     use crate::record::MeasuredMotion;
     use crate::reference::{four_mass_records_with, with_displacement_noise};
     use crate::simulate::SimSettings;
+
+    /// The map to [c_x; c_v] on F's nonzero entries is bit for bit the sum over every
+    /// column of F: for each sensor kind, coefficients with zeros, signed zeros, values
+    /// over forty decades, and a non-finite one (where every column is used).
+    #[test]
+    fn the_sparse_map_is_the_dense_one() {
+        let period = 2.0 * std::f64::consts::PI / 0.618;
+        let n = 64;
+        let settings = SimSettings {
+            step: period / n as f64,
+            transient_steps: 200,
+            recorded_steps: 2 * n + 1,
+            ..SimSettings::default()
+        };
+        let clean = four_mass_records_with(false, &settings).unwrap();
+        let x = clean[0].displacements();
+        let sensors = vec![
+            Sensor::Displacement,
+            Sensor::Velocity,
+            Sensor::Acceleration,
+            Sensor::Velocity,
+        ];
+        let motion = Mat::from_fn(clean[0].samples(), 4, |i, j| x[(i, j)]);
+        let record = clean[0]
+            .clone()
+            .with_measured_motion(MeasuredMotion {
+                sensors,
+                signals: motion,
+            })
+            .unwrap();
+        let noise = RecordNoise::of(&record).unwrap();
+        let orders = [1, 2, 3, 5];
+        let basis = period_basis(&record, &noise, n, &orders).unwrap();
+        let p = basis.table.columns();
+        assert_eq!(basis.kinds.len(), 3);
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for kind in &basis.kinds {
+            for trial in 0..200 {
+                let mut c: Vec<f64> = (0..p)
+                    .map(|_| {
+                        let r = next();
+                        let value = 10f64.powi((r % 41) as i32 - 20) * ((r >> 8) % 1000) as f64;
+                        match r % 7 {
+                            0 => 0.0,
+                            1 => -0.0,
+                            2 => -value,
+                            _ => value,
+                        }
+                    })
+                    .collect();
+                if trial % 50 == 49 {
+                    c[(trial / 50) % p] =
+                        [f64::INFINITY, f64::NAN, f64::NEG_INFINITY, f64::NAN][trial / 50];
+                }
+                let (mut c_x, mut c_v) = (vec![0.0; p], vec![0.0; p]);
+                kind.map(&c, &mut c_x, &mut c_v);
+                let (mut d_x, mut d_v) = (vec![0.0f64; p], vec![0.0f64; p]);
+                for (k, &ck) in c.iter().enumerate() {
+                    if ck != 0.0 {
+                        for i in 0..p {
+                            d_x[i] += kind.full[(i, k)] * ck;
+                            d_v[i] += kind.full[(p + i, k)] * ck;
+                        }
+                    }
+                }
+                let bits = |v: &[f64]| v.iter().map(|y| y.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(&c_x), bits(&d_x), "{:?} {c:?}", kind.sensor);
+                assert_eq!(bits(&c_v), bits(&d_v), "{:?} {c:?}", kind.sensor);
+            }
+        }
+    }
 
     /// A span's residual from its periods' fits (RSS = Σ_p RSS_p + Σ_p ‖R (c_p − c̄)‖²)
     /// is the residual of the span's own fit on its table, to round-off: the same

@@ -19,9 +19,12 @@
 //!
 //! can reach the largest range found so far (the channels of the largest bounds first),
 //! and then only when a second bound, from its values on a grid of every eighth sample
-//! (`range_grid.rs`: within about (Δ²/8) max |ŷ''| of the range itself), can too.
+//! (`range_grid.rs`: within about (Δ²/8) max |ŷ''| of the range itself), can too: the
+//! series are evaluated in decreasing order of that second bound, so that the largest
+//! range is usually found first and the rest skipped.
 //!
-//! Bᵀx reads x once per column from L1 in sixteen partial sums; for the range, ŷ is
+//! Bᵀx and ‖x − x₀1‖² read x from L1 in sixteen partial sums per sum, several columns
+//! and the squares per pass (`prep/fourier/fused_sums.rs`); for the range, ŷ is
 //! formed eight samples at a time in registers and reduced at once; for the residual,
 //! 128 samples at a time on the stack. The passes of the fit and the range are compiled
 //! for the widest instruction set the CPU has ([`simd::dispatch`]) with every lane doing
@@ -30,10 +33,11 @@
 
 use faer::Mat;
 
-use crate::prep::fourier::{HarmonicBasis, fit_on_design, fit_on_design_into, shifted_squares};
+use crate::prep::fourier::{HarmonicBasis, fit_and_shifted_squares, fit_on_design};
 use crate::terms::simd::{self, Kernel};
 
-use super::range_grid::RangeGrid;
+use super::few;
+use super::range_grid::{RangeGrid, modulus};
 
 /// Samples of B c held at a time ([`HarmonicTable::chunks`]): on the stack, in L1.
 const CHUNK: usize = 128;
@@ -44,8 +48,9 @@ pub(super) struct HarmonicTable {
     design: Mat<f64>,
     /// R (upper triangular, p × p), RᵀR = BᵀB.
     pub(super) r: Mat<f64>,
-    /// R row by row (p² values), for ‖R v‖².
-    r_rows: Vec<f64>,
+    /// The upper triangle of R row by row (row i from its diagonal: p − i values), for
+    /// ‖R v‖².
+    upper: Vec<f64>,
     /// ρ_q = max_i √(B_{i,cos q}² + B_{i,sin q}²) per harmonic of the design (1 but
     /// for the round-off of the table's recurrence): |a B_cos + b B_sin| ≤ √(a² + b²) ρ_q.
     moduli: Vec<f64>,
@@ -164,11 +169,14 @@ impl HarmonicTable {
             .collect();
         let r = basis.r_factor();
         let p = r.ncols();
-        let r_rows = (0..p * p).map(|i| r[(i / p, i % p)]).collect();
+        let upper = (0..p)
+            .flat_map(|i| (i..p).map(move |k| (i, k)))
+            .map(|(i, k)| r[(i, k)])
+            .collect();
         HarmonicTable {
             design,
             r,
-            r_rows,
+            upper,
             moduli,
         }
     }
@@ -239,12 +247,13 @@ impl HarmonicTable {
     /// ½ ranges of every channel, bit for bit, with only the series evaluated that can
     /// hold it. A series' computed ½ range is at most [`HarmonicTable::range_bound`] of
     /// its coefficients; the series of the largest bound (of x̂, of v̂) is evaluated
-    /// first, and a series whose bound is below the largest range found is skipped (its
-    /// range cannot be the largest). With the table's `grid` (over all its samples), a
-    /// series that passes that bound is bounded again from its values on the grid
-    /// ([`RangeGrid::bound`], about the range itself) and evaluated on every sample only
-    /// when that bound too can reach the largest: x̂ and v̂ of a channel together when
-    /// both must be, one of them when only one must.
+    /// first (x̂ and v̂ in one pass when one channel leads both), and a series whose
+    /// bound is below the largest range found is skipped (its range cannot be the
+    /// largest). With the table's `grid` (over all its samples), a series that passes
+    /// that bound is bounded again from its values on the grid ([`RangeGrid::bound`],
+    /// about the range itself). The series left are then evaluated one at a time, the
+    /// largest of their bounds first, each as long as its bound can reach the largest
+    /// range found (a NaN bound always can).
     pub(super) fn largest_half_ranges(
         &self,
         channels: &[(&[f64], &[f64])],
@@ -277,22 +286,40 @@ impl HarmonicTable {
             let which = leaders.map(|leader| leader == Some(j));
             merge(&mut largest, ranges_on(&self.design, channels[j], n, which));
         }
+        // per series, the others that can reach the largest, with their sharpest bound
+        let mut left: [Vec<(f64, usize)>; 2] = [Vec::new(), Vec::new()];
         for (j, bound) in bounds.iter().enumerate() {
-            // a series is evaluated unless its bound is below the largest range found
-            // (a NaN bound never is), or the channel led it
-            let mut which: [bool; 2] =
+            let which: [bool; 2] =
                 std::array::from_fn(|s| can_reach(bound[s].0, largest[s]) && leaders[s] != Some(j));
-            if let Some(grid) = grid.filter(|_| which.contains(&true)) {
-                let rows = grid.design.nrows();
-                let coarse = ranges_on(&grid.design, channels[j], rows, which);
-                let series = [channels[j].0, channels[j].1];
-                for s in 0..2 {
-                    if let Some(range) = coarse[s] {
-                        which[s] = can_reach(grid.bound(series[s], range, bound[s].1), largest[s]);
-                    }
+            let sharper: [Option<f64>; 2] = match grid.filter(|_| which.contains(&true)) {
+                Some(grid) => {
+                    let rows = grid.design.nrows();
+                    let coarse = ranges_on(&grid.design, channels[j], rows, which);
+                    let series = [channels[j].0, channels[j].1];
+                    std::array::from_fn(|s| {
+                        coarse[s].map(|range| grid.bound(series[s], range, bound[s].1))
+                    })
+                }
+                None => std::array::from_fn(|s| which[s].then_some(bound[s].0)),
+            };
+            for (left, sharper) in left.iter_mut().zip(sharper) {
+                if let Some(b) = sharper {
+                    left.push((b, j));
                 }
             }
-            merge(&mut largest, ranges_on(&self.design, channels[j], n, which));
+        }
+        // the largest bound first (a NaN one before every other), while it can reach
+        let key = |b: f64| if b.is_nan() { f64::INFINITY } else { b };
+        for (s, left) in left.iter_mut().enumerate() {
+            loop {
+                left.retain(|&(b, _)| can_reach(b, largest[s]));
+                let next =
+                    (0..left.len()).max_by(|&a, &b| key(left[a].0).total_cmp(&key(left[b].0)));
+                let Some(at) = next else { break };
+                let (_, j) = left.swap_remove(at);
+                let which = std::array::from_fn(|t| t == s);
+                merge(&mut largest, ranges_on(&self.design, channels[j], n, which));
+            }
         }
         (largest[0], largest[1])
     }
@@ -305,7 +332,7 @@ impl HarmonicTable {
     /// (u the unit round-off), and the halved difference of the extremes rounds once more:
     /// computed ½ range ≤ (Σ_q √(a_q² + b_q²) ρ_q + 2(p + 1) u e)(1 + u). The factor
     /// 1 + 10⁻¹² covers that last rounding and the round-off of the bound itself (a few
-    /// p u, p ≤ 201; `hypot` neither overflows nor underflows), and the smallest normal
+    /// p u, p ≤ 201; [`modulus`] neither overflows nor underflows), and the smallest normal
     /// number the absolute round-off of values below the normal range. NaN when a
     /// coefficient is not finite, or infinite: never below a range. With the bound, its
     /// round-off term 2(p + 1) u e.
@@ -314,7 +341,7 @@ impl HarmonicTable {
         let (mut amplitude, mut absolute) = (0.0, c.first().map_or(0.0, |a| a.abs()));
         for (pair, rho) in c[1..].chunks_exact(2).zip(&self.moduli) {
             let (a, b) = (pair[0], pair[1]);
-            amplitude += a.hypot(b) * rho;
+            amplitude += modulus(a, b) * rho;
             absolute += (a.abs() + b.abs()) * rho;
         }
         let rounding = 2.0 * (c.len() + 1) as f64 * unit_round_off * absolute;
@@ -325,14 +352,7 @@ impl HarmonicTable {
     /// ‖R v‖² = vᵀ BᵀB v: the sum of squares over the table's samples of the series
     /// with coefficients `v`.
     pub(super) fn norm_squared(&self, v: &[f64]) -> f64 {
-        let p = v.len();
-        (0..p)
-            .map(|i| {
-                let row = &self.r_rows[i * p..(i + 1) * p];
-                let dot: f64 = row[i..].iter().zip(&v[i..]).map(|(r, v)| r * v).sum();
-                dot * dot
-            })
-            .sum()
+        few::triangle_norm(&self.upper, v)
     }
 
     /// The least-squares coefficients of `x` into `c` (p of them), and the residual sum
@@ -340,9 +360,8 @@ impl HarmonicTable {
     /// of [`HarmonicTable::fit`], which keeps an offset out of the difference),
     /// ‖x − s 1‖² − ‖R (c − s e₀)‖², at least 0.
     pub(super) fn fit_and_residual(&self, x: &[f64], c: &mut [f64]) -> f64 {
-        fit_on_design_into(&self.design, &self.r, x, c);
+        let total = fit_and_shifted_squares(&self.design, &self.r, x, c);
         let shift = x.first().copied().unwrap_or(0.0);
-        let total = shifted_squares(x, shift);
         // ‖R (c − s e₀)‖²: the constant's coefficient shifted back for the sum
         let Some(&a0) = c.first() else {
             return total;
