@@ -8,7 +8,8 @@
 # the drops); none calls another. In the default run the records' noise is also the
 # rows': the check estimates it for both. Callgrind runs AVX2 code where the CPU has AVX-512,
 # so the instruction mix is not the machine's; wall time is `check_phase.sh`'s and
-# `one_record.sh`'s. Takes 3–4 minutes per run on the 323 MB record. Not run in CI.
+# `one_record.sh`'s. Takes 3–4 minutes per run on the 323 MB record (a build with line tables,
+# `CARGO_PROFILE_RELEASE_DEBUG=line-tables-only`, names each function with its file: read too). Not run in CI.
 #
 #   bash benches/end_to_end/check_instructions.sh target/release/dampid /tmp/dampid-one/one_record_measured.toml
 set -euo pipefail
@@ -26,7 +27,7 @@ total, found = None, {}
 for line in sys.stdin:
     if "PROGRAM TOTALS" in line:
         total = int(line.split()[0].replace(",", ""))
-    m = re.match(r"\s*([\d,]+) .*\?\?\?:dampid::prep::(\S+) ", line)
+    m = re.match(r"\s*([\d,]+) .*\S*:dampid::prep::(\S+) ", line)
     if m and m.group(2) in parts:
         found.setdefault(m.group(2), int(m.group(1).replace(",", "")))
 check = sum(found.values())

@@ -24,7 +24,7 @@ for line in sys.stdin:
     p = line.split()
     if len(p) >= 4:
         rows.append((float(p[1].rstrip(":")), " ".join(p[3:])))
-keys = ("steady_state", "record_noise", "noise_floor", "packed::", "WholeSampleDft", "realfft", "rustfft")
+keys = ("steady_state", "record_noise", "noise_floor", "packed::", "fused_sums::", "WholeSampleDft", "realfft", "rustfft")
 inside = [t for t, s in rows if any(k in s for k in keys)]
 start, end = min(inside), max(inside)
 total = rows[-1][0] - rows[0][0]
