@@ -276,13 +276,11 @@ mod tests {
     /// triangle with values over twenty decades.
     #[test]
     fn the_unrolled_solves_are_the_loop() {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand::rngs::StdRng::seed_from_u64(5);
         let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            let value = 10f64.powi((state % 21) as i32 - 10) * (1 + (state >> 8) % 1000) as f64;
-            if state.is_multiple_of(3) {
+            let value = 10f64.powf(rng.random_range(-10.0..10.0));
+            if rng.random_bool(1.0 / 3.0) {
                 -value
             } else {
                 value

@@ -81,13 +81,11 @@ mod tests {
     /// unrolled sizes and the others), on values over forty decades with signed zeros.
     #[test]
     fn the_unrolled_products_are_the_loops() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand::rngs::StdRng::seed_from_u64(3);
         let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            let value = 10f64.powi((state % 41) as i32 - 20) * ((state >> 8) % 1000) as f64;
-            match state % 5 {
+            let value = 10f64.powf(rng.random_range(-20.0..20.0));
+            match rng.random_range(0..5) {
                 0 => -0.0,
                 1 => -value,
                 _ => value,

@@ -741,27 +741,36 @@ mod tests {
     use crate::reference::{four_mass_records_with, with_displacement_noise};
     use crate::simulate::SimSettings;
 
+    /// A sensor of each kind on the four masses (velocity twice).
+    const MIXED: [Sensor; 4] = [
+        Sensor::Displacement,
+        Sensor::Velocity,
+        Sensor::Acceleration,
+        Sensor::Velocity,
+    ];
+
+    /// The noise-free four-mass records with N = `n` samples per period, after
+    /// `transient` steps, over `periods` periods and one sample.
+    fn whole_sample_records(n: usize, transient: usize, periods: usize) -> Vec<Record> {
+        let period = 2.0 * std::f64::consts::PI / 0.618;
+        let settings = SimSettings {
+            step: period / n as f64,
+            transient_steps: transient,
+            recorded_steps: periods * n + 1,
+            ..SimSettings::default()
+        };
+        four_mass_records_with(false, &settings).unwrap()
+    }
+
     /// The map to [c_x; c_v] on F's nonzero entries is bit for bit the sum over every
     /// column of F: for each sensor kind, coefficients with zeros, signed zeros, values
     /// over forty decades, and a non-finite one (where every column is used).
     #[test]
     fn the_sparse_map_is_the_dense_one() {
-        let period = 2.0 * std::f64::consts::PI / 0.618;
         let n = 64;
-        let settings = SimSettings {
-            step: period / n as f64,
-            transient_steps: 200,
-            recorded_steps: 2 * n + 1,
-            ..SimSettings::default()
-        };
-        let clean = four_mass_records_with(false, &settings).unwrap();
+        let clean = whole_sample_records(n, 200, 2);
         let x = clean[0].displacements();
-        let sensors = vec![
-            Sensor::Displacement,
-            Sensor::Velocity,
-            Sensor::Acceleration,
-            Sensor::Velocity,
-        ];
+        let sensors = MIXED.to_vec();
         let motion = Mat::from_fn(clean[0].samples(), 4, |i, j| x[(i, j)]);
         let record = clean[0]
             .clone()
@@ -775,20 +784,14 @@ mod tests {
         let basis = period_basis(&record, &noise, n, &orders).unwrap();
         let p = basis.table.columns();
         assert_eq!(basis.kinds.len(), 3);
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand::rngs::StdRng::seed_from_u64(11);
         for kind in &basis.kinds {
             for trial in 0..200 {
                 let mut c: Vec<f64> = (0..p)
                     .map(|_| {
-                        let r = next();
-                        let value = 10f64.powi((r % 41) as i32 - 20) * ((r >> 8) % 1000) as f64;
-                        match r % 7 {
+                        let value = 10f64.powf(rng.random_range(-20.0..20.0));
+                        match rng.random_range(0..7) {
                             0 => 0.0,
                             1 => -0.0,
                             2 => -value,
@@ -826,23 +829,11 @@ mod tests {
     /// its own least-squares fit on the basis.
     #[test]
     fn a_spans_residual_from_its_periods_is_its_own_fits() {
-        let period = 2.0 * std::f64::consts::PI / 0.618;
         let n = 64;
-        let settings = SimSettings {
-            step: period / n as f64,
-            transient_steps: 2000,
-            recorded_steps: 8 * n + 1,
-            ..SimSettings::default()
-        };
-        let clean = four_mass_records_with(false, &settings).unwrap();
+        let clean = whole_sample_records(n, 2000, 8);
         let noisy = with_displacement_noise(&clean, 0.01, 3).unwrap().remove(0);
         let (x, v) = (noisy.displacements(), clean[0].velocities().unwrap());
-        let sensors = vec![
-            Sensor::Displacement,
-            Sensor::Velocity,
-            Sensor::Acceleration,
-            Sensor::Velocity,
-        ];
+        let sensors = MIXED.to_vec();
         let motion = Mat::from_fn(noisy.samples(), 4, |i, j| match sensors[j] {
             Sensor::Displacement => x[(i, j)],
             Sensor::Velocity => v[(i, j)],
